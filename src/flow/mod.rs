@@ -1,0 +1,45 @@
+//! Carrier flows. The particle needs the undisturbed fluid velocity u and its gradient
+//! l_f = ∇u (`(l_f)_ij = ∂u_i/∂x_j`) at its barycentre (paper Fig. 1, one-way coupling).
+//! Analytic fields live in [`analytic`]; meshed CFD fields implement the same trait.
+
+pub mod analytic;
+
+use crate::error::FlowError;
+use crate::tensor::{Mat3, Vec3};
+
+/// Velocity and velocity gradient of the undisturbed flow at one point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlowSample {
+    /// Fluid velocity u.
+    pub u: Vec3,
+    /// Velocity gradient l_f, `(l_f)_ij = ∂u_i/∂x_j`.
+    pub grad_u: Mat3,
+}
+
+/// A carrier flow field: u and ∇u at (x, t).
+///
+/// Implementations must be cheap to share across threads (`Send + Sync`) because particles are
+/// advanced in parallel. A point outside the domain is a [`FlowError::OutsideDomain`], never a
+/// silent extrapolation.
+pub trait FlowField: Send + Sync {
+    /// Sample u and ∇u at position `x` and time `t`.
+    fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError>;
+}
+
+impl<T: FlowField + ?Sized> FlowField for &T {
+    fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+        (**self).sample(x, t)
+    }
+}
+
+/// Reject non-finite queries before they reach a field implementation.
+pub(crate) fn check_query(x: &Vec3, t: f64) -> Result<(), FlowError> {
+    if x.iter().all(|c| c.is_finite()) && t.is_finite() {
+        Ok(())
+    } else {
+        Err(FlowError::NonFiniteQuery {
+            x: [x[0], x[1], x[2]],
+            t,
+        })
+    }
+}

@@ -1,0 +1,48 @@
+//! Translational drag f_D = μ_f K̂ · (u − v_c) (paper eq. 14 writes K̂ = π r_min k).
+//!
+//! # Physics (Brenner 1963 / Oberbeck; physics.md §6)
+//! For an ellipsoid with principal frame (r, Q) and integrals χ₀, α_i:
+//! $\hat K = 16\pi\, Q^T \mathrm{diag}\big(1/(\chi_0 + x_i\alpha_i)\big) Q$, i.e. the paper's
+//! $k_i = 16 / (r_{min}(\chi_0 + x_i\alpha_i))$. A sphere has k = 6 (f = 6πμa u); prolate values
+//! are tabulated in reference-notes §7 and tested.
+
+use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
+use crate::tensor::{Mat3, Vec3};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// A translational resistance model: the tensor K̂ with f_D = μ_f K̂·(u − v_c).
+///
+/// K̂ has dimensions of length. Implement this trait to plug in another drag law.
+pub trait DragModel: Send + Sync {
+    /// Resistance tensor K̂ (global components) of the ellipsoid in `frame` with integrals `ints`.
+    fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3;
+}
+
+/// Brenner's exact Stokes resistance of an ellipsoid (the paper's model).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
+pub struct Brenner;
+
+impl Brenner {
+    /// Principal coefficients k_i of the paper's normalisation K̂ = π r_min k.
+    pub fn k_principal(frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Vec3 {
+        Vec3::from_fn(|i, _| 16.0 / (frame.r_min() * (ints.chi0 + ints.x[i] * ints.alpha[i])))
+    }
+}
+
+impl DragModel for Brenner {
+    fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3 {
+        let k = Self::k_principal(frame, ints);
+        frame.to_global(&Mat3::from_diagonal(&k)) * (PI * frame.r_min())
+    }
+}
+
+/// Stokes drag of the volume-equivalent sphere, K̂ = 6π a_eq 1 (shape-blind reference model).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
+pub struct StokesSphere;
+
+impl DragModel for StokesSphere {
+    fn resistance(&self, frame: &PrincipalFrame, _ints: &EllipsoidIntegrals) -> Mat3 {
+        Mat3::identity() * (6.0 * PI * frame.r.product().cbrt())
+    }
+}

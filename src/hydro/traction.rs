@@ -1,0 +1,179 @@
+//! Jeffery–Roscoe traction stress σ̃.
+//!
+//! # Physics (paper eq. 12; closed form from physics.md §5.1)
+//! σ̃ := (1/vol B_t) ∫ t ⊗ ξ da is the first moment of the fluid traction on an ellipsoid whose
+//! surface moves affinely with l_s in the undisturbed linear flow l_f. In the principal frame,
+//! with g = l_f − l_s, d = dev sym g, w = skw g, d_s = sym l_s and
+//! Σ'' = α''₁α''₂ + α''₂α''₃ + α''₃α''₁:
+//!
+//! $\tilde\sigma = -\bar p\,\mathbf 1 + \mu_f\,[\,s(d, w) + 2 d_s\,]$
+//!
+//! - off-diagonal (i ≠ j, either order, k the third index):
+//!   $s_{ij} = \frac{4}{abc}\Big\{\frac{d_{ij}}{\alpha'_k (x_i+x_j)}
+//!   + \frac{x_j[(x_i+x_j) w_{ij} - (x_i-x_j) d_{ij}]}{(x_i+x_j)(x_i\alpha_i + x_j\alpha_j)}\Big\}$
+//! - diagonal: $s_{ii} = \frac{4}{3abc}\,\frac{2\alpha''_i d_{ii} - \alpha''_j d_{jj} - \alpha''_k d_{kk}}{\Sigma''}$
+//! - mean normal stress: $\bar p = \frac{2\mu_f}{3\Sigma''}\sum_i \alpha''_i(2\alpha_i-\alpha_j-\alpha_k) d_{ii}$
+//!
+//! Global components σ̃ = Qᵀ σ̃' Q. Checked limits (tests): the sphere gives
+//! σ̃ = 2μd_s + 5μd + 3μw; a torque-free ellipsoid spins at Jeffery's rate.
+//!
+//! The formula covers incompressible surface motion only. The volumetric part of the "2 d_s"
+//! term is a modelling choice ([`VolumetricTraction`], physics.md §5.3).
+
+use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
+use crate::tensor::{Mat3, Mat9, dev, skw, sym};
+use serde::{Deserialize, Serialize};
+
+/// Treatment of the volumetric part tr d_s, about which Jeffery–Roscoe is silent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum VolumetricTraction {
+    /// Literal eq. 12: 2μ d_s. Adds +(2/3)μ tr(d_s) 1, which anti-damps volume changes.
+    #[default]
+    Paper,
+    /// 2μ dev d_s: no viscous resistance to volume change.
+    Dev,
+    /// 2μ dev d_s − (4/3)μ tr(d_s) 1: the source-flow value, exact for a sphere.
+    Source,
+}
+
+/// Shape coefficients of σ̃ for one principal frame; σ̃ is affine in (l_f, l_s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JefferyRoscoe {
+    frame: PrincipalFrame,
+    /// Coefficient of d_ij in s_ij for the ordered pair (i, j).
+    c_d: Mat3,
+    /// Coefficient of w_ij in s_ij.
+    c_w: Mat3,
+    /// s_ii = Σ_m c_diag[(i, m)] d_mm.
+    c_diag: Mat3,
+    /// p̄/μ_f = Σ_i c_p[i] d_ii.
+    c_p: [f64; 3],
+}
+
+impl JefferyRoscoe {
+    /// Coefficients for the ellipsoid with principal frame `frame` and integrals `ints`.
+    pub fn new(frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Self {
+        let (x, a, ap, app, abc) = (ints.x, ints.alpha, ints.alpha_p, ints.alpha_pp, ints.abc);
+        let mut c_d = Mat3::zeros();
+        let mut c_w = Mat3::zeros();
+        for i in 0..3 {
+            for j in 0..3 {
+                if i == j {
+                    continue;
+                }
+                let k = 3 - i - j;
+                let sum = x[i] + x[j];
+                let xa = x[i] * a[i] + x[j] * a[j];
+                c_d[(i, j)] =
+                    4.0 / (abc * ap[k] * sum) - 4.0 * x[j] * (x[i] - x[j]) / (abc * sum * xa);
+                c_w[(i, j)] = 4.0 * x[j] / (abc * xa);
+            }
+        }
+        let sigma2 = app[0] * app[1] + app[1] * app[2] + app[2] * app[0];
+        let c = 4.0 / (3.0 * abc * sigma2);
+        let mut c_diag = Mat3::zeros();
+        let mut c_p = [0.0; 3];
+        for i in 0..3 {
+            for m in 0..3 {
+                c_diag[(i, m)] = if i == m {
+                    2.0 * app[m] * c
+                } else {
+                    -app[m] * c
+                };
+            }
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            c_p[i] = 2.0 / (3.0 * sigma2) * app[i] * (2.0 * a[i] - a[j] - a[k]);
+        }
+        Self {
+            frame: *frame,
+            c_d,
+            c_w,
+            c_diag,
+            c_p,
+        }
+    }
+
+    /// Coefficients straight from the total distortion F̄ = F·S.
+    pub fn from_total_distortion(f_bar: &Mat3) -> Self {
+        let frame = PrincipalFrame::from_total_distortion(f_bar);
+        Self::new(&frame, &EllipsoidIntegrals::new(&frame.r))
+    }
+
+    /// The principal frame the coefficients belong to.
+    pub fn frame(&self) -> &PrincipalFrame {
+        &self.frame
+    }
+
+    /// σ̃'/μ_f in the principal frame for principal components `lf` of l_f and `ls` of l_s.
+    pub fn sigma_principal(&self, lf: &Mat3, ls: &Mat3, vol: VolumetricTraction) -> Mat3 {
+        let g = lf - ls;
+        let d = dev(&sym(&g));
+        let w = skw(&g);
+        let ds = sym(ls);
+        let tr_ds = ds.trace();
+        let mut s = Mat3::zeros();
+        let mut p = 0.0;
+        for i in 0..3 {
+            for j in 0..3 {
+                s[(i, j)] = if i == j {
+                    (0..3).map(|m| self.c_diag[(i, m)] * d[(m, m)]).sum()
+                } else {
+                    self.c_d[(i, j)] * d[(i, j)] + self.c_w[(i, j)] * w[(i, j)]
+                };
+            }
+            p += self.c_p[i] * d[(i, i)];
+        }
+        let viscous = match vol {
+            VolumetricTraction::Paper => ds * 2.0,
+            VolumetricTraction::Dev => dev(&ds) * 2.0,
+            VolumetricTraction::Source => dev(&ds) * 2.0 - Mat3::identity() * (4.0 / 3.0 * tr_ds),
+        };
+        s + viscous - Mat3::identity() * p
+    }
+
+    /// σ̃ in global components for the solid velocity gradient `l_s` and fluid gradient `l_f`.
+    pub fn sigma_tilde(&self, l_s: &Mat3, l_f: &Mat3, mu_f: f64, vol: VolumetricTraction) -> Mat3 {
+        let sp = self.sigma_principal(
+            &self.frame.to_principal(l_f),
+            &self.frame.to_principal(l_s),
+            vol,
+        );
+        self.frame.to_global(&sp) * mu_f
+    }
+
+    /// Solid velocity gradient of an inertialess, incompressible particle (physics.md §9.7):
+    /// solve dev σ̃(l_s) = dev σ_el with tr l_s = 0, a 9×9 linear system, in global components.
+    ///
+    /// Returns `None` only if the system is singular, which the positive-definite viscous
+    /// resistance rules out for any non-degenerate ellipsoid.
+    pub fn inertialess_velocity_gradient(
+        &self,
+        sigma_el: &Mat3,
+        l_f: &Mat3,
+        mu_f: f64,
+    ) -> Option<Mat3> {
+        let lf = self.frame.to_principal(l_f);
+        let target = dev(&self.frame.to_principal(sigma_el)) / mu_f;
+        // σ̃' is affine in l_s': σ̃'(l) = σ̃'(0) + L l. Assemble L column by column.
+        let vol = VolumetricTraction::Dev;
+        let base = self.sigma_principal(&lf, &Mat3::zeros(), vol);
+        let mut op = Mat9::zeros();
+        for q in 0..9 {
+            let mut e = Mat3::zeros();
+            e[q] = 1.0;
+            let col = self.sigma_principal(&lf, &e, vol) - base;
+            op.set_column(q, &crate::tensor::vec9(&dev(&col)));
+        }
+        let mut rhs = crate::tensor::vec9(&(target - dev(&base)));
+        // dev makes the three diagonal rows dependent; replace the last by tr l_s' = 0.
+        let last = 8; // index of component (2, 2)
+        op.set_row(
+            last,
+            &nalgebra::SVector::<f64, 9>::from_fn(|q, _| if q % 4 == 0 { 1.0 } else { 0.0 })
+                .transpose(),
+        );
+        rhs[last] = 0.0;
+        let ls = op.lu().solve(&rhs)?;
+        Some(self.frame.to_global(&crate::tensor::mat3(&ls)))
+    }
+}

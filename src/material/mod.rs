@@ -1,0 +1,68 @@
+//! Hyperelastic constitutive laws.
+//!
+//! A law is one stored-energy function W(F) per unit reference volume, written once generic
+//! over num-dual scalars. The Piola stress P = ∂W/∂F and the tangent ∂P/∂F follow by automatic
+//! differentiation; a law may override them with closed forms as an optimisation, which a test
+//! must check against AD (see `tests/material.rs`).
+//!
+//! To add a law, implement [`Hyperelastic`] in one file (see `examples/custom_material.rs`).
+
+pub mod mooney_rivlin;
+pub mod neo_hooke;
+
+pub use mooney_rivlin::MooneyRivlin;
+pub use neo_hooke::NeoHooke;
+
+use crate::tensor::{Mat3, Mat9, Scalar, Vec9, mat3, vec9};
+use nalgebra::{Const, SVector};
+use num_dual::{Dual2Vec, DualVec, hessian};
+
+/// A hyperelastic solid defined by its stored energy W(F).
+pub trait Hyperelastic: Send + Sync {
+    /// Stored energy per unit reference volume, W(F), for any num-dual scalar.
+    fn energy<S: Scalar>(&self, f: &Mat3<S>) -> S;
+
+    /// Small-strain shear modulus μ_s (used for Ca = μ_f γ̇ / μ_s).
+    fn shear_modulus(&self) -> f64;
+
+    /// Small-strain first Lamé parameter λ_s (bulk stiffness; J − 1 ~ stress/λ_s).
+    fn lame_lambda(&self) -> f64;
+
+    /// First Piola–Kirchhoff stress P = ∂W/∂F (by AD unless overridden).
+    fn piola(&self, f: &Mat3) -> Mat3 {
+        piola_ad(self, f)
+    }
+
+    /// Tangent ∂P_iJ/∂F_kL as a 9×9 matrix on column-major flattened tensors (AD by default).
+    fn tangent(&self, f: &Mat3) -> Mat9 {
+        tangent_ad(self, f)
+    }
+
+    /// Cauchy stress σ_el = P Fᵀ / J.
+    fn cauchy(&self, f: &Mat3) -> Mat3 {
+        self.piola(f) * f.transpose() / f.determinant()
+    }
+}
+
+/// P = ∂W/∂F by forward-mode AD (nine dual directions).
+pub fn piola_ad<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Mat3 {
+    let (_, g) = num_dual::gradient(
+        |v: SVector<DualVec<f64, Const<9>>, 9>| law.energy(&mat3(&v)),
+        &vec9(f),
+    );
+    mat3(&g)
+}
+
+/// ∂P/∂F = ∂²W/∂F∂F by second-order AD.
+pub fn tangent_ad<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Mat9 {
+    let (_, _, h) = hessian(
+        |v: SVector<Dual2Vec<f64, Const<9>>, 9>| law.energy(&mat3(&v)),
+        &vec9(f),
+    );
+    h
+}
+
+/// Flattened P, for callers that work on 9-vectors.
+pub fn piola_vec<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Vec9 {
+    vec9(&law.piola(f))
+}

@@ -1,0 +1,60 @@
+//! Compressible Mooney–Rivlin solid.
+//!
+//! # Physics
+//! With C = FᵀF, I₁ = tr C, I₂ = ½[(tr C)² − tr C²] and J = det F:
+//!
+//! $W = \frac{\mu_1}{2}(I_1 - 3 - 2\ln J) + \frac{\mu_2}{2}(I_2 - 3 - 4\ln J) + \frac{\lambda}{2}(\ln J)^2$.
+//!
+//! The ln J terms make F = 1 stress-free (∂I₂/∂F = 4·1 there); the small-strain shear modulus is
+//! μ_s = μ₁ + μ₂ and μ₂ = 0 recovers Neo-Hooke (eq. 9). P and the tangent come from AD.
+
+use super::Hyperelastic;
+use crate::error::{ParamError, positive};
+use crate::tensor::{Mat3, Scalar, det3};
+use serde::{Deserialize, Serialize};
+
+/// Mooney–Rivlin law with moduli μ₁, μ₂ and Lamé parameter λ.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MooneyRivlin {
+    mu1: f64,
+    mu2: f64,
+    lambda: f64,
+}
+
+impl MooneyRivlin {
+    /// Law with μ₁ > 0, μ₂ ≥ 0, λ > 0.
+    pub fn new(mu1: f64, mu2: f64, lambda: f64) -> Result<Self, ParamError> {
+        if !(mu2.is_finite() && mu2 >= 0.0) {
+            return Err(ParamError::NotPositive {
+                name: "mu2 (must be >= 0)",
+                value: mu2,
+            });
+        }
+        Ok(Self {
+            mu1: positive("mu1", mu1)?,
+            mu2,
+            lambda: positive("lambda", lambda)?,
+        })
+    }
+}
+
+impl Hyperelastic for MooneyRivlin {
+    fn energy<S: Scalar>(&self, f: &Mat3<S>) -> S {
+        let c = f.transpose() * f;
+        let i1 = c.trace();
+        let tr_c2 = c.iter().fold(S::from(0.0), |acc, &x| acc + x * x);
+        let i2 = (i1 * i1 - tr_c2) * 0.5;
+        let ln_j = det3(f).ln();
+        (i1 - 3.0 - ln_j * 2.0) * (0.5 * self.mu1)
+            + (i2 - 3.0 - ln_j * 4.0) * (0.5 * self.mu2)
+            + ln_j * ln_j * (0.5 * self.lambda)
+    }
+
+    fn shear_modulus(&self) -> f64 {
+        self.mu1 + self.mu2
+    }
+
+    fn lame_lambda(&self) -> f64 {
+        self.lambda
+    }
+}

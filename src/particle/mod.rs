@@ -1,0 +1,73 @@
+//! The pseudo-rigid particle: constant model data ([`Particle`]) and the evolving state
+//! ([`State`]: barycentre x_c, v_c; deformation gradient F and its rate A = Ḟ).
+//!
+//! Particles are independent and `Send`, so a scene advances them in parallel.
+
+pub mod barycentre;
+pub mod lines;
+pub mod model;
+pub mod scaling;
+
+pub use model::{Fluid, Particle};
+pub use scaling::ShearScaling;
+
+use crate::error::StepError;
+use crate::tensor::{Mat3, Vec3, all_finite};
+use serde::{Deserialize, Serialize};
+
+/// Evolving state of one particle at time t.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct State {
+    /// Time t.
+    pub t: f64,
+    /// Barycentre x_c.
+    pub x: Vec3,
+    /// Barycentre velocity v_c.
+    pub v: Vec3,
+    /// Deformation gradient F (stress-free: F = 1).
+    pub f: Mat3,
+    /// Material velocity gradient A = Ḟ.
+    pub a: Mat3,
+}
+
+impl State {
+    /// Stress-free particle at rest at `x` at time 0 (the paper's initial increment).
+    pub fn at_rest(x: Vec3) -> Self {
+        Self {
+            t: 0.0,
+            x,
+            v: Vec3::zeros(),
+            f: Mat3::identity(),
+            a: Mat3::zeros(),
+        }
+    }
+
+    /// Spatial velocity gradient of the solid, l_s = A F⁻¹.
+    pub fn l_s(&self) -> Mat3 {
+        self.a * crate::tensor::inv_transpose(&self.f).transpose()
+    }
+
+    /// J = det F.
+    pub fn det_f(&self) -> f64 {
+        self.f.determinant()
+    }
+
+    /// Reject NaN/∞ anywhere in the state and det F ≤ 0.
+    pub fn validate(&self) -> Result<(), StepError> {
+        let finite = self.t.is_finite()
+            && self.x.iter().chain(self.v.iter()).all(|c| c.is_finite())
+            && all_finite(&self.f)
+            && all_finite(&self.a);
+        if !finite {
+            return Err(StepError::NonFinite {
+                what: "particle state",
+                t: self.t,
+            });
+        }
+        let det_f = self.det_f();
+        if det_f <= 0.0 {
+            return Err(StepError::Inverted { det_f, t: self.t });
+        }
+        Ok(())
+    }
+}

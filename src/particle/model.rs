@@ -1,0 +1,192 @@
+//! Constant data of a particle: shape, material, drag law, fluid, gravity, and the derived
+//! mass m = ρ₀ vol(B₀) and Euler tensor Θ = (m/5) S Sᵀ (paper eq. 8).
+
+use super::State;
+use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
+use crate::error::{ParamError, finite, positive};
+use crate::hydro::{Brenner, DragModel, JefferyRoscoe, VolumetricTraction};
+use crate::material::Hyperelastic;
+use crate::tensor::{Mat3, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// Carrier fluid: dynamic viscosity μ_f and density ρ_f.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Fluid {
+    /// Dynamic viscosity μ_f.
+    pub mu: f64,
+    /// Density ρ_f.
+    pub rho: f64,
+}
+
+impl Fluid {
+    /// Fluid with μ_f > 0 and ρ_f ≥ 0.
+    pub fn new(mu: f64, rho: f64) -> Result<Self, ParamError> {
+        if !(rho.is_finite() && rho >= 0.0) {
+            return Err(ParamError::NotPositive {
+                name: "rho_f (must be >= 0)",
+                value: rho,
+            });
+        }
+        Ok(Self {
+            mu: positive("mu_f", mu)?,
+            rho,
+        })
+    }
+}
+
+/// A pseudo-rigid particle model (everything that does not change during a run).
+#[derive(Debug, Clone)]
+pub struct Particle<M, D = Brenner> {
+    shape: Ellipsoid,
+    material: M,
+    drag: D,
+    fluid: Fluid,
+    rho_solid: f64,
+    gravity: Vec3,
+    volumetric: VolumetricTraction,
+    // Derived, cached: S, m, vol(B₀), Θ⁻¹.
+    s: Mat3,
+    mass: f64,
+    volume0: f64,
+    theta_inv: Mat3,
+}
+
+impl<M: Hyperelastic> Particle<M, Brenner> {
+    /// Particle with Brenner drag, the paper's volumetric traction and no gravity.
+    pub fn new(
+        shape: Ellipsoid,
+        material: M,
+        fluid: Fluid,
+        rho_solid: f64,
+    ) -> Result<Self, ParamError> {
+        Self::with_drag(shape, material, Brenner, fluid, rho_solid)
+    }
+}
+
+impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
+    /// Particle with an explicit drag model.
+    pub fn with_drag(
+        shape: Ellipsoid,
+        material: M,
+        drag: D,
+        fluid: Fluid,
+        rho_solid: f64,
+    ) -> Result<Self, ParamError> {
+        let rho_solid = positive("rho_s", rho_solid)?;
+        let s = shape.shape_tensor();
+        let volume0 = shape.volume();
+        let mass = rho_solid * volume0;
+        let theta_inv = shape
+            .euler_tensor(mass)
+            .try_inverse()
+            .ok_or(ParamError::NotPositive {
+                name: "det Theta",
+                value: 0.0,
+            })?;
+        Ok(Self {
+            shape,
+            material,
+            drag,
+            fluid,
+            rho_solid,
+            gravity: Vec3::zeros(),
+            volumetric: VolumetricTraction::default(),
+            s,
+            mass,
+            volume0,
+            theta_inv,
+        })
+    }
+
+    /// Set the gravitational acceleration g.
+    pub fn with_gravity(mut self, g: Vec3) -> Result<Self, ParamError> {
+        for c in g.iter() {
+            finite("gravity", *c)?;
+        }
+        self.gravity = g;
+        Ok(self)
+    }
+
+    /// Choose the volumetric treatment of the traction (physics.md §5.3).
+    pub fn with_volumetric(mut self, vol: VolumetricTraction) -> Self {
+        self.volumetric = vol;
+        self
+    }
+
+    /// Stress-free ellipsoid B₀.
+    pub fn shape(&self) -> &Ellipsoid {
+        &self.shape
+    }
+    /// Shape tensor S.
+    pub fn shape_tensor(&self) -> &Mat3 {
+        &self.s
+    }
+    /// Constitutive law.
+    pub fn material(&self) -> &M {
+        &self.material
+    }
+    /// Drag model.
+    pub fn drag(&self) -> &D {
+        &self.drag
+    }
+    /// Carrier fluid.
+    pub fn fluid(&self) -> &Fluid {
+        &self.fluid
+    }
+    /// Reference density ρ₀.
+    pub fn rho_solid(&self) -> f64 {
+        self.rho_solid
+    }
+    /// Gravity g.
+    pub fn gravity(&self) -> &Vec3 {
+        &self.gravity
+    }
+    /// Volumetric traction model.
+    pub fn volumetric(&self) -> VolumetricTraction {
+        self.volumetric
+    }
+    /// Mass m = ρ₀ vol(B₀).
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+    /// vol(B₀).
+    pub fn volume0(&self) -> f64 {
+        self.volume0
+    }
+    /// Θ⁻¹.
+    pub fn theta_inv(&self) -> &Mat3 {
+        &self.theta_inv
+    }
+
+    /// Total distortion F̄ = F·S.
+    pub fn total_distortion(&self, f: &Mat3) -> Mat3 {
+        f * self.s
+    }
+
+    /// Current principal frame, integrals and traction coefficients of a state.
+    pub fn geometry(&self, state: &State) -> Geometry {
+        let frame = PrincipalFrame::from_total_distortion(&self.total_distortion(&state.f));
+        let ints = EllipsoidIntegrals::new(&frame.r);
+        Geometry {
+            traction: JefferyRoscoe::new(&frame, &ints),
+            frame,
+            ints,
+        }
+    }
+
+    /// Elastic energy W(F) vol(B₀) of a state.
+    pub fn elastic_energy(&self, f: &Mat3) -> f64 {
+        self.material.energy(f) * self.volume0
+    }
+}
+
+/// Everything that depends on the current shape only: r_a, Q, integrals, σ̃ coefficients.
+#[derive(Debug, Clone, Copy)]
+pub struct Geometry {
+    /// Principal frame (r_a, Q).
+    pub frame: PrincipalFrame,
+    /// Jeffery integrals.
+    pub ints: EllipsoidIntegrals,
+    /// Traction coefficients.
+    pub traction: JefferyRoscoe,
+}

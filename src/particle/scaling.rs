@@ -1,0 +1,76 @@
+//! Nondimensional groups of the shear-flow problems (paper eqs. 23, 24; physics.md §1).
+//!
+//! Units: lengths in d_eq, times in 1/γ̇, stresses in μ_f γ̇. Then μ_f = 1, γ̇ = 1, the
+//! stress-free ellipsoid has R₁R₂R₃ = 1/8, μ_s = 1/Ca with Ca = μ_f γ̇/μ_s, and inertia enters
+//! only through ρ* = ρ_s γ̇ d_eq²/μ_f = (ρ_s/ρ_f) Re_γ̇.
+
+use super::{Fluid, Particle};
+use crate::ellipsoid::Ellipsoid;
+use crate::error::{ParamError, positive};
+use crate::material::NeoHooke;
+use serde::{Deserialize, Serialize};
+
+/// Capillary number, dimensionless density and bulk ratio of a neutrally buoyant particle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ShearScaling {
+    /// Ca = μ_f γ̇ / μ_s.
+    pub ca: f64,
+    /// ρ* = ρ_s γ̇ d_eq² / μ_f.
+    pub rho_star: f64,
+    /// λ_s / μ_s.
+    pub bulk_ratio: f64,
+}
+
+impl ShearScaling {
+    /// Validated groups.
+    pub fn new(ca: f64, rho_star: f64, bulk_ratio: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            ca: positive("Ca", ca)?,
+            rho_star: positive("rho*", rho_star)?,
+            bulk_ratio: positive("lambda_s/mu_s", bulk_ratio)?,
+        })
+    }
+
+    /// Groups from physical data: fluid viscosity μ_f, shear rate γ̇, solid moduli μ_s and λ_s,
+    /// solid density ρ_s and volume-equivalent diameter d_eq (SI or any consistent units).
+    pub fn from_physical(
+        mu_f: f64,
+        shear_rate: f64,
+        mu_s: f64,
+        lambda_s: f64,
+        rho_s: f64,
+        d_eq: f64,
+    ) -> Result<Self, ParamError> {
+        let (mu_f, g, mu_s) = (
+            positive("mu_f", mu_f)?,
+            positive("shear rate", shear_rate)?,
+            positive("mu_s", mu_s)?,
+        );
+        Self::new(
+            mu_f * g / mu_s,
+            positive("rho_s", rho_s)? * g * positive("d_eq", d_eq)?.powi(2) / mu_f,
+            positive("lambda_s", lambda_s)? / mu_s,
+        )
+    }
+
+    /// The Neo-Hooke solid μ_s = 1/Ca, λ_s = bulk_ratio · μ_s.
+    pub fn neo_hooke(&self) -> NeoHooke {
+        NeoHooke::from_capillary(self.ca, self.bulk_ratio).expect("validated in new()")
+    }
+
+    /// Neutrally buoyant Neo-Hooke particle with axis ratios `ratios` along `axes` (columns),
+    /// scaled to d_eq = 1.
+    pub fn particle(
+        &self,
+        ratios: [f64; 3],
+        axes: crate::tensor::Mat3,
+    ) -> Result<Particle<NeoHooke>, ParamError> {
+        let shape = Ellipsoid::with_volume_diameter(ratios, 1.0, axes)?;
+        Particle::new(
+            shape,
+            self.neo_hooke(),
+            Fluid::new(1.0, self.rho_star)?,
+            self.rho_star,
+        )
+    }
+}
