@@ -21,7 +21,7 @@
 //! term is a modelling choice ([`VolumetricTraction`], physics.md §5.3).
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
-use crate::tensor::{Mat3, Mat9, dev, skw, sym};
+use crate::tensor::{Mat3, Mat9, Vec9, dev, mat3, skw, sym, vec9};
 use serde::{Deserialize, Serialize};
 
 /// Treatment of the volumetric part tr d_s, about which Jeffery–Roscoe is silent.
@@ -141,39 +141,61 @@ impl JefferyRoscoe {
         self.frame.to_global(&sp) * mu_f
     }
 
-    /// Solid velocity gradient of an inertialess, incompressible particle (physics.md §9.7):
-    /// solve dev σ̃(l_s) = dev σ_el with tr l_s = 0, a 9×9 linear system, in global components.
-    ///
-    /// Returns `None` only if the system is singular, which the positive-definite viscous
-    /// resistance rules out for any non-degenerate ellipsoid.
-    pub fn inertialess_velocity_gradient(
-        &self,
-        sigma_el: &Mat3,
-        l_f: &Mat3,
-        mu_f: f64,
-    ) -> Option<Mat3> {
-        let lf = self.frame.to_principal(l_f);
-        let target = dev(&self.frame.to_principal(sigma_el)) / mu_f;
-        // σ̃' is affine in l_s': σ̃'(l) = σ̃'(0) + L l. Assemble L column by column.
+    /// Linear solver for the inertialess shape dynamics in flow `l_f` (physics.md §9.7).
+    pub fn inertialess(&self, l_f: &Mat3, mu_f: f64) -> Option<InertialessSolver> {
+        InertialessSolver::new(self, l_f, mu_f)
+    }
+}
+
+/// The inertialess (Θ → 0) balance P̃ = P, i.e. σ̃(l_s) = σ_el, for an incompressible particle:
+/// dev σ̃(l_s) = dev σ_el with tr l_s = 0 (physics.md §9.7). σ̃ is affine in l_s, so this is a
+/// 9×9 linear system in the principal frame; one diagonal row of dev is replaced by the trace
+/// condition. The LU factors are kept so that Jacobians reuse them.
+#[derive(Debug, Clone)]
+pub struct InertialessSolver {
+    q: Mat3,
+    lu: nalgebra::LU<f64, nalgebra::Const<9>, nalgebra::Const<9>>,
+    base: Mat3,
+    mu_f: f64,
+}
+
+impl InertialessSolver {
+    fn new(traction: &JefferyRoscoe, l_f: &Mat3, mu_f: f64) -> Option<Self> {
+        let frame = traction.frame();
+        let lf = frame.to_principal(l_f);
+        // The volumetric variant is irrelevant once tr l_s = 0 and dev is taken.
         let vol = VolumetricTraction::Dev;
-        let base = self.sigma_principal(&lf, &Mat3::zeros(), vol);
+        let base = dev(&traction.sigma_principal(&lf, &Mat3::zeros(), vol));
         let mut op = Mat9::zeros();
         for q in 0..9 {
             let mut e = Mat3::zeros();
             e[q] = 1.0;
-            let col = self.sigma_principal(&lf, &e, vol) - base;
-            op.set_column(q, &crate::tensor::vec9(&dev(&col)));
+            let col = dev(&traction.sigma_principal(&lf, &e, vol)) - base;
+            op.set_column(q, &vec9(&col));
         }
-        let mut rhs = crate::tensor::vec9(&(target - dev(&base)));
-        // dev makes the three diagonal rows dependent; replace the last by tr l_s' = 0.
-        let last = 8; // index of component (2, 2)
-        op.set_row(
-            last,
-            &nalgebra::SVector::<f64, 9>::from_fn(|q, _| if q % 4 == 0 { 1.0 } else { 0.0 })
-                .transpose(),
-        );
-        rhs[last] = 0.0;
-        let ls = op.lu().solve(&rhs)?;
-        Some(self.frame.to_global(&crate::tensor::mat3(&ls)))
+        op.set_row(TRACE_ROW, &Vec9::from_fn(|q, _| if q % 4 == 0 { 1.0 } else { 0.0 }).transpose());
+        let lu = op.lu();
+        lu.is_invertible().then_some(Self { q: frame.q, lu, base, mu_f })
+    }
+
+    /// l_s (global components) for the elastic Cauchy stress σ_el (global components).
+    pub fn velocity_gradient(&self, sigma_el: &Mat3) -> Mat3 {
+        let target = dev(&(self.q * sigma_el * self.q.transpose())) / self.mu_f - self.base;
+        self.solve(target)
+    }
+
+    /// The linear part: δl_s for a stress perturbation δσ_el (used by Jacobians).
+    pub fn velocity_gradient_increment(&self, d_sigma_el: &Mat3) -> Mat3 {
+        self.solve(dev(&(self.q * d_sigma_el * self.q.transpose())) / self.mu_f)
+    }
+
+    fn solve(&self, rhs_principal: Mat3) -> Mat3 {
+        let mut rhs = vec9(&rhs_principal);
+        rhs[TRACE_ROW] = 0.0;
+        let ls = self.lu.solve(&rhs).expect("invertibility checked at construction");
+        self.q.transpose() * mat3(&ls) * self.q
     }
 }
+
+/// Row of the (2,2) component in column-major order; replaced by tr l_s' = 0.
+const TRACE_ROW: usize = 8;

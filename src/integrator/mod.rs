@@ -5,8 +5,12 @@
 
 pub mod imex;
 pub mod newton;
+pub mod rosenbrock;
+pub mod stokesian;
 
 pub use imex::ImexPaper;
+pub use rosenbrock::Tolerances;
+pub use stokesian::{BarycentreModel, Stokesian};
 
 use crate::error::StepError;
 use crate::flow::FlowField;
