@@ -20,7 +20,13 @@ fn jeffery_spin(frame: &PrincipalFrame, l_f: &Mat3) -> Mat3 {
     let lf = frame.to_principal(l_f);
     let (d, w) = (sym(&lf), skw(&lf));
     let x = frame.r.component_mul(&frame.r);
-    let ws = Mat3::from_fn(|i, j| if i == j { 0.0 } else { w[(i, j)] - (x[i] - x[j]) / (x[i] + x[j]) * d[(i, j)] });
+    let ws = Mat3::from_fn(|i, j| {
+        if i == j {
+            0.0
+        } else {
+            w[(i, j)] - (x[i] - x[j]) / (x[i] + x[j]) * d[(i, j)]
+        }
+    });
     frame.to_global(&ws)
 }
 
@@ -125,9 +131,16 @@ fn roscoe_normal_stress_functions() {
     let ints = EllipsoidIntegrals::new(&Vec3::from(r));
     let app = ints.alpha_pp;
     let sig2 = app[0] * app[1] + app[1] * app[2] + app[2] * app[0];
-    let (i_fn, j_fn) = (0.4 * (app[0] + app[1]) / sig2, 0.4 * (app[0] - app[1]) / sig2);
+    let (i_fn, j_fn) = (
+        0.4 * (app[0] + app[1]) / sig2,
+        0.4 * (app[0] - app[1]) / sig2,
+    );
     assert_relative_eq!(s[(0, 0)] - s[(1, 1)], 10.0 * i_fn * e, max_relative = 1e-12);
-    assert_relative_eq!(s[(0, 0)] + s[(1, 1)] - 2.0 * s[(2, 2)], 10.0 * j_fn * e, max_relative = 1e-12);
+    assert_relative_eq!(
+        s[(0, 0)] + s[(1, 1)] - 2.0 * s[(2, 2)],
+        10.0 * j_fn * e,
+        max_relative = 1e-12
+    );
 }
 
 /// Volumetric variants differ only in the isotropic part, by the amounts of physics.md §5.3.
@@ -140,21 +153,39 @@ fn volumetric_variants() {
     let d = tr.sigma_tilde(&ls, &lf, 1.0, VolumetricTraction::Dev);
     let s = tr.sigma_tilde(&ls, &lf, 1.0, VolumetricTraction::Source);
     assert_relative_eq!(p - d, Mat3::identity() * (2.0 / 3.0 * 0.9), epsilon = 1e-14);
-    assert_relative_eq!(s - d, Mat3::identity() * (-4.0 / 3.0 * 0.9), epsilon = 1e-14);
+    assert_relative_eq!(
+        s - d,
+        Mat3::identity() * (-4.0 / 3.0 * 0.9),
+        epsilon = 1e-14
+    );
 }
 
 fn k_principal(r: [f64; 3]) -> Vec3 {
-    let frame = PrincipalFrame { r: Vec3::from(r), q: Mat3::identity() };
+    let frame = PrincipalFrame {
+        r: Vec3::from(r),
+        q: Mat3::identity(),
+    };
     Brenner::k_principal(&frame, &EllipsoidIntegrals::new(&frame.r))
 }
 
 #[test]
 fn drag_sphere_is_six() {
-    assert_relative_eq!(k_principal([0.7, 0.7, 0.7]), Vec3::repeat(6.0), max_relative = 1e-14);
+    assert_relative_eq!(
+        k_principal([0.7, 0.7, 0.7]),
+        Vec3::repeat(6.0),
+        max_relative = 1e-14
+    );
     // and StokesSphere gives 6π a for any shape of the same volume
-    let frame = PrincipalFrame { r: Vec3::new(2.0, 1.0, 0.5), q: Mat3::identity() };
+    let frame = PrincipalFrame {
+        r: Vec3::new(2.0, 1.0, 0.5),
+        q: Mat3::identity(),
+    };
     let k = StokesSphere.resistance(&frame, &EllipsoidIntegrals::new(&frame.r));
-    assert_relative_eq!(k, Matrix3::identity() * 6.0 * std::f64::consts::PI, max_relative = 1e-14);
+    assert_relative_eq!(
+        k,
+        Matrix3::identity() * 6.0 * std::f64::consts::PI,
+        max_relative = 1e-14
+    );
 }
 
 /// reference-notes §7 (grade A): tables printed to 6 significant digits, so the tolerance is
@@ -163,7 +194,10 @@ fn drag_sphere_is_six() {
 fn drag_matches_reference_tables() {
     let table = include_str!("../reference-data/drag_brenner_spheroids.csv");
     let mut rows = 0;
-    for line in table.lines().filter(|l| !l.starts_with('#') && !l.starts_with("shape")) {
+    for line in table
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("shape"))
+    {
         let c: Vec<&str> = line.split(',').collect();
         let r: Vec<f64> = c[1..4].iter().map(|v| v.parse().unwrap()).collect();
         let k = k_principal([r[0], r[1], r[2]]);

@@ -173,9 +173,17 @@ impl InertialessSolver {
             let col = dev(&traction.sigma_principal(&lf, &e, vol)) - base;
             op.set_column(q, &vec9(&col));
         }
-        op.set_row(TRACE_ROW, &Vec9::from_fn(|q, _| if q % 4 == 0 { 1.0 } else { 0.0 }).transpose());
+        op.set_row(
+            TRACE_ROW,
+            &Vec9::from_fn(|q, _| if q % 4 == 0 { 1.0 } else { 0.0 }).transpose(),
+        );
         let lu = op.lu();
-        lu.is_invertible().then_some(Self { q: frame.q, lu, base, mu_f })
+        lu.is_invertible().then_some(Self {
+            q: frame.q,
+            lu,
+            base,
+            mu_f,
+        })
     }
 
     /// l_s (global components) for the elastic Cauchy stress σ_el (global components).
@@ -192,7 +200,10 @@ impl InertialessSolver {
     fn solve(&self, rhs_principal: Mat3) -> Mat3 {
         let mut rhs = vec9(&rhs_principal);
         rhs[TRACE_ROW] = 0.0;
-        let ls = self.lu.solve(&rhs).expect("invertibility checked at construction");
+        let ls = self
+            .lu
+            .solve(&rhs)
+            .expect("invertibility checked at construction");
         self.q.transpose() * mat3(&ls) * self.q
     }
 }

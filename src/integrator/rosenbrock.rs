@@ -31,7 +31,11 @@ pub struct Tolerances {
 impl Tolerances {
     /// rtol = atol = `tol`, h_min = 1e-12.
     pub fn uniform(tol: f64) -> Self {
-        Self { rtol: tol, atol: tol, h_min: 1e-12 }
+        Self {
+            rtol: tol,
+            atol: tol,
+            h_min: 1e-12,
+        }
     }
 }
 
@@ -75,11 +79,20 @@ where
     let mut rejected = 0;
     loop {
         if h < tol.h_min {
-            return Err(StepError::StepSizeUnderflow { dt: h, t, error: f64::NAN });
+            return Err(StepError::StepSizeUnderflow {
+                dt: h,
+                t,
+                error: f64::NAN,
+            });
         }
         let attempt = (|| {
             let w = (SMatrix::<f64, N, N>::identity() - j * (h * D)).lu();
-            let solve = |b: SVector<f64, N>| w.solve(&b).ok_or(StepError::NonFinite { what: "Rosenbrock matrix", t });
+            let solve = |b: SVector<f64, N>| {
+                w.solve(&b).ok_or(StepError::NonFinite {
+                    what: "Rosenbrock matrix",
+                    t,
+                })
+            };
             let k1 = solve(f0)?;
             let f1 = rhs(t + 0.5 * h, &(y + k1 * (0.5 * h)))?;
             let k2 = solve(f1 - k1)? + k1;
@@ -97,8 +110,20 @@ where
         match attempt {
             Ok((y1, f_new, err)) if err <= 1.0 => {
                 rhs_evals += 2;
-                let grow: f64 = if err == 0.0 { 5.0 } else { (0.8 * err.powf(-1.0 / 3.0)).clamp(0.2, 5.0) };
-                return Ok(Accepted { y: y1, h, h_next: h * grow, f_new, rhs_evals, jac_evals: 1, rejected });
+                let grow: f64 = if err == 0.0 {
+                    5.0
+                } else {
+                    (0.8 * err.powf(-1.0 / 3.0)).clamp(0.2, 5.0)
+                };
+                return Ok(Accepted {
+                    y: y1,
+                    h,
+                    h_next: h * grow,
+                    f_new,
+                    rhs_evals,
+                    jac_evals: 1,
+                    rejected,
+                });
             }
             Ok((_, _, err)) if err.is_finite() => {
                 rhs_evals += 2;

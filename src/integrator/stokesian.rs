@@ -54,12 +54,18 @@ pub struct Stokesian {
 impl Stokesian {
     /// Integrator with rtol = atol = `tol` and an inertial barycentre.
     pub fn new(tol: f64) -> Self {
-        Self { tol: Tolerances::uniform(tol), barycentre: BarycentreModel::Inertial }
+        Self {
+            tol: Tolerances::uniform(tol),
+            barycentre: BarycentreModel::Inertial,
+        }
     }
 
     /// Same, with an overdamped barycentre.
     pub fn overdamped(tol: f64) -> Self {
-        Self { tol: Tolerances::uniform(tol), barycentre: BarycentreModel::Overdamped }
+        Self {
+            tol: Tolerances::uniform(tol),
+            barycentre: BarycentreModel::Overdamped,
+        }
     }
 }
 
@@ -72,7 +78,11 @@ fn pack(f: &Mat3, x: &Vec3, v: &Vec3) -> Y {
 }
 
 fn unpack(y: &Y) -> (Mat3, Vec3, Vec3) {
-    (mat3(&y.fixed_rows::<9>(0).into_owned()), y.fixed_rows::<3>(9).into_owned(), y.fixed_rows::<3>(12).into_owned())
+    (
+        mat3(&y.fixed_rows::<9>(0).into_owned()),
+        y.fixed_rows::<3>(9).into_owned(),
+        y.fixed_rows::<3>(12).into_owned(),
+    )
 }
 
 /// Everything the right-hand side computes at one state.
@@ -100,23 +110,48 @@ fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
     }
     let sample = flow.sample(&x, t)?;
     let mu_f = particle.fluid().mu;
-    let geo = particle.geometry(&State { t, x, v, f, a: Mat3::zeros() });
+    let geo = particle.geometry(&State {
+        t,
+        x,
+        v,
+        f,
+        a: Mat3::zeros(),
+    });
     let solver = geo
         .traction
         .inertialess(&sample.grad_u, mu_f)
-        .ok_or(StepError::NonFinite { what: "inertialess traction operator", t })?;
+        .ok_or(StepError::NonFinite {
+            what: "inertialess traction operator",
+            t,
+        })?;
     let sigma_el = particle.material().cauchy(&f);
     let l_s = solver.velocity_gradient(&sigma_el);
     let drag_rate = particle.drag().resistance(&geo.frame, &geo.ints) * (mu_f / particle.mass());
-    let a_g = reduced_gravity(particle.gravity(), particle.rho_solid(), particle.fluid().rho, det_f);
+    let a_g = reduced_gravity(
+        particle.gravity(),
+        particle.rho_solid(),
+        particle.fluid().rho,
+        det_f,
+    );
     let (x_dot, v_dot) = match model {
         BarycentreModel::Inertial => (v, a_g + drag_rate * (sample.u - v)),
         BarycentreModel::Overdamped => {
-            let drift = drag_rate.lu().solve(&a_g).ok_or(StepError::NonFinite { what: "drag tensor", t })?;
+            let drift = drag_rate.lu().solve(&a_g).ok_or(StepError::NonFinite {
+                what: "drag tensor",
+                t,
+            })?;
             (sample.u + drift, Vec3::zeros())
         }
     };
-    Ok(Evaluation { f_dot: l_s * f, l_s, x_dot, v_dot, drag_rate, l_f: sample.grad_u, solver })
+    Ok(Evaluation {
+        f_dot: l_s * f,
+        l_s,
+        x_dot,
+        v_dot,
+        drag_rate,
+        l_f: sample.grad_u,
+        solver,
+    })
 }
 
 fn rhs_vector(e: &Evaluation) -> Y {
@@ -124,7 +159,12 @@ fn rhs_vector(e: &Evaluation) -> Y {
 }
 
 /// W-method Jacobian: exact elastic part, frozen hydrodynamic operator, linear-flow coupling.
-fn jacobian<M: Hyperelastic, D: DragModel>(particle: &Particle<M, D>, model: BarycentreModel, y: &Y, e: &Evaluation) -> Jac {
+fn jacobian<M: Hyperelastic, D: DragModel>(
+    particle: &Particle<M, D>,
+    model: BarycentreModel,
+    y: &Y,
+    e: &Evaluation,
+) -> Jac {
     let (f, _, _) = unpack(y);
     let law = particle.material();
     let det_f = f.determinant();
@@ -140,13 +180,17 @@ fn jacobian<M: Hyperelastic, D: DragModel>(particle: &Particle<M, D>, model: Bar
         // δσ = (δP Fᵀ + P δFᵀ)/J − σ tr(F⁻¹δF)
         let d_sigma = (dp * f.transpose() + p * df.transpose()) / det_f - sigma * f_inv_t[q];
         let dl_s = e.solver.velocity_gradient_increment(&d_sigma);
-        jac.fixed_view_mut::<9, 1>(0, q).copy_from(&vec9(&(dl_s * f + e.l_s * df)));
+        jac.fixed_view_mut::<9, 1>(0, q)
+            .copy_from(&vec9(&(dl_s * f + e.l_s * df)));
     }
     match model {
         BarycentreModel::Inertial => {
-            jac.fixed_view_mut::<3, 3>(9, 12).copy_from(&Mat3::identity());
-            jac.fixed_view_mut::<3, 3>(12, 9).copy_from(&(e.drag_rate * e.l_f));
-            jac.fixed_view_mut::<3, 3>(12, 12).copy_from(&(-e.drag_rate));
+            jac.fixed_view_mut::<3, 3>(9, 12)
+                .copy_from(&Mat3::identity());
+            jac.fixed_view_mut::<3, 3>(12, 9)
+                .copy_from(&(e.drag_rate * e.l_f));
+            jac.fixed_view_mut::<3, 3>(12, 12)
+                .copy_from(&(-e.drag_rate));
         }
         BarycentreModel::Overdamped => {
             jac.fixed_view_mut::<3, 3>(9, 9).copy_from(&e.l_f);
@@ -185,7 +229,13 @@ impl TimeIntegrator for Stokesian {
             BarycentreModel::Inertial => v,
             BarycentreModel::Overdamped => acc.f_new.fixed_rows::<3>(9).into_owned(),
         };
-        let next = State { t: state.t + acc.h, x, v, f, a };
+        let next = State {
+            t: state.t + acc.h,
+            x,
+            v,
+            f,
+            a,
+        };
         next.validate()?;
         let info = StepInfo {
             dt: acc.h,
