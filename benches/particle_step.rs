@@ -32,11 +32,7 @@ fn bench_steps(c: &mut Criterion) {
     let mut g = c.benchmark_group("particle_step");
     g.throughput(Throughput::Elements(1));
     g.bench_function("imex_paper", |b| {
-        b.iter(|| {
-            ImexPaper::default()
-                .step(&p, black_box(&s), &flow, 5e-4)
-                .unwrap()
-        })
+        b.iter(|| ImexPaper::default().step(&p, black_box(&s), &flow, 5e-4).unwrap())
     });
     g.bench_function("stokesian_rosenbrock", |b| {
         b.iter(|| {

@@ -23,10 +23,7 @@ impl Hyperelastic for Yeoh {
         let ln_j = det3(f).ln();
         let i1 = f.iter().fold(S::from(0.0), |acc, &x| acc + x * x);
         let k = i1 - 3.0 - ln_j * 2.0;
-        k * self.c[0]
-            + k * k * self.c[1]
-            + k * k * k * self.c[2]
-            + ln_j * ln_j * (0.5 * self.lambda)
+        k * self.c[0] + k * k * self.c[1] + k * k * k * self.c[2] + ln_j * ln_j * (0.5 * self.lambda)
     }
     fn shear_modulus(&self) -> f64 {
         2.0 * self.c[0]
@@ -63,9 +60,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "Taylor deformation D = (r1 - r3)/(r1 + r3) = {:.4}",
         (r[0] - r[2]) / (r[0] + r[2])
     );
-    println!(
-        "{} steps, {} model evaluations",
-        stats.steps, stats.rhs_evals
-    );
+    println!("{} steps, {} model evaluations", stats.steps, stats.rhs_evals);
     Ok(())
 }

@@ -131,8 +131,7 @@ fn spheroid_period(r: f64, ca: f64) -> f64 {
             d -= (d / (2.0 * PI)).round() * 2.0 * PI;
             let next = unwrapped + d;
             if crossing.is_none() && next <= -2.0 * PI {
-                crossing =
-                    Some(prev.0 + (s.t - prev.0) * (-2.0 * PI - unwrapped) / (next - unwrapped));
+                crossing = Some(prev.0 + (s.t - prev.0) * (-2.0 * PI - unwrapped) / (next - unwrapped));
             }
             unwrapped = next;
             prev = (s.t, ang);

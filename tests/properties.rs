@@ -104,11 +104,7 @@ proptest! {
 fn dev_variant_can_inject_energy_through_volume_change() {
     let tr = JefferyRoscoe::from_total_distortion(&M3::from_diagonal(&Vec3::new(2.0, 1.0, 1.0)));
     let ls = M3::from_diagonal(&Vec3::new(-0.5, -0.95, -0.77));
-    let power = |vol| {
-        tr.sigma_tilde(&ls, &M3::zeros(), 1.0, vol)
-            .component_mul(&ls)
-            .sum()
-    };
+    let power = |vol| tr.sigma_tilde(&ls, &M3::zeros(), 1.0, vol).component_mul(&ls).sum();
     assert!(
         power(VolumetricTraction::Dev) > 0.0,
         "dev power {}",
@@ -140,17 +136,11 @@ fn volume_is_preserved_in_proportion_to_inverse_bulk_modulus() {
             |s, _| max_dev = max_dev.max((s.det_f() - 1.0).abs()),
         )
         .unwrap();
-        assert!(
-            max_dev <= 3.0 * ca / bulk,
-            "|J-1| = {max_dev:e} at λ/μ = {bulk}"
-        );
+        assert!(max_dev <= 3.0 * ca / bulk, "|J-1| = {max_dev:e} at λ/μ = {bulk}");
         worst.push(max_dev);
     }
     let ratio = worst[0] / worst[1];
-    assert!(
-        (5.0..=20.0).contains(&ratio),
-        "|J-1| ratio for a tenfold λ_s: {ratio}"
-    );
+    assert!((5.0..=20.0).contains(&ratio), "|J-1| ratio for a tenfold λ_s: {ratio}");
 }
 
 #[test]

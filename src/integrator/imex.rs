@@ -57,18 +57,13 @@ pub(crate) fn shape_update<M: Hyperelastic, D: DragModel>(
         let f = mat3(x);
         let det_f = f.determinant();
         if !(det_f > 0.0) {
-            return Err(StepError::Inverted {
-                det_f,
-                t: state.t + dt,
-            });
+            return Err(StepError::Inverted { det_f, t: state.t + dt });
         }
         let p = material.piola(&f);
         let r = f - anchor - (traction_piola(&f, sigma_star) - p) * theta_inv * c;
         let jac = want_jac.then(|| {
             let (_, d_pt) = num_dual::jacobian(
-                |v: SVector<DualVec<f64, Const<9>>, 9>| {
-                    vec9(&traction_piola(&mat3(&v), sigma_star))
-                },
+                |v: SVector<DualVec<f64, Const<9>>, 9>| vec9(&traction_piola(&mat3(&v), sigma_star)),
                 x,
             );
             Mat9::identity() - right_theta * (d_pt - material.tangent(&f)) * c
@@ -96,9 +91,9 @@ impl TimeIntegrator for ImexPaper {
         let sample = flow.sample(&state.x, t_new)?;
 
         let geo = particle.geometry(state);
-        let sigma_star =
-            geo.traction
-                .sigma_tilde(&state.l_s(), &sample.grad_u, mu_f, particle.volumetric());
+        let sigma_star = geo
+            .traction
+            .sigma_tilde(&state.l_s(), &sample.grad_u, mu_f, particle.volumetric());
         let sol = shape_update(particle, state, &sigma_star, dt, self.newton)?;
         let f_new = mat3(&sol.x);
         let a_new = (f_new - state.f) / dt;
@@ -111,21 +106,19 @@ impl TimeIntegrator for ImexPaper {
             a: a_new,
         };
         let geo_new = particle.geometry(&next);
-        let drag_rate =
-            particle.drag().resistance(&geo_new.frame, &geo_new.ints) * (mu_f / particle.mass());
+        let drag_rate = particle.drag().resistance(&geo_new.frame, &geo_new.ints) * (mu_f / particle.mass());
         let a_g = reduced_gravity(
             particle.gravity(),
             particle.rho_solid(),
             particle.fluid().rho,
             f_new.determinant(),
         );
-        let (x, v) = barycentre::implicit_euler(
-            &state.x, &state.v, &sample.u, &a_g, &drag_rate, dt,
-        )
-        .ok_or(StepError::NonFinite {
-            what: "barycentre system",
-            t: t_new,
-        })?;
+        let (x, v) = barycentre::implicit_euler(&state.x, &state.v, &sample.u, &a_g, &drag_rate, dt).ok_or(
+            StepError::NonFinite {
+                what: "barycentre system",
+                t: t_new,
+            },
+        )?;
         next.x = x;
         next.v = v;
         next.validate()?;
@@ -152,9 +145,5 @@ pub fn imex_residual<M: Hyperelastic, D: DragModel>(
 ) -> Vec9 {
     let c = dt * dt * particle.volume0();
     let p = particle.material().piola(f);
-    vec9(
-        &(f - state.f
-            - state.a * dt
-            - (traction_piola(f, sigma_star) - p) * particle.theta_inv() * c),
-    )
+    vec9(&(f - state.f - state.a * dt - (traction_piola(f, sigma_star) - p) * particle.theta_inv() * c))
 }
