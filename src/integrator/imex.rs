@@ -28,10 +28,53 @@ use nalgebra::{Const, SVector};
 use num_dual::DualVec;
 
 /// The paper's fixed-step IMEX scheme.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct ImexPaper {
     /// Newton controls (default: |R|∞ ≤ 1e-12, at most 12 iterations).
     pub newton: NewtonOptions,
+    /// Refuse steps beyond the explicit viscous stability limit ([`stability_limit`]) with
+    /// [`StepError::Unstable`] (default on; costs one 9×9 eigenvalue problem per step).
+    pub check_stability: bool,
+}
+
+impl Default for ImexPaper {
+    fn default() -> Self {
+        Self {
+            newton: NewtonOptions::default(),
+            check_stability: true,
+        }
+    }
+}
+
+/// Largest Δt for which the explicit viscous term of the IMEX scheme is stable at `state`.
+///
+/// The explicit part is Ȧ = E A with E: A ↦ vol(B₀) J σ̃(l_s = A F⁻¹; l_f = 0) F⁻ᵀ Θ⁻¹, a
+/// linear map on 9-vectors. Forward Euler on it is stable iff |1 + Δt λ| ≤ 1 for every
+/// eigenvalue λ = a + ib with a < 0, i.e. Δt ≤ −2a/|λ|² (physics.md §7, condition 1).
+/// Eigenvalues with a ≥ 0 are not viscous damping (the volumetric anti-damping of the
+/// `paper` traction is condition 2 and is left to the implicit elastic update).
+pub fn stability_limit<M: Hyperelastic, D: DragModel>(particle: &Particle<M, D>, state: &State) -> f64 {
+    let geo = particle.geometry(state);
+    let f_inv = inv_transpose(&state.f).transpose();
+    let j = state.f.determinant();
+    let mu_f = particle.fluid().mu;
+    let mut op = Mat9::zeros();
+    for q in 0..9 {
+        let mut a = Mat3::zeros();
+        a[q] = 1.0;
+        let sigma = geo
+            .traction
+            .sigma_tilde(&(a * f_inv), &Mat3::zeros(), mu_f, particle.volumetric());
+        op.set_column(
+            q,
+            &vec9(&(sigma * f_inv.transpose() * particle.theta_inv() * (j * particle.volume0()))),
+        );
+    }
+    op.complex_eigenvalues()
+        .iter()
+        .filter(|l| l.re < 0.0)
+        .map(|l| -2.0 * l.re / l.norm_sqr())
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// J σ̃* F⁻ᵀ for a frozen σ̃*, generic so that AD gives its derivative in F.
@@ -86,6 +129,16 @@ impl TimeIntegrator for ImexPaper {
     ) -> Result<(State, StepInfo), StepError> {
         crate::error::positive("dt", dt)?;
         state.validate()?;
+        if self.check_stability {
+            let limit = stability_limit(particle, state);
+            if dt > limit {
+                return Err(StepError::Unstable {
+                    dt,
+                    limit,
+                    reason: "explicit viscous traction (physics.md §7)",
+                });
+            }
+        }
         let t_new = state.t + dt;
         let mu_f = particle.fluid().mu;
         let sample = flow.sample(&state.x, t_new)?;
