@@ -34,8 +34,13 @@ fn bench_steps(c: &mut Criterion) {
     g.bench_function("imex_paper", |b| {
         b.iter(|| ImexPaper::default().step(&p, black_box(&s), &flow, 5e-4).unwrap())
     });
-    let unchecked = ImexPaper { check_stability: false, ..ImexPaper::default() };
-    g.bench_function("imex_paper_unchecked", |b| b.iter(|| unchecked.step(&p, black_box(&s), &flow, 5e-4).unwrap()));
+    let unchecked = ImexPaper {
+        check_stability: false,
+        ..ImexPaper::default()
+    };
+    g.bench_function("imex_paper_unchecked", |b| {
+        b.iter(|| unchecked.step(&p, black_box(&s), &flow, 5e-4).unwrap())
+    });
     g.bench_function("stokesian_rosenbrock", |b| {
         b.iter(|| {
             Stokesian::overdamped(1e-6)

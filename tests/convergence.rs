@@ -107,3 +107,36 @@ fn imex_paper_is_first_order() {
     let k = slope(&dts, &errs);
     assert!((0.8..=1.3).contains(&k), "observed order {k}, errors {errs:?}");
 }
+
+/// Adaptive IMEX: halving the tolerance reduces the global error. With error-per-step
+/// control of a first-order method the global error scales like tol^{1/2} (step count
+/// ∝ tol^{-1/2}, each step contributing ≈ tol); accept a fitted slope in [0.35, 1.2].
+#[test]
+fn imex_adaptive_error_follows_tolerance() {
+    use pseudorigid::driver::advance;
+    use pseudorigid::integrator::ImexAdaptive;
+    let p = ShearScaling::new(0.3, 1.0, 1e3)
+        .unwrap()
+        .particle([2.0, 1.0, 1.0], Mat3::identity())
+        .unwrap();
+    let flow = LinearFlow::simple_shear(1.0).unwrap();
+    let reference = fixed_steps(&ImexPaper::default(), &p, 1e-4, 1.0).f;
+    let tols = [4e-5, 2e-5, 1e-5, 5e-6];
+    let errs: Vec<f64> = tols
+        .iter()
+        .map(|&tol| {
+            let (s, _) = advance(
+                &ImexAdaptive::new(tol),
+                &p,
+                State::at_rest(Vec3::zeros()),
+                &flow,
+                1e-3,
+                1.0,
+            )
+            .unwrap();
+            (s.f - reference).abs().max()
+        })
+        .collect();
+    let k = slope(&tols, &errs);
+    assert!((0.35..=1.2).contains(&k), "slope {k}, errors {errs:?}");
+}

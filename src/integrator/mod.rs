@@ -4,11 +4,13 @@
 //! Jacobian evaluations, Newton iterations), not only seconds.
 
 pub mod imex;
+pub mod imex_adaptive;
 pub mod newton;
 pub mod rosenbrock;
 pub mod stokesian;
 
 pub use imex::ImexPaper;
+pub use imex_adaptive::ImexAdaptive;
 pub use rosenbrock::Tolerances;
 pub use stokesian::{BarycentreModel, ShapeResponse, Stokesian};
 
