@@ -37,3 +37,11 @@ pub enum OutputError {
     #[error("plotting failed: {0}")]
     Plot(String),
 }
+
+/// `<crate root>/paper-figures/<figure>/<file>`: where the examples put their results.
+pub fn paper_figure_path(figure: &str, file: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("paper-figures")
+        .join(figure)
+        .join(file)
+}

@@ -7,10 +7,12 @@
 //! - [`shear_run`]: sampled runs (axes, material lines l_a, l_c) for Figs 4–6;
 //! - [`shear_regimes`]: the tumbling/trembling (TU/TR) classifier with dense checking;
 //! - [`phase_boundary`]: bisection in Ca for the TU/TR boundary, parallel over shapes (Figs 7, 8);
+//! - [`phase_map`]: boundaries over families of shapes, with their dataset and figure;
 //! - [`tank_treading`]: steady tank-treading of an initially spherical particle, by time
 //!   integration and by Roscoe's (1967) steady algebraic equations.
 
 pub mod phase_boundary;
+pub mod phase_map;
 pub mod section;
 pub mod shear_regimes;
 pub mod shear_run;

@@ -45,6 +45,12 @@ pub fn unit_shear() -> LinearFlow {
     LinearFlow::simple_shear(1.0).expect("finite shear rate")
 }
 
+/// Groups for inertialess runs at capillary number `ca`: in the overdamped Stokesian model
+/// without gravity ρ* does not enter, and tr l_s = 0 keeps J = 1 so λ_s does not either.
+pub fn stokesian_scaling(ca: f64) -> Result<ShearScaling, SceneError> {
+    Ok(ShearScaling::new(ca, 1.0, 1e3)?)
+}
+
 /// Run `shape` at the groups `scaling` from rest in unit shear and sample it at `times`
 /// (ascending; 0 allowed), starting with step `dt0`.
 pub fn sample<I: TimeIntegrator>(
