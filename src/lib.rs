@@ -24,7 +24,9 @@ pub mod flow;
 pub mod hydro;
 pub mod integrator;
 pub mod material;
+pub mod output;
 pub mod particle;
+pub mod scenes;
 pub mod tensor;
 
 /// The names most programs need.

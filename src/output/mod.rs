@@ -1,0 +1,47 @@
+//! Output helpers shared by the examples: atomic file writes, CSV tables and SVG figures.
+//!
+//! Every file is written atomically (temporary file in the same folder, then `rename`), so a
+//! reader never sees a half-written dataset and an interrupted run leaves the old one intact.
+
+pub mod atomic;
+pub mod csv;
+pub mod plot;
+
+pub use atomic::write_atomic;
+pub use csv::Csv;
+pub use plot::{Figure, Panel, Series, SeriesStyle};
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Failures while writing datasets or figures.
+#[derive(Debug, Error)]
+pub enum OutputError {
+    /// The file system refused a write, rename or folder creation.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// File (or folder) concerned.
+        path: PathBuf,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+    /// A CSV row does not match the header.
+    #[error("CSV row has {got} fields, header has {expected}")]
+    Columns {
+        /// Header length.
+        expected: usize,
+        /// Row length.
+        got: usize,
+    },
+    /// The plotting backend failed.
+    #[error("plotting failed: {0}")]
+    Plot(String),
+}
+
+/// `<crate root>/paper-figures/<figure>/<file>`: where the examples put their results.
+pub fn paper_figure_path(figure: &str, file: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("paper-figures")
+        .join(figure)
+        .join(file)
+}

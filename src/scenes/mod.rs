@@ -1,0 +1,60 @@
+//! Scenes: complete numerical experiments assembled from particles, flows and integrators.
+//!
+//! Shear-flow scenes of paper §6.1 (units of [`crate::particle::ShearScaling`]: lengths d_eq,
+//! times 1/γ̇, μ_f = 1, μ_s = 1/Ca; flow u = y e_x, vorticity −e_z):
+//! - [`shear_shape`]: initial shapes named by their semi-axes along flow, gradient, vorticity;
+//! - [`section`]: the ellipse cut by the shear plane (what the paper's figures show);
+//! - [`shear_run`]: sampled runs (axes, material lines l_a, l_c) for Figs 4–6;
+//! - [`shear_regimes`]: the tumbling/trembling (TU/TR) classifier with dense checking;
+//! - [`phase_boundary`]: bisection in Ca for the TU/TR boundary, parallel over shapes (Figs 7, 8);
+//! - [`phase_map`]: boundaries over families of shapes, with their dataset and figure;
+//! - [`tank_treading`]: steady tank-treading of an initially spherical particle, by time
+//!   integration and by Roscoe's (1967) steady algebraic equations.
+
+pub mod phase_boundary;
+pub mod phase_map;
+pub mod section;
+pub mod shear_regimes;
+pub mod shear_run;
+pub mod shear_shape;
+pub mod tank_treading;
+
+use crate::error::{ParamError, StepError};
+use thiserror::Error;
+
+/// Failures of a scene.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SceneError {
+    /// A time step failed.
+    #[error(transparent)]
+    Step(#[from] StepError),
+    /// Invalid parameters.
+    #[error(transparent)]
+    Param(#[from] ParamError),
+    /// No Ca in the allowed range gives both regimes.
+    #[error(
+        "no TU/TR bracket in Ca ∈ [{ca_min}, {ca_max}]: {regime_at_min:?} at Ca = {ca_min}, {regime_at_max:?} at Ca = {ca_max}"
+    )]
+    NoBracket {
+        /// Smallest Ca tried.
+        ca_min: f64,
+        /// Largest Ca tried.
+        ca_max: f64,
+        /// Regime at `ca_min`.
+        regime_at_min: shear_regimes::Regime,
+        /// Regime at `ca_max`.
+        regime_at_max: shear_regimes::Regime,
+    },
+    /// The steady tank-treading equations were not solved.
+    #[error(
+        "steady tank-treading solve failed at Ca = {ca}: {iters} Newton iterations, residual {residual:.3e}"
+    )]
+    SteadyNotConverged {
+        /// Capillary number.
+        ca: f64,
+        /// Iterations performed.
+        iters: u32,
+        /// Final residual (max-norm).
+        residual: f64,
+    },
+}

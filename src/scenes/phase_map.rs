@@ -1,0 +1,87 @@
+//! TU/TR phase maps: boundaries over families of shapes (paper Figs 7, 8), their CSV dataset
+//! and their figure.
+//!
+//! The dataset has one row per shape, `family,r_flow,r_gradient,r_vorticity,ca_tu,ca_tr`,
+//! with the initial semi-axes relative to each other (ratios, not d_eq units).
+
+use super::SceneError;
+use super::phase_boundary::{Boundary, BoundarySearch};
+use super::shear_regimes::RegimeClassifier;
+use super::shear_shape::ShearShape;
+use crate::integrator::{Stokesian, TimeIntegrator};
+use crate::output::{Csv, OutputError, Panel, Series};
+
+/// One located boundary and the abscissa it is plotted at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapPoint {
+    /// Abscissa (aspect ratio, ω₁ or ω₂).
+    pub x: f64,
+    /// The boundary of that shape.
+    pub boundary: Boundary,
+}
+
+/// The search used for the paper maps: inertialess classifier at rtol = atol = 1e-7 (the
+/// margin is converged to ~1e-7 there, far below its ~0.6 ΔCa sensitivity; tested) and
+/// ΔCa ≤ 1e-3.
+pub fn paper_search() -> BoundarySearch<Stokesian> {
+    BoundarySearch::new(RegimeClassifier::stokesian(1e-7), 1e-3)
+}
+
+/// Boundaries of all `(x, shape)` pairs, in parallel.
+pub fn compute<I: TimeIntegrator + Sync>(
+    search: &BoundarySearch<I>,
+    shapes: &[(f64, ShearShape)],
+) -> Result<Vec<MapPoint>, SceneError> {
+    let list: Vec<ShearShape> = shapes.iter().map(|(_, s)| *s).collect();
+    search
+        .find_all(&list)
+        .into_iter()
+        .zip(shapes)
+        .map(|(b, (x, _))| b.map(|boundary| MapPoint { x: *x, boundary }))
+        .collect()
+}
+
+/// The boundary dataset.
+pub fn boundary_table(points: &[MapPoint]) -> Result<Csv, OutputError> {
+    let mut csv = Csv::new(&[
+        "family",
+        "r_flow",
+        "r_gradient",
+        "r_vorticity",
+        "ca_tu",
+        "ca_tr",
+    ]);
+    for p in points {
+        let (s, b) = (p.boundary.shape, p.boundary);
+        csv.push(vec![
+            s.family.to_string(),
+            s.r_flow.to_string(),
+            s.r_gradient.to_string(),
+            s.r_vorticity.to_string(),
+            b.ca_tu.to_string(),
+            b.ca_tr.to_string(),
+        ])?;
+    }
+    Ok(csv)
+}
+
+/// Ca_c against x, one line per family, with the bracket ends as points.
+pub fn boundary_panel(points: &[MapPoint], title: &str, x_label: &str) -> Panel {
+    let mut families: Vec<&str> = points.iter().map(|p| p.boundary.shape.family).collect();
+    families.dedup();
+    let mut panel = Panel::new(title, x_label, "Ca (TU below, TR above)");
+    for (i, fam) in families.iter().enumerate() {
+        let of = |f: fn(&Boundary) -> f64| -> Vec<(f64, f64)> {
+            points
+                .iter()
+                .filter(|p| p.boundary.shape.family == *fam)
+                .map(|p| (p.x, f(&p.boundary)))
+                .collect()
+        };
+        panel = panel
+            .with(Series::line(*fam, of(Boundary::ca_critical), i + 1))
+            .with(Series::points("", of(|b| b.ca_tu), i + 1))
+            .with(Series::points("", of(|b| b.ca_tr), i + 1));
+    }
+    panel
+}
