@@ -64,25 +64,13 @@ fn main() -> Result<(), Box<dyn Error>> {
         let regime = if ca < 0.45 { "TU" } else { "TR" };
         panels.push(
             Panel::new(format!("Ca = {ca} ({regime})"), "t̂ = γ̇t", "aspect ratio")
-                .with(Series::line(
-                    "ω₁ (in plane)",
-                    series(&|s| s.section.omega1()),
-                    1,
-                ))
-                .with(Series::line(
-                    "ω₂ (out of plane)",
-                    series(&|s| s.section.omega2()),
-                    3,
-                )),
+                .with(Series::line("ω₁ (in plane)", series(&|s| s.section.omega1()), 1))
+                .with(Series::line("ω₂ (out of plane)", series(&|s| s.section.omega2()), 3)),
         );
         panels.push(
-            Panel::new(
-                format!("Ca = {ca}: material lines"),
-                "t̂ = γ̇t",
-                "length / d_eq",
-            )
-            .with(Series::line("l_a", series(&|s| s.l_a()), 2))
-            .with(Series::line("l_c", series(&|s| s.l_c()), 1)),
+            Panel::new(format!("Ca = {ca}: material lines"), "t̂ = γ̇t", "length / d_eq")
+                .with(Series::line("l_a", series(&|s| s.l_a()), 2))
+                .with(Series::line("l_c", series(&|s| s.l_c()), 1)),
         );
     }
     csv.write(paper_figure_path("fig4", "axes.csv"))?;

@@ -26,17 +26,11 @@ fn main() -> Result<(), Box<dyn Error>> {
         );
     }
     boundary_table(&points)?.write(paper_figure_path("fig8", "boundary.csv"))?;
-    let (a, b): (Vec<_>, Vec<_>) = points
-        .iter()
-        .partition(|p| p.boundary.shape.family.starts_with('a'));
+    let (a, b): (Vec<_>, Vec<_>) = points.iter().partition(|p| p.boundary.shape.family.starts_with('a'));
     Figure::grid(
         vec![
             boundary_panel(&a, "Fig. 8(a): ω₁ = 0.5", "ω₂ = r_vorticity / r_long"),
-            boundary_panel(
-                &b,
-                "Fig. 8(b): ω₂ = 0.5",
-                "ω₁ = r_short / r_long (in plane)",
-            ),
+            boundary_panel(&b, "Fig. 8(b): ω₂ = 0.5", "ω₁ = r_short / r_long (in plane)"),
         ],
         2,
         (560, 440),

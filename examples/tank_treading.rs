@@ -83,11 +83,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             curve(&|r| r.2.deformation(), 2.0),
             1,
         ))
-        .with(Series::line(
-            "small Ca: 5Ca/4",
-            curve(&|r| r.3.deformation(), 0.8),
-            6,
-        ));
+        .with(Series::line("small Ca: 5Ca/4", curve(&|r| r.3.deformation(), 0.8), 6));
     let t_panel = Panel::new("Inclination", "Ca", "θ (degrees)")
         .with(Series::points(
             "time integration",
@@ -104,8 +100,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             curve(&|r| r.3.theta.to_degrees(), 0.8),
             6,
         ));
-    Figure::grid(vec![d_panel, t_panel], 2, (560, 420))
-        .write(paper_figure_path(dir, "steady.svg"))?;
+    Figure::grid(vec![d_panel, t_panel], 2, (560, 420)).write(paper_figure_path(dir, "steady.svg"))?;
     println!("tank_treading: wall time {:.2?}", start.elapsed());
     Ok(())
 }

@@ -79,11 +79,7 @@ pub struct Panel {
 
 impl Panel {
     /// Panel with a title and axis labels and no data yet.
-    pub fn new(
-        title: impl Into<String>,
-        x_label: impl Into<String>,
-        y_label: impl Into<String>,
-    ) -> Self {
+    pub fn new(title: impl Into<String>, x_label: impl Into<String>, y_label: impl Into<String>) -> Self {
         Self {
             title: title.into(),
             x_label: x_label.into(),
@@ -111,9 +107,7 @@ impl Panel {
             .iter()
             .flat_map(|s| s.points.iter().map(&pick))
             .filter(|v| v.is_finite())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                (lo.min(v), hi.max(v))
-            });
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
         if !(lo.is_finite() && hi.is_finite()) {
             return (0.0, 1.0);
         }
@@ -152,10 +146,7 @@ impl Figure {
     pub fn to_svg(&self) -> Result<String, OutputError> {
         let plot_err = |e: &dyn std::fmt::Display| OutputError::Plot(e.to_string());
         let rows = self.panels.len().div_ceil(self.columns).max(1);
-        let size = (
-            self.panel_size.0 * self.columns as u32,
-            self.panel_size.1 * rows as u32,
-        );
+        let size = (self.panel_size.0 * self.columns as u32, self.panel_size.1 * rows as u32);
         let mut svg = String::new();
         {
             let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
@@ -196,19 +187,13 @@ fn draw_panel(area: &Area<'_>, panel: &Panel) -> Result<(), DrawingAreaErrorKind
     for s in &panel.series {
         let color = PALETTE[s.color % PALETTE.len()];
         let anno = match s.style {
-            SeriesStyle::Line => chart.draw_series(LineSeries::new(
-                s.points.iter().copied(),
-                color.stroke_width(2),
-            ))?,
-            SeriesStyle::Points => {
-                chart.draw_series(s.points.iter().map(|&p| Circle::new(p, 3, color.filled())))?
-            }
+            SeriesStyle::Line => chart.draw_series(LineSeries::new(s.points.iter().copied(), color.stroke_width(2)))?,
+            SeriesStyle::Points => chart.draw_series(s.points.iter().map(|&p| Circle::new(p, 3, color.filled())))?,
         };
         if !s.label.is_empty() {
             legend = true;
-            anno.label(s.label.as_str()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
-            });
+            anno.label(s.label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2)));
         }
     }
     if legend {

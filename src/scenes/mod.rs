@@ -18,6 +18,7 @@ pub mod shear_regimes;
 pub mod shear_run;
 pub mod shear_shape;
 pub mod tank_treading;
+pub mod work_precision;
 
 use crate::error::{ParamError, StepError};
 use thiserror::Error;
@@ -46,9 +47,7 @@ pub enum SceneError {
         regime_at_max: shear_regimes::Regime,
     },
     /// The steady tank-treading equations were not solved.
-    #[error(
-        "steady tank-treading solve failed at Ca = {ca}: {iters} Newton iterations, residual {residual:.3e}"
-    )]
+    #[error("steady tank-treading solve failed at Ca = {ca}: {iters} Newton iterations, residual {residual:.3e}")]
     SteadyNotConverged {
         /// Capillary number.
         ca: f64,

@@ -43,14 +43,7 @@ pub fn compute<I: TimeIntegrator + Sync>(
 
 /// The boundary dataset.
 pub fn boundary_table(points: &[MapPoint]) -> Result<Csv, OutputError> {
-    let mut csv = Csv::new(&[
-        "family",
-        "r_flow",
-        "r_gradient",
-        "r_vorticity",
-        "ca_tu",
-        "ca_tr",
-    ]);
+    let mut csv = Csv::new(&["family", "r_flow", "r_gradient", "r_vorticity", "ca_tu", "ca_tr"]);
     for p in points {
         let (s, b) = (p.boundary.shape, p.boundary);
         csv.push(vec![

@@ -70,10 +70,7 @@ impl ShearPlaneSection {
 
     /// End point of the long semi-axis (x, y).
     pub fn long_axis_tip(&self) -> (f64, f64) {
-        (
-            self.r_long * self.angle.cos(),
-            self.r_long * self.angle.sin(),
-        )
+        (self.r_long * self.angle.cos(), self.r_long * self.angle.sin())
     }
 
     /// `n` points on the outline (closed: the first point is repeated at the end).

@@ -92,17 +92,10 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
     }
 
     /// Classify `shape` at the groups `scaling` (Ca, ρ*, λ_s/μ_s).
-    pub fn classify(
-        &self,
-        shape: &ShearShape,
-        scaling: &ShearScaling,
-    ) -> Result<Classification, SceneError> {
+    pub fn classify(&self, shape: &ShearShape, scaling: &ShearScaling) -> Result<Classification, SceneError> {
         let particle = shape.particle(scaling)?;
         let (a, c) = shape.in_plane_axes();
-        let (xi_a0, xi_c0) = (
-            particle.shape().axis_point(a),
-            particle.shape().axis_point(c),
-        );
+        let (xi_a0, xi_c0) = (particle.shape().axis_point(a), particle.shape().axis_point(c));
         let horizon = self.horizon(shape);
         let start = State::at_rest(Vec3::zeros());
         let mut track = MarginTracker::new(&start, xi_a0, xi_c0);
@@ -131,16 +124,8 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
     }
 
     /// Classify at capillary number `ca` (inertia and bulk modulus as in `base`).
-    pub fn classify_ca(
-        &self,
-        shape: &ShearShape,
-        ca: f64,
-        base: &ShearScaling,
-    ) -> Result<Classification, SceneError> {
-        self.classify(
-            shape,
-            &ShearScaling::new(ca, base.rho_star, base.bulk_ratio)?,
-        )
+    pub fn classify_ca(&self, shape: &ShearShape, ca: f64, base: &ShearScaling) -> Result<Classification, SceneError> {
+        self.classify(shape, &ShearScaling::new(ca, base.rho_star, base.bulk_ratio)?)
     }
 }
 
@@ -169,12 +154,7 @@ impl MarginTracker {
 
     /// (ξ_a, ξ_c, ξ̇_a, ξ̇_c) of a state.
     fn lines(&self, s: &State) -> [Vec3; 4] {
-        [
-            s.f * self.xi0.0,
-            s.f * self.xi0.1,
-            s.a * self.xi0.0,
-            s.a * self.xi0.1,
-        ]
+        [s.f * self.xi0.0, s.f * self.xi0.1, s.a * self.xi0.0, s.a * self.xi0.1]
     }
 
     fn record(&mut self, t: f64, m: f64) {
@@ -193,10 +173,7 @@ impl MarginTracker {
         let h = s.t - t0;
         for i in 1..=substeps {
             let u = i as f64 / (substeps + 1) as f64;
-            let (h00, h10) = (
-                2.0 * u.powi(3) - 3.0 * u * u + 1.0,
-                u.powi(3) - 2.0 * u * u + u,
-            );
+            let (h00, h10) = (2.0 * u.powi(3) - 3.0 * u * u + 1.0, u.powi(3) - 2.0 * u * u + u);
             let (h01, h11) = (-2.0 * u.powi(3) + 3.0 * u * u, u.powi(3) - u * u);
             let xa = p[0] * h00 + p[2] * (h * h10) + q[0] * h01 + q[2] * (h * h11);
             let xc = p[1] * h00 + p[3] * (h * h10) + q[1] * h01 + q[3] * (h * h11);

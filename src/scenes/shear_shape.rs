@@ -80,11 +80,7 @@ impl ShearShape {
 
     /// Indices (a, c) of the initial in-shear-plane semi-axes, a on the longer one (ties: flow).
     pub fn in_plane_axes(&self) -> (usize, usize) {
-        if self.r_flow >= self.r_gradient {
-            (0, 1)
-        } else {
-            (1, 0)
-        }
+        if self.r_flow >= self.r_gradient { (0, 1) } else { (1, 0) }
     }
 
     /// In-plane aspect ratio r_long/r_short ≥ 1.

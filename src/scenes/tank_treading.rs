@@ -131,11 +131,7 @@ fn steady_equations(ca: f64, l1: f64, l2: f64) -> Option<Steady> {
 /// in Ca from 0.01 (or `ca` if smaller) in steps of ×1.2 from the small-Ca guess.
 pub fn roscoe(ca: f64) -> Result<RoscoeSolution, SceneError> {
     crate::error::positive("Ca", ca)?;
-    let fail = |iters, residual| SceneError::SteadyNotConverged {
-        ca,
-        iters,
-        residual,
-    };
+    let fail = |iters, residual| SceneError::SteadyNotConverged { ca, iters, residual };
     let mut c = ca.min(0.01);
     let mut l = Vector2::new(1.0 + 1.25 * c, 1.0 - 1.25 * c);
     let mut iterations = 0;

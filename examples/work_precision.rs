@@ -1,0 +1,116 @@
+//! Work-precision diagrams of every integrator on the three reference problems of
+//! `scenes::work_precision`. Writes `paper-figures/work-precision/work_precision.csv` and
+//! `work_precision.svg`.
+//!
+//! Run: `cargo run --release --example work_precision`
+
+use pseudorigid::output::{Csv, Figure, Panel, Series};
+use pseudorigid::scenes::work_precision::{Case, Record, Setting, measure, oblate_reference, work_at_error};
+use std::time::Instant;
+
+const RHO_STAR: f64 = 0.01;
+
+fn settings(case: Case) -> Vec<Setting> {
+    let mut s: Vec<Setting> = [80.0, 160.0, 320.0, 640.0]
+        .iter()
+        .map(|d| Setting::ImexPaper(RHO_STAR / d))
+        .collect();
+    s.extend([1e-3, 1e-4, 1e-5, 1e-6].map(Setting::ImexAdaptive));
+    s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9].map(Setting::Stokesian));
+    if case == Case::Jeffery {
+        s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::Rigid));
+    }
+    s
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let start = Instant::now();
+    let reference = oblate_reference()?;
+    let mut records: Vec<Record> = Vec::new();
+    for case in [Case::Jeffery, Case::TankTreading, Case::Oblate] {
+        for setting in settings(case) {
+            let rec = measure(case, setting, Some(&reference))?;
+            println!(
+                "{:14} {:14} {:9.2e}  error {:9.3e}  wall {:8.4} s  steps {:8}  rhs {:9}",
+                case.name(),
+                setting.integrator(),
+                setting.value(),
+                rec.error,
+                rec.wall_s,
+                rec.stats.steps,
+                rec.stats.rhs_evals
+            );
+            records.push(rec);
+        }
+    }
+
+    let mut csv = Csv::new(&[
+        "case",
+        "integrator",
+        "setting",
+        "error",
+        "wall_s",
+        "steps",
+        "rhs_evals",
+        "jac_evals",
+    ]);
+    for r in &records {
+        csv.push(vec![
+            r.case.name().into(),
+            r.setting.integrator().into(),
+            format!("{:e}", r.setting.value()),
+            format!("{:.6e}", r.error),
+            format!("{:.6e}", r.wall_s),
+            r.stats.steps.to_string(),
+            r.stats.rhs_evals.to_string(),
+            r.stats.jac_evals.to_string(),
+        ])?;
+    }
+    csv.write("paper-figures/work-precision/work_precision.csv")?;
+
+    let integrators = ["imex_paper", "imex_adaptive", "stokesian", "rigid"];
+    let mut panels = Vec::new();
+    for case in [Case::Jeffery, Case::TankTreading, Case::Oblate] {
+        for (x_label, wall) in [("log10 wall time [s]", true), ("log10 model evaluations", false)] {
+            let mut panel = Panel::new(case.name(), x_label, "log10 error");
+            for (color, name) in integrators.iter().enumerate() {
+                let pts: Vec<(f64, f64)> = records
+                    .iter()
+                    .filter(|r| r.case == case && r.setting.integrator() == *name && r.error > 0.0)
+                    .map(|r| {
+                        let x = if wall {
+                            r.wall_s.max(1e-6)
+                        } else {
+                            r.stats.rhs_evals as f64
+                        };
+                        (x.log10(), r.error.log10())
+                    })
+                    .collect();
+                if !pts.is_empty() {
+                    panel = panel.with(Series::line(*name, pts, color));
+                }
+            }
+            panels.push(panel);
+        }
+    }
+    Figure::grid(panels, 2, (520, 380)).write("paper-figures/work-precision/work_precision.svg")?;
+
+    for target in [1e-3, 1e-4] {
+        if let (Some(imex), Some(st)) = (
+            work_at_error(&records, Case::Oblate, "imex_paper", target),
+            work_at_error(&records, Case::Oblate, "stokesian", target),
+        ) {
+            println!(
+                "oblate case at error {target:e}: imex_paper needs {:.3e} evaluations / {:.3} s, stokesian {:.3e} / {:.3} s: {:.0}x fewer evaluations, {:.0}x less time",
+                imex.0,
+                imex.1,
+                st.0,
+                st.1,
+                imex.0 / st.0,
+                imex.1 / st.1
+            );
+        }
+    }
+    println!("work_precision finished in {:.1} s", start.elapsed().as_secs_f64());
+    Ok(())
+}
