@@ -29,7 +29,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut records: Vec<Record> = Vec::new();
     for case in [Case::Jeffery, Case::TankTreading, Case::Oblate] {
         for setting in settings(case) {
-            let rec = measure(case, setting, Some(&reference))?;
+            let rec = match measure(case, setting, Some(&reference)) {
+                Ok(rec) => rec,
+                Err(e) => {
+                    println!("{:14} {:14} {:9.2e}  FAILED: {e}", case.name(), setting.integrator(), setting.value());
+                    continue;
+                }
+            };
             println!(
                 "{:14} {:14} {:9.2e}  error {:9.3e}  wall {:8.4} s  steps {:8}  rhs {:9}",
                 case.name(),
