@@ -313,3 +313,41 @@ fn snapshot_tank_treading() {
         rows
     ));
 }
+
+mod section {
+    use super::common::strategies;
+    use proptest::prelude::*;
+    use pseudorigid::scenes::section::ShearPlaneSection;
+    use pseudorigid::tensor::Mat3;
+    use std::f64::consts::FRAC_PI_2;
+
+    proptest! {
+        /// An ellipsoid with z as a principal axis, rotated by φ about z: the section returns
+        /// its in-plane semi-axes, the out-of-plane one, and φ folded into (−π/2, π/2].
+        #[test]
+        fn section_of_a_rotated_ellipsoid(
+            r in strategies::semi_axes(4.0),
+            phi in -3.0f64..3.0,
+        ) {
+            let (long, short) = (r[0].max(r[1]), r[0].min(r[1]));
+            prop_assume!(long > 1.01 * short);
+            let (c, s) = (phi.cos(), phi.sin());
+            let rot = Mat3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+            let f_bar = rot * Mat3::from_diagonal(&nalgebra::Vector3::new(long, short, r[2]));
+            let sec = ShearPlaneSection::of(&f_bar);
+            prop_assert!((sec.r_long - long).abs() <= 1e-12 * long);
+            prop_assert!((sec.r_short - short).abs() <= 1e-12 * long);
+            prop_assert!((sec.r_out_of_plane - r[2]).abs() <= 1e-12 * r[2]);
+            let mut folded = phi;
+            while folded > FRAC_PI_2 { folded -= std::f64::consts::PI; }
+            while folded <= -FRAC_PI_2 { folded += std::f64::consts::PI; }
+            let diff = (sec.angle - folded).abs();
+            prop_assert!(diff <= 1e-9 || (std::f64::consts::PI - diff) <= 1e-9, "{} vs {}", sec.angle, folded);
+            // every outline point lies on the ellipse
+            for (x, y) in sec.outline(16) {
+                let (u, v) = (c * x + s * y, -s * x + c * y);
+                prop_assert!(((u / long).powi(2) + (v / short).powi(2) - 1.0).abs() <= 1e-9);
+            }
+        }
+    }
+}
