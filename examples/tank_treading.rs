@@ -12,6 +12,9 @@ use pseudorigid::scenes::tank_treading::{TankTreading, integrate, roscoe};
 use std::error::Error;
 use std::time::Instant;
 
+/// (Ca, time-integrated, steady equations, small-Ca limit).
+type Row = (f64, TankTreading, TankTreading, TankTreading);
+
 fn main() -> Result<(), Box<dyn Error>> {
     let start = Instant::now();
     let n = 40;
@@ -66,7 +69,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let dir = "tank_treading";
     steady.write(paper_figure_path(dir, "steady.csv"))?;
     comparison.write(paper_figure_path(dir, "comparison.csv"))?;
-    let curve = |f: &dyn Fn(&(f64, TankTreading, TankTreading, TankTreading)) -> f64, cap: f64| {
+    let curve = |f: &dyn Fn(&Row) -> f64, cap: f64| {
         rows.iter()
             .filter(|r| r.0 <= cap)
             .map(|r| (r.0, f(r)))

@@ -1,7 +1,8 @@
 //! Minimal CSV tables with a fixed header, written atomically.
 //!
-//! Numbers are written with Rust's shortest round-trip representation, so a dataset reloads
-//! bit-for-bit; fields never contain commas (family names are identifiers).
+//! Numbers are written with Rust's shortest round-trip representation (`{:?}`: exponent
+//! notation below 1e-4 and above 1e16), so a dataset reloads bit-for-bit; fields never
+//! contain commas (family names are identifiers).
 
 use super::{OutputError, write_atomic};
 use std::path::Path;
@@ -36,7 +37,7 @@ impl Csv {
 
     /// Append a row of numbers.
     pub fn push_numbers(&mut self, values: &[f64]) -> Result<(), OutputError> {
-        self.push(values.iter().map(|v| v.to_string()).collect())
+        self.push(values.iter().map(|v| format!("{v:?}")).collect())
     }
 
     /// Number of data rows.

@@ -7,11 +7,14 @@
 //! m > 0 is TU, m < 0 is TR, and |m| says how far the shape is from the boundary.
 //!
 //! # Horizon and dense checking (physics.md §9.9)
-//! The motion is quasi-periodic with a shape period of about half a Jeffery period
-//! (≈ 10 for the oblate 2.5 at Ca 0.4–0.5; the first minimum of l_a − l_c falls at t̂ ≈ 3.5,
-//! recurring every period with drifts of ~1e-3). The horizon is
-//! T = max(t_min, periods · π(r + 1/r)) with r the in-plane aspect ratio, by default
-//! max(30, 3.5 half Jeffery periods): at least three shape periods for every shape.
+//! The motion is quasi-periodic with a shape period of about half a Jeffery period π(r + 1/r)
+//! (r the in-plane aspect ratio; ≈ 10 for the oblate 2.5 at Ca 0.4–0.5, where the minimum of
+//! l_a − l_c falls at t̂ ≈ 3.5 and recurs every period to within ~1e-3). For elongated shapes
+//! the minima drift slowly from period to period: next to the boundary the oblate 5
+//! (Ca = 0.9715) reaches its smallest l_a − l_c only after ≈ 5.1 half periods (t̂ ≈ 83) and
+//! the triaxial (1, 0.1, 0.5) (Ca = 1.617) after ≈ 3.7 (t̂ ≈ 117); with 3.5 half periods both
+//! boundaries came out one ΔCa = 0.001 step too high, while 7, 10 and 20 half periods give
+//! identical minima. The default horizon is therefore T = max(30, 8 π(r + 1/r)).
 //! Every accepted step is checked, and inside each step l_a − l_c is evaluated at `substeps`
 //! interior points of the cubic Hermite interpolant of ξ = FΞ built from (F, Ḟ) at both ends,
 //! so a sign change shorter than a step cannot be missed. (The first step starts from rest,
@@ -68,7 +71,7 @@ pub struct RegimeClassifier<I> {
 }
 
 impl RegimeClassifier<Stokesian> {
-    /// Inertialess classifier with rtol = atol = `tol`, horizon max(30, 3.5 half periods).
+    /// Inertialess classifier with rtol = atol = `tol`, horizon max(30, 8 half periods).
     pub fn stokesian(tol: f64) -> Self {
         Self::new(Stokesian::overdamped(tol), 1e-3)
     }
@@ -81,7 +84,7 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
             integrator,
             dt0,
             t_min: 30.0,
-            periods: 3.5,
+            periods: 8.0,
             substeps: 4,
         }
     }
