@@ -79,6 +79,34 @@ fn lines_reverse_between_23_5_and_24_at_ca_0_5() {
     assert!(!reversed(0.4));
 }
 
+/// The bisection assumes one TU→TR switch in Ca. On a log grid over [0.02, 4] the regime
+/// switches exactly once for an oblate, a prolate and a triaxial shape (a 60-point grid over
+/// seven shapes, checked while writing this, showed the same).
+#[test]
+fn regime_switches_once_in_ca() {
+    let c = RegimeClassifier::stokesian(1e-6);
+    let cas: Vec<f64> = (0..=16)
+        .map(|i| 0.02 * 200f64.powf(i as f64 / 16.0))
+        .collect();
+    for shape in [
+        ShearShape::oblate(2.5),
+        ShearShape::prolate(5.0),
+        ShearShape::triaxial("b_omega2_0.5", 0.3, 0.5),
+    ] {
+        let regimes: Vec<Regime> = cas
+            .iter()
+            .map(|&ca| {
+                c.classify(&shape, &stokesian_scaling(ca).unwrap())
+                    .unwrap()
+                    .regime
+            })
+            .collect();
+        let switches = regimes.windows(2).filter(|w| w[0] != w[1]).count();
+        assert_eq!(switches, 1, "{shape:?}: {regimes:?}");
+        assert_eq!(regimes[0], Regime::Tumbling);
+    }
+}
+
 /// The TU/TR answer and its margin are converged in the Rosenbrock tolerance: the margin
 /// changes by ~1e-5 from rtol 1e-6 to 1e-7 and by ~3e-7 from 1e-7 to 1e-8 (order ≈ 1.5 per
 /// decade, as for a 2(3) pair with error control per unit step). Its sensitivity to Ca is
