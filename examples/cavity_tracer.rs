@@ -5,9 +5,11 @@
 //! ```
 //! FIELD is a `foamToVTK -legacy` export or a compact `.prf` file of the cube [0, 0.1 m]³.
 //! The tracer starts at the paper's release point (0.467 L, 0.4 L, 0.983 L) (§6.3) and follows
-//! ẋ = u(x) with classical RK4 (dt = 0.2 h/U). The run fails unless the field has the lid
-//! speed at the lid and the tracer stays inside and keeps moving.
+//! ẋ = u(x) with classical RK4 (dt = 0.1 h/U) until SECONDS or until a stage leaves the mesh
+//! (possible near the lid edges, where the interpolated point velocity is singular). The run
+//! fails unless the field has the lid speed at the lid and the tracer moves.
 
+use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::tensor::Vec3;
@@ -29,24 +31,38 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     let cells_per_edge = (flow.mesh().cells().len() as f64).cbrt();
-    let dt = 0.2 * EDGE / cells_per_edge / lid_speed;
+    let dt = 0.1 * EDGE / cells_per_edge / lid_speed;
     let steps = (seconds / dt).ceil() as usize;
     let u = |x: &Vec3| flow.sample(x, 0.0).map(|s| s.u);
     let mut x = Vec3::new(0.467, 0.4, 0.983) * EDGE;
-    let mut path_length = 0.0;
-    for _ in 0..steps {
-        let k1 = u(&x)?;
+    let rk4 = |x: &Vec3| -> Result<Vec3, FlowError> {
+        let k1 = u(x)?;
         let k2 = u(&(x + k1 * (0.5 * dt)))?;
         let k3 = u(&(x + k2 * (0.5 * dt)))?;
         let k4 = u(&(x + k3 * dt))?;
-        let dx = (k1 + 2.0 * k2 + 2.0 * k3 + k4) * (dt / 6.0);
-        path_length += dx.norm();
-        x += dx;
+        Ok((k1 + 2.0 * k2 + 2.0 * k3 + k4) * (dt / 6.0))
+    };
+    let mut path_length = 0.0;
+    let mut taken = 0;
+    let mut ending = "time limit";
+    while taken < steps {
+        match rk4(&x) {
+            Ok(dx) => {
+                path_length += dx.norm();
+                x += dx;
+                taken += 1;
+            }
+            Err(FlowError::OutsideDomain { .. }) => {
+                ending = "reached a wall";
+                break;
+            }
+            Err(e) => return Err(e.into()),
+        }
     }
     println!(
-        "{} cells; tracer after {:.2} s ({steps} RK4 steps): x/L = ({:.4}, {:.4}, {:.4}), path {:.4} L",
+        "{} cells; tracer after {:.2} s ({taken} RK4 steps, {ending}): x/L = ({:.4}, {:.4}, {:.4}), path {:.4} L",
         flow.mesh().cells().len(),
-        steps as f64 * dt,
+        taken as f64 * dt,
         x[0] / EDGE,
         x[1] / EDGE,
         x[2] / EDGE,

@@ -16,6 +16,13 @@
 //! independently (not differentiated from u), so it is continuous too, and tr ∇u vanishes only
 //! up to the discretisation error.
 //!
+//! Known limitations of point data: volPointInterpolation averages neighbouring cells, which
+//! flattens sharp extrema by O(h²) (about 2 % on the Re = 1000 cavity extrema at 60³), and on the
+//! lid edges it averages the patches (u = U/2 there), so inside the top cells next to a side wall
+//! the interpolated velocity has a small wall-normal component: a tracer released within one cell
+//! of the lid can reach that wall, which callers see as [`FlowError::OutsideDomain`] or as wall
+//! contact.
+//!
 //! Sources: the legacy VTK export ([`vtk`]) or the compact shipped form ([`compact`]);
 //! [`MeshedFlow::load`] tells them apart by content. Wall contact for deposition is in
 //! [`wall`], the cavity validation against Albensoeder & Kuhlmann in [`cavity`].
