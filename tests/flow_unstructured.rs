@@ -129,7 +129,7 @@ fn temp_path(name: &str) -> PathBuf {
 fn compact_form_round_trips_to_f32_precision() {
     let flow = linear_flow(grid_mesh(4, 0.0));
     let path = temp_path("roundtrip.prf");
-    compact::write(&flow, &path).expect("rectilinear mesh");
+    compact::write(&flow, &path, compact::FULL_PRECISION).expect("rectilinear mesh");
     let back = MeshedFlow::load(&path).expect("compact file");
     std::fs::remove_file(&path).ok();
     for x in [Vec3::new(0.1, 0.7, 0.33), Vec3::new(1.0, 1.0, 1.0)] {
@@ -138,9 +138,19 @@ fn compact_form_round_trips_to_f32_precision() {
         assert!((a.u - b.u).amax() < 3e-7);
         assert!((a.grad_u - b.grad_u).amax() < 3e-7);
     }
+    // Rounded to 12 mantissa bits: relative error ≤ 2⁻¹³ at the points, zeros exact.
+    compact::write(&flow, &path, 12).expect("rectilinear mesh");
+    let rounded = MeshedFlow::load(&path).expect("compact file");
+    std::fs::remove_file(&path).ok();
+    for x in flow.mesh().points() {
+        let (a, b) = (flow.sample(x, 0.0).unwrap(), rounded.sample(x, 0.0).unwrap());
+        for (p, q) in a.u.iter().chain(a.grad_u.iter()).zip(b.u.iter().chain(b.grad_u.iter())) {
+            assert!((p - q).abs() <= 2f64.powi(-13) * p.abs() + 1e-12, "{p} vs {q}");
+        }
+    }
     let distorted = linear_flow(grid_mesh(4, 0.2));
     assert!(matches!(
-        compact::write(&distorted, &temp_path("distorted.prf")),
+        compact::write(&distorted, &temp_path("distorted.prf"), 12),
         Err(MeshError::NotRectilinear { .. })
     ));
 }
