@@ -158,7 +158,7 @@ pub fn write(flow: &MeshedFlow, path: &Path, mantissa_bits: u32) -> Result<u64, 
     Ok(std::fs::metadata(path).map_err(io_err(path))?.len())
 }
 
-/// Read a compact field written by [`write`].
+/// Read a compact field written by [`write()`].
 pub fn read(path: &Path) -> Result<MeshedFlow, MeshError> {
     let bytes = std::fs::read(path).map_err(io_err(path))?;
     let malformed = |offset: usize, reason: String| MeshError::Malformed {

@@ -93,7 +93,7 @@ impl MeshedFlow {
     }
 
     /// Load a field exported by `foamToVTK -legacy` (point arrays `U` and `grad(U)`) or
-    /// written by [`compact::write`]; the format is recognised from the file's first bytes.
+    /// written by [`compact::write()`]; the format is recognised from the file's first bytes.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, MeshError> {
         let path = path.as_ref();
         if compact::is_compact(path)? {
