@@ -3,6 +3,7 @@
 //! Analytic fields live in [`analytic`]; meshed CFD fields implement the same trait.
 
 pub mod analytic;
+pub mod unstructured;
 
 use crate::error::FlowError;
 use crate::tensor::{Mat3, Vec3};
