@@ -18,9 +18,7 @@ const EDGE: f64 = 0.1;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let field = args
-        .first()
-        .ok_or("usage: cavity_tracer FIELD [LID_SPEED] [SECONDS]")?;
+    let field = args.first().ok_or("usage: cavity_tracer FIELD [LID_SPEED] [SECONDS]")?;
     let lid_speed: f64 = args.get(1).map_or(Ok(0.0813), |s| s.parse())?;
     let seconds: f64 = args.get(2).map_or(Ok(2.0), |s| s.parse())?;
     let flow = MeshedFlow::load(field)?;

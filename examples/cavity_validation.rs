@@ -10,9 +10,7 @@
 
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::flow::unstructured::cavity::{CavityCase, ReferenceTable, compare_extrema};
-use pseudorigid::flow::unstructured::cavity_report::{
-    plot_centrelines_svg, write_centrelines_csv, write_extrema_csv,
-};
+use pseudorigid::flow::unstructured::cavity_report::{plot_centrelines_svg, write_centrelines_csv, write_extrema_csv};
 use std::path::PathBuf;
 
 /// cases/cavity-re1000/system/caseParameters: L = 0.1 m, U = 0.173 m/s, ν = 17.3 mm²/s.
@@ -23,18 +21,12 @@ const CASE: CavityCase = CavityCase {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let field = PathBuf::from(
-        args.next()
-            .unwrap_or("cases/cavity-re1000/export/cavity.vtk".into()),
-    );
+    let field = PathBuf::from(args.next().unwrap_or("cases/cavity-re1000/export/cavity.vtk".into()));
     let reference = PathBuf::from(
         args.next()
             .unwrap_or("reference-data/cavity_re1000_albensoeder_kuhlmann.csv".into()),
     );
-    let out = PathBuf::from(
-        args.next()
-            .unwrap_or("paper-figures/cavity-validation".into()),
-    );
+    let out = PathBuf::from(args.next().unwrap_or("paper-figures/cavity-validation".into()));
     std::fs::create_dir_all(&out)?;
 
     let flow = MeshedFlow::load(&field)?;

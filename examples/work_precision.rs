@@ -32,7 +32,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let rec = match measure(case, setting, Some(&reference)) {
                 Ok(rec) => rec,
                 Err(e) => {
-                    println!("{:14} {:14} {:9.2e}  FAILED: {e}", case.name(), setting.integrator(), setting.value());
+                    println!(
+                        "{:14} {:14} {:9.2e}  FAILED: {e}",
+                        case.name(),
+                        setting.integrator(),
+                        setting.value()
+                    );
                     continue;
                 }
             };

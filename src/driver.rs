@@ -40,7 +40,10 @@ impl RunStats {
 
 /// Advance from `state` to `t_end`, starting with step `dt` (fixed-step integrators keep it),
 /// stopping exactly at every time in `outputs` (ascending) and calling `observe` there.
-/// `observe` also sees every accepted step through `on_step`.
+/// `on_step` sees every accepted step.
+// The eight arguments are the problem (integrator, particle, state, flow), the step and the
+// output schedule, and two observers; bundling them would only rename them.
+#[allow(clippy::too_many_arguments)]
 pub fn run<I, M, D, F>(
     integrator: &I,
     particle: &Particle<M, D>,

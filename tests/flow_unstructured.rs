@@ -23,8 +23,7 @@ fn grid_mesh(n: usize, distortion: f64) -> HexMesh {
                 let mut p = Vec3::new(i as f64, j as f64, k as f64) * h;
                 if [i, j, k].iter().all(|&c| c > 0 && c < n) {
                     let phase = (7 * i + 13 * j + 29 * k) as f64;
-                    p += Vec3::new(phase.sin(), (1.3 * phase).cos(), (0.7 * phase).sin())
-                        * (distortion * h);
+                    p += Vec3::new(phase.sin(), (1.3 * phase).cos(), (0.7 * phase).sin()) * (distortion * h);
                 }
                 points.push(p);
             }
@@ -99,16 +98,11 @@ fn outside_points_are_typed_errors() {
     ] {
         assert_eq!(
             flow.sample(&x, 0.0),
-            Err(FlowError::OutsideDomain {
-                x: [x[0], x[1], x[2]]
-            })
+            Err(FlowError::OutsideDomain { x: [x[0], x[1], x[2]] })
         );
     }
     let nan = Vec3::new(f64::NAN, 0.5, 0.5);
-    assert!(matches!(
-        flow.sample(&nan, 0.0),
-        Err(FlowError::NonFiniteQuery { .. })
-    ));
+    assert!(matches!(flow.sample(&nan, 0.0), Err(FlowError::NonFiniteQuery { .. })));
     // Points on the boundary (and on shared faces) are inside.
     assert!(flow.sample(&Vec3::new(1.0, 0.0, 0.25), 0.0).is_ok());
 }
@@ -143,19 +137,9 @@ fn compact_form_round_trips_to_f32_precision() {
     let rounded = MeshedFlow::load(&path).expect("compact file");
     std::fs::remove_file(&path).ok();
     for x in flow.mesh().points() {
-        let (a, b) = (
-            flow.sample(x, 0.0).unwrap(),
-            rounded.sample(x, 0.0).unwrap(),
-        );
-        for (p, q) in
-            a.u.iter()
-                .chain(a.grad_u.iter())
-                .zip(b.u.iter().chain(b.grad_u.iter()))
-        {
-            assert!(
-                (p - q).abs() <= 2f64.powi(-13) * p.abs() + 1e-12,
-                "{p} vs {q}"
-            );
+        let (a, b) = (flow.sample(x, 0.0).unwrap(), rounded.sample(x, 0.0).unwrap());
+        for (p, q) in a.u.iter().chain(a.grad_u.iter()).zip(b.u.iter().chain(b.grad_u.iter())) {
+            assert!((p - q).abs() <= 2f64.powi(-13) * p.abs() + 1e-12, "{p} vs {q}");
         }
     }
     let distorted = linear_flow(grid_mesh(4, 0.2));
@@ -193,11 +177,7 @@ fn legacy_vtk(binary: bool) -> Vec<u8> {
     let points: Vec<f64> = corners.iter().flatten().copied().collect();
     block(&mut out, "float", &points);
     out.extend(b"CELLS 1 9\n");
-    block(
-        &mut out,
-        "int",
-        &[8.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0],
-    );
+    block(&mut out, "int", &[8.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
     out.extend(b"CELL_TYPES 1\n");
     block(&mut out, "int", &[12.0]);
     out.extend(b"CELL_DATA 1\nFIELD attributes 1\nU 3 1 float\n");
@@ -211,9 +191,7 @@ fn legacy_vtk(binary: bool) -> Vec<u8> {
     // OpenFOAM writes grad(U) as T_ij = ∂_i U_j row-major: T = Lᵀ, whose row-major order
     // is the column-major order nalgebra iterates L in.
     out.extend(b"grad(U) 9 8 float\n");
-    let t: Vec<f64> = (0..8)
-        .flat_map(|_| l.iter().copied().collect::<Vec<_>>())
-        .collect();
+    let t: Vec<f64> = (0..8).flat_map(|_| l.iter().copied().collect::<Vec<_>>()).collect();
     block(&mut out, "float", &t);
     out
 }
@@ -268,11 +246,7 @@ mod walls {
         assert_relative_eq!(support_distance(&axes, &Mat3::identity(), &Vec3::z()), 1.0);
         // Long axis tilted 45° in the x-z plane: h(e_z) = √((25 + 1)/2).
         let q = rotation_about_y(std::f64::consts::FRAC_PI_4);
-        assert_relative_eq!(
-            support_distance(&axes, &q, &Vec3::z()),
-            13.0f64.sqrt(),
-            epsilon = 1e-14
-        );
+        assert_relative_eq!(support_distance(&axes, &q, &Vec3::z()), 13.0f64.sqrt(), epsilon = 1e-14);
     }
 
     #[test]
@@ -285,26 +259,17 @@ mod walls {
         // Long axis along x: 4.9 mm from the lid is clear, 0.9 mm is contact.
         let near_lid = Vec3::new(0.05, 0.05, l - 0.0009);
         let c = b.contact(&near_lid, &axes, &id).expect("touches the lid");
-        assert_eq!(
-            (b.walls()[c.wall].name.as_str(), c.rule),
-            ("lid", WallRule::Exit)
-        );
+        assert_eq!((b.walls()[c.wall].name.as_str(), c.rule), ("lid", WallRule::Exit));
         assert_relative_eq!(c.gap, -0.0001, epsilon = 1e-15);
         // The same centre height is clear of the lid only if the long axis lies flat.
         let upright = rotation_about_y(std::f64::consts::FRAC_PI_2);
         let below = Vec3::new(0.05, 0.05, l - 0.002);
         assert!(b.contact(&below, &axes, &id).is_none());
-        assert_eq!(
-            b.contact(&below, &axes, &upright).map(|c| c.rule),
-            Some(WallRule::Exit)
-        );
+        assert_eq!(b.contact(&below, &axes, &upright).map(|c| c.rule), Some(WallRule::Exit));
         // Near the right wall x = L with the long axis along x: sticks.
         let right = Vec3::new(l - 0.004, 0.05, 0.05);
         let c = b.contact(&right, &axes, &id).expect("touches x = L");
-        assert_eq!(
-            (b.walls()[c.wall].name.as_str(), c.rule),
-            ("x1", WallRule::Stick)
-        );
+        assert_eq!((b.walls()[c.wall].name.as_str(), c.rule), ("x1", WallRule::Stick));
         // In a corner the deepest overlap wins.
         let corner = Vec3::new(0.0005, 0.05, 0.0008);
         let c = b.contact(&corner, &Vec3::repeat(0.001), &id).unwrap();
@@ -352,10 +317,7 @@ mod shipped {
         // Lid: u = (U, 0, 0) on the lid away from its edges (12 mantissa bits: 1.2e-4 relative).
         for (x, y) in [(0.5, 0.5), (0.2, 0.8), (0.9, 0.1)] {
             let u = flow.sample(&(Vec3::new(x, y, 1.0) * EDGE), 0.0).unwrap().u;
-            assert!(
-                (u - Vec3::new(LID, 0.0, 0.0)).amax() < 2e-4 * LID,
-                "lid {u:?}"
-            );
+            assert!((u - Vec3::new(LID, 0.0, 0.0)).amax() < 2e-4 * LID, "lid {u:?}");
         }
         // No-slip: the wall point values are exactly zero; the walls sit at f32 coordinates
         // (0.1 → 0.1 + 1.5e-9), so a query on the f64 wall plane picks up ~1e-8 of a cell.
@@ -384,10 +346,7 @@ mod shipped {
                 flow.sample(&(x * EDGE), 0.0).unwrap().u,
                 flow.sample(&(m * EDGE), 0.0).unwrap().u,
             );
-            assert!(
-                (a - Vec3::new(b[0], -b[1], b[2])).amax() < 1e-4 * LID,
-                "{a:?} vs {b:?}"
-            );
+            assert!((a - Vec3::new(b[0], -b[1], b[2])).amax() < 1e-4 * LID, "{a:?} vs {b:?}");
         }
         let ratio = divergence_ratio(flow, 20, 0.0, 1.0);
         let core = divergence_ratio(flow, 20, 0.1, 0.9);
@@ -415,9 +374,6 @@ mod shipped {
     #[test]
     fn ci_field_is_a_lid_driven_cavity() {
         let (_, cube, core) = physical_facts(&load("cavity_ci.prf"));
-        assert!(
-            core < 0.1 && cube < 0.1,
-            "divergence ratios {cube:.3e}, {core:.3e}"
-        );
+        assert!(core < 0.1 && cube < 0.1, "divergence ratios {cube:.3e}, {core:.3e}");
     }
 }

@@ -1,7 +1,6 @@
 //! Time integrators (src/integrator) and the driver (src/driver).
 mod common;
 
-use common::strategies;
 use proptest::prelude::*;
 use pseudorigid::driver::{advance, run};
 use pseudorigid::integrator::Stokesian;

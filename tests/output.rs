@@ -3,8 +3,7 @@
 use pseudorigid::output::{Csv, Figure, OutputError, Panel, Series, write_atomic};
 
 fn scratch(name: &str) -> std::path::PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("pseudorigid-output-{}-{name}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("pseudorigid-output-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     dir
 }
@@ -29,35 +28,20 @@ fn csv_checks_columns_and_round_trips_numbers() {
     let mut csv = Csv::new(&["a", "b"]);
     assert!(matches!(
         csv.push_numbers(&[1.0]),
-        Err(OutputError::Columns {
-            expected: 2,
-            got: 1
-        })
+        Err(OutputError::Columns { expected: 2, got: 1 })
     ));
     csv.push_numbers(&[0.1 + 0.2, -1e-300]).unwrap();
     assert_eq!(csv.len(), 1);
     let text = csv.to_text();
     assert_eq!(text, "a,b\n0.30000000000000004,-1e-300\n");
-    let back: f64 = text
-        .lines()
-        .nth(1)
-        .unwrap()
-        .split(',')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let back: f64 = text.lines().nth(1).unwrap().split(',').next().unwrap().parse().unwrap();
     assert_eq!(back, 0.1 + 0.2);
 }
 
 #[test]
 fn figure_renders_every_series() {
     let panel = Panel::new("t", "x", "y")
-        .with(Series::line(
-            "line",
-            vec![(0.0, 0.0), (1.0, 1.0), (2.0, 0.5)],
-            1,
-        ))
+        .with(Series::line("line", vec![(0.0, 0.0), (1.0, 1.0), (2.0, 0.5)], 1))
         .with(Series::points("", vec![(0.5, 0.5), (1.5, 0.25)], 2));
     let svg = Figure::grid(vec![panel.clone(), panel], 2, (200, 150))
         .to_svg()

@@ -85,9 +85,7 @@ fn lines_reverse_between_23_5_and_24_at_ca_0_5() {
 #[test]
 fn regime_switches_once_in_ca() {
     let c = RegimeClassifier::stokesian(1e-6);
-    let cas: Vec<f64> = (0..=16)
-        .map(|i| 0.02 * 200f64.powf(i as f64 / 16.0))
-        .collect();
+    let cas: Vec<f64> = (0..=16).map(|i| 0.02 * 200f64.powf(i as f64 / 16.0)).collect();
     for shape in [
         ShearShape::oblate(2.5),
         ShearShape::prolate(5.0),
@@ -95,11 +93,7 @@ fn regime_switches_once_in_ca() {
     ] {
         let regimes: Vec<Regime> = cas
             .iter()
-            .map(|&ca| {
-                c.classify(&shape, &stokesian_scaling(ca).unwrap())
-                    .unwrap()
-                    .regime
-            })
+            .map(|&ca| c.classify(&shape, &stokesian_scaling(ca).unwrap()).unwrap().regime)
             .collect();
         let switches = regimes.windows(2).filter(|w| w[0] != w[1]).count();
         assert_eq!(switches, 1, "{shape:?}: {regimes:?}");
@@ -167,9 +161,7 @@ fn paper_imex_agrees_on_the_fig4_regimes() {
         let a = imex
             .classify(&shape, &ShearScaling::new(ca, rho_star, 1e3).unwrap())
             .unwrap();
-        let b = stokes
-            .classify(&shape, &stokesian_scaling(ca).unwrap())
-            .unwrap();
+        let b = stokes.classify(&shape, &stokesian_scaling(ca).unwrap()).unwrap();
         assert_eq!(a.regime, b.regime, "Ca = {ca}");
         assert!((a.margin - b.margin).abs() <= 1e-4, "{a:?} vs {b:?}");
     }
@@ -230,10 +222,7 @@ fn steady_equations_match_the_traction_model() {
 fn tank_treading_small_ca_limits() {
     let err = |ca: f64| {
         let (s, l) = (roscoe(ca).unwrap().steady, TankTreading::small_ca_limit(ca));
-        (
-            (s.deformation() - l.deformation()).abs(),
-            (s.theta - l.theta).abs(),
-        )
+        ((s.deformation() - l.deformation()).abs(), (s.theta - l.theta).abs())
     };
     let cas = [0.04, 0.02, 0.01];
     let errs: Vec<_> = cas.iter().map(|&c| err(c)).collect();

@@ -25,7 +25,10 @@ fn work_precision_reduced_dataset() {
         row(Case::TankTreading, Setting::Stokesian(1e-5)),
         row(Case::TankTreading, Setting::ImexAdaptive(1e-3)),
     ];
-    insta::assert_snapshot!(format!("case,integrator,setting,error,steps,rhs_evals,jac_evals\n{}", rows.join("\n")));
+    insta::assert_snapshot!(format!(
+        "case,integrator,setting,error,steps,rhs_evals,jac_evals\n{}",
+        rows.join("\n")
+    ));
 }
 
 /// The rigid integrator converges to the exact Jeffery orbit: no model error, so the angle
@@ -36,5 +39,8 @@ fn rigid_integrator_converges_to_jeffery_orbit() {
     let coarse = measure(Case::Jeffery, Setting::Rigid(1e-6), None).unwrap().error;
     let fine = measure(Case::Jeffery, Setting::Rigid(1e-9), None).unwrap().error;
     let decades = (coarse / fine).log10();
-    assert!((1.5..=2.5).contains(&decades), "errors {coarse:e} → {fine:e}: {decades} decades");
+    assert!(
+        (1.5..=2.5).contains(&decades),
+        "errors {coarse:e} → {fine:e}: {decades} decades"
+    );
 }

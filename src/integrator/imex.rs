@@ -99,7 +99,7 @@ pub(crate) fn shape_update<M: Hyperelastic, D: DragModel>(
     newton::solve(vec9(&anchor), opts, |x, want_jac| {
         let f = mat3(x);
         let det_f = f.determinant();
-        if !(det_f > 0.0) {
+        if det_f.is_nan() || det_f <= 0.0 {
             return Err(StepError::Inverted { det_f, t: state.t + dt });
         }
         let p = material.piola(&f);

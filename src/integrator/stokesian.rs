@@ -144,7 +144,7 @@ fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
 ) -> Result<Evaluation, StepError> {
     let (f, x, v) = unpack(y);
     let det_f = f.determinant();
-    if !(det_f > 0.0) {
+    if det_f.is_nan() || det_f <= 0.0 {
         return Err(StepError::Inverted { det_f, t });
     }
     let sample = flow.sample(&x, t)?;

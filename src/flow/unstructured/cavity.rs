@@ -168,12 +168,7 @@ impl ReferenceTable {
 
 impl CavityCase {
     /// Normalised velocity component at normalised position `s` along `line`.
-    pub fn sample(
-        &self,
-        flow: &impl FlowField,
-        line: Centreline,
-        s: f64,
-    ) -> Result<f64, FlowError> {
+    pub fn sample(&self, flow: &impl FlowField, line: Centreline, s: f64) -> Result<f64, FlowError> {
         let (x, component) = match line {
             Centreline::Vertical => (Vec3::new(0.5, 0.5, s), 0),
             Centreline::Horizontal => (Vec3::new(s, 0.5, 0.5), 2),
@@ -182,12 +177,7 @@ impl CavityCase {
     }
 
     /// `n ≥ 2` equispaced samples along `line`, walls included.
-    pub fn profile(
-        &self,
-        flow: &impl FlowField,
-        line: Centreline,
-        n: usize,
-    ) -> Result<Vec<LinePoint>, FlowError> {
+    pub fn profile(&self, flow: &impl FlowField, line: Centreline, n: usize) -> Result<Vec<LinePoint>, FlowError> {
         let last = n.max(2) - 1;
         (0..=last)
             .map(|i| {

@@ -65,13 +65,7 @@ pub fn write_centrelines_csv(
         rows.sort_by(|a, b| a.0.position.total_cmp(&b.0.position));
         for (p, r) in rows {
             let reference = r.map_or(String::new(), |v| format!("{v:.6}"));
-            let _ = writeln!(
-                out,
-                "{},{:.6},{:.6},{reference}",
-                line.name(),
-                p.position,
-                p.value
-            );
+            let _ = writeln!(out, "{},{:.6},{:.6},{reference}", line.name(), p.position, p.value);
         }
     }
     write(path, &out)?;
@@ -80,9 +74,8 @@ pub fn write_centrelines_csv(
 
 /// `quantity,simulated,position_simulated,reference,position_reference,relative_error_percent`.
 pub fn write_extrema_csv(path: &Path, rows: &[ExtremumComparison]) -> Result<(), MeshError> {
-    let mut out = String::from(
-        "quantity,simulated,position_simulated,reference,position_reference,relative_error_percent\n",
-    );
+    let mut out =
+        String::from("quantity,simulated,position_simulated,reference,position_reference,relative_error_percent\n");
     for r in rows {
         let _ = writeln!(
             out,
@@ -114,9 +107,7 @@ pub fn plot_centrelines_svg(
     };
     let root = SVGBackend::new(path, (1000, 480)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(&e))?;
-    let root = root
-        .titled(title, ("sans-serif", 20))
-        .map_err(|e| plot_err(&e))?;
+    let root = root.titled(title, ("sans-serif", 20)).map_err(|e| plot_err(&e))?;
     let panels = root.split_evenly((1, 2));
     for (panel, line) in panels.iter().zip(Centreline::ALL) {
         let simulated = case.profile(flow, line, PROFILE_SAMPLES)?;
@@ -142,10 +133,7 @@ pub fn plot_centrelines_svg(
             .draw()
             .map_err(|e| plot_err(&e))?;
         chart
-            .draw_series(LineSeries::new(
-                simulated.iter().map(xy),
-                BLUE.stroke_width(2),
-            ))
+            .draw_series(LineSeries::new(simulated.iter().map(xy), BLUE.stroke_width(2)))
             .map_err(|e| plot_err(&e))?
             .label(simulated_label)
             .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE.stroke_width(2)));

@@ -84,10 +84,7 @@ fn rectilinear(mesh: &HexMesh) -> Result<Rectilinear, MeshError> {
         }
         index_of_point.push(ijk[0] + n[0] * (ijk[1] + n[1] * ijk[2]));
     }
-    Ok(Rectilinear {
-        lines,
-        index_of_point,
-    })
+    Ok(Rectilinear { lines, index_of_point })
 }
 
 fn shuffled(values: &[f32]) -> Vec<u8> {
@@ -133,8 +130,7 @@ pub fn write(flow: &MeshedFlow, path: &Path, mantissa_bits: u32) -> Result<u64, 
         for i in 0..3 {
             u[3 * at + i] = round_mantissa(flow.point_velocity()[k][i] as f32, bits);
             for j in 0..3 {
-                g[9 * at + 3 * i + j] =
-                    round_mantissa(flow.point_gradient()[k][(i, j)] as f32, bits);
+                g[9 * at + 3 * i + j] = round_mantissa(flow.point_gradient()[k][(i, j)] as f32, bits);
             }
         }
     }
@@ -152,9 +148,7 @@ pub fn write(flow: &MeshedFlow, path: &Path, mantissa_bits: u32) -> Result<u64, 
     out.write_all(MAGIC).map_err(io_err(path))?;
     let mut z = ZlibEncoder::new(out, Compression::best());
     z.write_all(&payload).map_err(io_err(path))?;
-    z.finish()
-        .and_then(|mut w| w.flush())
-        .map_err(io_err(path))?;
+    z.finish().and_then(|mut w| w.flush()).map_err(io_err(path))?;
     Ok(std::fs::metadata(path).map_err(io_err(path))?.len())
 }
 
@@ -192,10 +186,7 @@ pub fn read(path: &Path) -> Result<MeshedFlow, MeshError> {
         let b = take(&mut pos, 4)?;
         *nd = u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize;
         if *nd < 2 {
-            return Err(malformed(
-                pos,
-                format!("{nd} points along an axis (need ≥ 2)"),
-            ));
+            return Err(malformed(pos, format!("{nd} points along an axis (need ≥ 2)")));
         }
     }
     let mut lines: [Vec<f64>; 3] = Default::default();

@@ -59,9 +59,7 @@ pub enum MeshError {
         cell: usize,
     },
     /// A required point-data array is missing or has the wrong shape.
-    #[error(
-        "point array `{name}`: expected {expected} components × {n_points} points, got {found}"
-    )]
+    #[error("point array `{name}`: expected {expected} components × {n_points} points, got {found}")]
     MissingArray {
         /// Array name (`U`, `grad(U)`).
         name: String,

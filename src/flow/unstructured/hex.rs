@@ -43,9 +43,7 @@ const NEWTON_TOL: f64 = 1e-13;
 pub fn shape(xi: &Vec3) -> [f64; 8] {
     let mut n = [0.0; 8];
     for (k, c) in CORNERS.iter().enumerate() {
-        n[k] = (0..3)
-            .map(|d| if c[d] > 0.5 { xi[d] } else { 1.0 - xi[d] })
-            .product();
+        n[k] = (0..3).map(|d| if c[d] > 0.5 { xi[d] } else { 1.0 - xi[d] }).product();
     }
     n
 }
@@ -56,11 +54,7 @@ pub fn shape_grad(xi: &Vec3) -> [Vec3; 8] {
     for (k, c) in CORNERS.iter().enumerate() {
         let l = |d: usize| if c[d] > 0.5 { xi[d] } else { 1.0 - xi[d] };
         let dl = |d: usize| if c[d] > 0.5 { 1.0 } else { -1.0 };
-        g[k] = Vec3::new(
-            dl(0) * l(1) * l(2),
-            l(0) * dl(1) * l(2),
-            l(0) * l(1) * dl(2),
-        );
+        g[k] = Vec3::new(dl(0) * l(1) * l(2), l(0) * dl(1) * l(2), l(0) * l(1) * dl(2));
     }
     g
 }

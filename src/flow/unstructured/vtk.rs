@@ -69,9 +69,7 @@ impl Parser<'_> {
                 .iter()
                 .position(|&b| b == b'\n')
                 .map_or(self.buf.len(), |i| self.pos + i);
-            let line = String::from_utf8_lossy(&self.buf[self.pos..end])
-                .trim()
-                .to_string();
+            let line = String::from_utf8_lossy(&self.buf[self.pos..end]).trim().to_string();
             self.pos = (end + 1).min(self.buf.len());
             if !line.is_empty() {
                 return Some(line);
@@ -105,9 +103,9 @@ impl Parser<'_> {
                         let (name, comps, tuples, values) = self.field_array()?;
                         if section == Section::Points {
                             if tuples != n_points {
-                                return Err(self.err(format!(
-                                    "point array {name} has {tuples} tuples for {n_points} points"
-                                )));
+                                return Err(
+                                    self.err(format!("point array {name} has {tuples} tuples for {n_points} points"))
+                                );
                             }
                             grid.point_arrays.insert(name, (comps, values));
                         }
@@ -116,10 +114,7 @@ impl Parser<'_> {
                 ["POINTS", n, ty] => {
                     n_points = self.count(n)?;
                     let xyz = self.numbers(3 * n_points, ty)?;
-                    grid.points = xyz
-                        .chunks_exact(3)
-                        .map(|c| Vec3::new(c[0], c[1], c[2]))
-                        .collect();
+                    grid.points = xyz.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect();
                 }
                 ["CELLS", n, size] => {
                     let (n, size) = (self.count(n)?, self.count(size)?);
@@ -149,9 +144,7 @@ impl Parser<'_> {
     }
 
     fn field_array(&mut self) -> Result<(String, usize, usize, Vec<f64>), MeshError> {
-        let header = self
-            .line()
-            .ok_or_else(|| self.err("missing FIELD array header"))?;
+        let header = self.line().ok_or_else(|| self.err("missing FIELD array header"))?;
         let words: Vec<&str> = header.split_whitespace().collect();
         let [name, comps, tuples, ty] = words.as_slice() else {
             return Err(self.err(format!("bad FIELD array header `{header}`")));

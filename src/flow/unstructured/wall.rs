@@ -112,15 +112,10 @@ impl Boundary {
     }
 
     /// Gap $g_w$ between the particle and each wall (negative: overlap).
-    pub fn gaps<'a>(
-        &'a self,
-        centre: &'a Vec3,
-        semi_axes: &'a Vec3,
-        q: &'a Mat3,
-    ) -> impl Iterator<Item = f64> + 'a {
-        self.walls.iter().map(move |w| {
-            (w.point - centre).dot(&w.normal) - support_distance(semi_axes, q, &w.normal)
-        })
+    pub fn gaps<'a>(&'a self, centre: &'a Vec3, semi_axes: &'a Vec3, q: &'a Mat3) -> impl Iterator<Item = f64> + 'a {
+        self.walls
+            .iter()
+            .map(move |w| (w.point - centre).dot(&w.normal) - support_distance(semi_axes, q, &w.normal))
     }
 
     /// The wall the particle touches most deeply (gap ≤ 0), if any.
