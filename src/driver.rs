@@ -105,3 +105,66 @@ where
 pub fn output_times(t_end: f64, count: usize) -> Vec<f64> {
     (1..=count).map(|n| t_end * n as f64 / count as f64).collect()
 }
+
+/// Why [`run_until`] returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Stop {
+    /// The end time was reached.
+    EndTime,
+    /// The stop predicate fired after an accepted step.
+    Event,
+}
+
+/// Advance to `t_end` with steps no longer than `dt_max`, calling `observe` every `dt_out`
+/// (and at the end), and stop early after the first accepted step for which `stop(state)`
+/// is true. Used for deposition and domain exit, where a step must not jump across a wall:
+/// choose `dt_max` so that the particle moves less than its smallest semi-axis per step.
+#[allow(clippy::too_many_arguments)] // problem (4), time controls (3), two callbacks
+pub fn run_until<I, M, D, F>(
+    integrator: &I,
+    particle: &Particle<M, D>,
+    state: State,
+    flow: &F,
+    dt_max: f64,
+    dt_out: f64,
+    t_end: f64,
+    mut observe: impl FnMut(&State),
+    mut stop: impl FnMut(&State) -> bool,
+) -> Result<(State, RunStats, Stop), StepError>
+where
+    I: TimeIntegrator,
+    M: Hyperelastic,
+    D: DragModel,
+    F: FlowField + ?Sized,
+{
+    crate::error::positive("dt_max", dt_max)?;
+    crate::error::positive("dt_out", dt_out)?;
+    let mut s = state;
+    let mut stats = RunStats::default();
+    let mut h = dt_max;
+    let mut next_out = s.t + dt_out;
+    let mut last_observed = s.t;
+    observe(&s);
+    while t_end - s.t > 1e-12 * t_end.abs().max(1.0) {
+        let try_h = h.min(dt_max).min(t_end - s.t);
+        let (next, info) = integrator.step(particle, &s, flow, try_h)?;
+        stats.record(&info);
+        h = info.dt_next;
+        s = next;
+        if s.t >= next_out - 1e-12 {
+            observe(&s);
+            last_observed = s.t;
+            next_out += dt_out * ((s.t - next_out) / dt_out).floor().max(0.0) + dt_out;
+        }
+        if stop(&s) {
+            if last_observed < s.t {
+                observe(&s);
+            }
+            return Ok((s, stats, Stop::Event));
+        }
+    }
+    if last_observed < s.t {
+        observe(&s);
+    }
+    Ok((s, stats, Stop::EndTime))
+}

@@ -11,6 +11,7 @@
 //! - [`tank_treading`]: steady tank-treading of an initially spherical particle, by time
 //!   integration and by Roscoe's (1967) steady algebraic equations.
 
+pub mod cavity;
 pub mod phase_boundary;
 pub mod phase_map;
 pub mod section;
