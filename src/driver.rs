@@ -70,11 +70,7 @@ where
             let (next, info) = integrator.step(particle, &s, flow, try_h)?;
             stats.record(&info);
             // A step shortened to hit t_out says nothing about the next step size.
-            h = if clamped {
-                h.max(info.dt_next)
-            } else {
-                info.dt_next
-            };
+            h = if clamped { h.max(info.dt_next) } else { info.dt_next };
             s = next;
             on_step(&s, &info);
         }
@@ -99,21 +95,10 @@ where
     D: DragModel,
     F: FlowField + ?Sized,
 {
-    run(
-        integrator,
-        particle,
-        state,
-        flow,
-        dt,
-        &[t_end],
-        |_| {},
-        |_, _| {},
-    )
+    run(integrator, particle, state, flow, dt, &[t_end], |_| {}, |_, _| {})
 }
 
 /// Evenly spaced output times n·Δ for n = 1..=N with NΔ = t_end.
 pub fn output_times(t_end: f64, count: usize) -> Vec<f64> {
-    (1..=count)
-        .map(|n| t_end * n as f64 / count as f64)
-        .collect()
+    (1..=count).map(|n| t_end * n as f64 / count as f64).collect()
 }

@@ -54,9 +54,7 @@ pub enum FlowError {
 impl FlowError {
     /// Outside-domain error for a point.
     pub fn outside(x: &Vec3) -> Self {
-        FlowError::OutsideDomain {
-            x: [x[0], x[1], x[2]],
-        }
+        FlowError::OutsideDomain { x: [x[0], x[1], x[2]] }
     }
 }
 

@@ -31,9 +31,7 @@ pub fn det3<S: Scalar>(a: &Mat3<S>) -> S {
 
 /// Cofactor matrix cof A = det A · A⁻ᵀ (defined also for singular A).
 pub fn cofactor<S: Scalar>(a: &Mat3<S>) -> Mat3<S> {
-    let c = |i0: usize, i1: usize, j0: usize, j1: usize| {
-        a[(i0, j0)] * a[(i1, j1)] - a[(i0, j1)] * a[(i1, j0)]
-    };
+    let c = |i0: usize, i1: usize, j0: usize, j1: usize| a[(i0, j0)] * a[(i1, j1)] - a[(i0, j1)] * a[(i1, j0)];
     Mat3::new(
         c(1, 2, 1, 2),
         -c(1, 2, 0, 2),

@@ -38,11 +38,7 @@ fn carlson_special_values() {
         1.3110287771461,
         max_relative = 1e-12
     );
-    assert_relative_eq!(
-        carlson_rd(0.0, 2.0, 1.0),
-        1.7972103521034,
-        max_relative = 1e-12
-    );
+    assert_relative_eq!(carlson_rd(0.0, 2.0, 1.0), 1.7972103521034, max_relative = 1e-12);
 }
 
 #[test]
@@ -80,20 +76,12 @@ fn shape_tensor_volume_and_euler_tensor() {
     // Θ = ∫ρ Ξ⊗Ξ dV: along E'_1 the second moment of a solid ellipsoid is m R₁²/5.
     let theta = e.euler_tensor(2.0);
     let e1 = q.column(0);
-    assert_relative_eq!(
-        (e1.transpose() * theta * e1)[0],
-        2.0 * 9.0 / 5.0,
-        max_relative = 1e-14
-    );
+    assert_relative_eq!((e1.transpose() * theta * e1)[0], 2.0 * 9.0 / 5.0, max_relative = 1e-14);
     // The frame of F̄ = 1·S recovers the semi-axes and the axes up to sign.
     let frame = PrincipalFrame::from_total_distortion(&s);
     assert_relative_eq!(frame.r, Vec3::new(3.0, 2.0, 0.5), max_relative = 1e-13);
     for a in 0..3 {
-        assert_relative_eq!(
-            (frame.q.row(a) * q.column(a))[0].abs(),
-            1.0,
-            max_relative = 1e-13
-        );
+        assert_relative_eq!((frame.q.row(a) * q.column(a))[0].abs(), 1.0, max_relative = 1e-13);
     }
     assert_relative_eq!(e.axis_point(0), q.column(0) * 3.0, max_relative = 1e-15);
 }

@@ -131,10 +131,7 @@ fn roscoe_normal_stress_functions() {
     let ints = EllipsoidIntegrals::new(&Vec3::from(r));
     let app = ints.alpha_pp;
     let sig2 = app[0] * app[1] + app[1] * app[2] + app[2] * app[0];
-    let (i_fn, j_fn) = (
-        0.4 * (app[0] + app[1]) / sig2,
-        0.4 * (app[0] - app[1]) / sig2,
-    );
+    let (i_fn, j_fn) = (0.4 * (app[0] + app[1]) / sig2, 0.4 * (app[0] - app[1]) / sig2);
     assert_relative_eq!(s[(0, 0)] - s[(1, 1)], 10.0 * i_fn * e, max_relative = 1e-12);
     assert_relative_eq!(
         s[(0, 0)] + s[(1, 1)] - 2.0 * s[(2, 2)],
@@ -153,11 +150,7 @@ fn volumetric_variants() {
     let d = tr.sigma_tilde(&ls, &lf, 1.0, VolumetricTraction::Dev);
     let s = tr.sigma_tilde(&ls, &lf, 1.0, VolumetricTraction::Source);
     assert_relative_eq!(p - d, Mat3::identity() * (2.0 / 3.0 * 0.9), epsilon = 1e-14);
-    assert_relative_eq!(
-        s - d,
-        Mat3::identity() * (-4.0 / 3.0 * 0.9),
-        epsilon = 1e-14
-    );
+    assert_relative_eq!(s - d, Mat3::identity() * (-4.0 / 3.0 * 0.9), epsilon = 1e-14);
 }
 
 fn k_principal(r: [f64; 3]) -> Vec3 {
@@ -170,11 +163,7 @@ fn k_principal(r: [f64; 3]) -> Vec3 {
 
 #[test]
 fn drag_sphere_is_six() {
-    assert_relative_eq!(
-        k_principal([0.7, 0.7, 0.7]),
-        Vec3::repeat(6.0),
-        max_relative = 1e-14
-    );
+    assert_relative_eq!(k_principal([0.7, 0.7, 0.7]), Vec3::repeat(6.0), max_relative = 1e-14);
     // and StokesSphere gives 6π a for any shape of the same volume
     let frame = PrincipalFrame {
         r: Vec3::new(2.0, 1.0, 0.5),
@@ -194,10 +183,7 @@ fn drag_sphere_is_six() {
 fn drag_matches_reference_tables() {
     let table = include_str!("../reference-data/drag_brenner_spheroids.csv");
     let mut rows = 0;
-    for line in table
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.starts_with("shape"))
-    {
+    for line in table.lines().filter(|l| !l.starts_with('#') && !l.starts_with("shape")) {
         let c: Vec<&str> = line.split(',').collect();
         let r: Vec<f64> = c[1..4].iter().map(|v| v.parse().unwrap()).collect();
         let k = k_principal([r[0], r[1], r[2]]);

@@ -131,8 +131,7 @@ fn spheroid_period(r: f64, ca: f64) -> f64 {
             d -= (d / (2.0 * PI)).round() * 2.0 * PI;
             let next = unwrapped + d;
             if crossing.is_none() && next <= -2.0 * PI {
-                crossing =
-                    Some(prev.0 + (s.t - prev.0) * (-2.0 * PI - unwrapped) / (next - unwrapped));
+                crossing = Some(prev.0 + (s.t - prev.0) * (-2.0 * PI - unwrapped) / (next - unwrapped));
             }
             unwrapped = next;
             prev = (s.t, ang);
@@ -158,4 +157,45 @@ proptest! {
         prop_assert!(e1.abs() <= 4e-3, "relative period error {e1:e} at Ca = 4e-3");
         prop_assert!((1.7..=2.3).contains(&(e1 / e2)), "errors {e1:e}, {e2:e}");
     }
+}
+
+/// The explicit viscous limit matches physics.md §7 (Δt < ρ*/30 sphere, ρ*/37 oblate 2.5,
+/// ρ*/38 prolate 2, ρ*/62 prolate 5). The table gives integer denominators, i.e. ±2 %; we
+/// allow 5 %. The limit scales with ρ* (Θ ∝ ρ*), checked at two densities.
+#[test]
+fn imex_stability_limit_matches_physics_notes() {
+    use pseudorigid::integrator::imex::stability_limit;
+    let cases = [
+        ([1.0, 1.0, 1.0], 30.0),
+        ([2.5, 2.5, 1.0], 37.0),
+        ([2.0, 1.0, 1.0], 38.0),
+        ([5.0, 1.0, 1.0], 62.0),
+    ];
+    for (ratios, denom) in cases {
+        for rho_star in [0.1, 0.01] {
+            let p = ShearScaling::new(0.4, rho_star, 1e3)
+                .unwrap()
+                .particle(ratios, Mat3::identity())
+                .unwrap();
+            let limit = stability_limit(&p, &State::at_rest(Vec3::zeros())) / rho_star;
+            assert!(
+                (limit * denom - 1.0).abs() <= 0.05,
+                "{ratios:?}: Δt_max = ρ*/{:.1}, notes ρ*/{denom}",
+                1.0 / limit
+            );
+        }
+    }
+}
+
+/// A Δt above the limit is refused with a typed error before anything blows up.
+#[test]
+fn oversized_imex_step_is_detected() {
+    let p = ShearScaling::new(0.5, 0.01, 1e3)
+        .unwrap()
+        .particle([1.0, 1.0, 1.0], Mat3::identity())
+        .unwrap();
+    let err = ImexPaper::default()
+        .step(&p, &State::at_rest(Vec3::zeros()), &shear(), 0.05)
+        .unwrap_err();
+    assert!(matches!(err, StepError::Unstable { .. }), "{err}");
 }

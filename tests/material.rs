@@ -56,10 +56,7 @@ fn reference_state_is_stress_free_with_expected_shear_modulus() {
 
 #[test]
 fn bad_moduli_are_typed_errors() {
-    assert!(matches!(
-        NeoHooke::new(-1.0, 1.0),
-        Err(ParamError::NotPositive { .. })
-    ));
+    assert!(matches!(NeoHooke::new(-1.0, 1.0), Err(ParamError::NotPositive { .. })));
     assert!(matches!(
         NeoHooke::from_capillary(0.0, 1.0),
         Err(ParamError::NotPositive { .. })

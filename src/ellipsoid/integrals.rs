@@ -30,10 +30,7 @@ pub fn carlson_rf<S: Scalar>(x: S, y: S, z: S) -> S {
     let (mut x, mut y, mut z) = (x, y, z);
     loop {
         let a = (x + y + z) / 3.0;
-        let spread = [x, y, z]
-            .iter()
-            .map(|v| (a.re() - v.re()).abs())
-            .fold(0.0, f64::max);
+        let spread = [x, y, z].iter().map(|v| (a.re() - v.re()).abs()).fold(0.0, f64::max);
         if spread <= DUPLICATION_SPREAD * a.re().abs() {
             let (dx, dy) = ((a - x) / a, (a - y) / a);
             let dz = -(dx + dy);
@@ -57,10 +54,7 @@ pub fn carlson_rd<S: Scalar>(x: S, y: S, z: S) -> S {
     let mut scale = 1.0;
     loop {
         let a = (x + y + z * 3.0) / 5.0;
-        let spread = [x, y, z]
-            .iter()
-            .map(|v| (a.re() - v.re()).abs())
-            .fold(0.0, f64::max);
+        let spread = [x, y, z].iter().map(|v| (a.re() - v.re()).abs()).fold(0.0, f64::max);
         if spread <= DUPLICATION_SPREAD * a.re().abs() {
             let (dx, dy) = ((a - x) / a, (a - y) / a);
             let dz = -(dx + dy) / 3.0;
@@ -114,11 +108,7 @@ impl EllipsoidIntegrals {
         // α_i = (2/3) R_D(x_j, x_k, x_i); differentiating in x_j gives α' of the pair (i, j).
         for i in 0..3 {
             let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            let rd = carlson_rd(
-                Dual64::new(x[j], 1.0),
-                Dual64::from(x[k]),
-                Dual64::from(x[i]),
-            );
+            let rd = carlson_rd(Dual64::new(x[j], 1.0), Dual64::from(x[k]), Dual64::from(x[i]));
             alpha[i] = 2.0 / 3.0 * rd.re;
             alpha_p[k] = -4.0 / 3.0 * rd.eps;
         }

@@ -47,11 +47,7 @@ impl Ellipsoid {
 
     /// Ellipsoid with axis ratios `ratios` scaled to the volume-equivalent diameter `d_eq`
     /// (R₁R₂R₃ = (d_eq/2)³), along `axes`.
-    pub fn with_volume_diameter(
-        ratios: [f64; 3],
-        d_eq: f64,
-        axes: Mat3,
-    ) -> Result<Self, ParamError> {
+    pub fn with_volume_diameter(ratios: [f64; 3], d_eq: f64, axes: Mat3) -> Result<Self, ParamError> {
         for r in ratios {
             positive("axis ratio", r)?;
         }

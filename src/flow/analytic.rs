@@ -68,10 +68,7 @@ impl LinearFlow {
     /// Uniaxial extension u = ε̇ (x₁, −x₂/2, −x₃/2).
     pub fn uniaxial_extension(rate: f64) -> Result<Self, ParamError> {
         let r = finite("extension rate", rate)?;
-        Self::new(
-            Vec3::zeros(),
-            Mat3::from_diagonal(&Vec3::new(r, -0.5 * r, -0.5 * r)),
-        )
+        Self::new(Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(r, -0.5 * r, -0.5 * r)))
     }
 
     /// The same flow seen in a frame rotated by `q` (x' = q x): u' = q u₀, L' = q L qᵀ.

@@ -64,8 +64,7 @@ impl JefferyRoscoe {
                 let k = 3 - i - j;
                 let sum = x[i] + x[j];
                 let xa = x[i] * a[i] + x[j] * a[j];
-                c_d[(i, j)] =
-                    4.0 / (abc * ap[k] * sum) - 4.0 * x[j] * (x[i] - x[j]) / (abc * sum * xa);
+                c_d[(i, j)] = 4.0 / (abc * ap[k] * sum) - 4.0 * x[j] * (x[i] - x[j]) / (abc * sum * xa);
                 c_w[(i, j)] = 4.0 * x[j] / (abc * xa);
             }
         }
@@ -75,11 +74,7 @@ impl JefferyRoscoe {
         let mut c_p = [0.0; 3];
         for i in 0..3 {
             for m in 0..3 {
-                c_diag[(i, m)] = if i == m {
-                    2.0 * app[m] * c
-                } else {
-                    -app[m] * c
-                };
+                c_diag[(i, m)] = if i == m { 2.0 * app[m] * c } else { -app[m] * c };
             }
             let (j, k) = ((i + 1) % 3, (i + 2) % 3);
             c_p[i] = 2.0 / (3.0 * sigma2) * app[i] * (2.0 * a[i] - a[j] - a[k]);
@@ -133,11 +128,7 @@ impl JefferyRoscoe {
 
     /// σ̃ in global components for the solid velocity gradient `l_s` and fluid gradient `l_f`.
     pub fn sigma_tilde(&self, l_s: &Mat3, l_f: &Mat3, mu_f: f64, vol: VolumetricTraction) -> Mat3 {
-        let sp = self.sigma_principal(
-            &self.frame.to_principal(l_f),
-            &self.frame.to_principal(l_s),
-            vol,
-        );
+        let sp = self.sigma_principal(&self.frame.to_principal(l_f), &self.frame.to_principal(l_s), vol);
         self.frame.to_global(&sp) * mu_f
     }
 
@@ -200,10 +191,7 @@ impl InertialessSolver {
     fn solve(&self, rhs_principal: Mat3) -> Mat3 {
         let mut rhs = vec9(&rhs_principal);
         rhs[TRACE_ROW] = 0.0;
-        let ls = self
-            .lu
-            .solve(&rhs)
-            .expect("invertibility checked at construction");
+        let ls = self.lu.solve(&rhs).expect("invertibility checked at construction");
         self.q.transpose() * mat3(&ls) * self.q
     }
 }

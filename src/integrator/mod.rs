@@ -10,7 +10,7 @@ pub mod stokesian;
 
 pub use imex::ImexPaper;
 pub use rosenbrock::Tolerances;
-pub use stokesian::{BarycentreModel, Stokesian};
+pub use stokesian::{BarycentreModel, ShapeResponse, Stokesian};
 
 use crate::error::StepError;
 use crate::flow::FlowField;

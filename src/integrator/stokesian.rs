@@ -42,31 +42,68 @@ pub enum BarycentreModel {
     Overdamped,
 }
 
-/// Adaptive inertialess integrator.
+/// How the shape responds to the flow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ShapeResponse {
+    /// Elastic and inertialess: σ̃(l_s) = σ_el(F), tr l_s = 0.
+    #[default]
+    Elastic,
+    /// Rigid limit Ca = 0: F stays a rotation spinning at Jeffery's torque-free rate,
+    /// w_s,ij = w_f,ij − ((x_i − x_j)/(x_i + x_j)) d_f,ij in the principal frame (Jeffery 1922).
+    /// No elasticity is evaluated; F is projected back onto SO(3) after every step.
+    Rigid,
+}
+
+/// Adaptive inertialess integrator (elastic or rigid shape).
 #[derive(Debug, Clone, Copy)]
 pub struct Stokesian {
     /// Error tolerances.
     pub tol: Tolerances,
     /// Barycentre model.
     pub barycentre: BarycentreModel,
+    /// Shape response.
+    pub shape: ShapeResponse,
 }
 
 impl Stokesian {
-    /// Integrator with rtol = atol = `tol` and an inertial barycentre.
+    /// Elastic integrator with rtol = atol = `tol` and an inertial barycentre.
     pub fn new(tol: f64) -> Self {
         Self {
             tol: Tolerances::uniform(tol),
             barycentre: BarycentreModel::Inertial,
+            shape: ShapeResponse::Elastic,
         }
     }
 
-    /// Same, with an overdamped barycentre.
+    /// Elastic, with an overdamped barycentre.
     pub fn overdamped(tol: f64) -> Self {
         Self {
-            tol: Tolerances::uniform(tol),
             barycentre: BarycentreModel::Overdamped,
+            ..Self::new(tol)
         }
     }
+
+    /// Rigid limit (Ca = 0): Jeffery rotation plus Brenner drag, overdamped barycentre.
+    pub fn rigid(tol: f64) -> Self {
+        Self {
+            shape: ShapeResponse::Rigid,
+            ..Self::overdamped(tol)
+        }
+    }
+}
+
+/// Jeffery's torque-free spin of the current (rigid) ellipsoid in the flow `l_f`.
+pub fn jeffery_spin(frame: &crate::ellipsoid::PrincipalFrame, l_f: &Mat3) -> Mat3 {
+    let lf = frame.to_principal(l_f);
+    let x = frame.r.component_mul(&frame.r);
+    let ws = Mat3::from_fn(|i, j| {
+        if i == j {
+            0.0
+        } else {
+            0.5 * (lf[(i, j)] - lf[(j, i)]) - (x[i] - x[j]) / (x[i] + x[j]) * 0.5 * (lf[(i, j)] + lf[(j, i)])
+        }
+    });
+    frame.to_global(&ws)
 }
 
 fn pack(f: &Mat3, x: &Vec3, v: &Vec3) -> Y {
@@ -93,13 +130,15 @@ struct Evaluation {
     v_dot: Vec3,
     drag_rate: Mat3,
     l_f: Mat3,
-    solver: crate::hydro::InertialessSolver,
+    /// `None` in the rigid limit.
+    solver: Option<crate::hydro::InertialessSolver>,
 }
 
 fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
     particle: &Particle<M, D>,
     flow: &F,
     model: BarycentreModel,
+    shape: ShapeResponse,
     t: f64,
     y: &Y,
 ) -> Result<Evaluation, StepError> {
@@ -117,29 +156,28 @@ fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
         f,
         a: Mat3::zeros(),
     });
-    let solver = geo
-        .traction
-        .inertialess(&sample.grad_u, mu_f)
-        .ok_or(StepError::NonFinite {
-            what: "inertialess traction operator",
-            t,
-        })?;
-    let sigma_el = particle.material().cauchy(&f);
-    let l_s = solver.velocity_gradient(&sigma_el);
+    let (l_s, solver) = match shape {
+        ShapeResponse::Elastic => {
+            let solver = geo
+                .traction
+                .inertialess(&sample.grad_u, mu_f)
+                .ok_or(StepError::NonFinite {
+                    what: "inertialess traction operator",
+                    t,
+                })?;
+            (solver.velocity_gradient(&particle.material().cauchy(&f)), Some(solver))
+        }
+        ShapeResponse::Rigid => (jeffery_spin(&geo.frame, &sample.grad_u), None),
+    };
     let drag_rate = particle.drag().resistance(&geo.frame, &geo.ints) * (mu_f / particle.mass());
-    let a_g = reduced_gravity(
-        particle.gravity(),
-        particle.rho_solid(),
-        particle.fluid().rho,
-        det_f,
-    );
+    let a_g = reduced_gravity(particle.gravity(), particle.rho_solid(), particle.fluid().rho, det_f);
     let (x_dot, v_dot) = match model {
         BarycentreModel::Inertial => (v, a_g + drag_rate * (sample.u - v)),
         BarycentreModel::Overdamped => {
-            let drift = drag_rate.lu().solve(&a_g).ok_or(StepError::NonFinite {
-                what: "drag tensor",
-                t,
-            })?;
+            let drift = drag_rate
+                .lu()
+                .solve(&a_g)
+                .ok_or(StepError::NonFinite { what: "drag tensor", t })?;
             (sample.u + drift, Vec3::zeros())
         }
     };
@@ -166,42 +204,55 @@ fn jacobian<M: Hyperelastic, D: DragModel>(
     e: &Evaluation,
 ) -> Jac {
     let (f, _, _) = unpack(y);
+    let mut jac = Jac::zeros();
+    barycentre_jacobian(&mut jac, model, e);
+    let Some(solver) = &e.solver else {
+        // Rigid: d(W_s F) ≈ W_s dF with the spin frozen over the step (W-method).
+        for q in 0..9 {
+            let mut df = Mat3::zeros();
+            df[q] = 1.0;
+            jac.fixed_view_mut::<9, 1>(0, q).copy_from(&vec9(&(e.l_s * df)));
+        }
+        return jac;
+    };
     let law = particle.material();
     let det_f = f.determinant();
     let p = law.piola(&f);
     let sigma = p * f.transpose() / det_f;
     let tangent = law.tangent(&f);
     let f_inv_t = inv_transpose(&f);
-    let mut jac = Jac::zeros();
     for q in 0..9 {
         let mut df = Mat3::zeros();
         df[q] = 1.0;
         let dp = mat3(&tangent.column(q).into_owned());
         // δσ = (δP Fᵀ + P δFᵀ)/J − σ tr(F⁻¹δF)
         let d_sigma = (dp * f.transpose() + p * df.transpose()) / det_f - sigma * f_inv_t[q];
-        let dl_s = e.solver.velocity_gradient_increment(&d_sigma);
+        let dl_s = solver.velocity_gradient_increment(&d_sigma);
         jac.fixed_view_mut::<9, 1>(0, q)
             .copy_from(&vec9(&(dl_s * f + e.l_s * df)));
     }
+    jac
+}
+
+fn barycentre_jacobian(jac: &mut Jac, model: BarycentreModel, e: &Evaluation) {
     match model {
         BarycentreModel::Inertial => {
-            jac.fixed_view_mut::<3, 3>(9, 12)
-                .copy_from(&Mat3::identity());
-            jac.fixed_view_mut::<3, 3>(12, 9)
-                .copy_from(&(e.drag_rate * e.l_f));
-            jac.fixed_view_mut::<3, 3>(12, 12)
-                .copy_from(&(-e.drag_rate));
+            jac.fixed_view_mut::<3, 3>(9, 12).copy_from(&Mat3::identity());
+            jac.fixed_view_mut::<3, 3>(12, 9).copy_from(&(e.drag_rate * e.l_f));
+            jac.fixed_view_mut::<3, 3>(12, 12).copy_from(&(-e.drag_rate));
         }
         BarycentreModel::Overdamped => {
             jac.fixed_view_mut::<3, 3>(9, 9).copy_from(&e.l_f);
         }
     }
-    jac
 }
 
 impl TimeIntegrator for Stokesian {
     fn name(&self) -> &'static str {
-        "stokesian"
+        match self.shape {
+            ShapeResponse::Elastic => "stokesian",
+            ShapeResponse::Rigid => "rigid",
+        }
     }
 
     fn step<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
@@ -213,17 +264,22 @@ impl TimeIntegrator for Stokesian {
     ) -> Result<(State, StepInfo), StepError> {
         crate::error::positive("dt", dt)?;
         state.validate()?;
-        let model = self.barycentre;
+        let (model, shape) = (self.barycentre, self.shape);
         let y0 = pack(&state.f, &state.x, &state.v);
         let acc = rosenbrock::step(
             state.t,
             &y0,
             dt,
             self.tol,
-            |t, y| evaluate(particle, flow, model, t, y).map(|e| rhs_vector(&e)),
-            |t, y| evaluate(particle, flow, model, t, y).map(|e| jacobian(particle, model, y, &e)),
+            |t, y| evaluate(particle, flow, model, shape, t, y).map(|e| rhs_vector(&e)),
+            |t, y| evaluate(particle, flow, model, shape, t, y).map(|e| jacobian(particle, model, y, &e)),
         )?;
-        let (f, x, v) = unpack(&acc.y);
+        let (mut f, x, v) = unpack(&acc.y);
+        if shape == ShapeResponse::Rigid {
+            // Polar projection onto SO(3): the nearest rotation to the integrated F.
+            let svd = f.svd(true, true);
+            f = svd.u.expect("requested") * svd.v_t.expect("requested");
+        }
         let (a, _, _) = unpack(&acc.f_new);
         let v = match model {
             BarycentreModel::Inertial => v,

@@ -46,19 +46,13 @@ pub trait Hyperelastic: Send + Sync {
 
 /// P = ∂W/∂F by forward-mode AD (nine dual directions).
 pub fn piola_ad<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Mat3 {
-    let (_, g) = num_dual::gradient(
-        |v: SVector<DualVec<f64, Const<9>>, 9>| law.energy(&mat3(&v)),
-        &vec9(f),
-    );
+    let (_, g) = num_dual::gradient(|v: SVector<DualVec<f64, Const<9>>, 9>| law.energy(&mat3(&v)), &vec9(f));
     mat3(&g)
 }
 
 /// ∂P/∂F = ∂²W/∂F∂F by second-order AD.
 pub fn tangent_ad<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Mat9 {
-    let (_, _, h) = hessian(
-        |v: SVector<Dual2Vec<f64, Const<9>>, 9>| law.energy(&mat3(&v)),
-        &vec9(f),
-    );
+    let (_, _, h) = hessian(|v: SVector<Dual2Vec<f64, Const<9>>, 9>| law.energy(&mat3(&v)), &vec9(f));
     h
 }
 

@@ -10,14 +10,7 @@ use crate::tensor::{Mat3, Vec3};
 /// One implicit-Euler step of eq. 19 (exactly the paper's update):
 /// (1 + Δt μ_f K̂/m) v^{n+1} = v^n + Δt a_G + Δt (μ_f K̂/m) u, then x^{n+1} = x^n + Δt v^{n+1}.
 /// Returns (x^{n+1}, v^{n+1}), or `None` if the (positive-definite) system is singular.
-pub fn implicit_euler(
-    x: &Vec3,
-    v: &Vec3,
-    u: &Vec3,
-    a_g: &Vec3,
-    drag_rate: &Mat3,
-    dt: f64,
-) -> Option<(Vec3, Vec3)> {
+pub fn implicit_euler(x: &Vec3, v: &Vec3, u: &Vec3, a_g: &Vec3, drag_rate: &Mat3, dt: f64) -> Option<(Vec3, Vec3)> {
     let lhs = Mat3::identity() + drag_rate * dt;
     let rhs = v + a_g * dt + drag_rate * u * dt;
     let v_new = lhs.lu().solve(&rhs)?;

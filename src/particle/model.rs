@@ -53,36 +53,22 @@ pub struct Particle<M, D = Brenner> {
 
 impl<M: Hyperelastic> Particle<M, Brenner> {
     /// Particle with Brenner drag, the paper's volumetric traction and no gravity.
-    pub fn new(
-        shape: Ellipsoid,
-        material: M,
-        fluid: Fluid,
-        rho_solid: f64,
-    ) -> Result<Self, ParamError> {
+    pub fn new(shape: Ellipsoid, material: M, fluid: Fluid, rho_solid: f64) -> Result<Self, ParamError> {
         Self::with_drag(shape, material, Brenner, fluid, rho_solid)
     }
 }
 
 impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
     /// Particle with an explicit drag model.
-    pub fn with_drag(
-        shape: Ellipsoid,
-        material: M,
-        drag: D,
-        fluid: Fluid,
-        rho_solid: f64,
-    ) -> Result<Self, ParamError> {
+    pub fn with_drag(shape: Ellipsoid, material: M, drag: D, fluid: Fluid, rho_solid: f64) -> Result<Self, ParamError> {
         let rho_solid = positive("rho_s", rho_solid)?;
         let s = shape.shape_tensor();
         let volume0 = shape.volume();
         let mass = rho_solid * volume0;
-        let theta_inv = shape
-            .euler_tensor(mass)
-            .try_inverse()
-            .ok_or(ParamError::NotPositive {
-                name: "det Theta",
-                value: 0.0,
-            })?;
+        let theta_inv = shape.euler_tensor(mass).try_inverse().ok_or(ParamError::NotPositive {
+            name: "det Theta",
+            value: 0.0,
+        })?;
         Ok(Self {
             shape,
             material,

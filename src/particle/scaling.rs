@@ -60,17 +60,8 @@ impl ShearScaling {
 
     /// Neutrally buoyant Neo-Hooke particle with axis ratios `ratios` along `axes` (columns),
     /// scaled to d_eq = 1.
-    pub fn particle(
-        &self,
-        ratios: [f64; 3],
-        axes: crate::tensor::Mat3,
-    ) -> Result<Particle<NeoHooke>, ParamError> {
+    pub fn particle(&self, ratios: [f64; 3], axes: crate::tensor::Mat3) -> Result<Particle<NeoHooke>, ParamError> {
         let shape = Ellipsoid::with_volume_diameter(ratios, 1.0, axes)?;
-        Particle::new(
-            shape,
-            self.neo_hooke(),
-            Fluid::new(1.0, self.rho_star)?,
-            self.rho_star,
-        )
+        Particle::new(shape, self.neo_hooke(), Fluid::new(1.0, self.rho_star)?, self.rho_star)
     }
 }

@@ -21,10 +21,7 @@ pub fn exp_sinh<F: Fn(f64) -> f64>(f: F) -> f64 {
         h /= 2.0;
         let n = (t_max / h) as i64;
         // reuse: new estimate = prev/2 + h * (odd nodes)
-        let odd: f64 = (-n..=n)
-            .filter(|i| i % 2 != 0)
-            .map(|i| term(i as f64 * h))
-            .sum();
+        let odd: f64 = (-n..=n).filter(|i| i % 2 != 0).map(|i| term(i as f64 * h)).sum();
         let next = 0.5 * prev + h * odd;
         if (next - prev).abs() <= 1e-15 * next.abs() {
             return next;

@@ -6,17 +6,14 @@ use proptest::prelude::*;
 /// Haar-distributed rotation: a normalised 4-vector of independent normals is uniform on S³,
 /// and the quaternion map pushes it to the Haar measure on SO(3). Shrinks towards identity.
 pub fn rotation() -> impl Strategy<Value = Matrix3<f64>> {
-    (normal(), normal(), normal(), normal()).prop_filter_map(
-        "degenerate quaternion",
-        |(w, x, y, z)| {
-            let v = Vector4::new(w + 1e-3, x, y, z);
-            (v.norm() > 1e-6).then(|| {
-                UnitQuaternion::from_quaternion(nalgebra::Quaternion::from_vector(v))
-                    .to_rotation_matrix()
-                    .into_inner()
-            })
-        },
-    )
+    (normal(), normal(), normal(), normal()).prop_filter_map("degenerate quaternion", |(w, x, y, z)| {
+        let v = Vector4::new(w + 1e-3, x, y, z);
+        (v.norm() > 1e-6).then(|| {
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::from_vector(v))
+                .to_rotation_matrix()
+                .into_inner()
+        })
+    })
 }
 
 /// A standard normal sample (Box–Muller on two uniforms); shrinks to 0.
@@ -46,8 +43,7 @@ pub fn traceless(s: f64) -> impl Strategy<Value = Matrix3<f64>> {
 /// Deformation gradient near identity: exp-like stretch-rotation, det > 0 guaranteed by
 /// F = R · (1 + sym perturbation of size < 0.45) (eigenvalues in [0.55, 1.45]).
 pub fn deformation() -> impl Strategy<Value = Matrix3<f64>> {
-    (rotation(), matrix(0.15))
-        .prop_map(|(r, m)| r * (Matrix3::identity() + (m + m.transpose()) * 0.5))
+    (rotation(), matrix(0.15)).prop_map(|(r, m)| r * (Matrix3::identity() + (m + m.transpose()) * 0.5))
 }
 
 /// Random vector with coefficients in [-s, s].

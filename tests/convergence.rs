@@ -1,0 +1,109 @@
+//! Observed order of convergence of every integrator: halve Δt, fit the slope.
+mod common;
+
+use common::reference::jeffery_phi;
+use pseudorigid::integrator::Stokesian;
+use pseudorigid::particle::lines::material_line;
+use pseudorigid::prelude::*;
+
+/// Fixed-step run: call `step` with constant Δt and a tolerance so loose that every step is
+/// accepted as proposed (the adaptive controller is bypassed, the formula is what is tested).
+fn fixed_steps<I: TimeIntegrator>(integ: &I, p: &Particle<NeoHooke>, dt: f64, t_end: f64) -> State {
+    let flow = LinearFlow::simple_shear(1.0).unwrap();
+    let mut s = State::at_rest(Vec3::zeros());
+    let n = (t_end / dt).round() as usize;
+    for _ in 0..n {
+        let (next, info) = integ.step(p, &s, &flow, dt).unwrap();
+        assert_eq!(info.dt, dt);
+        s = next;
+    }
+    s
+}
+
+fn loose(mut s: Stokesian) -> Stokesian {
+    s.tol.rtol = 1e12;
+    s.tol.atol = 1e12;
+    s
+}
+
+/// Least-squares slope of log(error) against log(Δt).
+fn slope(dts: &[f64], errs: &[f64]) -> f64 {
+    let xs: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
+    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
+    let (mx, my) = (
+        xs.iter().sum::<f64>() / xs.len() as f64,
+        ys.iter().sum::<f64>() / ys.len() as f64,
+    );
+    let num: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let den: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
+    num / den
+}
+
+/// Rigid limit against the exact Jeffery orbit (r = 2, axis along the flow at t = 0, so
+/// φ from the gradient axis starts at π/2 and the exact angle is jeffery_phi shifted by the
+/// time at which φ = π/2). Rosenbrock-W 2(3) must show order 2: slope in [1.8, 2.3].
+#[test]
+fn rigid_rosenbrock_is_second_order_on_jeffery_orbit() {
+    let r = 2.0;
+    let p = ShearScaling::new(1.0, 1.0, 1e3)
+        .unwrap()
+        .particle([r, 1.0, 1.0], Mat3::identity())
+        .unwrap();
+    // φ(t₀) = π/2 at t₀ = (π/2)(r² + 1)/r for the exact orbit started at φ = 0.
+    let t0 = std::f64::consts::FRAC_PI_2 * (r * r + 1.0) / r;
+    let t_end = 4.0;
+    let dts = [0.1, 0.05, 0.025, 0.0125];
+    let errs: Vec<f64> = dts
+        .iter()
+        .map(|&dt| {
+            let s = fixed_steps(&loose(Stokesian::rigid(1.0)), &p, dt, t_end);
+            let l = material_line(p.shape(), &s.f, 0);
+            // angle from the gradient axis y towards x; the orbit turns clockwise in (x, y)
+            let phi = l[0].atan2(l[1]);
+            let exact = jeffery_phi(r, t0 + t_end);
+            let mut d = phi - exact;
+            d -= (d / std::f64::consts::PI).round() * std::f64::consts::PI;
+            d.abs()
+        })
+        .collect();
+    let k = slope(&dts, &errs);
+    assert!((1.8..=2.3).contains(&k), "observed order {k}, errors {errs:?}");
+}
+
+/// Elastic inertialess integrator on the tank-treading transient (sphere, Ca = 0.2): error of
+/// F at t = 2 against a Richardson-checked run with Δt/16. Order 2: slope in [1.8, 2.3].
+#[test]
+fn stokesian_rosenbrock_is_second_order() {
+    let p = ShearScaling::new(0.2, 1.0, 1e3)
+        .unwrap()
+        .particle([1.0, 1.0, 1.0], Mat3::identity())
+        .unwrap();
+    let integ = loose(Stokesian::overdamped(1.0));
+    let reference = fixed_steps(&integ, &p, 0.1 / 64.0, 2.0).f;
+    let dts = [0.1, 0.05, 0.025];
+    let errs: Vec<f64> = dts
+        .iter()
+        .map(|&dt| (fixed_steps(&integ, &p, dt, 2.0).f - reference).abs().max())
+        .collect();
+    let k = slope(&dts, &errs);
+    assert!((1.8..=2.3).contains(&k), "observed order {k}, errors {errs:?}");
+}
+
+/// The paper's IMEX scheme is first order (backward-Euler-type updates): slope in [0.8, 1.3]
+/// against a run with Δt/16. ρ* = 1 keeps Δt = 0.01 inside the explicit limit ρ*/30.
+#[test]
+fn imex_paper_is_first_order() {
+    let p = ShearScaling::new(0.3, 1.0, 1e3)
+        .unwrap()
+        .particle([2.0, 1.0, 1.0], Mat3::identity())
+        .unwrap();
+    let integ = ImexPaper::default();
+    let reference = fixed_steps(&integ, &p, 0.01 / 32.0, 1.0).f;
+    let dts = [0.01, 0.005, 0.0025];
+    let errs: Vec<f64> = dts
+        .iter()
+        .map(|&dt| (fixed_steps(&integ, &p, dt, 1.0).f - reference).abs().max())
+        .collect();
+    let k = slope(&dts, &errs);
+    assert!((0.8..=1.3).contains(&k), "observed order {k}, errors {errs:?}");
+}
