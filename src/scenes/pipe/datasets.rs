@@ -2,7 +2,7 @@
 //!
 //! Tables carry λ₁ and Ca (0: rigid limit) in every row; times are in seconds, positions in
 //! d_eq of the particle concerned (which differs between aspect ratios because r₃ is fixed).
-//! Long runs are thinned to at most `max_points` rows per particle, evenly in time.
+//! Every recorded sample is written; runs are thinned where they are recorded.
 
 use super::setup::PipeScene;
 use super::tracking::{Deposition, PipeSample};
@@ -21,31 +21,11 @@ pub const PAPER_EXTRA_TRAVEL: [(f64, f64, &str, f64); 4] = [
     (7.0, 0.9, "more than", 313000.0),
 ];
 
-/// The first sample at or after each of `max_points` even times, and the last sample.
-pub fn subsample(samples: &[PipeSample], max_points: usize) -> Vec<PipeSample> {
-    let (Some(first), Some(last)) = (samples.first(), samples.last()) else {
-        return Vec::new();
-    };
-    let dt = (last.t - first.t) / max_points.max(1) as f64;
-    let mut out = vec![*first];
-    let mut next = first.t + dt;
-    for s in &samples[1..] {
-        if s.t >= next {
-            out.push(*s);
-            next = s.t + dt;
-        }
-    }
-    if out.last() != Some(last) {
-        out.push(*last);
-    }
-    out
-}
-
 /// `lambda1,ca,t_s,cos1,cos2,cos3`: direction cosines of l_a (Figs 10, 12).
-pub fn direction_cosine_table(runs: &[Run<'_>], max_points: usize) -> Result<Csv, OutputError> {
+pub fn direction_cosine_table(runs: &[Run<'_>]) -> Result<Csv, OutputError> {
     let mut csv = Csv::new(&["lambda1", "ca", "t_s", "cos1", "cos2", "cos3"]);
     for (scene, samples) in runs {
-        for s in subsample(samples, max_points) {
+        for s in samples.iter() {
             let c = s.direction_cosines();
             csv.push_numbers(&[lambda1(scene), ca(scene), s.t * scene.time_unit, c[0], c[1], c[2]])?;
         }
@@ -54,10 +34,10 @@ pub fn direction_cosine_table(runs: &[Run<'_>], max_points: usize) -> Result<Csv
 }
 
 /// `lambda1,ca,t_s,x1_deq,x2_deq,x3_deq,gap_deq`: barycentre paths and wall gaps (Fig. 11).
-pub fn trajectory_table(runs: &[Run<'_>], max_points: usize) -> Result<Csv, OutputError> {
+pub fn trajectory_table(runs: &[Run<'_>]) -> Result<Csv, OutputError> {
     let mut csv = Csv::new(&["lambda1", "ca", "t_s", "x1_deq", "x2_deq", "x3_deq", "gap_deq"]);
     for (scene, samples) in runs {
-        for s in subsample(samples, max_points) {
+        for s in samples.iter() {
             csv.push_numbers(&[
                 lambda1(scene),
                 ca(scene),
@@ -73,16 +53,12 @@ pub fn trajectory_table(runs: &[Run<'_>], max_points: usize) -> Result<Csv, Outp
 }
 
 /// cos(l_a, e_k) against time [s], one line per particle, up to `t_end` seconds if given.
-pub fn direction_cosine_panel(runs: &[Run<'_>], k: usize, title: &str, max_points: usize, t_end: Option<f64>) -> Panel {
+pub fn direction_cosine_panel(runs: &[Run<'_>], k: usize, title: &str, t_end: Option<f64>) -> Panel {
     let mut panel = Panel::new(title, "t [s]", format!("cos(l_a, e{})", k + 1));
     for (i, (scene, samples)) in runs.iter().enumerate() {
-        let window: Vec<PipeSample> = samples
+        let points = samples
             .iter()
             .filter(|s| t_end.is_none_or(|te| s.t * scene.time_unit <= te))
-            .copied()
-            .collect();
-        let points = subsample(&window, max_points)
-            .iter()
             .map(|s| (s.t * scene.time_unit, s.direction_cosines()[k]))
             .collect();
         panel = panel.with(Series::line(label(scene), points, i));
@@ -92,14 +68,11 @@ pub fn direction_cosine_panel(runs: &[Run<'_>], k: usize, title: &str, max_point
 }
 
 /// x₂ against x₁ (both in d_eq), one line per particle, with the wall x₂ = −R.
-pub fn trajectory_panel(runs: &[Run<'_>], title: &str, max_points: usize) -> Panel {
+pub fn trajectory_panel(runs: &[Run<'_>], title: &str) -> Panel {
     let mut panel = Panel::new(title, "x1 / d_eq", "x2 / d_eq");
     let mut x_end: f64 = 0.0;
     for (i, (scene, samples)) in runs.iter().enumerate() {
-        let points: Vec<(f64, f64)> = subsample(samples, max_points)
-            .iter()
-            .map(|s| (s.x[0], s.x[1]))
-            .collect();
+        let points: Vec<(f64, f64)> = samples.iter().map(|s| (s.x[0], s.x[1])).collect();
         x_end = x_end.max(points.last().map_or(0.0, |p| p.0));
         panel = panel.with(Series::line(label(scene), points, i));
     }

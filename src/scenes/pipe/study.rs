@@ -1,6 +1,7 @@
 //! The paper's parameter studies over aspect ratio and softness, one particle per case, run in
 //! parallel (particles are independent).
 
+use super::orbit::jeffery_period;
 use super::setup::PipeScene;
 use super::tracking::{Deposition, PipeSample, sample_orientation, track_to_deposition};
 use crate::driver::output_times;
@@ -56,14 +57,20 @@ pub fn orientation_study(
         .collect()
 }
 
-/// Deposition runs at rtol = atol = `tol`.
-pub fn deposition_study(cases: &[PipeCase], tol: f64) -> Result<Vec<(PipeScene, Deposition)>, SceneError> {
+/// Deposition runs at rtol = atol = `tol`, recording `per_orbit` samples per Jeffery period
+/// at the release point (0: release and contact only).
+pub fn deposition_study(
+    cases: &[PipeCase],
+    tol: f64,
+    per_orbit: f64,
+) -> Result<Vec<(PipeScene, Deposition)>, SceneError> {
     cases
         .par_iter()
         .map(|case| {
             let scene = case.scene()?;
             let t_max = SETTLING_TIMES * scene.sphere_settling_time();
-            let run = track_to_deposition(&scene, &scene.integrator(tol), DT0, t_max)?;
+            let record_dt = jeffery_period(case.lambda1, 1.0) / per_orbit;
+            let run = track_to_deposition(&scene, &scene.integrator(tol), DT0, t_max, record_dt)?;
             Ok((scene, run))
         })
         .collect()

@@ -84,7 +84,8 @@ pub fn sample_orientation<I: TimeIntegrator>(
 /// A run from release to wall contact.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Deposition {
-    /// Every accepted step from the release state to the contact state (inclusive).
+    /// The release state, the first accepted step at or after each multiple of the recording
+    /// interval, and the contact state.
     pub samples: Vec<PipeSample>,
     /// Accepted steps, including the contact refinement.
     pub steps: u64,
@@ -106,13 +107,15 @@ impl Deposition {
     }
 }
 
-/// Track the released particle until it touches the wall, starting with step `dt0`; fail with
+/// Track the released particle until it touches the wall, starting with step `dt0` and
+/// recording a sample about every `record_dt` (∞: release and contact only); fail with
 /// [`SceneError::NotDeposited`] if it is still free at `t_max` (units 1/γ̇₀).
 pub fn track_to_deposition<I: TimeIntegrator>(
     scene: &PipeScene,
     integrator: &I,
     dt0: f64,
     t_max: f64,
+    record_dt: f64,
 ) -> Result<Deposition, SceneError> {
     let mut state = scene.initial_state().map_err(crate::error::StepError::from)?;
     let mut now = scene.observe(&state);
@@ -125,6 +128,7 @@ pub fn track_to_deposition<I: TimeIntegrator>(
         rejected: 0,
     };
     let mut h = dt0;
+    let mut next_record = record_dt;
     while state.t < t_max {
         let cap = approach_cap(scene, &state, now.gap)?;
         let clamped = h > cap;
@@ -138,7 +142,10 @@ pub fn track_to_deposition<I: TimeIntegrator>(
             run.samples.push(scene.observe(&contact));
             return Ok(run);
         }
-        run.samples.push(seen);
+        if seen.t >= next_record {
+            run.samples.push(seen);
+            next_record = seen.t + record_dt;
+        }
         (state, now) = (next, seen);
     }
     Err(SceneError::NotDeposited { t_max, gap: now.gap })
