@@ -52,7 +52,7 @@ pub fn trajectory_table(runs: &[Run<'_>]) -> Result<Csv, OutputError> {
     Ok(csv)
 }
 
-/// cos(l_a, e_k) against time [s], one line per particle, up to `t_end` seconds if given.
+/// cos(l_a, e_k) against time (s), one line per particle, up to `t_end` seconds if given.
 pub fn direction_cosine_panel(runs: &[Run<'_>], k: usize, title: &str, t_end: Option<f64>) -> Panel {
     let mut panel = Panel::new(title, "t [s]", format!("cos(l_a, e{})", k + 1));
     for (i, (scene, samples)) in runs.iter().enumerate() {
@@ -90,17 +90,17 @@ pub struct DepositionRow {
     pub lambda1: f64,
     /// Ca (0: rigid).
     pub ca: f64,
-    /// d_eq [µm].
+    /// d_eq (µm).
     pub d_eq_um: f64,
-    /// Time to contact [s].
+    /// Time to contact (s).
     pub t_s: f64,
-    /// Streamwise deposition distance [d_eq].
+    /// Streamwise deposition distance (d_eq).
     pub distance_deq: f64,
-    /// The same [m].
+    /// The same (m).
     pub distance_m: f64,
-    /// Distance minus the rigid particle's of the same λ₁ [d_eq], if that was run.
+    /// Distance minus the rigid particle's of the same λ₁ (d_eq), if that was run.
     pub extra_deq: Option<f64>,
-    /// Distance of the check run at a tighter tolerance [d_eq].
+    /// Distance of the check run at a tighter tolerance (d_eq).
     pub check_distance_deq: f64,
     /// Accepted steps of the main run.
     pub steps: u64,

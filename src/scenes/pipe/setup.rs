@@ -7,9 +7,9 @@
 //! axis along e₁ (Fig. 9), moving with the local fluid velocity (§6.2). The shear rate there,
 //! $\dot\gamma_0 = 4\bar U |x_2^0|/R^2 = 725.85\ \mathrm{s^{-1}}$ for Tian/Cui, sets the capillary number
 //! Ca = μ_f γ̇₀/μ_s (eq. 23); the paper quotes ω_f = 726.95 s⁻¹ (0.15 % more, reference-notes §0).
-//! Gravity acts along −e₂: the paper does not state its direction; with it the particle,
-//! released below the axis, settles in the x₁–x₂ plane towards the nearer wall, which is the
-//! only reading under which the released particle deposits within the set-up of Fig. 9.
+//! Gravity acts along −e₂. The paper does not state its direction; this choice keeps the
+//! motion in the x₁–x₂ plane of Fig. 9 and lets the particle, released below the axis, settle
+//! towards the nearer wall.
 //!
 //! # Units
 //! The integration uses the paper's scales (§6 intro): lengths in d_eq, times in 1/γ̇₀,
@@ -37,20 +37,20 @@ const BULK_RATIO: f64 = 1e3;
 /// The carrier flow and release point in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PipeFlowData {
-    /// Pipe diameter D [m].
+    /// Pipe diameter D (m).
     pub diameter: f64,
-    /// Mean (bulk) velocity Ū [m/s]; the centreline velocity is 2Ū.
+    /// Mean (bulk) velocity Ū (m/s); the centreline velocity is 2Ū.
     pub mean_velocity: f64,
-    /// Kinematic viscosity ν_f [m²/s].
+    /// Kinematic viscosity ν_f (m²/s).
     pub nu_f: f64,
-    /// Fluid density ρ_f [kg/m³].
+    /// Fluid density ρ_f (kg/m³).
     pub rho_f: f64,
-    /// Pipe length L [m]; the flow model is the infinite pipe, L only flags particles that
+    /// Pipe length L (m); the flow model is the infinite pipe, L only flags particles that
     /// would leave the real one before depositing.
     pub length: f64,
-    /// Magnitude of gravity [m/s²], acting along −e₂.
+    /// Magnitude of gravity (m/s²), acting along −e₂.
     pub gravity: f64,
-    /// Release coordinate x₂⁰ [m] (x₁⁰ = x₃⁰ = 0).
+    /// Release coordinate x₂⁰ (m) (x₁⁰ = x₃⁰ = 0).
     pub release_x2: f64,
 }
 
@@ -70,12 +70,12 @@ impl PipeFlowData {
         }
     }
 
-    /// Dynamic viscosity μ_f = ρ_f ν_f [Pa s].
+    /// Dynamic viscosity μ_f = ρ_f ν_f (Pa s).
     pub fn mu_f(&self) -> f64 {
         self.rho_f * self.nu_f
     }
 
-    /// Shear rate at the release point, γ̇₀ = 4Ū|x₂⁰|/R² [1/s].
+    /// Shear rate at the release point, γ̇₀ = 4Ū|x₂⁰|/R² (1/s).
     pub fn release_shear_rate(&self) -> f64 {
         let radius = 0.5 * self.diameter;
         4.0 * self.mean_velocity * self.release_x2.abs() / (radius * radius)
@@ -85,13 +85,13 @@ impl PipeFlowData {
 /// A stress-free prolate or triaxial particle in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PipeParticleData {
-    /// Smallest semi-axis r₃ [m].
+    /// Smallest semi-axis r₃ (m).
     pub r_minor: f64,
     /// λ₁ = r₁/r₃ (r₁ initially along the flow e₁).
     pub lambda1: f64,
     /// λ₂ = r₂/r₃ (r₂ initially along e₂, in the plane of motion).
     pub lambda2: f64,
-    /// Solid density ρ_p [kg/m³].
+    /// Solid density ρ_p (kg/m³).
     pub rho_p: f64,
 }
 
@@ -108,7 +108,7 @@ impl PipeParticleData {
         }
     }
 
-    /// Volume-equivalent diameter d_eq = 2 r₃ (λ₁λ₂)^{1/3} [m].
+    /// Volume-equivalent diameter d_eq = 2 r₃ (λ₁λ₂)^{1/3} (m).
     pub fn d_eq(&self) -> f64 {
         2.0 * self.r_minor * (self.lambda1 * self.lambda2).cbrt()
     }
@@ -160,11 +160,11 @@ pub struct PipeScene {
     pub particle_data: PipeParticleData,
     /// Softness it was built with.
     pub softness: Softness,
-    /// Release point x₀ [d_eq].
+    /// Release point x₀ (d_eq).
     pub release: Vec3,
-    /// Length unit d_eq [m].
+    /// Length unit d_eq (m).
     pub length_unit: f64,
-    /// Time unit 1/γ̇₀ [s].
+    /// Time unit 1/γ̇₀ (s).
     pub time_unit: f64,
 }
 

@@ -8,7 +8,7 @@ use crate::driver::output_times;
 use crate::scenes::SceneError;
 use rayon::prelude::*;
 
-/// First trial step [1/γ̇₀]; the adaptive integrators correct it within a few steps.
+/// First trial step (1/γ̇₀); the adaptive integrators correct it within a few steps.
 const DT0: f64 = 1e-3;
 /// Time limit of a deposition run in units of the sphere settling time (an upper bound on
 /// the settling speed, see [`PipeScene::sphere_settling_time`]).
@@ -38,7 +38,7 @@ impl PipeCase {
     }
 }
 
-/// Orientation histories sampled at `count` even times up to `t_end_seconds` [s], at
+/// Orientation histories sampled at `count` even times up to `t_end_seconds` (s), at
 /// rtol = atol = `tol`.
 pub fn orientation_study(
     cases: &[PipeCase],

@@ -20,7 +20,7 @@ use crate::particle::lines::material_line;
 use crate::scenes::SceneError;
 use crate::tensor::Vec3;
 
-/// |g| at which the contact time counts as located [d_eq].
+/// |g| at which the contact time counts as located (d_eq).
 const CONTACT_GAP_TOL: f64 = 1e-9;
 /// Regula-falsi iterations allowed for the contact time.
 const MAX_CONTACT_ITERS: u32 = 100;
@@ -101,7 +101,7 @@ impl Deposition {
             .expect("a deposition holds the release and contact samples")
     }
 
-    /// Streamwise deposition distance x₁(contact) − x₁(release) [d_eq].
+    /// Streamwise deposition distance x₁(contact) − x₁(release) (d_eq).
     pub fn distance(&self) -> f64 {
         self.contact().x[0] - self.samples[0].x[0]
     }
