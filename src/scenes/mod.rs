@@ -10,10 +10,15 @@
 //! - [`phase_map`]: boundaries over families of shapes, with their dataset and figure;
 //! - [`tank_treading`]: steady tank-treading of an initially spherical particle, by time
 //!   integration and by Roscoe's (1967) steady algebraic equations.
+//!
+//! Real flow fields:
+//! - [`pipe`]: the Tian/Cui laminar pipe flow (§6.2): orientation and deposition of soft
+//!   prolate particles.
 
 pub mod cavity;
 pub mod phase_boundary;
 pub mod phase_map;
+pub mod pipe;
 pub mod section;
 pub mod shear_regimes;
 pub mod shear_run;
@@ -56,5 +61,27 @@ pub enum SceneError {
         iters: u32,
         /// Final residual (max-norm).
         residual: f64,
+    },
+    /// The released particle already overlaps the wall.
+    #[error("particle released touching the wall: gap {gap:.3e}")]
+    ReleasedInWall {
+        /// Wall gap at release (≤ 0).
+        gap: f64,
+    },
+    /// The particle did not reach the wall within the allowed time.
+    #[error("particle not deposited by t = {t_max}: wall gap still {gap:.3e}")]
+    NotDeposited {
+        /// Time limit.
+        t_max: f64,
+        /// Wall gap at t_max.
+        gap: f64,
+    },
+    /// The contact time was not located to the gap tolerance.
+    #[error("wall contact not located: gap {gap:.3e} at t = {t}")]
+    ContactNotLocated {
+        /// Time of the best contact estimate.
+        t: f64,
+        /// Its gap.
+        gap: f64,
     },
 }

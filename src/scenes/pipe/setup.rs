@@ -1,0 +1,262 @@
+//! The Tian/Cui laminar pipe flow with a released prolate particle (paper §6.2, Fig. 9), in
+//! physical units and in the nondimensional form that is integrated.
+//!
+//! # Physics
+//! Hagen–Poiseuille air flow along e₁ in a pipe of radius R = D/2,
+//! $u = 2\bar U (1 − r^2/R^2)\, e_1$. The particle is released at x₀ = (0, x₂⁰, 0) with its long
+//! axis along e₁ (Fig. 9), moving with the local fluid velocity (§6.2). The shear rate there,
+//! $\dot\gamma_0 = 4\bar U |x_2^0|/R^2 = 725.85\ \mathrm{s^{-1}}$ for Tian/Cui, sets the capillary number
+//! Ca = μ_f γ̇₀/μ_s (eq. 23); the paper quotes ω_f = 726.95 s⁻¹ (0.15 % more, reference-notes §0).
+//! Gravity acts along −e₂. The paper does not state its direction; this choice keeps the
+//! motion in the x₁–x₂ plane of Fig. 9 and lets the particle, released below the axis, settle
+//! towards the nearer wall.
+//!
+//! # Units
+//! The integration uses the paper's scales (§6 intro): lengths in d_eq, times in 1/γ̇₀,
+//! stresses in μ_f γ̇₀, with μ_f = ρ_f ν_f. Hence μ_f = 1, μ_s = 1/Ca, R* = R/d_eq,
+//! Ū* = Ū/(γ̇₀ d_eq), g* = g/(γ̇₀² d_eq) and densities ρ* = ρ γ̇₀ d_eq²/μ_f (solid and fluid
+//! alike, so buoyancy keeps its ratio). Every state component is then O(1)…O(10⁵), which
+//! suits the uniform error tolerances of the adaptive integrators.
+
+use crate::ellipsoid::Ellipsoid;
+use crate::error::{FlowError, ParamError, finite, positive};
+use crate::flow::FlowField;
+use crate::flow::analytic::Poiseuille;
+use crate::hydro::gravity::reduced_gravity;
+use crate::integrator::{BarycentreModel, ShapeResponse, Stokesian};
+use crate::material::NeoHooke;
+use crate::particle::{Fluid, Particle, State};
+use crate::tensor::{Mat3, Vec3};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// λ_s/μ_s of the elastic particles. The inertialess model keeps tr l_s = 0, so J = 1 and the
+/// bulk term (∝ ln J) never acts; the value only has to be positive.
+const BULK_RATIO: f64 = 1e3;
+
+/// The carrier flow and release point in SI units.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PipeFlowData {
+    /// Pipe diameter D (m).
+    pub diameter: f64,
+    /// Mean (bulk) velocity Ū (m/s); the centreline velocity is 2Ū.
+    pub mean_velocity: f64,
+    /// Kinematic viscosity ν_f (m²/s).
+    pub nu_f: f64,
+    /// Fluid density ρ_f (kg/m³).
+    pub rho_f: f64,
+    /// Pipe length L (m); the flow model is the infinite pipe, L only flags particles that
+    /// would leave the real one before depositing.
+    pub length: f64,
+    /// Magnitude of gravity (m/s²), acting along −e₂.
+    pub gravity: f64,
+    /// Release coordinate x₂⁰ (m) (x₁⁰ = x₃⁰ = 0).
+    pub release_x2: f64,
+}
+
+impl PipeFlowData {
+    /// Tian et al. / Cui et al. (paper §6.2, reference-notes §0): D = 4.2 mm, Ū = 0.485 m/s,
+    /// ν_f = 1.491e-5 m²/s (the paper prints mm²/s, a typo), ρ_f = 1.208 kg/m³, L = 0.7 m,
+    /// x₂⁰ = −1.65 mm, g = 9.81 m/s².
+    pub fn tian_cui() -> Self {
+        Self {
+            diameter: 4.2e-3,
+            mean_velocity: 0.485,
+            nu_f: 1.491e-5,
+            rho_f: 1.208,
+            length: 0.7,
+            gravity: 9.81,
+            release_x2: -1.65e-3,
+        }
+    }
+
+    /// Dynamic viscosity μ_f = ρ_f ν_f (Pa s).
+    pub fn mu_f(&self) -> f64 {
+        self.rho_f * self.nu_f
+    }
+
+    /// Shear rate at the release point, γ̇₀ = 4Ū|x₂⁰|/R² (1/s).
+    pub fn release_shear_rate(&self) -> f64 {
+        let radius = 0.5 * self.diameter;
+        4.0 * self.mean_velocity * self.release_x2.abs() / (radius * radius)
+    }
+}
+
+/// A stress-free prolate or triaxial particle in SI units.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PipeParticleData {
+    /// Smallest semi-axis r₃ (m).
+    pub r_minor: f64,
+    /// λ₁ = r₁/r₃ (r₁ initially along the flow e₁).
+    pub lambda1: f64,
+    /// λ₂ = r₂/r₃ (r₂ initially along e₂, in the plane of motion).
+    pub lambda2: f64,
+    /// Solid density ρ_p (kg/m³).
+    pub rho_p: f64,
+}
+
+impl PipeParticleData {
+    /// The Tian/Cui particle family: r₃ = 0.5 µm, ρ_p = 2560 kg/m³, prolate (λ₂ = 1) with
+    /// aspect ratio `lambda1` (14 in Fig. 10; 3.5 and 7 in Figs 11, 12, where the paper calls the
+    /// set-up "identical", so r₃ is kept).
+    pub fn prolate(lambda1: f64) -> Self {
+        Self {
+            r_minor: 0.5e-6,
+            lambda1,
+            lambda2: 1.0,
+            rho_p: 2560.0,
+        }
+    }
+
+    /// Volume-equivalent diameter d_eq = 2 r₃ (λ₁λ₂)^{1/3} (m).
+    pub fn d_eq(&self) -> f64 {
+        2.0 * self.r_minor * (self.lambda1 * self.lambda2).cbrt()
+    }
+}
+
+/// Softness of the particle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Softness {
+    /// The rigid limit Ca → 0: Jeffery spin and Brenner drag, no elasticity.
+    Rigid,
+    /// Inertialess Neo-Hooke solid with Ca = μ_f γ̇₀/μ_s.
+    Elastic {
+        /// Capillary number at the release point.
+        ca: f64,
+    },
+}
+
+impl Softness {
+    /// Ca, with 0 for the rigid limit (how datasets label it).
+    pub fn ca(&self) -> f64 {
+        match self {
+            Softness::Rigid => 0.0,
+            Softness::Elastic { ca } => *ca,
+        }
+    }
+
+    /// Rigid for Ca = 0, elastic otherwise.
+    pub fn from_ca(ca: f64) -> Result<Self, ParamError> {
+        if ca == 0.0 {
+            Ok(Softness::Rigid)
+        } else {
+            Ok(Softness::Elastic {
+                ca: positive("Ca", ca)?,
+            })
+        }
+    }
+}
+
+/// The nondimensional problem: flow, particle, release state and unit conversions.
+#[derive(Debug, Clone)]
+pub struct PipeScene {
+    /// Poiseuille flow in units of d_eq and 1/γ̇₀.
+    pub flow: Poiseuille,
+    /// The particle (for [`Softness::Rigid`] its law is never evaluated).
+    pub particle: Particle<NeoHooke>,
+    /// Physical flow data it was scaled from.
+    pub flow_data: PipeFlowData,
+    /// Physical particle data it was scaled from.
+    pub particle_data: PipeParticleData,
+    /// Softness it was built with.
+    pub softness: Softness,
+    /// Release point x₀ (d_eq).
+    pub release: Vec3,
+    /// Length unit d_eq (m).
+    pub length_unit: f64,
+    /// Time unit 1/γ̇₀ (s).
+    pub time_unit: f64,
+}
+
+impl PipeScene {
+    /// Scale the physical set-up; the long axis r₁ starts along e₁, r₂ along e₂, r₃ along e₃.
+    pub fn new(flow: PipeFlowData, particle: PipeParticleData, softness: Softness) -> Result<Self, ParamError> {
+        for (name, v) in [
+            ("pipe diameter", flow.diameter),
+            ("nu_f", flow.nu_f),
+            ("rho_f", flow.rho_f),
+            ("r_minor", particle.r_minor),
+            ("lambda1", particle.lambda1),
+            ("lambda2", particle.lambda2),
+            ("rho_p", particle.rho_p),
+        ] {
+            positive(name, v)?;
+        }
+        finite("mean velocity", flow.mean_velocity)?;
+        finite("gravity", flow.gravity)?;
+        let d_eq = particle.d_eq();
+        let shear_rate = positive("release shear rate", flow.release_shear_rate())?;
+        let (l, t) = (d_eq, 1.0 / shear_rate);
+        let mu_f = flow.mu_f();
+        let density = |rho: f64| rho * shear_rate * d_eq * d_eq / mu_f;
+        let law = match softness {
+            Softness::Rigid => NeoHooke::from_capillary(1.0, BULK_RATIO)?,
+            Softness::Elastic { ca } => NeoHooke::from_capillary(ca, BULK_RATIO)?,
+        };
+        let shape = Ellipsoid::with_volume_diameter([particle.lambda1, particle.lambda2, 1.0], 1.0, Mat3::identity())?;
+        let model = Particle::new(
+            shape,
+            law,
+            Fluid::new(1.0, density(flow.rho_f))?,
+            density(particle.rho_p),
+        )?
+        .with_gravity(Vec3::new(0.0, -flow.gravity * t * t / l, 0.0))?;
+        Ok(Self {
+            flow: Poiseuille::new(0.5 * flow.diameter / l, flow.mean_velocity * t / l)?,
+            particle: model,
+            flow_data: flow,
+            particle_data: particle,
+            softness,
+            release: Vec3::new(0.0, flow.release_x2 / l, 0.0),
+            length_unit: l,
+            time_unit: t,
+        })
+    }
+
+    /// The Tian/Cui set-up with a prolate particle of aspect ratio `lambda1` and softness `ca`
+    /// (0: rigid).
+    pub fn tian_cui(lambda1: f64, ca: f64) -> Result<Self, ParamError> {
+        Self::new(
+            PipeFlowData::tian_cui(),
+            PipeParticleData::prolate(lambda1),
+            Softness::from_ca(ca)?,
+        )
+    }
+
+    /// Terminal settling time of the volume-equivalent sphere from the release point to the
+    /// wall in quiescent fluid, (R − |x₀|)/v_s with v_s = m|a_G|/(3π μ_f) (Stokes drag of a
+    /// sphere of diameter 1). The sphere has the least Stokes drag of all bodies of its volume
+    /// (Hill & Power 1956), so no particle settles faster: a scale for time limits.
+    pub fn sphere_settling_time(&self) -> f64 {
+        let a_g = reduced_gravity(
+            self.particle.gravity(),
+            self.particle.rho_solid(),
+            self.particle.fluid().rho,
+            1.0,
+        );
+        let v_s = self.particle.mass() * a_g.norm() / (3.0 * PI * self.particle.fluid().mu);
+        (self.flow.radius - self.release.norm()) / v_s
+    }
+
+    /// Stress-free particle at x₀ moving with the fluid, v = u(x₀) (paper §6.2).
+    pub fn initial_state(&self) -> Result<State, FlowError> {
+        let mut state = State::at_rest(self.release);
+        state.v = self.flow.sample(&self.release, 0.0)?.u;
+        Ok(state)
+    }
+
+    /// Adaptive inertialess integrator at rtol = atol = `tol` with an inertial barycentre
+    /// (m v̇ = m a_G + μ_f K̂(u − v)); the rigid limit keeps the same barycentre model, so rigid
+    /// and soft runs differ only in the shape response.
+    pub fn integrator(&self, tol: f64) -> Stokesian {
+        let shape = match self.softness {
+            Softness::Rigid => ShapeResponse::Rigid,
+            Softness::Elastic { .. } => ShapeResponse::Elastic,
+        };
+        Stokesian {
+            shape,
+            barycentre: BarycentreModel::Inertial,
+            ..Stokesian::new(tol)
+        }
+    }
+}
