@@ -55,8 +55,20 @@ impl PrincipalFrame {
         self.r[2]
     }
 
+    /// Extent of the ellipsoid from its centre along the unit vector `n` (support distance).
+    pub fn support_distance(&self, n: &Vec3) -> f64 {
+        support_distance(&self.r, &self.q, n)
+    }
+
     /// Current volume 4π/3 r₁r₂r₃.
     pub fn volume(&self) -> f64 {
         4.0 / 3.0 * std::f64::consts::PI * self.r.product()
     }
+}
+
+/// Support distance $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2} = \sqrt{n·\bar b\,n}$ of an ellipsoid
+/// with semi-axes `semi_axes` and rotation `q` (rows n_a) along the unit vector `n`: the
+/// distance from its centre to its tangent plane with normal n (wall contact, deposition).
+pub fn support_distance(semi_axes: &Vec3, q: &Mat3, n: &Vec3) -> f64 {
+    (q * n).component_mul(semi_axes).norm()
 }

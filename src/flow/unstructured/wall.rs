@@ -9,6 +9,7 @@
 //! the domain ([`WallRule::Exit`], the cavity lid in paper §6.3) or deposits
 //! ([`WallRule::Stick`], every other wall).
 
+pub use crate::ellipsoid::frame::support_distance;
 use crate::error::ParamError;
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -50,13 +51,6 @@ pub struct WallContact {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Boundary {
     walls: Vec<Wall>,
-}
-
-/// Support distance $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2}$ of an ellipsoid with semi-axes
-/// `semi_axes` and rotation `q` (rows n_a) along the unit vector `n`.
-pub fn support_distance(semi_axes: &Vec3, q: &Mat3, n: &Vec3) -> f64 {
-    let cosines = q * n;
-    cosines.component_mul(semi_axes).norm()
 }
 
 impl Boundary {

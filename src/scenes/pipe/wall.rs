@@ -15,13 +15,8 @@
 //! support over them, √(largest eigenvalue of the cross-sectional block of b̄).
 
 use crate::ellipsoid::PrincipalFrame;
+pub use crate::ellipsoid::frame::support_distance;
 use crate::tensor::{Mat3, Vec3};
-
-/// Support distance h(n) = √(Σ_a r_a² (n·n_a)²) of an ellipsoid with semi-axes `semi_axes` and
-/// rotation `q` (rows n_a) along the unit vector `n`.
-pub fn support_distance(semi_axes: &Vec3, q: &Mat3, n: &Vec3) -> f64 {
-    (q * n).component_mul(semi_axes).norm()
-}
 
 /// Wall gap g = R − |x_⊥| − h(n) of an ellipsoid in `frame` centred at `x` in a pipe of radius
 /// `radius` whose axis is e₁; g ≤ 0 means contact.
