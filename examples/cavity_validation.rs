@@ -21,7 +21,11 @@ const CASE: CavityCase = CavityCase {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let field = PathBuf::from(args.next().unwrap_or("cases/cavity-re1000/export/cavity.vtk".into()));
+    // A fresh OpenFOAM export if there is one, otherwise the shipped compact field.
+    let fresh = "cases/cavity-re1000/export/cavity.vtk";
+    let shipped = "reference-data/cavity_re1000.prf";
+    let default = if std::path::Path::new(fresh).exists() { fresh } else { shipped };
+    let field = PathBuf::from(args.next().unwrap_or(default.into()));
     let reference = PathBuf::from(
         args.next()
             .unwrap_or("reference-data/cavity_re1000_albensoeder_kuhlmann.csv".into()),
