@@ -24,7 +24,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // A fresh OpenFOAM export if there is one, otherwise the shipped compact field.
     let fresh = "cases/cavity-re1000/export/cavity.vtk";
     let shipped = "reference-data/cavity_re1000.prf";
-    let default = if std::path::Path::new(fresh).exists() { fresh } else { shipped };
+    let default = if std::path::Path::new(fresh).exists() {
+        fresh
+    } else {
+        shipped
+    };
     let field = PathBuf::from(args.next().unwrap_or(default.into()));
     let reference = PathBuf::from(
         args.next()
