@@ -8,10 +8,8 @@
 //!
 //! Writes `paper-figures/fig4/axes.csv` and `paper-figures/fig4/axes.svg`.
 
-use pseudorigid::integrator::Stokesian;
 use pseudorigid::output::{Csv, Figure, Panel, Series, paper_figure_path};
-use pseudorigid::scenes::shear_run::{sample, stokesian_scaling};
-use pseudorigid::scenes::shear_shape::ShearShape;
+use pseudorigid::scenes::shear_run::oblate_fig4_run;
 use std::error::Error;
 use std::time::Instant;
 
@@ -31,13 +29,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     ]);
     let mut panels = Vec::new();
     for ca in [0.4, 0.5] {
-        let run = sample(
-            &Stokesian::overdamped(1e-8),
-            &ShearShape::oblate(2.5),
-            &stokesian_scaling(ca)?,
-            &times,
-            1e-3,
-        )?;
+        let run = oblate_fig4_run(ca, &times)?;
         for s in &run {
             let sec = s.section;
             csv.push_numbers(&[

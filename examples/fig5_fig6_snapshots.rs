@@ -6,10 +6,8 @@
 //! Writes `paper-figures/fig5_fig6/snapshots.csv` (one row per snapshot; angles in degrees
 //! from the flow direction) and `fig5.svg`, `fig6.svg`.
 
-use pseudorigid::integrator::Stokesian;
 use pseudorigid::output::{Csv, Figure, Panel, Series, paper_figure_path};
-use pseudorigid::scenes::shear_run::{ShearSample, sample, stokesian_scaling};
-use pseudorigid::scenes::shear_shape::ShearShape;
+use pseudorigid::scenes::shear_run::{ShearSample, oblate_fig4_run};
 use std::error::Error;
 use std::time::Instant;
 
@@ -52,13 +50,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let times: Vec<f64> = FIG5.iter().chain(&FIG6).copied().collect();
     let (mut fig5, mut fig6) = (Vec::new(), Vec::new());
     for ca in [0.4, 0.5] {
-        let run = sample(
-            &Stokesian::overdamped(1e-8),
-            &ShearShape::oblate(2.5),
-            &stokesian_scaling(ca)?,
-            &times,
-            1e-3,
-        )?;
+        let run = oblate_fig4_run(ca, &times)?;
         for s in &run {
             csv.push_numbers(&[
                 ca,

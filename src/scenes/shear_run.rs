@@ -10,7 +10,7 @@ use super::section::ShearPlaneSection;
 use super::shear_shape::ShearShape;
 use crate::driver::run;
 use crate::flow::analytic::LinearFlow;
-use crate::integrator::TimeIntegrator;
+use crate::integrator::{Stokesian, TimeIntegrator};
 use crate::particle::lines::material_line;
 use crate::particle::{ShearScaling, State};
 use crate::tensor::Vec3;
@@ -81,4 +81,16 @@ pub fn sample<I: TimeIntegrator>(
         |_, _| {},
     )?;
     Ok(out)
+}
+
+/// The paper's §6.1.1 run (Figs 4–6): oblate ω₁ = ω₂ = 2.5 at `ca`, inertialess at rtol 1e-8,
+/// sampled at `times`.
+pub fn oblate_fig4_run(ca: f64, times: &[f64]) -> Result<Vec<ShearSample>, SceneError> {
+    sample(
+        &Stokesian::overdamped(1e-8),
+        &ShearShape::oblate(2.5),
+        &stokesian_scaling(ca)?,
+        times,
+        1e-3,
+    )
 }
