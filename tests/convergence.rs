@@ -1,10 +1,9 @@
 //! Observed order of convergence of every integrator: halve Δt, fit the slope.
-mod common;
 
-use common::reference::jeffery_phi;
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::particle::lines::material_line;
 use pseudorigid::prelude::*;
+use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
 
 /// Fixed-step run: call `step` with constant Δt and a tolerance so loose that every step is
 /// accepted as proposed (the adaptive controller is bypassed, the formula is what is tested).
@@ -49,8 +48,7 @@ fn rigid_rosenbrock_is_second_order_on_jeffery_orbit() {
         .unwrap()
         .particle([r, 1.0, 1.0], Mat3::identity())
         .unwrap();
-    // φ(t₀) = π/2 at t₀ = (π/2)(r² + 1)/r for the exact orbit started at φ = 0.
-    let t0 = std::f64::consts::FRAC_PI_2 * (r * r + 1.0) / r;
+    let t0 = jeffery_flow_aligned_time(r);
     let t_end = 4.0;
     let dts = [0.1, 0.05, 0.025, 0.0125];
     let errs: Vec<f64> = dts

@@ -25,6 +25,7 @@ use crate::integrator::{ImexAdaptive, ImexPaper, Stokesian, TimeIntegrator};
 use crate::material::NeoHooke;
 use crate::particle::lines::material_line;
 use crate::particle::{Particle, ShearScaling, State};
+use crate::reference::{jeffery_flow_aligned_time, jeffery_phi};
 use crate::tensor::{Mat3, Vec3};
 use serde::Serialize;
 use std::time::Instant;
@@ -168,13 +169,6 @@ fn long_axis_angle(p: &Particle<NeoHooke>, s: &State) -> f64 {
     l[0].atan2(l[1])
 }
 
-/// Exact Jeffery angle φ(t) from the gradient axis for an axis starting along the flow.
-fn jeffery_angle(r: f64, t: f64) -> f64 {
-    // The orbit started at φ = 0 passes φ = π/2 at t₀ = (π/2)(r² + 1)/r.
-    let s = (t + std::f64::consts::FRAC_PI_2 * (r * r + 1.0) / r) * r / (r * r + 1.0);
-    (r * s.tan()).atan()
-}
-
 /// Error of one run against the case's reference (`reference` only for [`Case::Oblate`]).
 pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Result<Record, SceneError> {
     let (samples, stats, wall_s) = trajectory(case, setting)?;
@@ -182,7 +176,8 @@ pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Res
     let error = match case {
         Case::Jeffery => {
             let p = particle(case)?;
-            let mut d = long_axis_angle(&p, last) - jeffery_angle(JEFFERY_R, JEFFERY_T);
+            let mut d =
+                long_axis_angle(&p, last) - jeffery_phi(JEFFERY_R, jeffery_flow_aligned_time(JEFFERY_R) + JEFFERY_T);
             d -= (d / std::f64::consts::PI).round() * std::f64::consts::PI;
             d.abs()
         }

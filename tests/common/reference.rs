@@ -47,13 +47,3 @@ pub fn integrals_by_quadrature(r: [f64; 3]) -> (f64, [f64; 3], [f64; 3], [f64; 3
     });
     (chi0, alpha, alpha_p, alpha_pp)
 }
-
-/// Jeffery's in-plane orbit angle φ(t) of a spheroid with aspect ratio r in simple shear
-/// u = γ̇ y e_x, measured from the gradient axis y, with φ(0) = 0: tan φ = r tan(γ̇ t r/(r²+1)),
-/// unwrapped to a continuous angle (reference-notes §3).
-pub fn jeffery_phi(r: f64, t: f64) -> f64 {
-    let s = t * r / (r * r + 1.0);
-    let turns = ((s + std::f64::consts::FRAC_PI_2) / std::f64::consts::PI).floor();
-    let base = (r * (s - turns * std::f64::consts::PI).tan()).atan();
-    base + turns * std::f64::consts::PI
-}
