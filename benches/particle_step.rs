@@ -55,7 +55,12 @@ fn bench_steps(c: &mut Criterion) {
         ..ImexPaper::default()
     };
     bench_running(&mut g, "imex_paper_exact_guard", &exact, 5e-4);
-    bench_running(&mut g, "stokesian_rosenbrock", &Stokesian::overdamped(1e-6).unwrap(), 0.05);
+    bench_running(
+        &mut g,
+        "stokesian_rosenbrock",
+        &Stokesian::overdamped(1e-6).unwrap(),
+        0.05,
+    );
     g.bench_function("geometry_frame_integrals_traction", |b| {
         b.iter(|| p.geometry(black_box(&s.f)))
     });

@@ -161,6 +161,8 @@ pub fn stability_limit<M: Hyperelastic, D: DragModel>(
 /// Iteration cap of the Schur decomposition: a 9×9 QR iteration converges in a few dozen sweeps
 /// when it converges at all.
 const SCHUR_MAX_ITERS: usize = 300;
+/// Deflation threshold of the Schur iteration (see [`stability_limit_at`]).
+const SCHUR_EPS: f64 = 64.0 * f64::EPSILON;
 
 fn stability_limit_at<M: Hyperelastic, D: DragModel>(
     particle: &Particle<M, D>,
@@ -168,20 +170,22 @@ fn stability_limit_at<M: Hyperelastic, D: DragModel>(
     geo: &Geometry,
     t: f64,
 ) -> Result<f64, StepError> {
-    let f_inv = inv_transpose(f).transpose();
-    let j = f.determinant();
-    let mu_f = particle.fluid().mu;
+    // The operator is assembled in the principal frame: the similarity A ↦ Q A Qᵀ keeps its
+    // eigenvalues and removes the arbitrary frame of a (near-)spherical particle, whose
+    // rotated operator made nalgebra's Schur iteration cycle.
+    let q = geo.frame.q;
+    let f_p = q * f * q.transpose();
+    let f_inv = inv_transpose(&f_p).transpose();
+    let theta_inv = q * particle.theta_inv() * q.transpose();
+    let scale = f.determinant() * particle.volume0() * particle.fluid().mu;
     let mut op = Mat9::zeros();
-    for q in 0..9 {
+    for k in 0..9 {
         let mut a = Mat3::zeros();
-        a[q] = 1.0;
+        a[k] = 1.0;
         let sigma = geo
             .traction
-            .sigma_tilde(&(a * f_inv), &Mat3::zeros(), mu_f, particle.volumetric());
-        op.set_column(
-            q,
-            &vec9(&(sigma * f_inv.transpose() * particle.theta_inv() * (j * particle.volume0()))),
-        );
+            .sigma_principal(&Mat3::zeros(), &(a * f_inv), particle.volumetric());
+        op.set_column(k, &vec9(&(sigma * f_inv.transpose() * theta_inv * scale)));
     }
     if op.iter().any(|c| !c.is_finite()) {
         return Err(StepError::NonFinite {
@@ -189,18 +193,52 @@ fn stability_limit_at<M: Hyperelastic, D: DragModel>(
             t,
         });
     }
-    // nalgebra's shifted QR can cycle on this operator for a sphere in a rotated frame
-    // (highly degenerate spectrum, round-off breaks the symmetry). The transpose has the same
-    // eigenvalues and a different iteration path; a bounded attempt on each terminates.
-    let eig = Schur::try_new(op, f64::EPSILON, SCHUR_MAX_ITERS)
-        .or_else(|| Schur::try_new(op.transpose(), f64::EPSILON, SCHUR_MAX_ITERS))
-        .ok_or(StepError::StabilityUnknown { t })?
-        .complex_eigenvalues();
-    Ok(eig
-        .iter()
-        .filter(|l| l.re < 0.0)
-        .map(|l| -2.0 * l.re / l.norm_sqr())
-        .fold(f64::INFINITY, f64::min))
+    // nalgebra's shifted QR deflates when a subdiagonal entry falls below eps times its
+    // neighbours; with eps = f64::EPSILON that test is never met for a degenerate spectrum
+    // (spheres) whose round-off sits just above it, and unbounded it iterated forever. Deflating
+    // at 64ε changes eigenvalues by O(64ε‖E‖), nothing for a stability limit. Every attempt
+    // below is bounded; failing all, the step is refused with a typed error.
+    let norm = op.amax();
+    if let Some(schur) = [op, op.transpose()]
+        .into_iter()
+        .find_map(|m| Schur::try_new(m, SCHUR_EPS, SCHUR_MAX_ITERS))
+    {
+        return Ok(limit_of_eigenvalues(
+            schur.complex_eigenvalues().iter().map(|l| (l.re, l.norm_sqr())),
+        ));
+    }
+    // A (near-)sphere's operator is nearly symmetric: E = H + K with H = sym E and ‖K‖₂ = k
+    // small. By Bauer–Fike every eigenvalue of E lies within k of an eigenvalue h of H, so a
+    // mode with h < −k has Re λ ≤ h + k < 0 and |λ| ≤ |h| + k, and Δt ≤ 2(|h| − k)/(|h| + k)²
+    // is a safe limit for it.
+    let k = (op - op.transpose()).scale(0.5).norm();
+    if k <= 1e-6 * norm
+        && let Some(eig) =
+            nalgebra::SymmetricEigen::try_new((op + op.transpose()).scale(0.5), SCHUR_EPS, SCHUR_MAX_ITERS)
+    {
+        return Ok(eig
+            .eigenvalues
+            .iter()
+            .filter(|&&h| h < -k)
+            .map(|&h| 2.0 * (h.abs() - k) / (h.abs() + k).powi(2))
+            .fold(f64::INFINITY, f64::min));
+    }
+    // Otherwise perturb by 10⁻¹² and 10⁻¹⁰ of the norm in a fixed pseudo-random direction: a
+    // perturbation δ moves a simple eigenvalue by O(δ), one of a 2×2 Jordan block by
+    // O(√δ) ≤ 10⁻⁵ relative, far inside the guard's safety margin.
+    let noise = Mat9::from_fn(|i, j| ((7 * i + 3 * j + 1) as f64).sin());
+    [op + noise * (1e-12 * norm), op + noise * (1e-10 * norm)]
+        .into_iter()
+        .find_map(|m| Schur::try_new(m, SCHUR_EPS, SCHUR_MAX_ITERS))
+        .map(|schur| limit_of_eigenvalues(schur.complex_eigenvalues().iter().map(|l| (l.re, l.norm_sqr()))))
+        .ok_or(StepError::StabilityUnknown { t })
+}
+
+/// min over eigenvalues λ = a + ib with a < 0 of −2a/|λ|², from (a, |λ|²) pairs.
+fn limit_of_eigenvalues(eig: impl Iterator<Item = (f64, f64)>) -> f64 {
+    eig.filter(|&(re, _)| re < 0.0)
+        .map(|(re, abs2)| -2.0 * re / abs2)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Shape update of one IMEX step: F^{n+1} and the Newton record.
