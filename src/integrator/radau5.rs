@@ -44,8 +44,8 @@
 //!
 //! **Starting values** for Newton come from the previous step's collocation polynomial
 //! extrapolated to t₀ + cᵢh; **Jacobian reuse**: the Jacobian is kept for the next step while
-//! Newton contracts fast (θ ≤ 10⁻³), and refreshed when Newton fails with a Jacobian taken at
-//! another point. LU factors depend on h and are rebuilt on every attempt; they are not kept.
+//! Newton converges within two iterations or contracts fast (θ ≤ 10⁻³), and refreshed when
+//! Newton fails with a Jacobian taken at another point. LU factors depend on h and are rebuilt on every attempt; they are not kept.
 //!
 //! **Dense output**: the collocation polynomial u of degree 3 through (0, y₀), (cᵢ, y₀ + Zᵢ),
 //! exact at both ends of the step and of order 3 inside it.
@@ -117,7 +117,8 @@ const T_INV: [[f64; 3]; 3] = [
 const NEWTON_MAX_ITERS: u32 = 7;
 /// Failed attempts per call before [`StepError::StepSizeUnderflow`].
 const MAX_REJECTIONS: u32 = 50;
-/// Keep the Jacobian for the next step while Newton contracts at least this fast.
+/// Keep the Jacobian for the next step while Newton contracts at least this fast (or needed at
+/// most two iterations).
 const THETA_REUSE_JACOBIAN: f64 = 1e-3;
 /// Contraction rate treated as divergence.
 const THETA_DIVERGED: f64 = 0.99;
@@ -350,17 +351,25 @@ struct NewtonFailure {
     shrink: f64,
 }
 
-/// Simplified Newton for the collocation system from the starting increments `z0`, with
-/// weights `scale`, tolerance `fnewt` on the weighted norm, and η₀ = `eta0`.
-#[allow(clippy::too_many_arguments)]
-fn solve_stages<const N: usize, F>(
+/// One collocation system: the step (t, y, h), its LU factors, and Newton's norm (weights
+/// `scale`) and tolerance `fnewt`.
+struct Collocation<'a, const N: usize>
+where
+    Const<N>: DimMin<Const<N>, Output = Const<N>>,
+{
     t: f64,
-    y: &SVector<f64, N>,
+    y: &'a SVector<f64, N>,
     h: f64,
-    z0: SMatrix<f64, N, 3>,
-    factors: &Factors<N>,
-    scale: &SVector<f64, N>,
+    factors: &'a Factors<N>,
+    scale: &'a SVector<f64, N>,
     fnewt: f64,
+}
+
+/// Simplified Newton for the collocation system from the starting increments `z0` with
+/// η₀ = `eta0` (the first iteration's convergence test uses the previous step's rate).
+fn solve_stages<const N: usize, F>(
+    sys: &Collocation<'_, N>,
+    z0: SMatrix<f64, N, 3>,
     eta0: f64,
     rhs: &mut Rhs<F, N>,
     work: &mut Work,
@@ -369,6 +378,14 @@ where
     Const<N>: DimMin<Const<N>, Output = Const<N>>,
     F: FnMut(f64, &SVector<f64, N>) -> Result<SVector<f64, N>, StepError>,
 {
+    let Collocation {
+        t,
+        y,
+        h,
+        factors,
+        scale,
+        fnewt,
+    } = *sys;
     let t_mat = matrix3(&T).transpose();
     let t_inv = matrix3(&T_INV).transpose();
     let c = [C1, C2, 1.0];
@@ -473,6 +490,10 @@ where
             t,
         });
     }
+    // Taken out of the memory: it is written back only with an accepted step, so any error
+    // leaves it cold. A deserialised memory is data, hence the guard on the old h.
+    let last = mem.last.take().filter(|l| l.t_end == t && l.y_end == *y && l.h > 0.0);
+    let stored_jacobian = mem.jacobian.take();
     let mut work = Work::default();
     let mut rhs = Rhs { f: rhs };
     let f0 = rhs.eval(&mut work, t, y)?;
@@ -482,9 +503,7 @@ where
             t,
         });
     }
-
-    let last = mem.last.take().filter(|l| l.t_end == t && l.y_end == *y && l.h > 0.0);
-    let mut jacobian_in_use = match mem.jacobian.take() {
+    let mut jacobian_in_use = match stored_jacobian {
         Some(r) if r.reusable => r,
         _ => jacobian(&mut jac, &mut work, t, y)?,
     };
@@ -512,7 +531,15 @@ where
             None => SMatrix::zeros(),
         };
         let eta0 = eta.max(f64::EPSILON).powf(0.8);
-        let stages = solve_stages(t, y, h, z0, &factors, &scale0, fnewt, eta0, &mut rhs, &mut work)?;
+        let sys = Collocation {
+            t,
+            y,
+            h,
+            factors: &factors,
+            scale: &scale0,
+            fnewt,
+        };
+        let stages = solve_stages(&sys, z0, eta0, &mut rhs, &mut work)?;
         let stages = match stages {
             Ok(s) => s,
             Err(NewtonFailure { shrink }) => {
@@ -570,7 +597,10 @@ where
             h_next = h_next.min(h);
         }
         let dense = RadauDense { y0: *y, z: stages.z };
-        jacobian_in_use.reusable = stages.theta.is_none_or(|th| th <= THETA_REUSE_JACOBIAN);
+        // Keep J while Newton needs at most two iterations or contracts fast (RADAU5's θ rule
+        // with SciPy's two-iteration refinement, which halves the Jacobian evaluations on
+        // Van der Pol and Robertson for a few per cent more evaluations of f).
+        jacobian_in_use.reusable = stages.iters <= 2 || stages.theta.is_none_or(|th| th <= THETA_REUSE_JACOBIAN);
         mem.jacobian = Some(jacobian_in_use);
         mem.last = Some(LastStep {
             t_end: t + h,
@@ -718,7 +748,15 @@ mod tests {
             let mut z = SMatrix::zeros();
             for weight in [1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12] {
                 let scale = SVector::<f64, N>::repeat(weight);
-                z = solve_stages(t, &y, h, z, &factors, &scale, 0.03, 1.0, &mut rhs, &mut work)
+                let sys = Collocation {
+                    t,
+                    y: &y,
+                    h,
+                    factors: &factors,
+                    scale: &scale,
+                    fnewt: 0.03,
+                };
+                z = solve_stages(&sys, z, 1.0, &mut rhs, &mut work)
                     .unwrap()
                     .unwrap_or_else(|_| panic!("Newton failed at step {n}"))
                     .z;
