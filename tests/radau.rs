@@ -536,3 +536,61 @@ fn failing_right_hand_sides_end_in_typed_errors() {
     let e = step(0.0, &y, 1e-2, tol(1e-6, 1e-6), &mut mem, outside, jac).unwrap_err();
     assert!(matches!(e, StepError::Flow(FlowError::OutsideDomain { .. })), "{e}");
 }
+
+/// Work counts of the stiff reference runs, snapshotted so that any change of the controller,
+/// the Newton policy or the Jacobian reuse shows up in review (integer counts of deterministic
+/// code; the bounds above say what is acceptable, this says what changed).
+#[test]
+fn work_counts_snapshot() {
+    let mut rows = vec![format!(
+        "{:<12} {:>6} {:>6} {:>5} {:>6} {:>5} {:>5} {:>6}",
+        "problem", "rtol", "steps", "rej", "rhs", "jac", "lu", "newton"
+    )];
+    let mut row = |name: &str, rtol: f64, steps: usize, r: (u32, u32, u32, u32, u32)| {
+        rows.push(format!(
+            "{name:<12} {rtol:>6.0e} {steps:>6} {:>5} {:>6} {:>5} {:>5} {:>6}",
+            r.0, r.1, r.2, r.3, r.4
+        ));
+    };
+    for rtol in [1e-4, 1e-6, 1e-8] {
+        let run = integrate(
+            (&vdp, &vdp_jac),
+            0.0,
+            SVector::<f64, 2>::new(2.0, -0.66),
+            2.0,
+            1e-6,
+            tol(rtol, rtol),
+            100_000,
+        )
+        .unwrap();
+        let counts = (
+            run.rejected,
+            run.rhs_evals,
+            run.jac_evals,
+            run.lu_decomps,
+            run.newton_iters,
+        );
+        row("vdp_1e-6", rtol, run.steps.len(), counts);
+    }
+    for rtol in [1e-6, 1e-8] {
+        let run = integrate(
+            (&robertson, &robertson_jac),
+            0.0,
+            SVector::<f64, 3>::new(1.0, 0.0, 0.0),
+            1e11,
+            1e-6,
+            tol(rtol, rtol * 1e-4),
+            100_000,
+        )
+        .unwrap();
+        let counts = (
+            run.rejected,
+            run.rhs_evals,
+            run.jac_evals,
+            run.lu_decomps,
+            run.newton_iters,
+        );
+        row("robertson", rtol, run.steps.len(), counts);
+    }
+    insta::assert_snapshot!(rows.join("\n"));
+}

@@ -30,14 +30,15 @@
 //! rate θ = ‖ΔWₖ‖/‖ΔWₖ₋₁‖ (at most 7 iterations; a step is abandoned early when θ ≥ 0.99 or
 //! when θ predicts that the remaining iterations cannot reach the tolerance).
 //!
-//! **Error estimate** (Hairer & Wanner, §IV.8, eq. 8.19–8.20): with γ₀ = 1/γ and the embedded
+//! **Error estimate** (Hairer & Wanner, §IV.8, "Error estimation"): with γ₀ = 1/γ and the embedded
 //! weights e = (−13 − 7√6, −13 + 7√6, −1)/3 (already divided by γ₀),
 //! err = (γ/h − J)⁻¹ [f(t₀, y₀) + (e₁Z₁ + e₂Z₂ + e₃Z₃)/h], an O(h⁴) estimate whose filter
 //! (γ/h − J)⁻¹ keeps it bounded for stiff components. On the first step and after a rejection
 //! an estimate above 1 is filtered once more, err ← (γ/h − J)⁻¹[f(t₀, y₀ + err) + (e·Z)/h]
 //! (one more evaluation), which removes the spurious growth of err for very stiff problems.
 //!
-//! **Step size**: h_new = h·fac·err^{−1/4} with the safety factor reduced for slow Newton
+//! **Step size** (§IV.8, "Step size selection"): h_new = h·fac·err^{−1/4} with the safety
+//! factor reduced for slow Newton
 //! (fac = 0.9·(2k_max + 1)/(2k_max + k)), and Gustafsson's predictive controller
 //! h_new = fac·h·(h/h_old)·err^{−1/4}(err_old/err)^{1/4} taken when smaller; growth ≤ 8,
 //! shrink ≥ 1/5, no growth right after a rejection.
@@ -45,18 +46,20 @@
 //! **Starting values** for Newton come from the previous step's collocation polynomial
 //! extrapolated to t₀ + cᵢh; **Jacobian reuse**: the Jacobian is kept for the next step while
 //! Newton converges within two iterations or contracts fast (θ ≤ 10⁻³), and refreshed when
-//! Newton fails with a Jacobian taken at another point. LU factors depend on h and are rebuilt on every attempt; they are not kept.
+//! Newton fails with a Jacobian taken at another point. LU factors depend on h and are rebuilt
+//! on every attempt; they are not kept.
 //!
 //! **Dense output**: the collocation polynomial u of degree 3 through (0, y₀), (cᵢ, y₀ + Zᵢ),
 //! exact at both ends of the step and of order 3 inside it.
 //!
 //! # Why Radau IIA and not a Rosenbrock (Rodas) pair
-//! A Rosenbrock method uses the Jacobian inside its order conditions: Rodas4/Rodas5P reach their
-//! order only with the exact J and drop to order 1–2 with an approximate one (W-methods restore
-//! order only at the cost of many more stages). Radau IIA is a fully implicit Runge–Kutta method:
-//! the Jacobian only enters Newton's iteration matrix, so the converged stages, the order 5 and
-//! the L-stability do not depend on it; an approximate J (frozen frame and integrals, or a
-//! Jacobian reused over several steps) costs Newton iterations, never accuracy. The callers'
+//! A Rosenbrock method has the Jacobian inside its order conditions: Rodas4/Rodas5P reach order
+//! 4/5 only with the exact J, and with an arbitrary approximation only the conditions of a
+//! W-method remain, which they satisfy to low order only (W-methods of high order need many
+//! more stages). Radau IIA is a fully implicit Runge–Kutta method: the Jacobian only enters
+//! Newton's iteration matrix, so the converged stages, and with them the order 5 and the
+//! L-stability, do not depend on it; an approximate J (frozen frame and integrals, or a
+//! Jacobian reused over several steps) costs Newton iterations, not accuracy. The callers'
 //! Jacobians are approximate by design, and reusing one Jacobian over many steps is where
 //! Radau saves most of its work.
 //!
@@ -508,8 +511,8 @@ where
         _ => jacobian(&mut jac, &mut work, t, y)?,
     };
     let scale0 = y.map(|v| tol.atol + tol.rtol * v.abs());
-    // Newton must be more accurate than the error test (Hairer & Wanner, eq. 8.21), but not
-    // beyond what round-off in a scaled norm allows.
+    // Newton must be more accurate than the error test (Hairer & Wanner, §IV.8, "Stopping
+    // criterion"), but not beyond what round-off in a scaled norm allows.
     let fnewt = (10.0 * f64::EPSILON / tol.rtol).max(0.03_f64.min(tol.rtol.sqrt()));
     let mut eta = last.as_ref().map_or(1.0, |l| l.eta);
     let mut h = h;
@@ -588,7 +591,7 @@ where
             continue;
         }
         if let Some(l) = &last {
-            // Gustafsson's predictive controller (Hairer & Wanner, eq. 8.25).
+            // Gustafsson's predictive controller (Hairer & Wanner, §IV.8).
             let gus = (l.h / h) * (err_c * err_c / l.err).powf(0.25) / SAFETY;
             quot = quot.max(gus.clamp(1.0 / GROW_MAX, 1.0 / SHRINK_MAX));
         }
