@@ -44,7 +44,7 @@
 //! shrink ≥ 1/5, no growth right after a rejection.
 //!
 //! **Starting values** for Newton come from the previous step's collocation polynomial
-//! extrapolated to t₀ + cᵢh; **Jacobian reuse**: the Jacobian is kept for the next step while
+//! extrapolated to t₀ + cᵢh (when h is at most 8 old steps); **Jacobian reuse**: the Jacobian is kept for the next step while
 //! Newton converges within two iterations or contracts fast (θ ≤ 10⁻³), and refreshed when
 //! Newton fails with a Jacobian taken at another point. LU factors depend on h and are rebuilt
 //! on every attempt; they are not kept.
@@ -525,13 +525,15 @@ where
         let fresh = jacobian_in_use.t == t && jacobian_in_use.y == *y;
         let factors = Factors::new(&jacobian_in_use.j, h, &mut work);
         let z0 = match &last {
-            // Y_i ≈ u_old(t + c_i h) on the previous step's collocation polynomial.
-            Some(l) => {
+            // Y_i ≈ u_old(t + c_i h) on the previous step's collocation polynomial, as far as
+            // the controller itself would extrapolate: after a step clipped by the caller (to
+            // an output time, say) the polynomial's round-off grows like (h/h_old)³.
+            Some(l) if h <= GROW_MAX * l.h => {
                 let end = l.dense.increment(1.0);
                 let column = |c: f64| l.dense.increment(1.0 + c * h / l.h) - end;
                 SMatrix::<f64, N, 3>::from_columns(&[column(C1), column(C2), column(1.0)])
             }
-            None => SMatrix::zeros(),
+            _ => SMatrix::zeros(),
         };
         let eta0 = eta.max(f64::EPSILON).powf(0.8);
         let sys = Collocation {
