@@ -425,6 +425,17 @@ fn memory_round_trips_through_serde() {
     );
 }
 
+/// Checkpoints and parallel drivers hold the memory beside each state: the trait set is part
+/// of the interface.
+#[test]
+fn memory_and_dense_output_have_the_checkpoint_traits() {
+    fn holdable<T: Default + Clone + Send + Sync + serde::Serialize + serde::de::DeserializeOwned>() {}
+    fn dense<T: Clone + std::fmt::Debug + Send + Sync + serde::Serialize>() {}
+    holdable::<RadauMemory<12>>();
+    holdable::<RadauMemory<15>>();
+    dense::<RadauDense<15>>();
+}
+
 /// A memory from another trajectory (or after a driver changed y) is not continued: the step
 /// starts cold and is as accurate as from a fresh memory.
 #[test]

@@ -64,8 +64,9 @@
 //! Radau saves most of its work.
 //!
 //! # Tolerances
-//! Norms are weighted root-mean-square norms with weights atol + rtol·|yᵢ| (Hairer's choice);
-//! rtol and atol act on the O(h⁴) local estimate directly, as in SciPy's
+//! Norms are weighted root-mean-square norms (Hairer's choice) with weights atol + rtol·|y₀ᵢ|
+//! in Newton and atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|) in the error test; rtol and atol act on the
+//! O(h⁴) local estimate directly, as in SciPy's
 //! `solve_ivp(method="Radau")` (RADAU5 itself maps rtol ↦ 0.1·rtol^{2/3} first).
 //!
 //! Hand-written rather than taken from an ODE crate for the same reasons as
