@@ -124,8 +124,8 @@ fn robertson_jac(_t: f64, y: &SVector<f64, 3>) -> Result<SMatrix<f64, 3, 3>, Ste
     ))
 }
 
-/// Van der Pol at ε = 1e-6 over [0, 2] from (2, −0.66) (Hairer & Wanner, §IV.10), through the
-/// first relaxation jump near t ≈ 0.8. SciPy's `solve_ivp(method="Radau")`, an independent
+/// Van der Pol at ε = 1e-6 over [0, 2] from (2, −0.66) (the classical stiff test of Hairer &
+/// Wanner, Ch. IV), through the first relaxation jump at t ≈ 3/2 − ln 2 ≈ 0.81. SciPy's `solve_ivp(method="Radau")`, an independent
 /// implementation of the same algorithm (with a different predictive controller, growth cap 10
 /// instead of 8 and 6 Newton iterations instead of 7), takes 293 and 859 steps at
 /// rtol = atol = 1e-4 and 1e-6; those controller differences change counts by tens of per
@@ -169,8 +169,8 @@ fn van_der_pol_stiff_finishes_with_sane_step_counts() {
 /// exactly, also with simplified Newton (the Jacobian has zero column sums, so every Newton
 /// update conserves it), up to round-off: a few ε per step over ≤ 10³ steps gives
 /// |Σy − 1| ≤ 1e-12, far below any real violation (which would be of the size of atol).
-/// Reference y(40) = (0.7158270687, 9.185534765e-6, 0.2841637457) (SciPy Radau at rtol 1e-13
-/// and LSODA agree to 1e-11; the classical values of Hairer & Wanner, §IV.10).
+/// Reference y(40) = (0.7158270687, 9.185534765e-6, 0.2841637457): SciPy Radau at rtol 1e-13
+/// and LSODA at rtol 1e-12 agree to 3e-12.
 /// Step count: SciPy's Radau takes 373 steps to 1e11 at these tolerances; a factor 2 bound as
 /// for Van der Pol.
 #[test]
@@ -215,8 +215,9 @@ fn robertson_conserves_mass_and_matches_reference() {
     let steps = long.steps.len();
     assert!(steps > 373 / 2 && steps < 2 * 373, "{steps} steps vs SciPy's 373");
     assert!((long.y.sum() - 1.0).abs() < 1e-12);
-    // Late on y₁ ≈ 2.08e-8 (Hairer & Wanner's test set: 0.2083340149701255e-7 at 1e11);
-    // its accuracy is governed by atol 1e-10, so ±atol·10.
+    // Late on y₁ ≈ 2.08e-8 (reference 0.2083340149701255e-7 at 1e11, problem ROBER of the
+    // Bari IVP test set, Mazzia & Magherini); its accuracy is governed by atol 1e-10, so
+    // ±10·atol.
     assert!((long.y[0] - 2.083_340_149_701_255e-8).abs() < 1e-9, "{}", long.y[0]);
 }
 
