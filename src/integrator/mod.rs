@@ -10,6 +10,7 @@ pub mod dense;
 pub mod imex;
 pub mod imex_adaptive;
 pub mod newton;
+pub mod radau5;
 pub mod rosenbrock;
 pub mod stokesian;
 
