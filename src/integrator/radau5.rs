@@ -470,7 +470,7 @@ where
 /// # Errors
 /// [`StepError::Param`] for a non-finite t, h ≤ 0 or not finite, rtol or atol ≤ 0;
 /// [`StepError::NonFinite`] for a non-finite y, f(t, y) or Jacobian;
-/// [`StepError::StepSizeUnderflow`] when h < `tol.h_min` or after 50 failed attempts.
+/// [`StepError::StepSizeUnderflow`] when h < `tol.h_min()` or after 50 failed attempts.
 pub fn step<const N: usize>(
     t: f64,
     y: &SVector<f64, N>,
@@ -485,9 +485,9 @@ where
 {
     finite("t", t)?;
     positive("h", h)?;
-    positive("rtol", tol.rtol)?;
-    positive("atol", tol.atol)?;
-    finite("h_min", tol.h_min)?;
+    positive("rtol", tol.rtol())?;
+    positive("atol", tol.atol())?;
+    finite("h_min", tol.h_min())?;
     if y.iter().any(|v| !v.is_finite()) {
         return Err(StepError::NonFinite {
             what: "state at the step start",
@@ -511,16 +511,16 @@ where
         Some(r) if r.reusable => r,
         _ => jacobian(&mut jac, &mut work, t, y)?,
     };
-    let scale0 = y.map(|v| tol.atol + tol.rtol * v.abs());
+    let scale0 = y.map(|v| tol.atol() + tol.rtol() * v.abs());
     // Newton must be more accurate than the error test (Hairer & Wanner, §IV.8, "Stopping
     // criterion"), but not beyond what round-off in a scaled norm allows.
-    let fnewt = (10.0 * f64::EPSILON / tol.rtol).max(0.03_f64.min(tol.rtol.sqrt()));
+    let fnewt = (10.0 * f64::EPSILON / tol.rtol()).max(0.03_f64.min(tol.rtol().sqrt()));
     let mut eta = last.as_ref().map_or(1.0, |l| l.eta);
     let mut h = h;
     let mut rejected = 0;
     let mut err = f64::NAN;
     loop {
-        if h < tol.h_min || rejected >= MAX_REJECTIONS {
+        if h < tol.h_min() || rejected >= MAX_REJECTIONS {
             return Err(StepError::StepSizeUnderflow { dt: h, t, error: err });
         }
         let fresh = jacobian_in_use.t == t && jacobian_in_use.y == *y;
@@ -562,7 +562,7 @@ where
         eta = stages.eta;
         let y_new = y + stages.z.column(2);
         let ez = (stages.z * Vector3::new(E[0], E[1], E[2])) / h;
-        let scale = y.zip_map(&y_new, |a, b| tol.atol + tol.rtol * a.abs().max(b.abs()));
+        let scale = y.zip_map(&y_new, |a, b| tol.atol() + tol.rtol() * a.abs().max(b.abs()));
         err = match factors.solve_real(&(f0 + ez)) {
             Some(e) => {
                 let mut err_now = rms(&e, &scale);
