@@ -11,7 +11,7 @@
 use pseudorigid::output::{Csv, Figure, Panel, Series};
 use pseudorigid::scenes::scipy_peer::Peer;
 use pseudorigid::scenes::work_precision::{
-    Case, RATIO_ERRORS, Record, measure, oblate_reference, peer_ratios, peer_reference_distance, sweep, work_at_error,
+    Case, RATIO_ERRORS, Record, error_floor, has_peer, measure, oblate_reference, peer_ratios, sweep, work_at_error,
 };
 use std::time::Instant;
 
@@ -19,17 +19,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
     let reference = oblate_reference()?;
     let peer = Peer::from_env().check();
-    let floor = match &peer {
+    // The error floor of each case the peer runs: its measure applied to the peer's
+    // high-accuracy run.
+    let mut floors: Vec<(Case, f64)> = Vec::new();
+    match &peer {
         Ok(()) => {
-            let d = peer_reference_distance(&reference)?;
-            println!("oblate reference against the SciPy peer's DOP853 at 1e-13: {d:.3e}");
-            Some(d)
+            for case in [Case::Jeffery, Case::TankTreading, Case::Oblate]
+                .into_iter()
+                .filter(|&c| has_peer(c))
+            {
+                let floor = error_floor(case, Some(&reference))?;
+                println!("{} error floor (SciPy DOP853 at 1e-13): {floor:.3e}", case.name());
+                floors.push((case, floor));
+            }
         }
-        Err(e) => {
-            println!("skipping the SciPy peer rows: {e}");
-            None
-        }
-    };
+        Err(e) => println!("skipping the SciPy peer rows: {e}"),
+    }
     let mut records: Vec<Record> = Vec::new();
     for case in [Case::Jeffery, Case::TankTreading, Case::Oblate] {
         for setting in sweep(case).into_iter().filter(|s| s.peer().is_none() || peer.is_ok()) {
@@ -138,11 +143,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     // The library against the SciPy peer at equal error, on levels at least 10× above the
-    // reference's own error (below it both curves measure the reference, not the integrator).
-    if let Some(floor) = floor {
-        let levels: Vec<f64> = RATIO_ERRORS.into_iter().filter(|&e| e >= 10.0 * floor).collect();
-        let rows = peer_ratios(&records, Case::Oblate, &levels);
-        println!("oblate: peer wall time / fastest library wall time at equal error");
+    // case's error floor (below it both curves measure the reference, not the integrator).
+    if !floors.is_empty() {
+        println!("peer wall time / fastest library wall time at equal error");
         let mut csv = Csv::new(&[
             "case",
             "error",
@@ -152,10 +155,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "peer_wall_s",
             "ratio",
         ]);
-        for r in &rows {
+        let rows = floors.iter().flat_map(|&(case, floor)| {
+            let levels: Vec<f64> = RATIO_ERRORS.into_iter().filter(|&e| e >= 10.0 * floor).collect();
+            peer_ratios(&records, case, &levels)
+        });
+        for r in rows {
             println!(
-                "  error {:7.0e}: {:13} {:9.3e} s  {:12} {:9.3e} s  ratio {:7.1}",
-                r.error, r.best_integrator, r.library_wall_s, r.peer, r.peer_wall_s, r.ratio
+                "  {:14} error {:7.0e}: {:13} {:9.3e} s  {:12} {:9.3e} s  ratio {:7.1}",
+                r.case.name(),
+                r.error,
+                r.best_integrator,
+                r.library_wall_s,
+                r.peer,
+                r.peer_wall_s,
+                r.ratio
             );
             csv.push(vec![
                 r.case.name().into(),

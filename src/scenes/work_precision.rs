@@ -18,7 +18,7 @@
 //! difference (≈ 3e-4 here) in their error.
 
 use super::SceneError;
-use super::scipy_peer::{Peer, PeerCase, PeerMethod};
+use super::scipy_peer::{Peer, PeerCase, PeerMethod, PeerRun};
 use super::shear_shape::ShearShape;
 use super::tank_treading::roscoe;
 use crate::driver::{RunStats, run};
@@ -118,9 +118,11 @@ pub fn sweep(case: Case) -> Vec<Setting> {
     if case == Case::Jeffery {
         s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::Rigid));
     }
-    if case == Case::Oblate {
-        // Down to an error of ≈ 1e-10 (Radau at 1e-10, LSODA at 1e-12 on this case), so the
-        // peer's curves span the 1e-4 … 1e-9 error levels of the ratio table.
+    if has_peer(case) {
+        // Two more decades so the library's curve spans the error levels of the ratio table.
+        s.extend([1e-10, 1e-11].map(Setting::Stokesian));
+        // Down to an error of ≈ 1e-10 (Radau at 1e-10, LSODA at 1e-12 on the oblate case), so
+        // the peer's curves span the 1e-4 … 1e-9 error levels of the ratio table.
         s.extend([1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::ScipyRadau));
         s.extend([1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12].map(Setting::ScipyLsoda));
     }
@@ -220,18 +222,20 @@ fn peer_trajectory(case: Case, method: PeerMethod, tol: f64) -> Result<(Vec<Stat
         jac_evals: run.jac_evals,
         ..RunStats::default()
     };
-    // The peer samples the same output times; its states carry F only (x, v, A are not
-    // part of the inertialess shape problem and no error measure reads them).
-    let samples = run
-        .samples
+    Ok((peer_states(&run), stats, run.wall_s))
+}
+
+/// The peer's samples as states. They carry F only: x, v and A are not part of the
+/// inertialess shape problem, and no error measure reads them.
+fn peer_states(run: &PeerRun) -> Vec<State> {
+    run.samples
         .iter()
         .map(|&(t, f)| State {
             t,
             f,
             ..State::at_rest(Vec3::zeros())
         })
-        .collect();
-    Ok((samples, stats, run.wall_s))
+        .collect()
 }
 
 fn drive<I: TimeIntegrator>(
@@ -253,8 +257,19 @@ fn long_axis_angle(p: &Particle<NeoHooke>, s: &State) -> f64 {
 /// Error of one run against the case's reference (`reference` only for [`Case::Oblate`]).
 pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Result<Record, SceneError> {
     let (samples, stats, wall_s) = trajectory(case, setting)?;
+    Ok(Record {
+        case,
+        setting,
+        error: error_of(case, &samples, reference)?,
+        wall_s,
+        stats,
+    })
+}
+
+/// The case's error measure of a run sampled at t = 1, 2, …, t_end.
+fn error_of(case: Case, samples: &[State], reference: Option<&[State]>) -> Result<f64, SceneError> {
     let last = samples.last().expect("at least one output time");
-    let error = match case {
+    Ok(match case {
         Case::Jeffery => {
             let p = particle(case)?;
             let mut d =
@@ -263,7 +278,7 @@ pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Res
             d.abs()
         }
         Case::TankTreading => {
-            let exact = roscoe(0.2)?.steady;
+            let exact = roscoe(definition(case).1)?.steady;
             let p = particle(case)?;
             let sec = super::section::ShearPlaneSection::of(&p.total_distortion(&last.f));
             (sec.deformation() - exact.deformation()).abs() + (sec.angle - exact.theta).abs()
@@ -276,36 +291,32 @@ pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Res
                 .map(|(a, b)| (a.f - b.f).amax())
                 .fold(0.0, f64::max)
         }
-    };
-    Ok(Record {
-        case,
-        setting,
-        error,
-        wall_s,
-        stats,
     })
+}
+
+/// Whether the SciPy peer runs `case`. It does not run the Jeffery case: its error there is the
+/// elastic model's distance to the rigid orbit (≈ 0.2 Ca), the same for every inertialess
+/// solver, so equal-error comparisons cannot be read from it.
+pub fn has_peer(case: Case) -> bool {
+    case != Case::Jeffery
+}
+
+/// The error the case's measure gives to the SciPy peer's high-accuracy run (DOP853 at
+/// rtol = atol = 1e-13, within ≈ 1e-11 of the converged F here): the floor below which the
+/// case's errors measure its reference (the oblate reference run, or the residual transient
+/// against Roscoe's steady state), not an integrator.
+pub fn error_floor(case: Case, reference: Option<&[State]>) -> Result<f64, SceneError> {
+    let run = Peer::from_env().reference(&peer_case(case), PeerMethod::Dop853)?;
+    error_of(case, &peer_states(&run), reference)
 }
 
 /// The tightest inertialess run of the oblate case (the reference for [`Case::Oblate`]).
 ///
 /// `stokesian` at 1e-13 (≈ 2.4·10⁵ steps): its global error falls as tol^(2/3) (order 2 under
 /// error-per-step control), which puts this run ≈ 2e-8 from the converged F, the floor of the
-/// oblate errors; [`peer_reference_distance`] measures it against the SciPy peer.
+/// oblate errors; [`error_floor`] measures it against the SciPy peer.
 pub fn oblate_reference() -> Result<Vec<State>, SceneError> {
     Ok(trajectory(Case::Oblate, Setting::Stokesian(1e-13))?.0)
-}
-
-/// Distance, in the oblate error measure, between `reference` and the SciPy peer's
-/// high-accuracy run (DOP853 at rtol = atol = 1e-13, whose own error is ≲ 1e-11 here):
-/// the error of the reference itself, below which oblate errors are not resolved.
-pub fn peer_reference_distance(reference: &[State]) -> Result<f64, SceneError> {
-    let run = Peer::from_env().reference(&peer_case(Case::Oblate), PeerMethod::Dop853)?;
-    Ok(run
-        .samples
-        .iter()
-        .zip(reference)
-        .map(|((_, f), s)| (f - s.f).amax())
-        .fold(0.0, f64::max))
 }
 
 /// Work needed by `integrator` to reach `error` in `case`, by log-log interpolation between
