@@ -10,6 +10,12 @@
 //! - `oblate`: the Fig. 4 oblate (2.5:2.5:1) at Ca = 0.4 over t ≤ 30 against the tightest
 //!   inertialess run: max over t = 1, 2, …, 30 of |F − F_ref|∞.
 //!
+//! The SciPy peer ([`super::scipy_peer`], `solve_ivp` with Radau and LSODA on an independent
+//! NumPy implementation of the inertialess model) runs the tank-treading and oblate cases under
+//! the same error measures; [`peer_ratios`] compares its wall time with the fastest library
+//! integrator's at equal error, and [`error_floor`] gives the error below which a case's measure
+//! no longer resolves an integrator.
+//!
 //! Inertial integrators use ρ* = 0.01 (a micro-particle; the paper's Δt ≤ ρ*/200 rule then
 //! means Δt ≤ 5e-5) and λ_s/μ_s = 1e5: the literal volumetric traction of the paper is
 //! anti-damped unless λ_s Δt ≳ (2/3)μ_f (physics.md §7, condition 2), so the scheme also has a
