@@ -89,7 +89,7 @@ fn scipy_peer_agrees_with_library() {
         .unwrap();
     let mut library = Vec::new();
     let flow = LinearFlow::simple_shear(1.0).unwrap();
-    let integrator = Stokesian::overdamped(library_tol);
+    let integrator = Stokesian::overdamped(library_tol).unwrap();
     let (_, stats) = run(
         &integrator,
         &p,

@@ -18,16 +18,17 @@
 //!
 //! [`InertialessSolver`]: crate::hydro::InertialessSolver
 
+use super::dense::{Dense, Knot};
 use super::rosenbrock::{self, Tolerances};
-use super::{StepInfo, TimeIntegrator};
-use crate::error::StepError;
+use super::{Step, StepInfo, TimeIntegrator};
+use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
-use crate::hydro::DragModel;
-use crate::hydro::gravity::reduced_gravity;
+use crate::hydro::{DragModel, InertialessSolver, jeffery_spin};
 use crate::material::Hyperelastic;
-use crate::particle::{Particle, State};
+use crate::particle::{Model, Particle, State};
 use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, vec9};
 use nalgebra::{SMatrix, SVector};
+use serde::{Deserialize, Serialize};
 
 type Y = SVector<f64, 15>;
 type Jac = SMatrix<f64, 15, 15>;
@@ -66,44 +67,30 @@ pub struct Stokesian {
 }
 
 impl Stokesian {
-    /// Elastic integrator with rtol = atol = `tol` and an inertial barycentre.
-    pub fn new(tol: f64) -> Self {
-        Self {
-            tol: Tolerances::uniform(tol),
+    /// Elastic integrator with rtol = atol = `tol` (finite, > 0) and an inertial barycentre.
+    pub fn new(tol: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            tol: Tolerances::uniform(tol)?,
             barycentre: BarycentreModel::Inertial,
             shape: ShapeResponse::Elastic,
-        }
+        })
     }
 
     /// Elastic, with an overdamped barycentre.
-    pub fn overdamped(tol: f64) -> Self {
-        Self {
+    pub fn overdamped(tol: f64) -> Result<Self, ParamError> {
+        Ok(Self {
             barycentre: BarycentreModel::Overdamped,
-            ..Self::new(tol)
-        }
+            ..Self::new(tol)?
+        })
     }
 
     /// Rigid limit (Ca = 0): Jeffery rotation plus Brenner drag, overdamped barycentre.
-    pub fn rigid(tol: f64) -> Self {
-        Self {
+    pub fn rigid(tol: f64) -> Result<Self, ParamError> {
+        Ok(Self {
             shape: ShapeResponse::Rigid,
-            ..Self::overdamped(tol)
-        }
+            ..Self::overdamped(tol)?
+        })
     }
-}
-
-/// Jeffery's torque-free spin of the current (rigid) ellipsoid in the flow `l_f`.
-pub fn jeffery_spin(frame: &crate::ellipsoid::PrincipalFrame, l_f: &Mat3) -> Mat3 {
-    let lf = frame.to_principal(l_f);
-    let x = frame.r.component_mul(&frame.r);
-    let ws = Mat3::from_fn(|i, j| {
-        if i == j {
-            0.0
-        } else {
-            0.5 * (lf[(i, j)] - lf[(j, i)]) - (x[i] - x[j]) / (x[i] + x[j]) * 0.5 * (lf[(i, j)] + lf[(j, i)])
-        }
-    });
-    frame.to_global(&ws)
 }
 
 fn pack(f: &Mat3, x: &Vec3, v: &Vec3) -> Y {
@@ -123,7 +110,8 @@ fn unpack(y: &Y) -> (Mat3, Vec3, Vec3) {
 }
 
 /// Everything the right-hand side computes at one state.
-struct Evaluation {
+#[derive(Debug, Clone)]
+pub(crate) struct Evaluation {
     f_dot: Mat3,
     l_s: Mat3,
     x_dot: Vec3,
@@ -131,81 +119,58 @@ struct Evaluation {
     drag_rate: Mat3,
     l_f: Mat3,
     /// `None` in the rigid limit.
-    solver: Option<crate::hydro::InertialessSolver>,
+    solver: Option<InertialessSolver>,
 }
 
-fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
-    particle: &Particle<M, D>,
-    flow: &F,
-    model: BarycentreModel,
+/// The right-hand side of the inertialess model at (t, y): one model evaluation.
+pub(crate) fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    model: &Model<M, D, F>,
+    barycentre: BarycentreModel,
     shape: ShapeResponse,
     t: f64,
     y: &Y,
 ) -> Result<Evaluation, StepError> {
     let (f, x, v) = unpack(y);
-    let det_f = f.determinant();
-    if det_f.is_nan() || det_f <= 0.0 {
-        return Err(StepError::Inverted { det_f, t });
-    }
-    let sample = flow.sample(&x, t)?;
-    let mu_f = particle.fluid().mu;
-    let geo = particle.geometry(&State {
-        t,
-        x,
-        v,
-        f,
-        a: Mat3::zeros(),
-    });
+    let geo = model.geometry(&f, t)?;
+    let sample = model.sample(&x, t)?;
     let (l_s, solver) = match shape {
         ShapeResponse::Elastic => {
-            let solver = geo
-                .traction
-                .inertialess(&sample.grad_u, mu_f)
-                .ok_or(StepError::NonFinite {
-                    what: "inertialess traction operator",
-                    t,
-                })?;
-            (solver.velocity_gradient(&particle.material().cauchy(&f)), Some(solver))
+            let (l_s, solver) = model.inertialess_rate(&geo, &f, &sample.grad_u, t)?;
+            (l_s, Some(solver))
         }
         ShapeResponse::Rigid => (jeffery_spin(&geo.frame, &sample.grad_u), None),
     };
-    let drag_rate = particle.drag().resistance(&geo.frame, &geo.ints) * (mu_f / particle.mass());
-    let a_g = reduced_gravity(particle.gravity(), particle.rho_solid(), particle.fluid().rho, det_f);
-    let (x_dot, v_dot) = match model {
-        BarycentreModel::Inertial => (v, a_g + drag_rate * (sample.u - v)),
-        BarycentreModel::Overdamped => {
-            let drift = drag_rate
-                .lu()
-                .solve(&a_g)
-                .ok_or(StepError::NonFinite { what: "drag tensor", t })?;
-            (sample.u + drift, Vec3::zeros())
-        }
+    let forcing = model.forcing(&geo, f.determinant());
+    let (x_dot, v_dot) = match barycentre {
+        BarycentreModel::Inertial => (v, forcing.acceleration(&sample.u, &v)),
+        BarycentreModel::Overdamped => (forcing.overdamped_velocity(&sample.u, t)?, Vec3::zeros()),
     };
     Ok(Evaluation {
         f_dot: l_s * f,
         l_s,
         x_dot,
         v_dot,
-        drag_rate,
+        drag_rate: forcing.drag_rate,
         l_f: sample.grad_u,
         solver,
     })
 }
 
-fn rhs_vector(e: &Evaluation) -> Y {
+pub(crate) fn rhs_vector(e: &Evaluation) -> Y {
     pack(&e.f_dot, &e.x_dot, &e.v_dot)
 }
 
 /// W-method Jacobian: exact elastic part, frozen hydrodynamic operator, linear-flow coupling.
-fn jacobian<M: Hyperelastic, D: DragModel>(
-    particle: &Particle<M, D>,
-    model: BarycentreModel,
+pub(crate) fn jacobian<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    model: &Model<M, D, F>,
+    barycentre: BarycentreModel,
     y: &Y,
     e: &Evaluation,
 ) -> Jac {
+    model.count_jacobian();
     let (f, _, _) = unpack(y);
     let mut jac = Jac::zeros();
-    barycentre_jacobian(&mut jac, model, e);
+    barycentre_jacobian(&mut jac, barycentre, e);
     let Some(solver) = &e.solver else {
         // Rigid: d(W_s F) ≈ W_s dF with the spin frozen over the step (W-method).
         for q in 0..9 {
@@ -215,7 +180,7 @@ fn jacobian<M: Hyperelastic, D: DragModel>(
         }
         return jac;
     };
-    let law = particle.material();
+    let law = model.particle.material();
     let det_f = f.determinant();
     let p = law.piola(&f);
     let sigma = p * f.transpose() / det_f;
@@ -247,7 +212,17 @@ fn barycentre_jacobian(jac: &mut Jac, model: BarycentreModel, e: &Evaluation) {
     }
 }
 
+/// Step memory of [`Stokesian`]: the evaluation at the last accepted state (first same as
+/// last), keyed by (t, y). A pure cache of a function of (t, y): a checkpoint need not store it.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct StokesianMemory {
+    #[serde(skip)]
+    last: Option<(f64, Y, Evaluation)>,
+}
+
 impl TimeIntegrator for Stokesian {
+    type Memory = StokesianMemory;
+
     fn name(&self) -> &'static str {
         match self.shape {
             ShapeResponse::Elastic => "stokesian",
@@ -255,35 +230,40 @@ impl TimeIntegrator for Stokesian {
         }
     }
 
-    fn step<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    fn step_with<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,
+        memory: &mut StokesianMemory,
         flow: &F,
         dt: f64,
-    ) -> Result<(State, StepInfo), StepError> {
+    ) -> Result<Step, StepError> {
         crate::error::positive("dt", dt)?;
         state.validate()?;
-        let (model, shape) = (self.barycentre, self.shape);
+        let (barycentre, shape) = (self.barycentre, self.shape);
+        let model = Model::new(particle, flow);
         let y0 = pack(&state.f, &state.x, &state.v);
-        let acc = rosenbrock::step(
-            state.t,
-            &y0,
-            dt,
-            self.tol,
-            |t, y| evaluate(particle, flow, model, shape, t, y).map(|e| rhs_vector(&e)),
-            |t, y| evaluate(particle, flow, model, shape, t, y).map(|e| jacobian(particle, model, y, &e)),
-        )?;
+        let e0 = match memory.last.take() {
+            Some((t, y, e)) if t == state.t && y == y0 => e,
+            _ => evaluate(&model, barycentre, shape, state.t, &y0)?,
+        };
+        let f0 = rhs_vector(&e0);
+        let jac = jacobian(&model, barycentre, &y0, &e0);
+        let acc = rosenbrock::step(state.t, &y0, &f0, &jac, dt, self.tol, |t, y| {
+            evaluate(&model, barycentre, shape, t, y).map(|e| (rhs_vector(&e), e))
+        })?;
         let (mut f, x, v) = unpack(&acc.y);
         if shape == ShapeResponse::Rigid {
             // Polar projection onto SO(3): the nearest rotation to the integrated F.
             let svd = f.svd(true, true);
-            f = svd.u.expect("requested") * svd.v_t.expect("requested");
+            if let (Some(u), Some(v_t)) = (svd.u, svd.v_t) {
+                f = u * v_t;
+            }
         }
-        let (a, _, _) = unpack(&acc.f_new);
-        let v = match model {
+        let (a, x_dot, _) = unpack(&acc.f_new);
+        let v = match barycentre {
             BarycentreModel::Inertial => v,
-            BarycentreModel::Overdamped => acc.f_new.fixed_rows::<3>(9).into_owned(),
+            BarycentreModel::Overdamped => x_dot,
         };
         let next = State {
             t: state.t + acc.h,
@@ -293,15 +273,24 @@ impl TimeIntegrator for Stokesian {
             a,
         };
         next.validate()?;
-        let info = StepInfo {
-            dt: acc.h,
-            dt_next: acc.h_next,
-            newton_iters: 0,
-            residual: 0.0,
-            rhs_evals: acc.rhs_evals + 1,
-            jac_evals: acc.jac_evals,
-            rejected: acc.rejected,
+        if shape == ShapeResponse::Elastic {
+            // The projection of the rigid limit moves F off the evaluated point.
+            memory.last = Some((next.t, acc.y, acc.payload));
+        }
+        let start = Knot {
+            x: state.x,
+            x_dot: e0.x_dot,
+            f: state.f,
+            f_dot: e0.f_dot,
         };
-        Ok((next, info))
+        let end = Knot { x, x_dot, f, f_dot: a };
+        Ok(Step {
+            dense: Dense::new(state.t, acc.h, start, end),
+            state: next,
+            info: StepInfo {
+                rejected: acc.rejected,
+                ..StepInfo::from_work(model.work(), acc.h, acc.h_next)
+            },
+        })
     }
 }
