@@ -166,10 +166,10 @@ impl Peer {
         if out.status.success() {
             Ok(())
         } else {
-            Err(unavailable(format!(
-                "cannot import numpy/scipy: {}",
-                String::from_utf8_lossy(&out.stderr).trim()
-            )))
+            // The last line of Python's traceback names the missing module.
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            let last = stderr.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("");
+            Err(unavailable(format!("cannot import numpy/scipy: {}", last.trim())))
         }
     }
 
