@@ -337,11 +337,13 @@ pub fn error_floor(case: Case, reference: Option<&[State]>) -> Result<f64, Scene
 
 /// The tightest inertialess run of the oblate case (the reference for [`Case::Oblate`]).
 ///
-/// `stokesian` at 1e-13 (≈ 2.4·10⁵ steps): its global error falls as tol^(2/3) (order 2 under
-/// error-per-step control), which puts this run ≈ 2e-8 from the converged F, the floor of the
-/// oblate errors; [`error_floor`] measures it against the SciPy peer.
+/// `stokesian_radau5` at 1e-13. The Rosenbrock 2(3) reference used before (1e-13,
+/// ≈ 2.4·10⁵ steps) sat ≈ 1.7e-8 from the converged F: every Radau run from 1e-7 down and the
+/// peer's tightest runs all stopped at that floor. Radau's global error falls about as fast as
+/// its tolerance here (3.4e-5, 3.7e-6, 3.5e-7 at 1e-4, 1e-5, 1e-6), so this run is ≈ 1e-12 from
+/// the converged F; [`error_floor`] measures it against the SciPy peer.
 pub fn oblate_reference() -> Result<Vec<State>, SceneError> {
-    Ok(trajectory(Case::Oblate, Setting::Stokesian(1e-13))?.0)
+    Ok(trajectory(Case::Oblate, Setting::Radau5(1e-13))?.0)
 }
 
 /// Work needed by `integrator` to reach `error` in `case`, by log-log interpolation between
