@@ -20,11 +20,11 @@ pub struct MapPoint {
     pub boundary: Boundary,
 }
 
-/// The search used for the paper maps: inertialess classifier at rtol = atol = 1e-7 (the
-/// margin is converged to ~1e-7 there, far below its ~0.6 ΔCa sensitivity; tested) and
-/// ΔCa ≤ 1e-3.
+/// The search used for the paper maps: inertialess Radau IIA classifier at rtol = atol = 1e-7
+/// (the margin is converged to ~1e-7 there, far below its ~0.6 ΔCa sensitivity; the brackets
+/// equal those at 1e-8) and ΔCa ≤ 1e-4.
 pub fn paper_search() -> Result<BoundarySearch<Stokesian>, crate::error::ParamError> {
-    Ok(BoundarySearch::new(RegimeClassifier::stokesian(1e-7)?, 1e-3))
+    Ok(BoundarySearch::new(RegimeClassifier::stokesian(1e-7)?, 1e-4))
 }
 
 /// Boundaries of all `(x, shape)` pairs, in parallel.
