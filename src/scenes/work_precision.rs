@@ -189,11 +189,7 @@ pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Res
         }
         Case::Oblate => {
             let reference = reference.expect("oblate case needs a reference run");
-            samples
-                .iter()
-                .zip(reference)
-                .map(|(a, b)| (a.f - b.f).amax())
-                .fold(0.0, f64::max)
+            crate::tensor::max_or_nan(samples.iter().zip(reference).map(|(a, b)| (a.f - b.f).amax()))
         }
     };
     Ok(Record {
