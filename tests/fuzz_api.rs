@@ -1003,3 +1003,290 @@ fn fuzz_long() {
         .unwrap_or(100_000);
     fuzz(cases);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Regressions: the reproducers of the reliability audit (issue 10), verbatim inputs, each run
+// under the same watchdog as the fuzz cases so that a regression to a hang fails instead of
+// stalling the suite. A case returns `Outcome::Finite` when the API behaved as required (which
+// may be a typed error) and `Outcome::Silent` with the evidence otherwise.
+
+/// Run `case` supervised; it reports `Outcome::Finite` when the API behaved as required.
+fn supervised(case: Case) {
+    let verdict = run_case(case, 0);
+    assert!(matches!(verdict, Verdict::Finite), "{verdict:?}");
+}
+
+/// Defect 2: Ca = 1e-320 passes `Ca > 0` but 1/Ca overflows; it used to panic in `neo_hooke()`.
+#[test]
+fn tiny_capillary_number_is_a_typed_error() {
+    supervised(|_| {
+        let Err(err) = ShearScaling::new(1e-320, 0.1, 1e3) else {
+            return Outcome::Silent("Ca = 1e-320 accepted".to_string());
+        };
+        check(
+            matches!(
+                err,
+                ParamError::Derived {
+                    name: "mu_s = 1/Ca",
+                    ..
+                }
+            ),
+            || format!("{err:?}"),
+        )
+    });
+}
+
+/// Defect 2: deserialisation used to bypass `ShearScaling::new` (`{"ca":0.0,...}` → panic).
+#[test]
+fn deserialised_parameters_are_validated() {
+    supervised(|_| {
+        // Each valid value is serialised, one field is made invalid, and the result must
+        // not deserialise; the unedited text must (else the rejection proves nothing).
+        fn rejected<T: serde::Serialize + serde::de::DeserializeOwned>(valid: &T, field: &str, bad: Value) -> bool {
+            let mut v = serde_json::to_value(valid).expect("serialises");
+            let accepts_valid = serde_json::from_value::<T>(v.clone()).is_ok();
+            v[field] = bad;
+            accepts_valid && serde_json::from_value::<T>(v).is_err()
+        }
+        let zeros = serde_json::to_value(Mat3::zeros() as Mat3).expect("serialises");
+        let stretch = serde_json::to_value(Mat3::identity() as Mat3).expect("serialises");
+        let bad = [
+            rejected(&ShearScaling::new(0.1, 0.1, 1e3).expect("valid"), "ca", 0.0.into()),
+            rejected(&NeoHooke::new(1.0, 1.0).expect("valid"), "mu", (-1.0).into()),
+            rejected(&MooneyRivlin::new(1.0, 1.0, 1.0).expect("valid"), "mu2", (-1.0).into()),
+            rejected(&Fluid::new(1.0, 1.0).expect("valid"), "rho", (-1.0).into()),
+            rejected(&Ellipsoid::aligned([1.0; 3]).expect("valid"), "axes", zeros),
+            rejected(&Poiseuille::new(1.0, 1.0).expect("valid"), "radius", 0.0.into()),
+            rejected(&LinearFlow::simple_shear(1.0).expect("valid"), "grad_u", stretch),
+        ];
+        // A valid value still round-trips.
+        let s = ShearScaling::new(0.1, 0.2, 1e3).expect("valid");
+        let back: ShearScaling = serde_json::from_str(&serde_json::to_string(&s).expect("serialises")).expect("valid");
+        check(bad.iter().all(|&b| b) && back == s, || {
+            format!("rejections {bad:?}, round trip {back:?}")
+        })
+    });
+}
+
+/// Defect 4: ρ* = 1e300 gave a NaN Θ⁻¹ (the inverse of Θ overflowed). Θ⁻¹ = (5/m) S⁻ᵀS⁻¹ is
+/// now formed in closed form: finite, and equal to 5/(m R²) on the axes of a sphere
+/// (R = 1/2, m = ρ* π/6) to round-off.
+#[test]
+fn dense_particle_has_a_finite_inverse_euler_tensor() {
+    supervised(|_| {
+        let p = match ShearScaling::new(1.0, 1e300, 1e3).and_then(|s| s.particle([1.0; 3], Mat3::identity())) {
+            Ok(p) => p,
+            Err(e) => return Outcome::Silent(format!("valid particle rejected: {e}")),
+        };
+        let expected = 5.0 / (p.mass() * 0.25);
+        // A handful of roundings in m and 5/(m R²): 1e-14 relative.
+        let ok = (p.theta_inv() - Mat3::identity() * expected).amax() <= 1e-14 * expected;
+        check(ok, || {
+            format!("Θ⁻¹ = {:?}, expected {expected:e}·1", p.theta_inv().as_slice())
+        })
+    });
+}
+
+/// Defect 4: semi-axes whose squares overflow gave a non-finite rest geometry.
+#[test]
+fn semi_axes_with_overflowing_squares_are_rejected() {
+    supervised(|_| {
+        let err = Ellipsoid::aligned([1e200, 1.0, 1.0]).err();
+        let slender = ShearScaling::new(0.1, 0.1, 1e3).and_then(|s| s.particle([1e200, 1.0, 1.0], Mat3::identity()));
+        check(
+            matches!(err, Some(ParamError::Derived { .. })) && slender.is_err(),
+            || format!("{err:?}, {:?}", slender.err()),
+        )
+    });
+}
+
+/// Defect 5: `Poiseuille::new(1e155, 1.0)` sampled at the wall gave u = NaN (R² overflowed).
+/// Now u = 0 there (no slip) and ∂u₁/∂x₂ = −4Ū/R exactly (one product, one quotient).
+#[test]
+fn wide_pipe_samples_finite_at_the_wall() {
+    supervised(|_| {
+        let s = match Poiseuille::new(1e155, 1.0).map(|f| f.sample(&Vec3::new(0., 1e155, 0.), 0.)) {
+            Ok(Ok(s)) => s,
+            other => return Outcome::Silent(format!("{other:?}")),
+        };
+        check(s.u == Vec3::zeros() && s.grad_u[(0, 1)] == -4.0 / 1e155, || {
+            format!("{s:?}")
+        })
+    });
+}
+
+/// Defect 5: a large linear flow overflowed silently far from the origin.
+#[test]
+fn overflowing_linear_flow_is_a_typed_error() {
+    supervised(
+        |_| match LinearFlow::simple_shear(1e300).map(|f| f.sample(&Vec3::new(0., 1e10, 0.), 0.)) {
+            Ok(Err(FlowError::NonFiniteSample { .. })) => Outcome::Finite,
+            other => Outcome::Silent(format!("{other:?}")),
+        },
+    );
+}
+
+/// Defect 10: `carlson_rf(NaN, 1, 1)` and `EllipsoidIntegrals::new` with a NaN never returned.
+#[test]
+fn carlson_and_integrals_of_nan_return() {
+    supervised(|_| {
+        let rf = carlson_rf(f64::NAN, 1.0, 1.0);
+        let rd = carlson_rd(1.0, 1.0, f64::NAN);
+        let checked = EllipsoidIntegrals::try_new(&Vec3::new(f64::NAN, 1.0, 1.0));
+        let unchecked = EllipsoidIntegrals::new(&Vec3::new(f64::NAN, 1.0, 1.0));
+        check(
+            matches!(rf, Err(ParamError::OutOfDomain { .. }))
+                && matches!(rd, Err(ParamError::OutOfDomain { .. }))
+                && checked.is_err()
+                && unchecked.chi0.is_nan(),
+            || format!("{rf:?} {rd:?} {checked:?}"),
+        )
+    });
+}
+
+fn vtk_with(
+    header_edit: (&str, &str),
+    binary: bool,
+) -> Result<vtk::VtkGrid, pseudorigid::flow::unstructured::MeshError> {
+    let text = String::from_utf8_lossy(&vtk_file(binary)).into_owned();
+    let bytes = if binary {
+        // Header lines are ASCII in both forms; replace on the raw bytes.
+        let mut raw = vtk_file(true);
+        let pos = raw
+            .windows(header_edit.0.len())
+            .position(|w| w == header_edit.0.as_bytes())
+            .expect("header present");
+        raw.splice(pos..pos + header_edit.0.len(), header_edit.1.bytes());
+        raw
+    } else {
+        text.replacen(header_edit.0, header_edit.1, 1).into_bytes()
+    };
+    let dir = Scratch::new("vtk-regression", bytes.len() as u64 ^ u64::from(binary));
+    let path = dir.path("case.vtk");
+    std::fs::write(&path, bytes).expect("scratch write");
+    vtk::read_legacy(&path)
+}
+
+/// Defect 3: header counts that overflowed (`capacity overflow` panic) or allocated 32 TB
+/// (process abort), and non-integer connectivity tokens that loaded as 0 and 1.
+#[test]
+fn vtk_header_counts_and_tokens_are_checked() {
+    supervised(|_| {
+        let cases = [
+            (("POINTS 12 float", "POINTS 18446744073709551615 float"), true),
+            (("POINTS 12 float", "POINTS 18446744073709551615 float"), false),
+            (("CELLS 2 18", "CELLS 1000000000000 9"), true),
+            (("CELLS 2 18", "CELLS 1000000000000 9000000000000"), false),
+            (("CELLS 2 18\n8 0", "CELLS 2 18\n8 nan"), false),
+            (("CELLS 2 18\n8 0", "CELLS 2 18\n8 1.9"), false),
+        ];
+        let results: Vec<_> = cases.iter().map(|&(edit, binary)| vtk_with(edit, binary)).collect();
+        let all_malformed = results
+            .iter()
+            .all(|r| matches!(r, Err(pseudorigid::flow::unstructured::MeshError::Malformed { .. })));
+        check(all_malformed, || format!("{results:?}"))
+    });
+}
+
+/// A compact file with a valid zlib stream around `payload`.
+fn prf_bytes(payload: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut z = flate2::write::ZlibEncoder::new(compact::MAGIC.to_vec(), flate2::Compression::fast());
+    z.write_all(payload).expect("in-memory");
+    z.finish().expect("in-memory")
+}
+
+fn read_prf(bytes: &[u8], name: &str) -> Result<MeshedFlow, pseudorigid::flow::unstructured::MeshError> {
+    let dir = Scratch::new(name, bytes.len() as u64);
+    let path = dir.path("case.prf");
+    std::fs::write(&path, bytes).expect("scratch write");
+    compact::read(&path)
+}
+
+/// Defect 8: a decompression bomb (a small grid's header followed by 256 MiB of zeros; the
+/// audit's 4.2 MB file inflated to 4 GiB before it was rejected), a mantissa-bits field out of
+/// range, and a payload whose checksum does not match.
+#[test]
+fn prf_bomb_bits_and_checksum_are_rejected() {
+    supervised(|_| {
+        let dir = Scratch::new("prf-regression", 0);
+        let path = dir.path("valid.prf");
+        if compact::write(&small_field(), &path, 12).is_err() {
+            return Outcome::Silent("valid field not written".to_string());
+        }
+        let valid = std::fs::read(&path).expect("just written");
+        let mut payload = Vec::new();
+        {
+            use std::io::Read;
+            let _ = flate2::read::ZlibDecoder::new(&valid[compact::MAGIC.len()..]).read_to_end(&mut payload);
+        }
+        let mut bomb = payload.clone();
+        bomb.resize(payload.len() + (256 << 20), 0);
+        let bomb = read_prf(&prf_bytes(&bomb), "bomb");
+        let bits: Vec<_> = [0u32, 24, u32::MAX]
+            .iter()
+            .map(|&b| {
+                let mut p = payload.clone();
+                p[..4].copy_from_slice(&b.to_le_bytes());
+                read_prf(&prf_bytes(&p), "bits")
+            })
+            .collect();
+        // Flip one bit in a field value of the compressed file's stored Adler-32 (last four
+        // bytes): the stream still inflates, only the checksum catches it.
+        let mut corrupt = valid.clone();
+        let last = corrupt.len() - 1;
+        corrupt[last] ^= 1;
+        let checksum = read_prf(&corrupt, "checksum");
+        let reason = |r: &Result<MeshedFlow, _>| match r {
+            Err(pseudorigid::flow::unstructured::MeshError::Malformed { reason, .. }) => reason.clone(),
+            _ => String::new(),
+        };
+        let ok = reason(&bomb).contains("inflates beyond")
+            && bits.iter().all(|r| reason(r).contains("mantissa bits"))
+            && reason(&checksum).contains("zlib");
+        check(ok, || {
+            format!(
+                "bomb {:?}, bits {:?}, checksum {:?}",
+                reason(&bomb),
+                bits.iter().map(reason).collect::<Vec<_>>(),
+                reason(&checksum)
+            )
+        })
+    });
+}
+
+/// Defect 11: 50 rounds of 8 threads writing one file; every survivor is one writer's whole
+/// payload and no temporary file is left (the per-process temp name mixed 27 of 50 rounds).
+#[test]
+fn concurrent_atomic_writes_never_mix() {
+    supervised(|_| {
+        for round in 0..50 {
+            if let Outcome::Silent(what) = output_case(round * 3 + 1) {
+                return Outcome::Silent(format!("round {round}: {what}"));
+            }
+        }
+        Outcome::Finite
+    });
+}
+
+/// Defect 11: a write killed mid-way leaves its temporary file; the next write into that
+/// folder removes it when its process is gone, and keeps temporaries of live processes.
+#[test]
+fn stale_temporaries_are_removed_on_the_next_write() {
+    supervised(|_| {
+        let dir = Scratch::new("stale", 0);
+        let mut child = std::process::Command::new("true").spawn().expect("spawn `true`");
+        let dead = child.id();
+        let _ = child.wait();
+        let stale = dir.path(&format!(".data.csv.pseudorigid-tmp-{dead}-1-0"));
+        let live = dir.path(&format!(".data.csv.pseudorigid-tmp-{}-1-999999", std::process::id()));
+        std::fs::write(&stale, b"half a file").expect("scratch write");
+        std::fs::write(&live, b"in flight").expect("scratch write");
+        if write_atomic(dir.path("data.csv"), b"whole").is_err() {
+            return Outcome::Silent("write failed".to_string());
+        }
+        check(!stale.exists() && live.exists(), || {
+            format!("stale removed: {}, live kept: {}", !stale.exists(), live.exists())
+        })
+    });
+}
