@@ -143,6 +143,24 @@ fn volume_is_preserved_in_proportion_to_inverse_bulk_modulus() {
     assert!((5.0..=20.0).contains(&ratio), "|J-1| ratio for a tenfold λ_s: {ratio}");
 }
 
+/// The strategies shrink where their docs say: a property that fails for every input is
+/// reported with the minimal input proptest finds, which must be 0 for `normal()` and the
+/// identity for `rotation()` (the shrunk value is exact: u₁ = 0 gives n = 0 exactly).
+#[test]
+fn strategies_shrink_as_documented() {
+    use proptest::test_runner::{TestError, TestRunner};
+    let mut runner = TestRunner::deterministic();
+    match runner.run(&strategies::normal(), |_| Err(TestCaseError::fail("always"))) {
+        Err(TestError::Fail(_, n)) => assert_eq!(n, 0.0, "normal() shrank to {n}"),
+        other => panic!("{other:?}"),
+    }
+    let mut runner = TestRunner::deterministic();
+    match runner.run(&strategies::rotation(), |_| Err(TestCaseError::fail("always"))) {
+        Err(TestError::Fail(_, r)) => assert_eq!(r, M3::identity(), "rotation() shrank to {r}"),
+        other => panic!("{other:?}"),
+    }
+}
+
 #[test]
 fn bad_input_gives_typed_errors() {
     let p = soft([2.0, 1.0, 1.0], M3::identity(), 0.3, 0.1, 1e3);
