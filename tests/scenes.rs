@@ -45,7 +45,21 @@ fn oblate_2_5_tumbles_at_0_4_and_trembles_at_0_5() {
     assert_eq!(tu.regime, Regime::Tumbling, "{tu:?}");
     assert_eq!(tr.regime, Regime::Trembling, "{tr:?}");
     assert!(tu.margin > 0.03 && tr.margin < -0.01, "{tu:?} {tr:?}");
-    assert!(tu.horizon >= 30.0);
+    // The horizon of 8 half Jeffery periods captures the minimum: doubling it leaves the
+    // regimes, and the margins move by no more than the integration error (< 1e-5, see the
+    // convergence test). (Asserting `horizon ≥ 30` could not fail: it is max(30, ·).)
+    let long = RegimeClassifier {
+        periods: 16.0,
+        ..RegimeClassifier::stokesian(1e-7)
+    };
+    for (short, ca) in [(&tu, 0.4), (&tr, 0.5)] {
+        let l = long
+            .classify(&ShearShape::oblate(2.5), &stokesian_scaling(ca).unwrap())
+            .unwrap();
+        assert!(l.horizon >= 2.0 * short.horizon - 1e-9, "{l:?}");
+        assert_eq!(l.regime, short.regime);
+        assert!((l.margin - short.margin).abs() <= 1e-5, "{l:?} vs {short:?}");
+    }
 }
 
 /// Fig. 4 caption: the first maxima of ω₁ are at t̂ ≈ 7 (Ca 0.4) and ≈ 7.5 (Ca 0.5). The paper
@@ -101,10 +115,15 @@ fn regime_switches_once_in_ca() {
     }
 }
 
-/// The TU/TR answer and its margin are converged in the Rosenbrock tolerance: the margin
-/// changes by ~1e-5 from rtol 1e-6 to 1e-7 and by ~3e-7 from 1e-7 to 1e-8 (order ≈ 1.5 per
-/// decade, as for a 2(3) pair with error control per unit step). Its sensitivity to Ca is
-/// ≈ 0.6 per unit Ca, so rtol 1e-7 moves the boundary by < 1e-6 ≪ ΔCa = 1e-3.
+/// The TU/TR answer and its margin are converged in the Rosenbrock tolerance. For a 2(3)
+/// pair with error-per-step control the local error ∝ h³ is held at tol, so h ∝ tol^{1/3}
+/// and the global error ∝ tol/h = tol^{2/3} at worst: each decade of tol must shrink the
+/// integration error's change by at least 10^{2/3} ≈ 4.6. The margin is also a minimum over
+/// sampled points (4 Hermite points per step), off by up to ½|m''|(h/8)² with m'' ≈ 0.25 at
+/// the minimum (see `hermite_checks_refine_the_margin`); that term jumps with the sample grid
+/// rather than shrinking smoothly, so it is added once, at the mean step h of the middle run.
+/// The margin's sensitivity to Ca is ≈ 0.6 per unit Ca, so the boundary found at rtol 1e-6
+/// and 1e-8 must agree to the search resolution ΔCa = 1e-3.
 #[test]
 fn regime_and_margin_converged_in_tolerance() {
     for ca in [0.4, 0.5] {
@@ -118,8 +137,10 @@ fn regime_and_margin_converged_in_tolerance() {
             })
             .collect();
         assert!(m.iter().all(|c| c.regime == m[2].regime));
-        assert!((m[1].margin - m[2].margin).abs() <= 2e-6, "{m:?}");
-        assert!((m[0].margin - m[2].margin).abs() <= 5e-5, "{m:?}");
+        let (coarse, fine) = ((m[0].margin - m[1].margin).abs(), (m[1].margin - m[2].margin).abs());
+        let h = m[1].horizon / m[1].stats.steps as f64;
+        let sampling = 0.5 * 0.25 * (h / 8.0).powi(2);
+        assert!(fine <= coarse / 10f64.powf(2.0 / 3.0) + sampling, "{m:?}");
     }
     let boundary = |tol| {
         BoundarySearch::new(RegimeClassifier::stokesian(tol), 1e-3)
@@ -131,8 +152,7 @@ fn regime_and_margin_converged_in_tolerance() {
     assert!((coarse - fine).abs() <= 1e-3, "{coarse} vs {fine}");
 }
 
-/// Dense checking: with no interior Hermite points the margin can only be larger (fewer
-/// samples of the same curve). Checking only step ends misses the minimum by up to
+/// Dense checking: checking only step ends misses the minimum by up to
 /// ½|m''|(h/2)² ≈ ½ · 0.25 · 0.014² ≈ 2.5e-5 (m'' ≈ 0.25 near t̂ = 3.5, h ≈ 0.027 at
 /// rtol 1e-6): as large as the margins met next to the boundary (1e-5 – 1e-4), which is why
 /// the classifier checks inside each step. Bound: 3e-5.
@@ -143,14 +163,13 @@ fn hermite_checks_refine_the_margin() {
     let dense = c.classify(&ShearShape::oblate(2.5), &scaling).unwrap();
     c.substeps = 0;
     let sparse = c.classify(&ShearShape::oblate(2.5), &scaling).unwrap();
-    assert!(sparse.margin >= dense.margin - 1e-12);
     assert!(sparse.margin - dense.margin <= 3e-5, "{sparse:?} {dense:?}");
 }
 
-/// The paper's IMEX scheme with inertia (ρ* = 0.1, Δt = ρ*/200, λ_s/μ_s = 1e3: stable by
-/// physics.md §7) gives the same regimes on the Fig. 4 case as the inertialess integrator,
+/// The paper's IMEX scheme with inertia (ρ* = 0.1, Δt = ρ*/200, λ_s/μ_s = 1e3: inside the
+/// explicit viscous limit ρ*/37 of the oblate 2.5) gives the same regimes on the Fig. 4 case as the inertialess integrator,
 /// and margins within 1e-4 (inertia O(ρ*) and the O(Δt) scheme shift them by ~3e-5; the
-/// boundary moves < 1e-3 in Ca for ρ* ∈ [0.1, 10], physics.md §7).
+/// boundary moves < 1e-3 in Ca for ρ* ∈ [0.1, 10]).
 #[test]
 fn paper_imex_agrees_on_the_fig4_regimes() {
     let rho_star = 0.1;
