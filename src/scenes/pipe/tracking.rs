@@ -133,6 +133,15 @@ pub fn track_to_deposition<I: TimeIntegrator>(
         let cap = approach_cap(scene, &state, now.gap)?;
         let clamped = h > cap;
         let (next, info) = integrator.step(&scene.particle, &state, &scene.flow, h.min(cap))?;
+        // t + h == t (a step below the float spacing of t) would loop forever.
+        if next.t <= state.t {
+            return Err(crate::error::StepError::StepSizeUnderflow {
+                dt: info.dt,
+                t: state.t,
+                error: f64::NAN,
+            }
+            .into());
+        }
         run.steps += 1;
         run.rejected += u64::from(info.rejected);
         h = if clamped { h.max(info.dt_next) } else { info.dt_next };
