@@ -9,6 +9,15 @@
 //! (round to nearest; relative error ≤ 2^−(m+1), zeros stay exact), which zeroes the low bytes
 //! and roughly halves the file: with m = 12 the error is ≤ 1.2e-4 relative, two orders below the
 //! discretisation error of a 60³ CFD solution. The points are rebuilt exactly from the grid lines.
+//!
+//! The reader trusts nothing in a file: the 16-byte header is inflated first and fixes the
+//! payload size (checked arithmetic); a header that claims more than deflate's 1032:1 ratio
+//! allows for the compressed bytes present is rejected before inflating, and inflation stops
+//! one byte past the declared size (no decompression bomb). The zlib stream must end exactly
+//! there, which verifies its Adler-32 checksum of the payload, and the file must end with it.
+//! m must lie in 1..=23 and every value must have its dropped mantissa bits zero; grid lines
+//! must be finite and increasing. Files are written atomically
+//! ([`crate::output::write_atomic`]).
 
 use super::error::MeshError;
 use super::{HexMesh, MeshedFlow};

@@ -4,6 +4,12 @@
 //! classic `CELLS`/`CELL_TYPES` (VTK ≤ 5.0 layout), and `FIELD` arrays in `POINT_DATA` and
 //! `CELL_DATA`; dataset-level `FIELD` blocks (foamToVTK's `TimeValue`) are skipped. The vtkio
 //! crate (0.6.3 and 0.7.0-rc2) rejects that dataset-level block, hence this small reader.
+//!
+//! Header counts are untrusted: their products use checked arithmetic, and a block is
+//! allocated only after the file is known to hold it (binary: n·width bytes; ASCII: at least
+//! two bytes per value), so a lying header is a [`MeshError::Malformed`], never an abort.
+//! Integer blocks (connectivity, cell types) must consist of integer tokens, and every
+//! connectivity index must name an existing point.
 
 use super::error::MeshError;
 use crate::tensor::Vec3;
