@@ -97,8 +97,9 @@ impl Rng {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 
+    /// Uniform in 0..n, and 0 for n = 0 (an emptied buffer).
     fn below(&mut self, n: u64) -> u64 {
-        self.next_u64() % n
+        self.next_u64().checked_rem(n).unwrap_or(0)
     }
 
     fn chance(&mut self, p: f64) -> bool {
@@ -629,7 +630,9 @@ fn vtk_case(seed: u64) -> Outcome {
             }
             3 => {
                 let at = rng.below(bytes.len() as u64) as usize;
-                bytes[at] ^= 1 << rng.below(8);
+                if let Some(b) = bytes.get_mut(at) {
+                    *b ^= 1 << rng.below(8);
+                }
             }
             _ => {
                 let keep = rng.below(bytes.len() as u64) as usize;
@@ -728,7 +731,9 @@ fn prf_case(seed: u64) -> Outcome {
         0 => {
             for _ in 0..1 + rng.below(4) {
                 let at = rng.below(bytes.len() as u64) as usize;
-                bytes[at] ^= 1 << rng.below(8);
+                if let Some(b) = bytes.get_mut(at) {
+                    *b ^= 1 << rng.below(8);
+                }
             }
         }
         1 => bytes.truncate(rng.below(bytes.len() as u64) as usize),
@@ -745,11 +750,14 @@ fn prf_case(seed: u64) -> Outcome {
                     0 => {
                         let word = rng.below(header as u64 / 4) as usize * 4;
                         let v = rng.pick(&[0u32, 1, 2, 24, 31, 32, 1000, u32::MAX, 1 << 20, 65_536]);
-                        payload[word..word + 4].copy_from_slice(&v.to_le_bytes());
+                        // An earlier truncation may have cut the header.
+                        if let Some(slot) = payload.get_mut(word..word + 4) {
+                            slot.copy_from_slice(&v.to_le_bytes());
+                        }
                     }
                     1 => {
                         let at = rng.below(payload.len() as u64) as usize;
-                        let len = 8.min(payload.len() - at);
+                        let len = 8.min(payload.len().saturating_sub(at));
                         let v = rng.wild_signed().to_le_bytes();
                         payload[at..at + len].copy_from_slice(&v[..len]);
                     }
