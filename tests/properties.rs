@@ -121,9 +121,13 @@ fn dev_variant_can_inject_energy_through_volume_change() {
     assert!(power(VolumetricTraction::Source) < 0.0);
 }
 
-/// Volume preservation: the particle's pressure is O(μ_f γ̇), so J − 1 ≈ p/λ_s and
-/// |J − 1| ≤ C μ_f γ̇/λ_s = C·Ca·(μ_s/λ_s). C = 3 bounds the mean normal stress of the Fig. 4
-/// particle (|p̄| ≲ 2 μ_f γ̇ measured); the 1/λ_s scaling is checked by a tenfold λ_s step.
+/// Volume preservation: the solid's mean normal stress balances the fluid's, which does not
+/// depend on λ_s to leading order, so J − 1 = p/λ_s + O((p/λ_s)²): |J − 1| is proportional to
+/// 1/λ_s. A tenfold λ_s must divide max|J − 1| by 10 up to relative terms of the size of
+/// |J − 1| itself (the quadratic term, and the O(J − 1) change of the trajectory through the
+/// volumetric traction); the window allows ten times that, 10·max|J − 1|. (The former
+/// absolute bound 3·Ca/λ_s rested on a measured |p̄| ≲ 2; the scaling is the physics here.
+/// Measured: max|J − 1| = 2.8e-4 and 2.8e-5, ratio 9.990.)
 #[test]
 fn volume_is_preserved_in_proportion_to_inverse_bulk_modulus() {
     let axes = M3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0);
@@ -144,11 +148,13 @@ fn volume_is_preserved_in_proportion_to_inverse_bulk_modulus() {
             |s, _| max_dev = max_dev.max((s.det_f() - 1.0).abs()),
         )
         .unwrap();
-        assert!(max_dev <= 3.0 * ca / bulk, "|J-1| = {max_dev:e} at λ/μ = {bulk}");
         worst.push(max_dev);
     }
     let ratio = worst[0] / worst[1];
-    assert!((5.0..=20.0).contains(&ratio), "|J-1| ratio for a tenfold λ_s: {ratio}");
+    assert!(
+        (ratio / 10.0 - 1.0).abs() <= 10.0 * worst[0],
+        "|J-1| ratio for a tenfold λ_s: {ratio} ({worst:?})"
+    );
 }
 
 /// The strategies shrink where their docs say: a property that fails for every input is
