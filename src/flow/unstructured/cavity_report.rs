@@ -4,7 +4,7 @@ use super::cavity::{CavityCase, Centreline, ExtremumComparison, LinePoint, Refer
 use super::error::MeshError;
 use crate::error::FlowError;
 use crate::flow::FlowField;
-use crate::output::{OutputError, write_atomic};
+use crate::output::write_atomic;
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -34,16 +34,7 @@ pub enum ReportError {
 /// Atomic write (see [`crate::output::atomic`]): an interrupted report leaves the previous
 /// file whole.
 fn write(path: &Path, text: &str) -> Result<(), MeshError> {
-    write_atomic(path, text.as_bytes()).map_err(|e| match e {
-        OutputError::Io { path, source } => MeshError::Io {
-            path: path.display().to_string(),
-            source,
-        },
-        other => MeshError::Io {
-            path: path.display().to_string(),
-            source: std::io::Error::other(other.to_string()),
-        },
-    })
+    write_atomic(path, text.as_bytes()).map_err(MeshError::from)
 }
 
 /// `line,position,simulated,reference`: the simulated profile at [`PROFILE_SAMPLES`]

@@ -21,7 +21,7 @@
 
 use super::error::MeshError;
 use super::{HexMesh, MeshedFlow};
-use crate::output::{OutputError, write_atomic};
+use crate::output::write_atomic;
 use crate::tensor::{Mat3, Vec3};
 use flate2::Compression;
 use flate2::read::ZlibDecoder;
@@ -156,16 +156,7 @@ pub fn write(flow: &MeshedFlow, path: &Path, mantissa_bits: u32) -> Result<u64, 
     let mut z = ZlibEncoder::new(MAGIC.to_vec(), Compression::best());
     z.write_all(&payload).map_err(io_err(path))?;
     let bytes = z.finish().map_err(io_err(path))?;
-    write_atomic(path, &bytes).map_err(|e| match e {
-        OutputError::Io { path, source } => MeshError::Io {
-            path: path.display().to_string(),
-            source,
-        },
-        other => MeshError::Io {
-            path: path.display().to_string(),
-            source: std::io::Error::other(other.to_string()),
-        },
-    })?;
+    write_atomic(path, &bytes).map_err(MeshError::from)?;
     Ok(bytes.len() as u64)
 }
 
