@@ -34,6 +34,31 @@ pub enum ParamError {
         /// Largest allowed value.
         max: f64,
     },
+    /// A quantity derived from valid parameters overflows, underflows or loses its sign
+    /// (1/Ca, λ_s = ratio·μ_s, R², mass, Θ⁻¹, the rest geometry, ...).
+    #[error("derived quantity `{name}` = {value:e} is not finite and > 0 (from {inputs:?})")]
+    Derived {
+        /// Derived quantity.
+        name: &'static str,
+        /// Its computed value.
+        value: f64,
+        /// The inputs it was computed from, in the order of the docs.
+        inputs: Vec<f64>,
+    },
+    /// Arguments outside the domain of a special function (Carlson's R_F, R_D).
+    #[error("{function}({x:e}, {y:e}, {z:e}) is undefined: {reason}")]
+    OutOfDomain {
+        /// Function name.
+        function: &'static str,
+        /// First argument.
+        x: f64,
+        /// Second argument.
+        y: f64,
+        /// Third argument.
+        z: f64,
+        /// Which condition fails.
+        reason: &'static str,
+    },
     /// The initial axes are not a right-handed orthonormal triad.
     #[error("initial axes are not a rotation: |QᵀQ − 1| = {orthogonality_defect:.3e}, det = {det}")]
     NotARotation {
@@ -52,6 +77,17 @@ pub enum FlowError {
     OutsideDomain {
         /// Query point.
         x: [f64; 3],
+    },
+    /// The field's value at a valid point overflows (the parameters are too large for the
+    /// query's distance from the origin, or the flow was built from non-finite data).
+    #[error("flow at {x:?}, t = {t} is not finite: u = {u:?}")]
+    NonFiniteSample {
+        /// Query point.
+        x: [f64; 3],
+        /// Query time.
+        t: f64,
+        /// The non-finite velocity (the gradient may be the non-finite part).
+        u: [f64; 3],
     },
     /// The query itself is not finite.
     #[error("non-finite query point {x:?} at t = {t}")]
@@ -156,6 +192,19 @@ pub enum StepError {
     /// Invalid parameters were passed to the step.
     #[error(transparent)]
     Param(#[from] ParamError),
+}
+
+/// Check that a derived quantity is finite and strictly positive; `inputs` explain it.
+pub fn derived(name: &'static str, value: f64, inputs: &[f64]) -> Result<f64, ParamError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(ParamError::Derived {
+            name,
+            value,
+            inputs: inputs.to_vec(),
+        })
+    }
 }
 
 /// Check that `value` is finite and strictly positive.

@@ -84,3 +84,12 @@ pub fn lift<S: Scalar>(a: &Mat3) -> Mat3<S> {
 pub fn all_finite<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>) -> bool {
     a.iter().all(|x| x.is_finite())
 }
+
+/// Largest of `values` (0 for none), NaN if any is NaN. `fold(0.0, f64::max)` would drop a NaN
+/// (IEEE `maxNum` returns the other operand) and report a poisoned error norm as small.
+pub fn max_or_nan(values: impl IntoIterator<Item = f64>) -> f64 {
+    values.into_iter().fold(
+        0.0,
+        |m: f64, v| if m.is_nan() || v.is_nan() { f64::NAN } else { m.max(v) },
+    )
+}

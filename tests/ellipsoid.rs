@@ -31,14 +31,18 @@ fn sphere_closed_forms() {
 #[test]
 fn carlson_special_values() {
     // R_F(x,x,x) = x^{-1/2}, R_D(x,x,x) = x^{-3/2}; R_F(0,1,2) = 1.3110287771461 (Carlson 1995 Table).
-    assert_relative_eq!(carlson_rf(4.0, 4.0, 4.0), 0.5, max_relative = 1e-15);
-    assert_relative_eq!(carlson_rd(4.0, 4.0, 4.0), 0.125, max_relative = 1e-15);
+    assert_relative_eq!(carlson_rf(4.0, 4.0, 4.0).unwrap(), 0.5, max_relative = 1e-15);
+    assert_relative_eq!(carlson_rd(4.0, 4.0, 4.0).unwrap(), 0.125, max_relative = 1e-15);
     assert_relative_eq!(
-        carlson_rf(1e-300_f64.max(0.0), 1.0, 2.0),
+        carlson_rf(1e-300_f64.max(0.0), 1.0, 2.0).unwrap(),
         1.3110287771461,
         max_relative = 1e-12
     );
-    assert_relative_eq!(carlson_rd(0.0, 2.0, 1.0), 1.7972103521034, max_relative = 1e-12);
+    assert_relative_eq!(
+        carlson_rd(0.0, 2.0, 1.0).unwrap(),
+        1.7972103521034,
+        max_relative = 1e-12
+    );
 }
 
 #[test]

@@ -44,9 +44,13 @@ proptest! {
 
     /// Relaxation (inertialess): a deformed, volume-preserving F in quiescent fluid returns to
     /// a rotation (FᵀF → 1) and the elastic energy never increases (a gradient flow:
-    /// dW/dt = −(viscous dissipation) ≤ 0). Per step the energy may rise only by the local
-    /// error, bounded by rtol·W; after 40 time units (≥ 8 relaxation times ~ Ca·O(10))
-    /// |FᵀF − 1| has decayed below 1e-3.
+    /// dW/dt = −(viscous dissipation) ≤ 0). Per step the energy may rise only through the
+    /// local error: the controller keeps every |δF_ij| ≤ tol (1 + |F_ij|) (rtol = atol = tol)
+    /// for its error estimate, so to first order the rise is ≤ vol(B₀) Σ|P_ij| tol (1 + max|F|);
+    /// the factor 2 covers the estimate being exact only to leading order in h. Evaluating
+    /// W itself rounds each of its terms by ε: 64 ε times their magnitudes covers that once
+    /// the stress (and so the first bound) has decayed. After 40 time units (≥ 8 relaxation
+    /// times ~ Ca·O(10)) |FᵀF − 1| has decayed below 1e-3.
     #[test]
     fn stokesian_relaxation_to_rotation(f0 in strategies::deformation(), shape in strategies::semi_axes(3.0), axes in strategies::rotation()) {
         let f0 = f0 / f0.determinant().cbrt();
@@ -57,7 +61,11 @@ proptest! {
         let tol = 1e-8;
         let (end, _) = run(&Stokesian::overdamped(tol).unwrap(), &p, s, &Quiescent, 1e-2, &[40.0], |_| {}, |st, _| {
             let e = p.elastic_energy(&st.f);
-            assert!(e <= energy + 10.0 * tol * energy.max(1e-3), "energy rose from {energy} to {e} at t = {}", st.t);
+            let (mu, lambda, ln_j) = (p.material().shear_modulus(), p.material().lame_lambda(), st.det_f().ln());
+            let local = 2.0 * tol * (1.0 + st.f.amax()) * p.material().piola(&st.f).abs().sum() * p.volume0();
+            let terms = 0.5 * mu * (st.f.norm_squared() + 3.0) + mu * ln_j.abs() + 0.5 * lambda * ln_j * ln_j;
+            let round_off = 64.0 * f64::EPSILON * terms * p.volume0();
+            assert!(e <= energy + local + round_off, "energy rose from {energy} to {e} at t = {}", st.t);
             energy = e;
         }).unwrap();
         let c = end.f.transpose() * end.f;
@@ -113,9 +121,13 @@ fn dev_variant_can_inject_energy_through_volume_change() {
     assert!(power(VolumetricTraction::Source) < 0.0);
 }
 
-/// Volume preservation: the particle's pressure is O(μ_f γ̇), so J − 1 ≈ p/λ_s and
-/// |J − 1| ≤ C μ_f γ̇/λ_s = C·Ca·(μ_s/λ_s). C = 3 bounds the mean normal stress of the Fig. 4
-/// particle (|p̄| ≲ 2 μ_f γ̇ measured); the 1/λ_s scaling is checked by a tenfold λ_s step.
+/// Volume preservation: the solid's mean normal stress balances the fluid's, which does not
+/// depend on λ_s to leading order, so J − 1 = p/λ_s + O((p/λ_s)²): |J − 1| is proportional to
+/// 1/λ_s. A tenfold λ_s must divide max|J − 1| by 10 up to relative terms of the size of
+/// |J − 1| itself (the quadratic term, and the O(J − 1) change of the trajectory through the
+/// volumetric traction); the window allows ten times that, 10·max|J − 1|. (The former
+/// absolute bound 3·Ca/λ_s rested on a measured |p̄| ≲ 2; the scaling is the physics here.
+/// Measured: max|J − 1| = 2.8e-4 and 2.8e-5, ratio 9.990.)
 #[test]
 fn volume_is_preserved_in_proportion_to_inverse_bulk_modulus() {
     let axes = M3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0);
@@ -136,11 +148,31 @@ fn volume_is_preserved_in_proportion_to_inverse_bulk_modulus() {
             |s, _| max_dev = max_dev.max((s.det_f() - 1.0).abs()),
         )
         .unwrap();
-        assert!(max_dev <= 3.0 * ca / bulk, "|J-1| = {max_dev:e} at λ/μ = {bulk}");
         worst.push(max_dev);
     }
     let ratio = worst[0] / worst[1];
-    assert!((5.0..=20.0).contains(&ratio), "|J-1| ratio for a tenfold λ_s: {ratio}");
+    assert!(
+        (ratio / 10.0 - 1.0).abs() <= 10.0 * worst[0],
+        "|J-1| ratio for a tenfold λ_s: {ratio} ({worst:?})"
+    );
+}
+
+/// The strategies shrink where their docs say: a property that fails for every input is
+/// reported with the minimal input proptest finds, which must be 0 for `normal()` and the
+/// identity for `rotation()` (the shrunk value is exact: u₁ = 0 gives n = 0 exactly).
+#[test]
+fn strategies_shrink_as_documented() {
+    use proptest::test_runner::{TestError, TestRunner};
+    let mut runner = TestRunner::deterministic();
+    match runner.run(&strategies::normal(), |_| Err(TestCaseError::fail("always"))) {
+        Err(TestError::Fail(_, n)) => assert_eq!(n, 0.0, "normal() shrank to {n}"),
+        other => panic!("{other:?}"),
+    }
+    let mut runner = TestRunner::deterministic();
+    match runner.run(&strategies::rotation(), |_| Err(TestCaseError::fail("always"))) {
+        Err(TestError::Fail(_, r)) => assert_eq!(r, M3::identity(), "rotation() shrank to {r}"),
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]

@@ -45,7 +45,21 @@ fn oblate_2_5_tumbles_at_0_4_and_trembles_at_0_5() {
     assert_eq!(tu.regime, Regime::Tumbling, "{tu:?}");
     assert_eq!(tr.regime, Regime::Trembling, "{tr:?}");
     assert!(tu.margin > 0.03 && tr.margin < -0.01, "{tu:?} {tr:?}");
-    assert!(tu.horizon >= 30.0);
+    // The horizon of 8 half Jeffery periods captures the minimum: doubling it leaves the
+    // regimes, and the margins move by no more than the integration error (< 1e-5, see the
+    // convergence test). (Asserting `horizon ≥ 30` could not fail: it is max(30, ·).)
+    let long = RegimeClassifier {
+        periods: 16.0,
+        ..RegimeClassifier::stokesian(1e-7).unwrap()
+    };
+    for (short, ca) in [(&tu, 0.4), (&tr, 0.5)] {
+        let l = long
+            .classify(&ShearShape::oblate(2.5), &stokesian_scaling(ca).unwrap())
+            .unwrap();
+        assert!(l.horizon >= 2.0 * short.horizon - 1e-9, "{l:?}");
+        assert_eq!(l.regime, short.regime);
+        assert!((l.margin - short.margin).abs() <= 1e-5, "{l:?} vs {short:?}");
+    }
 }
 
 /// Fig. 4 caption: the first maxima of ω₁ are at t̂ ≈ 7 (Ca 0.4) and ≈ 7.5 (Ca 0.5). The paper
@@ -150,10 +164,10 @@ fn margin_refinement_makes_sampling_density_irrelevant() {
     assert!((sparse.margin - dense.margin).abs() <= 1e-9, "{sparse:?} {dense:?}");
 }
 
-/// The paper's IMEX scheme with inertia (ρ* = 0.1, Δt = ρ*/200, λ_s/μ_s = 1e3: stable by
-/// physics.md §7) gives the same regimes on the Fig. 4 case as the inertialess integrator,
+/// The paper's IMEX scheme with inertia (ρ* = 0.1, Δt = ρ*/200, λ_s/μ_s = 1e3: inside the
+/// explicit viscous limit ρ*/37 of the oblate 2.5) gives the same regimes on the Fig. 4 case as the inertialess integrator,
 /// and margins within 1e-4 (inertia O(ρ*) and the O(Δt) scheme shift them by ~3e-5; the
-/// boundary moves < 1e-3 in Ca for ρ* ∈ [0.1, 10], physics.md §7).
+/// boundary moves < 1e-3 in Ca for ρ* ∈ [0.1, 10]).
 #[test]
 fn paper_imex_agrees_on_the_fig4_regimes() {
     let rho_star = 0.1;

@@ -18,26 +18,83 @@
 //! algorithm. There is no cancellation at any separation, so the near-degenerate branch of
 //! physics.md §4 (O(δ²) error) is not needed; tests check 1e-12 against quadrature.
 
-use crate::tensor::{Scalar, Vec3};
+use crate::error::ParamError;
+use crate::tensor::{Scalar, Vec3, max_or_nan};
 use num_dual::Dual64;
 
 /// Relative spread of the duplication arguments at which the Taylor tail is used: the
 /// neglected terms are O(δ⁶) ≈ 1e-20.
 const DUPLICATION_SPREAD: f64 = 5e-4;
 
+/// Cap on duplication steps. Each step divides the spread |A − x_i| by at least 4 (Carlson
+/// 1995, eq. 2.4), and for admissible arguments the relative spread starts below 3 (all
+/// x_i ≥ 0 gives |A − x_i| ≤ 2A for R_F, ≤ 4A for R_D), so 4⁻ⁿ·4 ≤ 5e-4 after n = 7 steps;
+/// dynamic ranges of 1e600 between the arguments add log₄ of that ratio, under 500. The cap is
+/// a guard, never reached by admissible input (the fuzz harness checks this).
+const MAX_DUPLICATIONS: usize = 1000;
+
+/// Arguments above this make the first mean (x + y + 3z)/5 overflow.
+const MAX_ARGUMENT: f64 = f64::MAX / 8.0;
+
+/// Domain check shared by R_F and R_D: finite, ≥ 0, not too large, and at most one zero among
+/// the arguments that may vanish (two zeros make the integral diverge).
+fn check_domain(function: &'static str, x: f64, y: f64, z: f64, z_may_vanish: bool) -> Result<(), ParamError> {
+    let err = |reason| ParamError::OutOfDomain {
+        function,
+        x,
+        y,
+        z,
+        reason,
+    };
+    if ![x, y, z]
+        .iter()
+        .all(|v| v.is_finite() && (0.0..=MAX_ARGUMENT).contains(v))
+    {
+        return Err(err("arguments must be finite, >= 0 and below f64::MAX/8"));
+    }
+    let zeros = [x, y].iter().filter(|&&v| v == 0.0).count() + usize::from(z == 0.0);
+    if !z_may_vanish && z == 0.0 {
+        return Err(err("the last argument must be > 0"));
+    }
+    if zeros > 1 {
+        return Err(err("at most one argument may be zero"));
+    }
+    Ok(())
+}
+
+/// `Ok(value)` unless it overflowed (tiny arguments: R_D ~ z^{-3/2}).
+fn finite_result<S: Scalar>(function: &'static str, value: S, [x, y, z]: [f64; 3]) -> Result<S, ParamError> {
+    if value.re().is_finite() {
+        Ok(value)
+    } else {
+        Err(ParamError::OutOfDomain {
+            function,
+            x,
+            y,
+            z,
+            reason: "the value overflows f64",
+        })
+    }
+}
+
 /// Carlson's R_F(x, y, z) = ½ ∫₀^∞ dt / √((t+x)(t+y)(t+z)) (Carlson 1995, duplication).
-pub fn carlson_rf<S: Scalar>(x: S, y: S, z: S) -> S {
+///
+/// Defined for finite x, y, z ≥ 0 with at most one zero; anything else (NaN, ∞, a negative
+/// argument) is a [`ParamError::OutOfDomain`]. The duplication loop is capped.
+pub fn carlson_rf<S: Scalar>(x: S, y: S, z: S) -> Result<S, ParamError> {
+    let [x0, y0, z0] = [x.re(), y.re(), z.re()];
+    check_domain("R_F", x0, y0, z0, true)?;
     let (mut x, mut y, mut z) = (x, y, z);
-    loop {
+    for _ in 0..MAX_DUPLICATIONS {
         let a = (x + y + z) / 3.0;
-        let spread = [x, y, z].iter().map(|v| (a.re() - v.re()).abs()).fold(0.0, f64::max);
+        let spread = max_or_nan([x, y, z].iter().map(|v| (a.re() - v.re()).abs()));
         if spread <= DUPLICATION_SPREAD * a.re().abs() {
             let (dx, dy) = ((a - x) / a, (a - y) / a);
             let dz = -(dx + dy);
             let e2 = dx * dy - dz * dz;
             let e3 = dx * dy * dz;
             let series = S::one() - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - e2 * e3 * (3.0 / 44.0);
-            return series / a.sqrt();
+            return finite_result("R_F", series / a.sqrt(), [x0, y0, z0]);
         }
         let (sx, sy, sz) = (x.sqrt(), y.sqrt(), z.sqrt());
         let lambda = sx * sy + sy * sz + sz * sx;
@@ -45,16 +102,28 @@ pub fn carlson_rf<S: Scalar>(x: S, y: S, z: S) -> S {
         y = (y + lambda) * 0.25;
         z = (z + lambda) * 0.25;
     }
+    Err(ParamError::OutOfDomain {
+        function: "R_F",
+        x: x.re(),
+        y: y.re(),
+        z: z.re(),
+        reason: "duplication did not converge",
+    })
 }
 
 /// Carlson's R_D(x, y, z) = (3/2) ∫₀^∞ dt / (√((t+x)(t+y)) (t+z)^{3/2}) (Carlson 1995).
-pub fn carlson_rd<S: Scalar>(x: S, y: S, z: S) -> S {
+///
+/// Defined for finite x, y ≥ 0 (at most one zero) and z > 0; anything else is a
+/// [`ParamError::OutOfDomain`]. The duplication loop is capped.
+pub fn carlson_rd<S: Scalar>(x: S, y: S, z: S) -> Result<S, ParamError> {
+    let [x0, y0, z0] = [x.re(), y.re(), z.re()];
+    check_domain("R_D", x0, y0, z0, false)?;
     let (mut x, mut y, mut z) = (x, y, z);
     let mut sum = S::zero();
     let mut scale = 1.0;
-    loop {
+    for _ in 0..MAX_DUPLICATIONS {
         let a = (x + y + z * 3.0) / 5.0;
-        let spread = [x, y, z].iter().map(|v| (a.re() - v.re()).abs()).fold(0.0, f64::max);
+        let spread = max_or_nan([x, y, z].iter().map(|v| (a.re() - v.re()).abs()));
         if spread <= DUPLICATION_SPREAD * a.re().abs() {
             let (dx, dy) = ((a - x) / a, (a - y) / a);
             let dz = -(dx + dy) / 3.0;
@@ -68,7 +137,7 @@ pub fn carlson_rd<S: Scalar>(x: S, y: S, z: S) -> S {
                 - e4 * (3.0 / 22.0)
                 - e2 * e3 * (9.0 / 52.0)
                 + e5 * (3.0 / 26.0);
-            return series * scale / (a * a.sqrt()) + sum * 3.0;
+            return finite_result("R_D", series * scale / (a * a.sqrt()) + sum * 3.0, [x0, y0, z0]);
         }
         let (sx, sy, sz) = (x.sqrt(), y.sqrt(), z.sqrt());
         let lambda = sx * sy + sy * sz + sz * sx;
@@ -78,6 +147,13 @@ pub fn carlson_rd<S: Scalar>(x: S, y: S, z: S) -> S {
         y = (y + lambda) * 0.25;
         z = (z + lambda) * 0.25;
     }
+    Err(ParamError::OutOfDomain {
+        function: "R_D",
+        x: x.re(),
+        y: y.re(),
+        z: z.re(),
+        reason: "duplication did not converge",
+    })
 }
 
 /// Jeffery's integrals of the current ellipsoid, indexed like its semi-axes.
@@ -101,14 +177,34 @@ pub struct EllipsoidIntegrals {
 
 impl EllipsoidIntegrals {
     /// Integrals for semi-axes `r` (all finite and > 0; the frame guarantees this for det F > 0).
+    ///
+    /// Invalid semi-axes (NaN, ∞, ≤ 0, or squares that overflow or vanish) give integrals that
+    /// are all NaN, promptly: this is the non-panicking path for hot loops whose input was
+    /// validated upstream. Use [`EllipsoidIntegrals::try_new`] to get the typed error instead.
     pub fn new(r: &Vec3) -> Self {
+        Self::try_new(r).unwrap_or(Self {
+            x: r.component_mul(r),
+            abc: r.product(),
+            chi0: f64::NAN,
+            alpha: Vec3::repeat(f64::NAN),
+            alpha_p: Vec3::repeat(f64::NAN),
+            alpha_pp: Vec3::repeat(f64::NAN),
+        })
+    }
+
+    /// Integrals for semi-axes `r`, or the reason they do not exist in f64: a semi-axis that is
+    /// not finite and > 0, a square r² that overflows or underflows, or a non-finite integral.
+    pub fn try_new(r: &Vec3) -> Result<Self, ParamError> {
+        for &ri in r.iter() {
+            crate::error::derived("semi-axis squared r²", ri * ri, &[ri])?;
+        }
         let x = r.component_mul(r);
         let mut alpha = Vec3::zeros();
         let mut alpha_p = Vec3::zeros();
         // α_i = (2/3) R_D(x_j, x_k, x_i); differentiating in x_j gives α' of the pair (i, j).
         for i in 0..3 {
             let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            let rd = carlson_rd(Dual64::new(x[j], 1.0), Dual64::from(x[k]), Dual64::from(x[i]));
+            let rd = carlson_rd(Dual64::new(x[j], 1.0), Dual64::from(x[k]), Dual64::from(x[i]))?;
             alpha[i] = 2.0 / 3.0 * rd.re;
             alpha_p[k] = -4.0 / 3.0 * rd.eps;
         }
@@ -117,13 +213,26 @@ impl EllipsoidIntegrals {
             let (i, j) = ((k + 1) % 3, (k + 2) % 3);
             alpha_pp[k] = alpha[i] - x[j] * alpha_p[k];
         }
-        Self {
+        let ints = Self {
             x,
             abc: r.product(),
-            chi0: 2.0 * carlson_rf(x[0], x[1], x[2]),
+            chi0: 2.0 * carlson_rf(x[0], x[1], x[2])?,
             alpha,
             alpha_p,
             alpha_pp,
+        };
+        let values = [ints.abc, ints.chi0]
+            .into_iter()
+            .chain(alpha.iter().chain(&alpha_p).chain(&alpha_pp).copied());
+        for v in values {
+            if !v.is_finite() {
+                return Err(ParamError::Derived {
+                    name: "Jeffery integral",
+                    value: v,
+                    inputs: r.iter().copied().collect(),
+                });
+            }
         }
+        Ok(ints)
     }
 }

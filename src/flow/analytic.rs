@@ -28,12 +28,44 @@ impl FlowField for Quiescent {
 }
 
 /// Linear flow u = u₀ + L·x with a constant gradient L (shear, extensions, any combination).
+///
+/// The fields are public for reading; deserialisation goes through [`LinearFlow::new`], and
+/// [`FlowField::sample`] rejects a non-finite result (a far query point, or a hand-built value)
+/// with [`FlowError::NonFiniteSample`].
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[serde(try_from = "LinearFlowRaw")]
 pub struct LinearFlow {
     /// Velocity at the origin.
     pub u0: Vec3,
     /// Constant velocity gradient L.
     pub grad_u: Mat3,
+}
+
+/// The serialised form of a [`LinearFlow`] (unchecked).
+#[derive(Deserialize)]
+struct LinearFlowRaw {
+    u0: Vec3,
+    grad_u: Mat3,
+}
+
+impl TryFrom<LinearFlowRaw> for LinearFlow {
+    type Error = ParamError;
+    fn try_from(raw: LinearFlowRaw) -> Result<Self, ParamError> {
+        Self::new(raw.u0, raw.grad_u)
+    }
+}
+
+/// `Ok(sample)` when u and ∇u are finite, else the typed error with the numbers.
+fn finite_sample(sample: FlowSample, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+    if sample.u.iter().chain(sample.grad_u.iter()).all(|c| c.is_finite()) {
+        Ok(sample)
+    } else {
+        Err(FlowError::NonFiniteSample {
+            x: [x[0], x[1], x[2]],
+            t,
+            u: [sample.u[0], sample.u[1], sample.u[2]],
+        })
+    }
 }
 
 impl LinearFlow {
@@ -83,15 +115,20 @@ impl LinearFlow {
 impl FlowField for LinearFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         check_query(x, t)?;
-        Ok(FlowSample {
+        let sample = FlowSample {
             u: self.u0 + self.grad_u * x,
             grad_u: self.grad_u,
-        })
+        };
+        finite_sample(sample, x, t)
     }
 }
 
 /// Hagen–Poiseuille flow in a straight circular pipe whose axis is the x₁ axis.
+///
+/// The fields are public for reading; deserialisation goes through [`Poiseuille::new`], and
+/// sampling rejects a non-finite result.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[serde(try_from = "PoiseuilleRaw")]
 pub struct Poiseuille {
     /// Pipe radius R.
     pub radius: f64,
@@ -99,36 +136,55 @@ pub struct Poiseuille {
     pub mean_velocity: f64,
 }
 
+/// The serialised form of a [`Poiseuille`] flow (unchecked).
+#[derive(Deserialize)]
+struct PoiseuilleRaw {
+    radius: f64,
+    mean_velocity: f64,
+}
+
+impl TryFrom<PoiseuilleRaw> for Poiseuille {
+    type Error = ParamError;
+    fn try_from(raw: PoiseuilleRaw) -> Result<Self, ParamError> {
+        Self::new(raw.radius, raw.mean_velocity)
+    }
+}
+
 impl Poiseuille {
-    /// Pipe of radius `radius` with bulk velocity `mean_velocity`.
+    /// Pipe of radius `radius` with bulk velocity `mean_velocity`. The centreline velocity 2Ū
+    /// and the wall shear rate 4|Ū|/R must be finite (they bound u and ∇u in the pipe).
     pub fn new(radius: f64, mean_velocity: f64) -> Result<Self, ParamError> {
-        Ok(Self {
-            radius: positive("pipe radius", radius)?,
-            mean_velocity: finite("mean velocity", mean_velocity)?,
-        })
+        let radius = positive("pipe radius", radius)?;
+        let mean_velocity = finite("mean velocity", mean_velocity)?;
+        finite("centreline velocity 2U", 2.0 * mean_velocity)?;
+        finite("wall shear rate 4U/R", 4.0 * mean_velocity / radius)?;
+        Ok(Self { radius, mean_velocity })
     }
 
     /// Wall shear rate magnitude at distance `r` from the axis, |du/dr| = 4Ū r / R².
     pub fn shear_rate(&self, r: f64) -> f64 {
-        4.0 * self.mean_velocity * r / (self.radius * self.radius)
+        4.0 * self.mean_velocity / self.radius * (r / self.radius)
     }
 }
 
 impl FlowField for Poiseuille {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         check_query(x, t)?;
-        let r2 = x[1] * x[1] + x[2] * x[2];
-        let rr = self.radius * self.radius;
-        if r2 > rr {
+        // Coordinates in units of R: R² may overflow (R = 1e155) where (x/R)² cannot.
+        let (y, z) = (x[1] / self.radius, x[2] / self.radius);
+        let rho2 = y * y + z * z;
+        if rho2 > 1.0 {
             return Err(FlowError::outside(x));
         }
         let umax = 2.0 * self.mean_velocity;
+        let wall_rate = 2.0 * umax / self.radius;
         let mut grad_u = Mat3::zeros();
-        grad_u[(0, 1)] = -2.0 * umax * x[1] / rr;
-        grad_u[(0, 2)] = -2.0 * umax * x[2] / rr;
-        Ok(FlowSample {
-            u: Vec3::new(umax * (1.0 - r2 / rr), 0.0, 0.0),
+        grad_u[(0, 1)] = -wall_rate * y;
+        grad_u[(0, 2)] = -wall_rate * z;
+        let sample = FlowSample {
+            u: Vec3::new(umax * (1.0 - rho2), 0.0, 0.0),
             grad_u,
-        })
+        };
+        finite_sample(sample, x, t)
     }
 }

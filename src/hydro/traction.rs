@@ -94,6 +94,15 @@ impl JefferyRoscoe {
         Self::new(&frame, &EllipsoidIntegrals::new(&frame.r))
     }
 
+    /// Whether every coefficient is finite (false for an ellipsoid too slender for f64).
+    pub fn is_finite(&self) -> bool {
+        [self.c_d, self.c_w, self.c_diag]
+            .iter()
+            .flat_map(|m| m.iter())
+            .chain(&self.c_p)
+            .all(|c| c.is_finite())
+    }
+
     /// The principal frame the coefficients belong to.
     pub fn frame(&self) -> &PrincipalFrame {
         &self.frame

@@ -9,16 +9,42 @@
 //! μ_s = μ₁ + μ₂ and μ₂ = 0 recovers Neo-Hooke (eq. 9). P and the tangent come from AD.
 
 use super::Hyperelastic;
-use crate::error::{ParamError, positive};
+use crate::error::{ParamError, derived, positive};
 use crate::tensor::{Mat3, Scalar, det3};
 use serde::{Deserialize, Serialize};
 
 /// Mooney–Rivlin law with moduli μ₁, μ₂ and Lamé parameter λ.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "MooneyRivlinRaw", into = "MooneyRivlinRaw")]
 pub struct MooneyRivlin {
     mu1: f64,
     mu2: f64,
     lambda: f64,
+}
+
+/// The serialised form of a [`MooneyRivlin`] (unchecked).
+#[derive(Serialize, Deserialize)]
+struct MooneyRivlinRaw {
+    mu1: f64,
+    mu2: f64,
+    lambda: f64,
+}
+
+impl TryFrom<MooneyRivlinRaw> for MooneyRivlin {
+    type Error = ParamError;
+    fn try_from(raw: MooneyRivlinRaw) -> Result<Self, ParamError> {
+        Self::new(raw.mu1, raw.mu2, raw.lambda)
+    }
+}
+
+impl From<MooneyRivlin> for MooneyRivlinRaw {
+    fn from(m: MooneyRivlin) -> Self {
+        Self {
+            mu1: m.mu1,
+            mu2: m.mu2,
+            lambda: m.lambda,
+        }
+    }
 }
 
 impl MooneyRivlin {
@@ -30,8 +56,10 @@ impl MooneyRivlin {
                 value: mu2,
             });
         }
+        let mu1 = positive("mu1", mu1)?;
+        derived("mu_s = mu1 + mu2", mu1 + mu2, &[mu1, mu2])?;
         Ok(Self {
-            mu1: positive("mu1", mu1)?,
+            mu1,
             mu2,
             lambda: positive("lambda", lambda)?,
         })

@@ -8,15 +8,39 @@
 //! both against AD of W.
 
 use super::Hyperelastic;
-use crate::error::{ParamError, positive};
+use crate::error::{ParamError, derived, positive};
 use crate::tensor::{Mat3, Mat9, Scalar, det3};
 use serde::{Deserialize, Serialize};
 
 /// Neo-Hooke law with shear modulus μ_s and Lamé parameter λ_s.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "NeoHookeRaw", into = "NeoHookeRaw")]
 pub struct NeoHooke {
     mu: f64,
     lambda: f64,
+}
+
+/// The serialised form of a [`NeoHooke`] (unchecked).
+#[derive(Serialize, Deserialize)]
+struct NeoHookeRaw {
+    mu: f64,
+    lambda: f64,
+}
+
+impl TryFrom<NeoHookeRaw> for NeoHooke {
+    type Error = ParamError;
+    fn try_from(raw: NeoHookeRaw) -> Result<Self, ParamError> {
+        Self::new(raw.mu, raw.lambda)
+    }
+}
+
+impl From<NeoHooke> for NeoHookeRaw {
+    fn from(m: NeoHooke) -> Self {
+        Self {
+            mu: m.mu,
+            lambda: m.lambda,
+        }
+    }
 }
 
 impl NeoHooke {
@@ -31,8 +55,12 @@ impl NeoHooke {
     /// Nondimensional solid for capillary number `ca` (μ_s = 1/Ca in units μ_f γ̇) and
     /// bulk ratio λ_s/μ_s.
     pub fn from_capillary(ca: f64, bulk_ratio: f64) -> Result<Self, ParamError> {
-        let mu = 1.0 / positive("Ca", ca)?;
-        Self::new(mu, mu * positive("lambda_s/mu_s", bulk_ratio)?)
+        let (ca, ratio) = (positive("Ca", ca)?, positive("lambda_s/mu_s", bulk_ratio)?);
+        let mu = derived("mu_s = 1/Ca", 1.0 / ca, &[ca])?;
+        Self::new(
+            mu,
+            derived("lambda_s = (lambda_s/mu_s) mu_s", ratio * mu, &[ratio, mu])?,
+        )
     }
 }
 

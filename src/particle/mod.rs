@@ -53,7 +53,9 @@ impl State {
         self.f.determinant()
     }
 
-    /// Reject NaN/∞ anywhere in the state and det F ≤ 0.
+    /// Reject NaN/∞ anywhere in the state, det F ≤ 0, and an F whose stretches do not fit
+    /// in f64: b = F Fᵀ (its eigenvalues are the squared stretches) must be finite and det F
+    /// a normal number, else the principal frame of F is NaN.
     pub fn validate(&self) -> Result<(), StepError> {
         let finite = self.t.is_finite()
             && self.x.iter().chain(self.v.iter()).all(|c| c.is_finite())
@@ -68,6 +70,12 @@ impl State {
         let det_f = self.det_f();
         if det_f <= 0.0 {
             return Err(StepError::Inverted { det_f, t: self.t });
+        }
+        if det_f < f64::MIN_POSITIVE || !det_f.is_finite() || !all_finite(&(self.f * self.f.transpose())) {
+            return Err(StepError::NonFinite {
+                what: "stretches of F (F Fᵀ or det F out of f64 range)",
+                t: self.t,
+            });
         }
         Ok(())
     }

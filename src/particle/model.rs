@@ -2,20 +2,38 @@
 //! mass m = ρ₀ vol(B₀) and Euler tensor Θ = (m/5) S Sᵀ (paper eq. 8).
 
 use super::dynamics::Geometry;
-use crate::ellipsoid::Ellipsoid;
-use crate::error::{ParamError, finite, positive};
-use crate::hydro::{Brenner, DragModel, VolumetricTraction};
+use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
+use crate::error::{ParamError, derived, finite, positive};
+use crate::hydro::{Brenner, DragModel, JefferyRoscoe, VolumetricTraction};
 use crate::material::Hyperelastic;
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 
 /// Carrier fluid: dynamic viscosity μ_f and density ρ_f.
+///
+/// The fields are public for reading; deserialisation goes through [`Fluid::new`], and
+/// [`Particle::with_drag`] checks them again, so a hand-built invalid value cannot reach a step.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "FluidRaw")]
 pub struct Fluid {
     /// Dynamic viscosity μ_f.
     pub mu: f64,
     /// Density ρ_f.
     pub rho: f64,
+}
+
+/// The serialised form of a [`Fluid`] (unchecked).
+#[derive(Deserialize)]
+struct FluidRaw {
+    mu: f64,
+    rho: f64,
+}
+
+impl TryFrom<FluidRaw> for Fluid {
+    type Error = ParamError;
+    fn try_from(raw: FluidRaw) -> Result<Self, ParamError> {
+        Self::new(raw.mu, raw.rho)
+    }
 }
 
 impl Fluid {
@@ -62,14 +80,15 @@ impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
     /// Particle with an explicit drag model.
     pub fn with_drag(shape: Ellipsoid, material: M, drag: D, fluid: Fluid, rho_solid: f64) -> Result<Self, ParamError> {
         let rho_solid = positive("rho_s", rho_solid)?;
+        // Public fields: a hand-built fluid has not been through Fluid::new.
+        let fluid = Fluid::new(fluid.mu, fluid.rho)?;
+        positive("shear modulus mu_s", material.shear_modulus())?;
+        finite("Lame parameter lambda_s", material.lame_lambda())?;
         let s = shape.shape_tensor();
         let volume0 = shape.volume();
-        let mass = rho_solid * volume0;
-        let theta_inv = shape.euler_tensor(mass).try_inverse().ok_or(ParamError::NotPositive {
-            name: "det Theta",
-            value: 0.0,
-        })?;
-        Ok(Self {
+        let mass = derived("mass m = rho_s vol(B0)", rho_solid * volume0, &[rho_solid, volume0])?;
+        let theta_inv = shape.euler_tensor_inverse(mass)?;
+        let particle = Self {
             shape,
             material,
             drag,
@@ -81,7 +100,31 @@ impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
             mass,
             volume0,
             theta_inv,
-        })
+        };
+        particle.check_rest_geometry()?;
+        Ok(particle)
+    }
+
+    /// The rest state's integrals, traction coefficients and drag must be finite: an ellipsoid
+    /// whose R_a² are representable can still be too slender for Jeffery's integrals.
+    fn check_rest_geometry(&self) -> Result<(), ParamError> {
+        let frame = PrincipalFrame::from_total_distortion(&self.s);
+        let ints = EllipsoidIntegrals::try_new(&frame.r)?;
+        let traction_ok = JefferyRoscoe::new(&frame, &ints).is_finite();
+        let drag = self.drag.resistance(&frame, &ints);
+        match drag.iter().find(|c| !c.is_finite()) {
+            Some(&value) => Err(ParamError::Derived {
+                name: "rest drag tensor K",
+                value,
+                inputs: self.shape.semi_axes().iter().copied().collect(),
+            }),
+            None if !traction_ok => Err(ParamError::Derived {
+                name: "rest traction coefficients",
+                value: f64::NAN,
+                inputs: self.shape.semi_axes().iter().copied().collect(),
+            }),
+            None => Ok(()),
+        }
     }
 
     /// Set the gravitational acceleration g.

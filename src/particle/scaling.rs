@@ -6,31 +6,81 @@
 
 use super::{Fluid, Particle};
 use crate::ellipsoid::Ellipsoid;
-use crate::error::{ParamError, positive};
+use crate::error::{ParamError, derived, positive};
 use crate::material::NeoHooke;
 use serde::{Deserialize, Serialize};
 
 /// Capillary number, dimensionless density and bulk ratio of a neutrally buoyant particle.
+///
+/// Built only through [`ShearScaling::new`] (deserialisation included), which also checks the
+/// derived moduli μ_s = 1/Ca and λ_s = (λ_s/μ_s)·μ_s, so [`ShearScaling::neo_hooke`] cannot fail.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "ShearScalingRaw", into = "ShearScalingRaw")]
 pub struct ShearScaling {
-    /// Ca = μ_f γ̇ / μ_s.
-    pub ca: f64,
-    /// ρ* = ρ_s γ̇ d_eq² / μ_f.
-    pub rho_star: f64,
-    /// λ_s / μ_s.
-    pub bulk_ratio: f64,
+    ca: f64,
+    rho_star: f64,
+    bulk_ratio: f64,
+    solid: NeoHooke,
+}
+
+/// The serialised form of [`ShearScaling`] (unchecked).
+#[derive(Serialize, Deserialize)]
+struct ShearScalingRaw {
+    ca: f64,
+    rho_star: f64,
+    bulk_ratio: f64,
+}
+
+impl TryFrom<ShearScalingRaw> for ShearScaling {
+    type Error = ParamError;
+    fn try_from(raw: ShearScalingRaw) -> Result<Self, ParamError> {
+        Self::new(raw.ca, raw.rho_star, raw.bulk_ratio)
+    }
+}
+
+impl From<ShearScaling> for ShearScalingRaw {
+    fn from(s: ShearScaling) -> Self {
+        Self {
+            ca: s.ca,
+            rho_star: s.rho_star,
+            bulk_ratio: s.bulk_ratio,
+        }
+    }
 }
 
 impl ShearScaling {
-    /// Validated groups.
+    /// Validated groups: Ca, ρ*, λ_s/μ_s finite and > 0, and the moduli μ_s = 1/Ca and λ_s
+    /// finite and > 0 (Ca = 1e-320 passes the first test and overflows 1/Ca).
     pub fn new(ca: f64, rho_star: f64, bulk_ratio: f64) -> Result<Self, ParamError> {
+        let (ca, rho_star, bulk_ratio) = (
+            positive("Ca", ca)?,
+            positive("rho*", rho_star)?,
+            positive("lambda_s/mu_s", bulk_ratio)?,
+        );
+        let mu = derived("mu_s = 1/Ca", 1.0 / ca, &[ca])?;
+        let lambda = derived("lambda_s = (lambda_s/mu_s) mu_s", bulk_ratio * mu, &[bulk_ratio, mu])?;
         Ok(Self {
-            ca: positive("Ca", ca)?,
-            rho_star: positive("rho*", rho_star)?,
-            bulk_ratio: positive("lambda_s/mu_s", bulk_ratio)?,
+            ca,
+            rho_star,
+            bulk_ratio,
+            solid: NeoHooke::new(mu, lambda)?,
         })
     }
 
+    /// Ca = μ_f γ̇ / μ_s.
+    pub fn ca(&self) -> f64 {
+        self.ca
+    }
+
+    /// ρ* = ρ_s γ̇ d_eq² / μ_f.
+    pub fn rho_star(&self) -> f64 {
+        self.rho_star
+    }
+
+    /// λ_s / μ_s.
+    pub fn bulk_ratio(&self) -> f64 {
+        self.bulk_ratio
+    }
     /// Groups from physical data: fluid viscosity μ_f, shear rate γ̇, solid moduli μ_s and λ_s,
     /// solid density ρ_s and volume-equivalent diameter d_eq (SI or any consistent units).
     pub fn from_physical(
@@ -55,7 +105,7 @@ impl ShearScaling {
 
     /// The Neo-Hooke solid μ_s = 1/Ca, λ_s = bulk_ratio · μ_s.
     pub fn neo_hooke(&self) -> NeoHooke {
-        NeoHooke::from_capillary(self.ca, self.bulk_ratio).expect("validated in new()")
+        self.solid
     }
 
     /// Neutrally buoyant Neo-Hooke particle with axis ratios `ratios` along `axes` (columns),

@@ -97,7 +97,13 @@ impl<I: TimeIntegrator> BoundarySearch<I> {
             hi = eval((2.0 * hi.0).min(self.ca_max))?;
         }
         while hi.0 - lo.0 > self.tol {
-            let mid = eval(0.5 * (lo.0 + hi.0))?;
+            let mid_ca = 0.5 * (lo.0 + hi.0);
+            // A tolerance below the float spacing of Ca (or ≤ 0, or NaN in the caller's
+            // hands) would never be met: stop when the bracket cannot shrink any more.
+            if mid_ca <= lo.0 || mid_ca >= hi.0 {
+                break;
+            }
+            let mid = eval(mid_ca)?;
             match mid.1.regime {
                 Regime::Tumbling => lo = mid,
                 Regime::Trembling => hi = mid,

@@ -140,7 +140,7 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
 
     /// Classify at capillary number `ca` (inertia and bulk modulus as in `base`).
     pub fn classify_ca(&self, shape: &ShearShape, ca: f64, base: &ShearScaling) -> Result<Classification, SceneError> {
-        self.classify(shape, &ShearScaling::new(ca, base.rho_star, base.bulk_ratio)?)
+        self.classify(shape, &ShearScaling::new(ca, base.rho_star(), base.bulk_ratio())?)
     }
 }
 

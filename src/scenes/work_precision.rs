@@ -310,11 +310,7 @@ fn error_of(case: Case, samples: &[State], reference: Option<&[State]>) -> Resul
         }
         Case::Oblate => {
             let reference = reference.expect("oblate case needs a reference run");
-            samples
-                .iter()
-                .zip(reference)
-                .map(|(a, b)| (a.f - b.f).amax())
-                .fold(0.0, f64::max)
+            crate::tensor::max_or_nan(samples.iter().zip(reference).map(|(a, b)| (a.f - b.f).amax()))
         }
     })
 }

@@ -4,6 +4,7 @@ use super::cavity::{CavityCase, Centreline, ExtremumComparison, LinePoint, Refer
 use super::error::MeshError;
 use crate::error::FlowError;
 use crate::flow::FlowField;
+use crate::output::write_atomic;
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -30,11 +31,10 @@ pub enum ReportError {
     },
 }
 
+/// Atomic write (see [`crate::output::atomic`]): an interrupted report leaves the previous
+/// file whole.
 fn write(path: &Path, text: &str) -> Result<(), MeshError> {
-    std::fs::write(path, text).map_err(|source| MeshError::Io {
-        path: path.display().to_string(),
-        source,
-    })
+    write_atomic(path, text.as_bytes()).map_err(MeshError::from)
 }
 
 /// `line,position,simulated,reference`: the simulated profile at [`PROFILE_SAMPLES`]
@@ -105,55 +105,59 @@ pub fn plot_centrelines_svg(
         path: path.display().to_string(),
         reason: e.to_string(),
     };
-    let root = SVGBackend::new(path, (1000, 480)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(&e))?;
-    let root = root.titled(title, ("sans-serif", 20)).map_err(|e| plot_err(&e))?;
-    let panels = root.split_evenly((1, 2));
-    for (panel, line) in panels.iter().zip(Centreline::ALL) {
-        let simulated = case.profile(flow, line, PROFILE_SAMPLES)?;
-        // Vertical line: height on the ordinate, as in the benchmark papers.
-        let (xs, ys, x_label, y_label) = match line {
-            Centreline::Vertical => (-0.4..1.05, 0.0..1.0, "u_x / U", "z / L  (x = y = L/2)"),
-            Centreline::Horizontal => (0.0..1.0, -0.5..0.3, "x / L  (y = z = L/2)", "u_z / U"),
-        };
-        let xy = |p: &LinePoint| match line {
-            Centreline::Vertical => (p.value, p.position),
-            Centreline::Horizontal => (p.position, p.value),
-        };
-        let mut chart = ChartBuilder::on(panel)
-            .margin(15)
-            .x_label_area_size(40)
-            .y_label_area_size(55)
-            .build_cartesian_2d(xs, ys)
-            .map_err(|e| plot_err(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc(x_label)
-            .y_desc(y_label)
-            .draw()
-            .map_err(|e| plot_err(&e))?;
-        chart
-            .draw_series(LineSeries::new(simulated.iter().map(xy), BLUE.stroke_width(2)))
-            .map_err(|e| plot_err(&e))?
-            .label(simulated_label)
-            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE.stroke_width(2)));
-        chart
-            .draw_series(
-                reference
-                    .profile(line)
-                    .iter()
-                    .map(|p| Circle::new(xy(p), 4, RED.filled())),
-            )
-            .map_err(|e| plot_err(&e))?
-            .label("Albensoeder & Kuhlmann 2005")
-            .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
-        chart
-            .configure_series_labels()
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.8))
-            .draw()
-            .map_err(|e| plot_err(&e))?;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1000, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| plot_err(&e))?;
+        let root = root.titled(title, ("sans-serif", 20)).map_err(|e| plot_err(&e))?;
+        let panels = root.split_evenly((1, 2));
+        for (panel, line) in panels.iter().zip(Centreline::ALL) {
+            let simulated = case.profile(flow, line, PROFILE_SAMPLES)?;
+            // Vertical line: height on the ordinate, as in the benchmark papers.
+            let (xs, ys, x_label, y_label) = match line {
+                Centreline::Vertical => (-0.4..1.05, 0.0..1.0, "u_x / U", "z / L  (x = y = L/2)"),
+                Centreline::Horizontal => (0.0..1.0, -0.5..0.3, "x / L  (y = z = L/2)", "u_z / U"),
+            };
+            let xy = |p: &LinePoint| match line {
+                Centreline::Vertical => (p.value, p.position),
+                Centreline::Horizontal => (p.position, p.value),
+            };
+            let mut chart = ChartBuilder::on(panel)
+                .margin(15)
+                .x_label_area_size(40)
+                .y_label_area_size(55)
+                .build_cartesian_2d(xs, ys)
+                .map_err(|e| plot_err(&e))?;
+            chart
+                .configure_mesh()
+                .x_desc(x_label)
+                .y_desc(y_label)
+                .draw()
+                .map_err(|e| plot_err(&e))?;
+            chart
+                .draw_series(LineSeries::new(simulated.iter().map(xy), BLUE.stroke_width(2)))
+                .map_err(|e| plot_err(&e))?
+                .label(simulated_label)
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE.stroke_width(2)));
+            chart
+                .draw_series(
+                    reference
+                        .profile(line)
+                        .iter()
+                        .map(|p| Circle::new(xy(p), 4, RED.filled())),
+                )
+                .map_err(|e| plot_err(&e))?
+                .label("Albensoeder & Kuhlmann 2005")
+                .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
+            chart
+                .configure_series_labels()
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.8))
+                .draw()
+                .map_err(|e| plot_err(&e))?;
+        }
+        root.present().map_err(|e| plot_err(&e))?;
     }
-    root.present().map_err(|e| plot_err(&e))?;
+    write(path, &svg)?;
     Ok(())
 }

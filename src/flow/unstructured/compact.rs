@@ -9,9 +9,19 @@
 //! (round to nearest; relative error ≤ 2^−(m+1), zeros stay exact), which zeroes the low bytes
 //! and roughly halves the file: with m = 12 the error is ≤ 1.2e-4 relative, two orders below the
 //! discretisation error of a 60³ CFD solution. The points are rebuilt exactly from the grid lines.
+//!
+//! The reader trusts nothing in a file: the 16-byte header is inflated first and fixes the
+//! payload size (checked arithmetic); a header that claims more than deflate's 1032:1 ratio
+//! allows for the compressed bytes present is rejected before inflating, and inflation stops
+//! one byte past the declared size (no decompression bomb). The zlib stream must end exactly
+//! there, which verifies its Adler-32 checksum of the payload, and the file must end with it.
+//! m must lie in 1..=23 and every value must have its dropped mantissa bits zero; grid lines
+//! must be finite and increasing. Files are written atomically
+//! ([`crate::output::write_atomic`]).
 
 use super::error::MeshError;
 use super::{HexMesh, MeshedFlow};
+use crate::output::write_atomic;
 use crate::tensor::{Mat3, Vec3};
 use flate2::Compression;
 use flate2::read::ZlibDecoder;
@@ -143,13 +153,27 @@ pub fn write(flow: &MeshedFlow, path: &Path, mantissa_bits: u32) -> Result<u64, 
     }
     payload.extend(shuffled(&u));
     payload.extend(shuffled(&g));
-    let file = std::fs::File::create(path).map_err(io_err(path))?;
-    let mut out = std::io::BufWriter::new(file);
-    out.write_all(MAGIC).map_err(io_err(path))?;
-    let mut z = ZlibEncoder::new(out, Compression::best());
+    let mut z = ZlibEncoder::new(MAGIC.to_vec(), Compression::best());
     z.write_all(&payload).map_err(io_err(path))?;
-    z.finish().and_then(|mut w| w.flush()).map_err(io_err(path))?;
-    Ok(std::fs::metadata(path).map_err(io_err(path))?.len())
+    let bytes = z.finish().map_err(io_err(path))?;
+    write_atomic(path, &bytes).map_err(MeshError::from)?;
+    Ok(bytes.len() as u64)
+}
+
+/// Bytes of the uncompressed header: m and the three axis counts.
+const HEADER_BYTES: usize = 16;
+
+/// Deflate (RFC 1951) cannot expand data by more than about 1032:1 (a 258-byte match per two
+/// bits at best); a header that declares more than this many bytes per compressed byte lies.
+const MAX_INFLATE_RATIO: usize = 1032;
+
+/// Payload size declared by the header: counts per axis `n`, checked for overflow.
+fn declared_size(n: [usize; 3]) -> Option<(usize, usize)> {
+    let n_points = n[0].checked_mul(n[1])?.checked_mul(n[2])?;
+    let lines = n[0].checked_add(n[1])?.checked_add(n[2])?.checked_mul(8)?;
+    // u (3) and ∇u (9) as f32 per point.
+    let field = n_points.checked_mul(48)?;
+    Some((n_points, HEADER_BYTES.checked_add(lines)?.checked_add(field)?))
 }
 
 /// Read a compact field written by [`write()`].
@@ -164,10 +188,66 @@ pub fn read(path: &Path) -> Result<MeshedFlow, MeshError> {
     if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
         return Err(malformed(0, "missing PRFIELD1 magic".to_string()));
     }
-    let mut payload = Vec::new();
-    ZlibDecoder::new(&bytes[MAGIC.len()..])
+    // Inflate the fixed header first, then at most the size it declares plus one byte: a
+    // payload that inflates beyond its header is rejected after reading that one byte, not
+    // after inflating all of it.
+    let compressed = &bytes[MAGIC.len()..];
+    let mut z = ZlibDecoder::new(compressed);
+    let mut head = [0u8; HEADER_BYTES];
+    z.read_exact(&mut head).map_err(|e| {
+        malformed(
+            MAGIC.len(),
+            format!("zlib: {e} (reading the {HEADER_BYTES}-byte header)"),
+        )
+    })?;
+    let word = |i: usize| u32::from_le_bytes([head[4 * i], head[4 * i + 1], head[4 * i + 2], head[4 * i + 3]]);
+    let bits = word(0);
+    if !(1..=FULL_PRECISION).contains(&bits) {
+        return Err(malformed(
+            0,
+            format!("{bits} mantissa bits (the writer keeps 1 to {FULL_PRECISION})"),
+        ));
+    }
+    let n = [word(1), word(2), word(3)].map(|v| v as usize);
+    if let Some(nd) = n.iter().find(|&&nd| nd < 2) {
+        return Err(malformed(4, format!("{nd} points along an axis (need ≥ 2)")));
+    }
+    let (n_points, expected) = declared_size(n)
+        .filter(|&(points, _)| points < u32::MAX as usize)
+        .ok_or_else(|| malformed(4, format!("grid {n:?} too large")))?;
+    if expected / MAX_INFLATE_RATIO > compressed.len() {
+        return Err(malformed(
+            4,
+            format!(
+                "grid {n:?} needs {expected} bytes, more than {} compressed bytes can hold",
+                compressed.len()
+            ),
+        ));
+    }
+    let mut payload = head.to_vec();
+    (&mut z)
+        .take((expected - HEADER_BYTES + 1) as u64)
         .read_to_end(&mut payload)
         .map_err(|e| malformed(MAGIC.len(), format!("zlib: {e}")))?;
+    if payload.len() > expected {
+        return Err(malformed(
+            expected,
+            format!("the payload inflates beyond the {expected} bytes its header declares"),
+        ));
+    }
+    // Reading to the end of the zlib stream verifies its Adler-32 checksum of the payload.
+    let mut end = [0u8; 1];
+    match z.read(&mut end) {
+        Ok(0) => {}
+        Ok(_) => return Err(malformed(expected, "trailing bytes after the field".to_string())),
+        Err(e) => return Err(malformed(MAGIC.len(), format!("zlib: {e}"))),
+    }
+    if z.total_in() as usize != compressed.len() {
+        return Err(malformed(
+            MAGIC.len() + z.total_in() as usize,
+            "bytes after the end of the zlib stream".to_string(),
+        ));
+    }
     let take = |pos: &mut usize, len: usize| -> Result<&[u8], MeshError> {
         let end = pos
             .checked_add(len)
@@ -177,34 +257,29 @@ pub fn read(path: &Path) -> Result<MeshedFlow, MeshError> {
         *pos = end;
         Ok(s)
     };
-    let mut pos = 4;
-    if payload.len() < pos {
-        return Err(malformed(0, "empty payload".to_string()));
-    }
-    let mut n = [0usize; 3];
-    for nd in &mut n {
-        let b = take(&mut pos, 4)?;
-        *nd = u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize;
-        if *nd < 2 {
-            return Err(malformed(pos, format!("{nd} points along an axis (need ≥ 2)")));
-        }
-    }
+    let mut pos = HEADER_BYTES;
     let mut lines: [Vec<f64>; 3] = Default::default();
     for (d, line) in lines.iter_mut().enumerate() {
         *line = take(&mut pos, 8 * n[d])?
             .chunks_exact(8)
-            .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+            .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
             .collect();
+        if !line.iter().all(|v| v.is_finite()) || !line.windows(2).all(|w| w[0] < w[1]) {
+            return Err(malformed(
+                pos,
+                format!("grid lines along axis {d} are not finite and increasing"),
+            ));
+        }
     }
-    let n_points = n[0]
-        .checked_mul(n[1])
-        .and_then(|m| m.checked_mul(n[2]))
-        .filter(|&m| m < u32::MAX as usize)
-        .ok_or_else(|| malformed(pos, format!("grid {n:?} too large")))?;
     let u = unshuffled(take(&mut pos, 12 * n_points)?);
     let g = unshuffled(take(&mut pos, 36 * n_points)?);
-    if pos != payload.len() {
-        return Err(malformed(pos, "trailing bytes after the field".to_string()));
+    // The writer rounds to `bits` mantissa bits: the dropped bits of every value are zero.
+    let dropped = (1u32 << (FULL_PRECISION - bits)) - 1;
+    if let Some(k) = u.iter().chain(&g).position(|v| v.to_bits() & dropped != 0) {
+        return Err(malformed(
+            pos,
+            format!("field value {k} has more than the declared {bits} mantissa bits"),
+        ));
     }
     let point = |i: usize, j: usize, k: usize| i + n[0] * (j + n[1] * k);
     let mut points = Vec::with_capacity(n_points);

@@ -94,3 +94,20 @@ pub enum MeshError {
         reason: String,
     },
 }
+
+impl From<crate::output::OutputError> for MeshError {
+    /// Writers of fields and reports go through [`crate::output::write_atomic`]; its I/O
+    /// failures are this module's [`MeshError::Io`].
+    fn from(e: crate::output::OutputError) -> Self {
+        match e {
+            crate::output::OutputError::Io { path, source } => MeshError::Io {
+                path: path.display().to_string(),
+                source,
+            },
+            other => MeshError::Io {
+                path: String::new(),
+                source: std::io::Error::other(other.to_string()),
+            },
+        }
+    }
+}

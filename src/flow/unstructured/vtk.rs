@@ -4,6 +4,12 @@
 //! classic `CELLS`/`CELL_TYPES` (VTK ≤ 5.0 layout), and `FIELD` arrays in `POINT_DATA` and
 //! `CELL_DATA`; dataset-level `FIELD` blocks (foamToVTK's `TimeValue`) are skipped. The vtkio
 //! crate (0.6.3 and 0.7.0-rc2) rejects that dataset-level block, hence this small reader.
+//!
+//! Header counts are untrusted: their products use checked arithmetic, and a block is
+//! allocated only after the file is known to hold it (binary: n·width bytes; ASCII: at least
+//! two bytes per value), so a lying header is a [`MeshError::Malformed`], never an abort.
+//! Integer blocks (connectivity, cell types) must consist of integer tokens, and every
+//! connectivity index must name an existing point.
 
 use super::error::MeshError;
 use crate::tensor::Vec3;
@@ -52,7 +58,7 @@ struct Parser<'a> {
     path: &'a Path,
 }
 
-impl Parser<'_> {
+impl<'a> Parser<'a> {
     fn err(&self, reason: impl Into<String>) -> MeshError {
         MeshError::Malformed {
             path: self.path.display().to_string(),
@@ -113,11 +119,15 @@ impl Parser<'_> {
                 }
                 ["POINTS", n, ty] => {
                     n_points = self.count(n)?;
-                    let xyz = self.numbers(3 * n_points, ty)?;
+                    let xyz = self.numbers(self.product(n_points, 3)?, ty)?;
                     grid.points = xyz.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect();
                 }
                 ["CELLS", n, size] => {
                     let (n, size) = (self.count(n)?, self.count(size)?);
+                    // Hexahedra only: each cell is its vertex count 8 and 8 indices.
+                    if self.product(n, 9)? != size {
+                        return Err(self.err(format!("CELLS {n} {size}: {n} hexahedra need {} integers", 9 * n)));
+                    }
                     let raw = self.integers(size)?;
                     grid.cells = self.hexahedra(n, &raw)?;
                 }
@@ -135,12 +145,40 @@ impl Parser<'_> {
                 _ => return Err(self.err(format!("unsupported line `{line}`"))),
             }
         }
+        let n_points = grid.points.len();
+        for (cell, verts) in grid.cells.iter().enumerate() {
+            if let Some(&point) = verts.iter().find(|&&p| p as usize >= n_points) {
+                return Err(MeshError::BadConnectivity {
+                    cell,
+                    point: i64::from(point),
+                    n_points,
+                });
+            }
+        }
         Ok(grid)
     }
 
     fn count(&self, word: &str) -> Result<usize, MeshError> {
         word.parse()
             .map_err(|_| self.err(format!("expected a count, got `{word}`")))
+    }
+
+    /// `a · b` for header counts, an error instead of a wrap-around.
+    fn product(&self, a: usize, b: usize) -> Result<usize, MeshError> {
+        a.checked_mul(b)
+            .ok_or_else(|| self.err(format!("{a} × {b} values overflow the address space")))
+    }
+
+    /// Fail unless `n` values of at least `min_bytes` bytes each fit in the rest of the file:
+    /// every allocation is bounded by the bytes actually present, whatever a header claims.
+    fn check_room(&self, n: usize, min_bytes: usize, what: &str) -> Result<(), MeshError> {
+        let rest = self.buf.len() - self.pos;
+        // An ASCII value is one character plus a separator, except that the last one may end
+        // the file.
+        if n.checked_mul(min_bytes).is_none_or(|need| need > rest + 1) {
+            return Err(self.err(format!("{n} {what} declared, only {rest} bytes left")));
+        }
+        Ok(())
     }
 
     fn field_array(&mut self) -> Result<(String, usize, usize, Vec<f64>), MeshError> {
@@ -150,12 +188,13 @@ impl Parser<'_> {
             return Err(self.err(format!("bad FIELD array header `{header}`")));
         };
         let (comps, tuples) = (self.count(comps)?, self.count(tuples)?);
-        let values = self.numbers(comps * tuples, ty)?;
+        let values = self.numbers(self.product(comps, tuples)?, ty)?;
         Ok((name.to_string(), comps, tuples, values))
     }
 
     fn hexahedra(&self, n: usize, raw: &[i64]) -> Result<Vec<[u32; 8]>, MeshError> {
-        let mut cells = Vec::with_capacity(n);
+        // `raw` was read from the file, so this capacity is bounded by the file size.
+        let mut cells = Vec::with_capacity(n.min(raw.len() / 9));
         let mut rest = raw;
         for cell in 0..n {
             match rest {
@@ -180,9 +219,25 @@ impl Parser<'_> {
         Ok(cells)
     }
 
+    /// `n` integers (binary `int`/`long`/`vtkIdType`, or ASCII tokens that must parse as
+    /// integers: `1.9` or `nan` is an error, not a silently truncated index).
     fn integers(&mut self, n: usize) -> Result<Vec<i64>, MeshError> {
-        let values = self.numbers(n, "int")?;
-        Ok(values.into_iter().map(|v| v as i64).collect())
+        if !self.binary {
+            let words = self.ascii_words(n)?;
+            return words
+                .into_iter()
+                .map(|w| {
+                    let w = String::from_utf8_lossy(w);
+                    w.parse::<i64>()
+                        .map_err(|_| self.err(format!("`{w}` is not an integer")))
+                })
+                .collect();
+        }
+        let block = self.binary_block(n, 4, "int")?;
+        Ok(block
+            .chunks_exact(4)
+            .map(|c| i64::from(i32::from_be_bytes([c[0], c[1], c[2], c[3]])))
+            .collect())
     }
 
     /// `n` numbers of VTK type `ty`, as f64 (exact for the 32-bit types used here).
@@ -193,53 +248,66 @@ impl Parser<'_> {
             _ => return Err(self.err(format!("unsupported data type `{ty}`"))),
         };
         if !self.binary {
-            return self.ascii_numbers(n);
+            let words = self.ascii_words(n)?;
+            return words
+                .into_iter()
+                .map(|w| {
+                    let w = String::from_utf8_lossy(w);
+                    w.parse::<f64>().map_err(|_| self.err(format!("`{w}` is not a number")))
+                })
+                .collect();
         }
-        let end = self
-            .pos
-            .checked_add(n * width)
-            .filter(|&e| e <= self.buf.len())
-            .ok_or_else(|| self.err(format!("file ends inside a block of {n} {ty}")))?;
-        let block = &self.buf[self.pos..end];
-        self.pos = end;
+        let block = self.binary_block(n, width, ty)?;
         let chunks = block.chunks_exact(width);
-        Ok(match (ty, width) {
-            ("float", _) => chunks
+        Ok(match ty {
+            "float" => chunks
                 .map(|c| f64::from(f32::from_be_bytes([c[0], c[1], c[2], c[3]])))
                 .collect(),
-            ("int", _) => chunks
+            "int" => chunks
                 .map(|c| f64::from(i32::from_be_bytes([c[0], c[1], c[2], c[3]])))
                 .collect(),
-            ("double", _) => chunks
-                .map(|c| f64::from_be_bytes(c.try_into().unwrap_or([0; 8])))
+            "double" => chunks
+                .map(|c| f64::from_be_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
                 .collect(),
             _ => chunks
-                .map(|c| i64::from_be_bytes(c.try_into().unwrap_or([0; 8])) as f64)
+                .map(|c| i64::from_be_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]) as f64)
                 .collect(),
         })
     }
 
-    fn ascii_numbers(&mut self, n: usize) -> Result<Vec<f64>, MeshError> {
-        let mut values = Vec::with_capacity(n);
-        while values.len() < n {
+    /// The next `n · width` bytes (checked against the end of the file before anything is
+    /// allocated).
+    fn binary_block(&mut self, n: usize, width: usize, ty: &str) -> Result<&'a [u8], MeshError> {
+        let end = n
+            .checked_mul(width)
+            .and_then(|len| self.pos.checked_add(len))
+            .filter(|&e| e <= self.buf.len())
+            .ok_or_else(|| self.err(format!("file ends inside a block of {n} {ty}")))?;
+        let block = &self.buf[self.pos..end];
+        self.pos = end;
+        Ok(block)
+    }
+
+    /// The next `n` whitespace-separated tokens.
+    fn ascii_words(&mut self, n: usize) -> Result<Vec<&'a [u8]>, MeshError> {
+        self.check_room(n, 2, "values")?;
+        let buf = self.buf;
+        let mut words = Vec::with_capacity(n);
+        while words.len() < n {
             let start = self.pos;
-            while self.pos < self.buf.len() && self.buf[self.pos].is_ascii_whitespace() {
+            while self.pos < buf.len() && buf[self.pos].is_ascii_whitespace() {
                 self.pos += 1;
             }
             let begin = self.pos;
-            while self.pos < self.buf.len() && !self.buf[self.pos].is_ascii_whitespace() {
+            while self.pos < buf.len() && !buf[self.pos].is_ascii_whitespace() {
                 self.pos += 1;
             }
             if begin == self.pos {
                 self.pos = start;
-                return Err(self.err(format!("expected {n} numbers, found {}", values.len())));
+                return Err(self.err(format!("expected {n} numbers, found {}", words.len())));
             }
-            let word = String::from_utf8_lossy(&self.buf[begin..self.pos]);
-            let v: f64 = word
-                .parse()
-                .map_err(|_| self.err(format!("`{word}` is not a number")))?;
-            values.push(v);
+            words.push(&buf[begin..self.pos]);
         }
-        Ok(values)
+        Ok(words)
     }
 }
