@@ -18,7 +18,7 @@ pub use dense::Dense;
 pub use imex::ImexPaper;
 pub use imex_adaptive::ImexAdaptive;
 pub use rosenbrock::Tolerances;
-pub use stokesian::{BarycentreModel, ShapeResponse, Stokesian};
+pub use stokesian::{BarycentreModel, Scheme, ShapeResponse, Stokesian};
 
 use crate::error::StepError;
 use crate::flow::FlowField;

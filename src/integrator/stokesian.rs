@@ -1,4 +1,5 @@
-//! Inertialess (Stokesian) shape dynamics with adaptive Rosenbrock stepping.
+//! Inertialess (Stokesian) shape dynamics with adaptive, L-stable stepping: Radau IIA of order 5
+//! ([`Scheme::Radau5`]) or a Rosenbrock-W pair of order 2(3) ([`Scheme::Rosenbrock23`]).
 //!
 //! # Physics (physics.md §9.5, §9.7)
 //! For a micro-particle Θ ∝ ρ* is negligible and eq. 18 degenerates to the balance P̃ = P,
@@ -8,8 +9,12 @@
 //! (St → 0), ẋ = u + (μ_f K̂/m)⁻¹ a_G.
 //!
 //! # Scheme
-//! The state y = (F, x, v) ∈ ℝ¹⁵ is advanced by the L-stable Rosenbrock-W 2(3) pair
-//! ([`super::rosenbrock`]). The Jacobian is exact (num-dual tangent of W) in the elastic
+//! The state y = (F, x, v) ∈ ℝ¹⁵ is advanced by Radau IIA(5) ([`super::radau5`]) or by the
+//! L-stable Rosenbrock-W 2(3) pair ([`super::rosenbrock`]). Radau's order does not depend on the
+//! Jacobian (only its Newton convergence does), which matters here because the Jacobian below
+//! is approximate; the Rosenbrock-W pair keeps its order 2 with an approximate Jacobian by
+//! construction, and a higher-order Rosenbrock method (Rodas) would not. The Jacobian is exact
+//! (num-dual tangent of W) in the elastic
 //! response and freezes the principal frame and integrals of the hydrodynamic operator for
 //! the step; the W-method keeps order 2 with such an approximation (tested).
 //!
@@ -19,6 +24,7 @@
 //! [`InertialessSolver`]: crate::hydro::InertialessSolver
 
 use super::dense::{Dense, Knot};
+use super::radau5::{self, RadauMemory};
 use super::rosenbrock::{self, Tolerances};
 use super::{Step, StepInfo, TimeIntegrator};
 use crate::error::{ParamError, StepError};
@@ -55,6 +61,17 @@ pub enum ShapeResponse {
     Rigid,
 }
 
+/// The time-stepping scheme of [`Stokesian`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Scheme {
+    /// Radau IIA, order 5.
+    Radau5,
+    /// Shampine's Rosenbrock-W 2(3) (`ode23s`), two model evaluations per accepted step: the
+    /// default until every scene's datasets have been re-validated with Radau IIA.
+    #[default]
+    Rosenbrock23,
+}
+
 /// Adaptive inertialess integrator (elastic or rigid shape).
 #[derive(Debug, Clone, Copy)]
 pub struct Stokesian {
@@ -64,6 +81,8 @@ pub struct Stokesian {
     pub barycentre: BarycentreModel,
     /// Shape response.
     pub shape: ShapeResponse,
+    /// Time-stepping scheme.
+    pub scheme: Scheme,
 }
 
 impl Stokesian {
@@ -73,7 +92,13 @@ impl Stokesian {
             tol: Tolerances::uniform(tol)?,
             barycentre: BarycentreModel::Inertial,
             shape: ShapeResponse::Elastic,
+            scheme: Scheme::default(),
         })
+    }
+
+    /// The same integrator with another scheme.
+    pub fn with_scheme(self, scheme: Scheme) -> Self {
+        Self { scheme, ..self }
     }
 
     /// Elastic, with an overdamped barycentre.
@@ -218,15 +243,20 @@ fn barycentre_jacobian(jac: &mut Jac, model: BarycentreModel, e: &Evaluation) {
 pub struct StokesianMemory {
     #[serde(skip)]
     last: Option<(f64, Y, Evaluation)>,
+    /// Radau's Jacobian, controller history and starting-value polynomial (not a cache: it
+    /// changes the next step, so checkpoints keep it).
+    radau: RadauMemory<15>,
 }
 
 impl TimeIntegrator for Stokesian {
     type Memory = StokesianMemory;
 
     fn name(&self) -> &'static str {
-        match self.shape {
-            ShapeResponse::Elastic => "stokesian",
-            ShapeResponse::Rigid => "rigid",
+        match (self.shape, self.scheme) {
+            (ShapeResponse::Elastic, Scheme::Radau5) => "stokesian_radau5",
+            (ShapeResponse::Elastic, Scheme::Rosenbrock23) => "stokesian",
+            (ShapeResponse::Rigid, Scheme::Radau5) => "rigid_radau5",
+            (ShapeResponse::Rigid, Scheme::Rosenbrock23) => "rigid",
         }
     }
 
@@ -248,10 +278,49 @@ impl TimeIntegrator for Stokesian {
             _ => evaluate(&model, barycentre, shape, state.t, &y0)?,
         };
         let f0 = rhs_vector(&e0);
-        let jac = jacobian(&model, barycentre, &y0, &e0);
-        let acc = rosenbrock::step(state.t, &y0, &f0, &jac, dt, self.tol, |t, y| {
-            evaluate(&model, barycentre, shape, t, y).map(|e| (rhs_vector(&e), e))
-        })?;
+        let eval = |t: f64, y: &Y| evaluate(&model, barycentre, shape, t, y);
+        let acc = match self.scheme {
+            Scheme::Rosenbrock23 => {
+                let jac = jacobian(&model, barycentre, &y0, &e0);
+                rosenbrock::step(state.t, &y0, &f0, &jac, dt, self.tol, |t, y| {
+                    eval(t, y).map(|e| (rhs_vector(&e), e))
+                })?
+            }
+            Scheme::Radau5 => {
+                let step = radau5::step(
+                    state.t,
+                    &y0,
+                    dt,
+                    self.tol,
+                    &mut memory.radau,
+                    |t, y| {
+                        if t == state.t && *y == y0 {
+                            Ok(f0)
+                        } else {
+                            eval(t, y).map(|e| rhs_vector(&e))
+                        }
+                    },
+                    |t, y| {
+                        if t == state.t && *y == y0 {
+                            Ok(jacobian(&model, barycentre, y, &e0))
+                        } else {
+                            eval(t, y).map(|e| jacobian(&model, barycentre, y, &e))
+                        }
+                    },
+                )?;
+                // Ḟ at the new state (the state's A and the end knot of the dense output), and
+                // the next step's first evaluation.
+                let e1 = eval(state.t + step.h, &step.y)?;
+                rosenbrock::Accepted {
+                    y: step.y,
+                    h: step.h,
+                    h_next: step.h_next,
+                    f_new: rhs_vector(&e1),
+                    payload: e1,
+                    rejected: step.rejected,
+                }
+            }
+        };
         let (mut f, x, v) = unpack(&acc.y);
         if shape == ShapeResponse::Rigid {
             // Polar projection onto SO(3): the nearest rotation to the integrated F.

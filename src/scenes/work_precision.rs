@@ -29,7 +29,7 @@ use super::shear_shape::ShearShape;
 use super::tank_treading::roscoe;
 use crate::driver::{RunStats, run};
 use crate::flow::analytic::LinearFlow;
-use crate::integrator::{ImexAdaptive, ImexPaper, Stokesian, TimeIntegrator};
+use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator};
 use crate::material::NeoHooke;
 use crate::particle::lines::material_line;
 use crate::particle::{Particle, ShearScaling, State};
@@ -67,8 +67,10 @@ pub enum Setting {
     ImexPaper(f64),
     /// `imex_adaptive` with tolerance.
     ImexAdaptive(f64),
-    /// `stokesian` (overdamped barycentre) with tolerance.
+    /// `stokesian` (Rosenbrock-W 2(3), overdamped barycentre) with tolerance.
     Stokesian(f64),
+    /// `stokesian_radau5` (Radau IIA order 5, overdamped barycentre) with tolerance.
+    Radau5(f64),
     /// `rigid` with tolerance.
     Rigid(f64),
     /// The SciPy peer, `solve_ivp(method="Radau")` at rtol = atol = tolerance.
@@ -84,6 +86,7 @@ impl Setting {
             Setting::ImexPaper(_) => "imex_paper",
             Setting::ImexAdaptive(_) => "imex_adaptive",
             Setting::Stokesian(_) => "stokesian",
+            Setting::Radau5(_) => "stokesian_radau5",
             Setting::Rigid(_) => "rigid",
             Setting::ScipyRadau(_) => PeerMethod::Radau.integrator(),
             Setting::ScipyLsoda(_) => PeerMethod::Lsoda.integrator(),
@@ -95,6 +98,7 @@ impl Setting {
             Setting::ImexPaper(v)
             | Setting::ImexAdaptive(v)
             | Setting::Stokesian(v)
+            | Setting::Radau5(v)
             | Setting::Rigid(v)
             | Setting::ScipyRadau(v)
             | Setting::ScipyLsoda(v) => v,
@@ -121,12 +125,14 @@ pub fn sweep(case: Case) -> Vec<Setting> {
         .collect();
     s.extend([1e-3, 1e-4, 1e-5, 1e-6].map(Setting::ImexAdaptive));
     s.extend(DECADES.map(Setting::Stokesian));
+    s.extend(DECADES.map(Setting::Radau5));
     if case == Case::Jeffery {
         s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::Rigid));
     }
     if has_peer(case) {
         // Two more decades so the library's curve spans the error levels of the ratio table.
         s.extend([1e-10, 1e-11].map(Setting::Stokesian));
+        s.extend([1e-10, 1e-11].map(Setting::Radau5));
         // Down to an error of ≈ 1e-10 (Radau at 1e-10, LSODA at 1e-12 on the oblate case), so
         // the peer's curves span the 1e-4 … 1e-9 error levels of the ratio table.
         s.extend([1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::ScipyRadau));
@@ -218,6 +224,13 @@ fn trajectory(case: Case, setting: Setting) -> Result<(Vec<State>, RunStats, f64
         }
         Setting::ImexAdaptive(tol) => drive(&ImexAdaptive::new(tol)?, &p, s0, &times, observe)?,
         Setting::Stokesian(tol) => drive(&Stokesian::overdamped(tol)?, &p, s0, &times, observe)?,
+        Setting::Radau5(tol) => drive(
+            &Stokesian::overdamped(tol)?.with_scheme(Scheme::Radau5),
+            &p,
+            s0,
+            &times,
+            observe,
+        )?,
         Setting::Rigid(tol) => drive(&Stokesian::rigid(tol)?, &p, s0, &times, observe)?,
         // The peer reports the wall time of its own solve, without the interpreter's start-up.
         Setting::ScipyRadau(tol) => return peer_trajectory(case, PeerMethod::Radau, tol),
