@@ -10,7 +10,8 @@ Physics (units: mu_f = 1, shear rate = 1, volume-equivalent diameter d_eq = 1):
     the current semi-axes are r_a = sqrt(eig(F_bar F_bar^T)), the principal directions n_a
     its eigenvectors, Q = [n_a . E_B].
   * Neo-Hooke (paper eq. 9): P = mu_s (F - F^-T) + lambda_s ln J F^-T, Cauchy stress
-    sigma_el = P F^T / J, mu_s = 1/Ca, lambda_s = bulk_ratio mu_s.
+    sigma_el = P F^T / J, mu_s = 1/Ca, lambda_s = bulk_ratio mu_s. Only dev sigma_el =
+    (mu_s / J) dev(F F^T) enters below, so lambda_s does not.
   * Inertialess limit of eq. (18): Theta -> 0 gives P_tilde = P, i.e. sigma_tilde(l_s) =
     sigma_el(F). For an incompressible surface motion (tr l_s = 0) the mean normal stress of the
     traction is a Lagrange multiplier, so the balance is dev sigma_tilde(l_s) = dev sigma_el(F)
@@ -131,12 +132,11 @@ _TRACE_ROW = np.eye(3).reshape(9)
 class Model:
     """The inertialess right-hand side dF/dt = l_s(F) F, batched over states."""
 
-    def __init__(self, semi_axes, ca, bulk_ratio):
+    def __init__(self, semi_axes, ca):
         r = np.asarray(semi_axes, dtype=float)
         r = r * (0.125 / np.prod(r)) ** (1.0 / 3.0)
         self.shape = np.diag(r)
         self.mu_s = 1.0 / ca
-        self.lambda_s = bulk_ratio * self.mu_s
         self.l_f = np.zeros((3, 3))
         self.l_f[0, 1] = 1.0
         self.evals = 0
@@ -175,6 +175,9 @@ class Model:
         return df.reshape(-1, 9).T.reshape(y.shape)
 
 
+# Output samples are t = 1, 2, ..., so this bounds the output (and its memory) by t_end.
+MAX_SAMPLES = 100_000
+
 METHODS = {"Radau": Radau, "LSODA": LSODA, "BDF": BDF, "DOP853": DOP853, "RK45": RK45}
 
 
@@ -197,7 +200,12 @@ def parse_args(argv):
     p = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
     p.add_argument("--axes", default="2.5,1,2.5", help="semi-axes along flow,gradient,vorticity")
     p.add_argument("--ca", type=float, default=0.4)
-    p.add_argument("--bulk-ratio", type=float, default=1000.0)
+    p.add_argument(
+        "--bulk-ratio",
+        type=float,
+        default=1000.0,
+        help="lambda_s/mu_s; checked but without effect: tr l_s = 0 keeps J = 1, and the ln J term is isotropic",
+    )
     p.add_argument("--t-end", type=float, default=30.0)
     p.add_argument("--method", default="Radau", choices=sorted(METHODS))
     p.add_argument("--rtol", type=float, default=1e-6)
@@ -220,11 +228,15 @@ def main(argv):
     axes = [float(a) for a in args.axes.split(",")]
     if len(axes) != 3 or min(axes) <= 0.0 or not np.all(np.isfinite(axes)):
         raise SystemExit(f"--axes needs three positive numbers, got {args.axes!r}")
-    if not (args.ca > 0.0 and args.bulk_ratio > 0.0 and args.t_end > 0.0):
-        raise SystemExit(f"need Ca, bulk ratio, t_end > 0, got {args.ca}, {args.bulk_ratio}, {args.t_end}")
     rtol = 1e-13 if args.reference else args.rtol
     atol = 1e-13 if args.reference else (args.atol if args.atol is not None else rtol)
-    model = Model(axes, args.ca, args.bulk_ratio)
+    numbers = {"Ca": args.ca, "bulk ratio": args.bulk_ratio, "t_end": args.t_end, "rtol": rtol, "atol": atol}
+    bad = {k: v for k, v in numbers.items() if not (np.isfinite(v) and v > 0.0)}
+    if bad:
+        raise SystemExit(f"need finite values > 0, got {bad}")
+    if args.t_end > MAX_SAMPLES:
+        raise SystemExit(f"t_end = {args.t_end} asks for more than {MAX_SAMPLES} unit-time samples")
+    model = Model(axes, args.ca)
     samples = np.arange(1.0, np.floor(args.t_end) + 1.0)
     samples = samples[samples < args.t_end]
     t_eval = np.append(samples, args.t_end)

@@ -62,7 +62,7 @@ def test_rigid_prolate_follows_jeffery_orbit():
     # up to the elastic deviation, first order in Ca (~ Ca t = 6e-5), and the solver's 1e-9. The
     # bound 1e-3 is well above both; a wrong skew (rotation) part of the traction misses by O(1).
     r, ca = 3.0, 1e-5
-    model = peer.Model([r, 1.0, 1.0], ca, 1000.0)
+    model = peer.Model([r, 1.0, 1.0], ca)
     t = 6.0
     sol = solve_ivp(model, (0, t), np.eye(3).reshape(9), method="Radau", rtol=1e-9, atol=1e-9)
     f = sol.y[:, -1].reshape(3, 3)
@@ -77,7 +77,7 @@ def test_rigid_prolate_follows_jeffery_orbit():
 
 def test_volume_is_preserved():
     # tr l_s = 0 makes det F = 1 exactly for the flow; the solver keeps it to its tolerance.
-    model = peer.Model([2.5, 1.0, 2.5], 0.4, 1000.0)
+    model = peer.Model([2.5, 1.0, 2.5], 0.4)
     sol = solve_ivp(model, (0, 5), np.eye(3).reshape(9), method="Radau", rtol=1e-10, atol=1e-10)
     assert abs(np.linalg.det(sol.y[:, -1].reshape(3, 3)) - 1.0) < 1e-8
 

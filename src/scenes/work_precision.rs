@@ -7,8 +7,8 @@
 //!   integrators run it at Ca = 1e-4, whose own model error (≈ 0.2 Ca relative) is the floor;
 //! - `tank_treading`: an initially spherical particle at Ca = 0.2 after t = 30 against
 //!   Roscoe's steady state: |ΔD| + |Δθ|;
-//! - `oblate`: the Fig. 4 oblate (2.5:2.5:1) at Ca = 0.4 over t ≤ 30 against the tightest
-//!   inertialess run: max over t = 1, 2, …, 30 of |F − F_ref|∞.
+//! - `oblate`: the Fig. 4 oblate (2.5:2.5:1) at Ca = 0.4 over t ≤ 30 against a tight
+//!   inertialess Radau IIA run ([`oblate_reference`]): max over t = 1, 2, …, 30 of |F − F_ref|∞.
 //!
 //! The SciPy peer ([`super::scipy_peer`], `solve_ivp` with Radau and LSODA on an independent
 //! NumPy implementation of the inertialess model) runs the tank-treading and oblate cases under
@@ -45,7 +45,7 @@ pub enum Case {
     Jeffery,
     /// Tank-treading sphere at Ca = 0.2 against Roscoe.
     TankTreading,
-    /// Oblate 2.5 at Ca = 0.4 against the tightest run.
+    /// Oblate 2.5 at Ca = 0.4 against a tight Radau IIA run.
     Oblate,
 }
 
@@ -279,9 +279,22 @@ fn long_axis_angle(p: &Particle<NeoHooke>, s: &State) -> f64 {
     l[0].atan2(l[1])
 }
 
+/// Runs faster than this are timed [`REPEATS`] times and keep the fastest: on a shared machine a
+/// single millisecond-scale timing is mostly scheduling noise, and the minimum is the estimate
+/// least affected by other load.
+const SHORT_RUN_S: f64 = 0.1;
+/// Repetitions of a short run (library and peer alike).
+const REPEATS: usize = 5;
+
 /// Error of one run against the case's reference (`reference` only for [`Case::Oblate`]).
+/// Runs shorter than 0.1 s are repeated five times and report their fastest wall time.
 pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Result<Record, SceneError> {
-    let (samples, stats, wall_s) = trajectory(case, setting)?;
+    let (samples, stats, mut wall_s) = trajectory(case, setting)?;
+    if wall_s < SHORT_RUN_S {
+        for _ in 1..REPEATS {
+            wall_s = wall_s.min(trajectory(case, setting)?.2);
+        }
+    }
     Ok(Record {
         case,
         setting,
@@ -331,13 +344,14 @@ pub fn error_floor(case: Case, reference: Option<&[State]>) -> Result<f64, Scene
     error_of(case, &peer_states(&run), reference)
 }
 
-/// The tightest inertialess run of the oblate case (the reference for [`Case::Oblate`]).
+/// A tight inertialess run of the oblate case (the reference for [`Case::Oblate`]).
 ///
 /// `stokesian_radau5` at 1e-13. The Rosenbrock 2(3) reference used before (1e-13,
 /// ≈ 2.4·10⁵ steps) sat ≈ 1.7e-8 from the converged F: every Radau run from 1e-7 down and the
 /// peer's tightest runs all stopped at that floor. Radau's global error falls about as fast as
 /// its tolerance here (3.4e-5, 3.7e-6, 3.5e-7 at 1e-4, 1e-5, 1e-6), so this run is ≈ 1e-12 from
-/// the converged F; [`error_floor`] measures it against the SciPy peer.
+/// the converged F; [`error_floor`] measures it against the SciPy peer (≈ 5e-12, the size of
+/// the peer's own dense-output error).
 pub fn oblate_reference() -> Result<Vec<State>, SceneError> {
     Ok(trajectory(Case::Oblate, Setting::Radau5(1e-13))?.0)
 }
