@@ -110,10 +110,10 @@ impl CellLocator {
 
     /// The cell containing `x`, walking from `hint` when given; `None` outside the mesh.
     pub fn locate(&self, mesh: &PolyMesh, x: &Vec3, hint: Option<usize>) -> Option<usize> {
-        if let Some(start) = hint.filter(|&h| h < mesh.n_cells()) {
-            if let Some(c) = walk(mesh, start, x) {
-                return Some(c);
-            }
+        if let Some(start) = hint.filter(|&h| h < mesh.n_cells())
+            && let Some(c) = walk(mesh, start, x)
+        {
+            return Some(c);
         }
         self.boxes
             .locate_all_at_point([x[0], x[1], x[2]])

@@ -179,7 +179,10 @@ impl FoamFlow {
             return Err(bad("no time levels".into()));
         }
         fields.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if let Some(w) = fields.windows(2).find(|w| !(w[1].0 > w[0].0)) {
+        if let Some(w) = fields
+            .windows(2)
+            .find(|w| w[1].0.partial_cmp(&w[0].0) != Some(std::cmp::Ordering::Greater))
+        {
             return Err(bad(format!(
                 "time levels must be distinct and finite, got {} and {}",
                 w[0].0, w[1].0

@@ -355,11 +355,23 @@ impl<'a> Parser<'a> {
             let at = self.skip_then_offset()?;
             match self.token()? {
                 Tok::Punct(b';') => return Ok(out),
-                Tok::Word(w) if w.starts_with("List<") => {
-                    let comps =
-                        components(w).ok_or_else(|| self.error_at(at, format!("unsupported list type `{w}`")))?;
-                    out.push(Value::Numbers(self.numbers(comps)?));
-                }
+                Tok::Word(w) if w.starts_with("List<") => match components(w) {
+                    Some(comps) => out.push(Value::Numbers(self.numbers(comps)?)),
+                    // Lists of words and the like are ASCII even in binary files: the count is
+                    // redundant with the parenthesised items that follow.
+                    None => {
+                        self.count()?;
+                        let at = self.skip_then_offset()?;
+                        let tok = self.token()?;
+                        if tok != Tok::Punct(b'(') {
+                            return Err(self.error_at(
+                                at,
+                                format!("expected `(` after `{w}` and its count, found {}", describe(tok)),
+                            ));
+                        }
+                        out.push(self.value(tok, at, depth + 1)?);
+                    }
+                },
                 tok => out.push(self.value(tok, at, depth + 1)?),
             }
         }
