@@ -287,16 +287,7 @@ fn assemble(points: Vec<Vec3>, cells: &[Vec<Vec<u32>>]) -> Raw {
 
 /// The field `f` sampled at the cell centres and boundary face centres of `mesh`.
 pub fn sampled(mesh: &PolyMesh, f: impl Fn(&Vec3) -> Vec3) -> VolField {
-    let internal = mesh.cell_centres().iter().flat_map(|c| f(c).data.0[0]).collect();
-    let boundary = mesh.face_centres()[mesh.n_internal_faces()..]
-        .iter()
-        .flat_map(|c| f(c).data.0[0])
-        .collect();
-    VolField {
-        comps: 3,
-        internal,
-        boundary,
-    }
+    VolField::from_fn(mesh, f)
 }
 
 /// File encodings of a written case.

@@ -11,6 +11,7 @@
 use super::error::FoamError;
 use super::mesh::PolyMesh;
 use super::parse::{Dict, Entry, Numbers, Value, dictionary_file, number, read_file};
+use crate::tensor::Vec3;
 use std::path::Path;
 
 /// A cell-centred field with values on the boundary faces, `comps` components per value.
@@ -33,6 +34,17 @@ impl VolField {
     /// Value on boundary face `b` (counted from the first boundary face).
     pub fn boundary_face(&self, b: usize) -> &[f64] {
         &self.boundary[b * self.comps..(b + 1) * self.comps]
+    }
+
+    /// A vector field given by a function, evaluated at the cell centres and the boundary face
+    /// centres (analytic fields for verification and benchmarks).
+    pub fn from_fn(mesh: &PolyMesh, f: impl Fn(&Vec3) -> Vec3) -> Self {
+        let eval = |xs: &[Vec3]| xs.iter().flat_map(|x| <[f64; 3]>::from(f(x))).collect();
+        Self {
+            comps: 3,
+            internal: eval(mesh.cell_centres()),
+            boundary: eval(&mesh.face_centres()[mesh.n_internal_faces()..]),
+        }
     }
 }
 
@@ -84,7 +96,7 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
                 "symmetry" | "symmetryPlane" | "slip" if comps == 1 => boundary.extend_from_slice(cell),
                 "symmetry" | "symmetryPlane" | "slip" => {
                     let n = mesh.face_areas()[f].normalize();
-                    let u = crate::tensor::Vec3::from_row_slice(cell);
+                    let u = Vec3::from_row_slice(cell);
                     boundary.extend((u - u.dot(&n) * n).iter());
                 }
                 _ => {
