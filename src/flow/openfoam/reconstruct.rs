@@ -13,7 +13,7 @@
 //! - *Exact for linear fields on every cell*: if $u_j = a + G x_j$ for all data points, every
 //!   residual vanishes at $G_c = G$, and $M_c$ is non-singular whenever the face directions
 //!   span space (every closed cell's do; a flat stencil is reported as
-//!   [`FoamError::Stencil`](super::FoamError::Stencil)). This holds for hexahedra, prisms,
+//!   [`FoamError::Stencil`]). This holds for hexahedra, prisms,
 //!   tetrahedra and snappyHexMesh's split polyhedra alike, whatever the skewness or
 //!   non-orthogonality. OpenFOAM's Gauss-linear gradient and the point values of
 //!   volPointInterpolation both lose linear exactness on such cells.
