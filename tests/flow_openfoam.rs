@@ -488,3 +488,53 @@ fn time_levels_are_interpolated_linearly() {
         assert!((s.grad_u - factor * g).amax() < 1e-12, "t = {t}");
     }
 }
+
+#[test]
+fn sphere_patch_gap_on_the_snappy_mesh() {
+    // The snapped sphere (radius R = 0.1 around (0.5, 0.2, 0.2)) is meshed with planar faces
+    // of size h = 1/80 whose vertices lie on it; a face plane is a chord plane, at most the
+    // sagitta of its diagonal, (√2 h)²/(8R) = h²/(4R) ≈ 3.9e-4, inside the sphere. Allow
+    // h²/(2R) for the vertices' snapping tolerance.
+    let mesh = snappy(40).mesh().clone();
+    let sphere = mesh.patches().iter().position(|p| p.name == "sphere").unwrap();
+    let set = PatchSet::new(&mesh, &[sphere]);
+    let (centre, radius, h) = (Vec3::new(0.5, 0.2, 0.2), 0.1, 1.0 / 80.0);
+    let axes = Vec3::repeat(0.01);
+    for dir in [
+        Vec3::x(),
+        -Vec3::y(),
+        Vec3::new(1.0, 1.0, -1.0).normalize(),
+        Vec3::new(-0.3, 0.2, 0.9).normalize(),
+    ] {
+        let x = centre + dir * (radius + 0.02);
+        let hit = set.nearest_gap(&x, &axes, &Mat3::identity()).unwrap();
+        let exact = 0.02 - 0.01;
+        assert!(
+            (hit.gap - exact).abs() < h * h / (2.0 * radius),
+            "{dir:?}: {} vs {exact}",
+            hit.gap
+        );
+        assert_eq!(hit.patch, sphere);
+    }
+}
+
+#[test]
+fn unsteady_case_from_time_directories() {
+    let raw = cube(Shape::Prism, 2);
+    let mesh = raw.mesh();
+    let (a, g) = linear_a();
+    let dir = scratch("unsteady");
+    write_case(&dir, &raw, &sampled(&mesh, |x| a + g * x), "0.5", Format::Binary);
+    write_case(&dir, &raw, &sampled(&mesh, |x| -(a + g * x)), "1.5", Format::Ascii);
+    let case = FoamCase::open(&dir).unwrap();
+    assert_eq!(case.times(), vec![0.5, 1.5]);
+    let flow = FoamFlow::read(&case, &case.times()).unwrap();
+    let x = Vec3::new(0.2, 0.7, 0.4);
+    // Halfway between +u and −u: zero, to round-off of the O(1) values.
+    let s = flow.sample(&x, 1.0).unwrap();
+    assert!(s.u.amax() < 1e-12 && s.grad_u.amax() < 1e-12, "{s:?}");
+    assert!(matches!(
+        case.read_field(2.0, "U", 3),
+        Err(FoamError::NoSuchTime { .. })
+    ));
+}

@@ -648,3 +648,61 @@ pub(crate) fn number(v: &Value) -> Option<f64> {
         _ => None,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header(format: &str, arch: &str) -> Vec<u8> {
+        format!("FoamFile {{ format {format}; class labelList; arch \"{arch}\"; }}\n").into_bytes()
+    }
+
+    #[test]
+    fn uniform_lists_ascii_and_binary() {
+        let mut text = header("ascii", "LSB;label=32;scalar=64");
+        text.extend(b"4{7}\n");
+        let mut p = Parser::new("t", &text);
+        p.header().unwrap();
+        assert_eq!(p.labels().unwrap(), vec![7; 4]);
+        p.end().unwrap();
+
+        let mut text = header("binary", "LSB;label=64;scalar=32");
+        text.extend(b"3{");
+        text.extend(9i64.to_le_bytes());
+        text.extend(b"}\n2(");
+        for x in [1.5f32, -2.25, 0.0, 1.0, 2.0, 3.0] {
+            text.extend(x.to_le_bytes());
+        }
+        text.extend(b")\n");
+        let mut p = Parser::new("t", &text);
+        p.header().unwrap();
+        assert_eq!(p.labels().unwrap(), vec![9; 3]);
+        let v = p.numbers(3).unwrap();
+        assert_eq!((v.count, v.data), (2, vec![1.5, -2.25, 0.0, 1.0, 2.0, 3.0]));
+        p.end().unwrap();
+    }
+
+    #[test]
+    fn deep_nesting_is_an_error_not_a_stack_overflow() {
+        let mut text = header("ascii", "");
+        text.extend(b"a ");
+        text.extend(std::iter::repeat_n(b'(', 10_000));
+        text.extend(b";\n");
+        let err = dictionary_file("t", &text).unwrap_err();
+        assert!(err.to_string().contains("nested too deeply"), "{err}");
+    }
+
+    #[test]
+    fn errors_report_line_and_offset() {
+        let text = b"// comment\nFoamFile { format ascii; class labelList; }\n2\n(\n1\nx\n)\n";
+        let mut p = Parser::new("t", text);
+        p.header().unwrap();
+        match p.labels().unwrap_err() {
+            FoamError::Malformed { line, offset, .. } => {
+                assert_eq!(line, 6);
+                assert_eq!(&text[offset..offset + 1], b"x");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}

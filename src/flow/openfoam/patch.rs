@@ -6,9 +6,15 @@
 //! principal directions). Its extent along a unit vector n is the support distance
 //! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2}$, so against a boundary face with centre $x_f$ and
 //! outward unit normal $n_f$ the gap is $g = (x_f − x_c)·n_f − h(n_f)$; g ≤ 0 is contact.
-//! The gap is taken over the [`NEAREST_FACES`] faces whose centres are nearest to $x_c$,
-//! treating each face as its plane: exact for planar walls, and on a curved wall meshed with
-//! faces of size h it is within O(h²κ) of the gap to the curved surface (κ the curvature).
+//! The face that counts is the one the particle's extreme point faces: among the
+//! [`NEAREST_FACES`] faces whose centres are nearest to $x_c$, those for which the support
+//! point $s = x_c + b\,n_f / h(n_f)$ ($b = Q^T \mathrm{diag}(r_a^2)\,Q$, the point of the
+//! ellipsoid farthest along $n_f$) projects into the face polygon; the smallest of their gaps
+//! is the gap. (Taking the smallest plane gap over all nearby faces would be wrong at convex
+//! walls, where the planes of neighbouring faces cut into the fluid.) If the support point
+//! projects into none of them (over an edge between faces), the face nearest to it is used.
+//! Exact for planar walls; on a curved wall meshed with faces of size h whose vertices lie on
+//! the surface, within the sagitta O(h²κ) of the gap to the surface (κ the curvature).
 //! Wall patches (`type wall`) deposit; generic patches (`type patch`: inlets and outlets)
 //! let the particle exit; constraint patches (`empty`, `symmetry*`, `wedge`, `cyclic`, ...)
 //! are not particle boundaries.
@@ -70,6 +76,9 @@ pub struct PatchSet {
     faces: Vec<(u32, u32)>,
     centres: Vec<Vec3>,
     normals: Vec<Vec3>,
+    /// Face polygons: vertices of face i are `vertices[offsets[i]..offsets[i + 1]]`.
+    offsets: Vec<usize>,
+    vertices: Vec<Vec3>,
 }
 
 impl PatchSet {
@@ -87,6 +96,12 @@ impl PatchSet {
             .iter()
             .map(|&(f, _)| mesh.face_areas()[f as usize].normalize())
             .collect();
+        let mut offsets = vec![0];
+        let mut vertices = Vec::new();
+        for &(f, _) in &faces {
+            vertices.extend(mesh.face(f as usize).iter().map(|&v| mesh.points()[v as usize]));
+            offsets.push(vertices.len());
+        }
         let tree = RTree::bulk_load(
             centres
                 .iter()
@@ -99,7 +114,25 @@ impl PatchSet {
             faces,
             centres,
             normals,
+            offsets,
+            vertices,
         }
+    }
+
+    /// Whether `p` projects into face i (the fan of triangles around its centre).
+    fn covers(&self, i: usize, p: &Vec3) -> bool {
+        let (c, n) = (self.centres[i], self.normals[i]);
+        let poly = &self.vertices[self.offsets[i]..self.offsets[i + 1]];
+        poly.iter().enumerate().any(|(k, a)| {
+            let b = &poly[(k + 1) % poly.len()];
+            // Signed areas of the sub-triangles, relative to the triangle's own, ≥ −1e-12:
+            // points on shared edges belong to both faces.
+            let area = n.dot(&(a - c).cross(&(b - c)));
+            let tol = -1e-12 * area.abs();
+            n.dot(&(a - c).cross(&(p - c))) >= tol
+                && n.dot(&(b - a).cross(&(p - a))) >= tol
+                && n.dot(&(c - b).cross(&(p - b))) >= tol
+        })
     }
 
     /// All patches with the given role.
@@ -126,20 +159,38 @@ impl PatchSet {
 
 impl PatchGap for PatchSet {
     fn nearest_gap(&self, centre: &Vec3, semi_axes: &Vec3, q: &Mat3) -> Option<FaceGap> {
-        self.tree
+        let r2 = semi_axes.component_mul(semi_axes);
+        let mut covered: Option<FaceGap> = None;
+        let mut nearest: Option<(f64, FaceGap)> = None;
+        for hit in self
+            .tree
             .nearest_neighbor_iter([centre[0], centre[1], centre[2]])
             .take(NEAREST_FACES)
-            .map(|hit| {
-                let i = hit.data as usize;
-                let n = self.normals[i];
-                let gap = (self.centres[i] - centre).dot(&n) - support_distance(semi_axes, q, &n);
-                let (f, p) = self.faces[i];
-                FaceGap {
-                    face: f as usize,
-                    patch: p as usize,
-                    gap,
+        {
+            let i = hit.data as usize;
+            let n = self.normals[i];
+            let h = support_distance(semi_axes, q, &n);
+            let gap = (self.centres[i] - centre).dot(&n) - h;
+            let (f, p) = self.faces[i];
+            let candidate = FaceGap {
+                face: f as usize,
+                patch: p as usize,
+                gap,
+            };
+            // The ellipsoid's extreme point along n, projected onto the face plane.
+            let support = centre + q.transpose() * (q * n).component_mul(&r2) / h;
+            let projected = support + n * (self.centres[i] - support).dot(&n);
+            if self.covers(i, &projected) {
+                if covered.is_none_or(|c| gap < c.gap) {
+                    covered = Some(candidate);
                 }
-            })
-            .min_by(|a, b| a.gap.total_cmp(&b.gap))
+            } else {
+                let d = (self.centres[i] - projected).norm();
+                if nearest.is_none_or(|(dn, _)| d < dn) {
+                    nearest = Some((d, candidate));
+                }
+            }
+        }
+        covered.or(nearest.map(|(_, c)| c))
     }
 }
