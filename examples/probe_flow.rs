@@ -20,7 +20,9 @@ const USAGE: &str = "usage: probe_flow CASE_DIR TIME|latest POINTS.csv OUT.csv";
 fn read_points(path: &str) -> Result<Vec<Vec3>, Box<dyn std::error::Error>> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-    let header: Vec<&str> = lines.next().map_or(Vec::new(), |(_, l)| l.split(',').map(str::trim).collect());
+    let header: Vec<&str> = lines
+        .next()
+        .map_or(Vec::new(), |(_, l)| l.split(',').map(str::trim).collect());
     if header != ["x", "y", "z"] {
         return Err(format!("{path}: header must be `x,y,z`, found {header:?}").into());
     }

@@ -21,8 +21,10 @@ use crate::tensor::Vec3;
 use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};
 
-/// Faces crossed from the hint before falling back to the bounding-box search.
-pub const MAX_WALK: usize = 64;
+/// Faces crossed from the hint before falling back to the bounding-box search. A particle
+/// moves a fraction of a cell per step, so one or two crossings are the rule; a stale hint
+/// (another particle's cell) costs at most this many cell tests before the index is used.
+pub const MAX_WALK: usize = 8;
 /// Barycentric tolerance: points this close (relative to the tetrahedron) to a face count as
 /// inside, so points on shared faces and on the walls are found.
 const BARY_TOL: f64 = 1e-10;
