@@ -309,7 +309,7 @@ fn decomposed_case_asks_for_reconstruct_par() {
 
 fn containing_cells(mesh: &PolyMesh, x: &Vec3) -> Vec<usize> {
     (0..mesh.n_cells())
-        .filter(|&c| probe(mesh, c, x) == Probe::Inside)
+        .filter(|&c| matches!(probe(mesh, c, x), Probe::Inside | Probe::OnFace))
         .collect()
 }
 
@@ -339,6 +339,22 @@ fn location_on_every_cell_shape() {
             other => panic!("{shape:?}: {other:?}"),
         }
         assert!(flow.sample(&Vec3::new(0.5, -0.1, 0.5), 0.0).is_err());
+    }
+}
+
+#[test]
+fn points_on_shared_faces_go_to_the_lowest_cell_whatever_the_hint() {
+    // Vertices and face centres lie on several cells; the answer must not depend on where the
+    // search started (reproducible trajectories whatever the query history).
+    let mesh = cube(Shape::Poly, 4).mesh();
+    let flow = FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, |x| *x))]).unwrap();
+    let targets = mesh.points().iter().chain(mesh.face_centres()).step_by(7);
+    for x in targets {
+        let holders = containing_cells(&mesh, x);
+        let lowest = *holders.iter().min().unwrap();
+        for hint in holders.iter().copied().map(Some).chain([None]) {
+            assert_eq!(flow.locate(x, hint).unwrap(), lowest, "{x:?} from {hint:?}");
+        }
     }
 }
 
@@ -463,6 +479,13 @@ fn patch_gaps_of_a_sphere() {
     let near_outlet = Vec3::new(0.95, 0.5, 0.5);
     let hit = exits.nearest_gap(&near_outlet, &axes, &q).unwrap();
     assert_eq!(mesh.patches()[hit.patch].name, "outlet");
+    // The warp moves the cube faces by sin(π) ≈ 1e-16 only.
+    assert!((hit.normal - Vec3::x()).amax() < 1e-14, "{hit:?}");
+    // Both sets together: the outlet is nearer than any wall from there.
+    let both = PatchSet::boundaries(&mesh)
+        .nearest_gap(&near_outlet, &axes, &q)
+        .unwrap();
+    assert_eq!(both, hit);
     assert!((hit.gap - (0.05 - r)).abs() < 1e-14, "{hit:?}");
     // A prolate spheroid lying along z reaches the floor with its long semi-axis.
     let prolate = Vec3::new(0.3, 0.05, 0.05);

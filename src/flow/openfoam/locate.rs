@@ -40,8 +40,10 @@ pub struct CellLocator {
 /// Where a point lies relative to one cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Probe {
-    /// Inside the cell (within the tolerance).
+    /// Strictly inside the cell.
     Inside,
+    /// On the cell's boundary (within the tolerance): other cells may hold the point too.
+    OnFace,
     /// Beyond face `f` of the cell (the ray from the cell centre to x crosses it).
     Beyond(usize),
     /// In no cone of the cell (a cell not star-shaped about its centre).
@@ -70,8 +72,11 @@ pub fn probe(mesh: &PolyMesh, c: usize, x: &Vec3) -> Probe {
             let beta = e0.dot(&d.cross(&e2)) / det;
             let gamma = e0.dot(&e1.cross(&d)) / det;
             if alpha >= -BARY_TOL && beta >= -BARY_TOL && gamma >= -BARY_TOL {
-                return if alpha + beta + gamma <= 1.0 + BARY_TOL {
+                let beyond = alpha + beta + gamma - 1.0;
+                return if beyond < -BARY_TOL {
                     Probe::Inside
+                } else if beyond <= BARY_TOL {
+                    Probe::OnFace
                 } else {
                     Probe::Beyond(f)
                 };
@@ -111,26 +116,35 @@ impl CellLocator {
     }
 
     /// The cell containing `x`, walking from `hint` when given; `None` outside the mesh.
+    ///
+    /// The answer does not depend on the hint: a point on a face shared by several cells (a
+    /// centreline of a structured grid, say) goes to the lowest-numbered of them, so results are
+    /// reproducible whatever the order of earlier queries.
     pub fn locate(&self, mesh: &PolyMesh, x: &Vec3, hint: Option<usize>) -> Option<usize> {
-        if let Some(start) = hint.filter(|&h| h < mesh.n_cells())
-            && let Some(c) = walk(mesh, start, x)
-        {
-            return Some(c);
+        let walked = hint
+            .filter(|&h| h < mesh.n_cells())
+            .and_then(|start| walk(mesh, start, x));
+        match walked {
+            Some((cell, Probe::Inside)) => Some(cell),
+            // On a face, or not found by walking: every cell whose box holds x is tested.
+            _ => self
+                .boxes
+                .locate_all_at_point([x[0], x[1], x[2]])
+                .map(|b| b.data as usize)
+                .filter(|&c| matches!(probe(mesh, c, x), Probe::Inside | Probe::OnFace))
+                .min(),
         }
-        self.boxes
-            .locate_all_at_point([x[0], x[1], x[2]])
-            .map(|b| b.data as usize)
-            .find(|&c| probe(mesh, c, x) == Probe::Inside)
     }
 }
 
-/// Walk from `start` towards `x` across faces; `None` if it leaves the mesh, gets lost or
-/// takes more than [`MAX_WALK`] steps.
-fn walk(mesh: &PolyMesh, start: usize, x: &Vec3) -> Option<usize> {
+/// Walk from `start` towards `x` across faces: the cell reached and whether x is strictly
+/// inside or on its boundary; `None` if the walk leaves the mesh, gets lost or takes more than
+/// [`MAX_WALK`] steps.
+fn walk(mesh: &PolyMesh, start: usize, x: &Vec3) -> Option<(usize, Probe)> {
     let mut cell = start;
     for _ in 0..=MAX_WALK {
         match probe(mesh, cell, x) {
-            Probe::Inside => return Some(cell),
+            p @ (Probe::Inside | Probe::OnFace) => return Some((cell, p)),
             Probe::Lost => return None,
             Probe::Beyond(f) => {
                 let next = mesh.neighbour(f)?;

@@ -148,6 +148,10 @@ impl PolyMesh {
             )));
         }
         let n_internal = neighbour.len();
+        // Cell-to-face addressing lists internal faces twice and is indexed by u32.
+        if n_faces.saturating_add(n_internal) >= u32::MAX as usize {
+            return Err(mesh_err(format!("{n_faces} faces exceed the 32-bit addressing")));
+        }
         if n_internal > n_faces {
             return Err(mesh_err(format!(
                 "neighbour has {n_internal} entries for {n_faces} faces"

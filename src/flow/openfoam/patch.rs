@@ -61,6 +61,8 @@ pub struct FaceGap {
     pub patch: usize,
     /// Gap $g$ (negative: overlap depth).
     pub gap: f64,
+    /// Outward unit normal of the face.
+    pub normal: Vec3,
 }
 
 /// Gap between an ellipsoidal particle and a boundary.
@@ -143,6 +145,14 @@ impl PatchSet {
         Self::new(mesh, &ids)
     }
 
+    /// The particle boundaries: every wall and exit patch (constraint patches left out).
+    pub fn boundaries(mesh: &PolyMesh) -> Self {
+        let ids: Vec<usize> = (0..mesh.patches().len())
+            .filter(|&p| PatchRole::of(&mesh.patches()[p].kind) != PatchRole::Constraint)
+            .collect();
+        Self::new(mesh, &ids)
+    }
+
     /// Every patch.
     pub fn all(mesh: &PolyMesh) -> Self {
         Self::new(mesh, &(0..mesh.patches().len()).collect::<Vec<_>>())
@@ -176,17 +186,20 @@ impl PatchGap for PatchSet {
                 face: f as usize,
                 patch: p as usize,
                 gap,
+                normal: n,
             };
             // The ellipsoid's extreme point along n, projected onto the face plane.
             let support = centre + q.transpose() * (q * n).component_mul(&r2) / h;
             let projected = support + n * (self.centres[i] - support).dot(&n);
             if self.covers(i, &projected) {
-                if covered.is_none_or(|c| gap < c.gap) {
+                // Ties (a support point over a shared edge) go to the lowest face number, so
+                // the answer does not depend on the index's traversal order.
+                if covered.is_none_or(|c| (gap, candidate.face) < (c.gap, c.face)) {
                     covered = Some(candidate);
                 }
             } else {
                 let d = (self.centres[i] - projected).norm();
-                if nearest.is_none_or(|(dn, _)| d < dn) {
+                if nearest.is_none_or(|(dn, c)| (d, candidate.face) < (dn, c.face)) {
                     nearest = Some((d, candidate));
                 }
             }
