@@ -117,23 +117,31 @@ impl CellLocator {
 
     /// The cell containing `x`, walking from `hint` when given; `None` outside the mesh.
     ///
-    /// The answer does not depend on the hint: a point on a face shared by several cells (a
-    /// centreline of a structured grid, say) goes to the lowest-numbered of them, so results are
-    /// reproducible whatever the order of earlier queries.
+    /// The answer does not depend on the hint: a point strictly inside a cell has only that
+    /// cell, and a point on a face shared by several cells (a centreline of a structured grid,
+    /// say) goes to the lowest-numbered of them, so results are reproducible whatever the order
+    /// of earlier queries.
     pub fn locate(&self, mesh: &PolyMesh, x: &Vec3, hint: Option<usize>) -> Option<usize> {
         let walked = hint
             .filter(|&h| h < mesh.n_cells())
             .and_then(|start| walk(mesh, start, x));
-        match walked {
-            Some((cell, Probe::Inside)) => Some(cell),
-            // On a face, or not found by walking: every cell whose box holds x is tested.
-            _ => self
-                .boxes
-                .locate_all_at_point([x[0], x[1], x[2]])
-                .map(|b| b.data as usize)
-                .filter(|&c| matches!(probe(mesh, c, x), Probe::Inside | Probe::OnFace))
-                .min(),
+        if let Some((cell, Probe::Inside)) = walked {
+            return Some(cell);
         }
+        // On a face, or not found by walking: the cells whose boxes hold x.
+        let mut on_face: Option<usize> = None;
+        for c in self
+            .boxes
+            .locate_all_at_point([x[0], x[1], x[2]])
+            .map(|b| b.data as usize)
+        {
+            match probe(mesh, c, x) {
+                Probe::Inside => return Some(c),
+                Probe::OnFace => on_face = Some(on_face.map_or(c, |o| o.min(c))),
+                Probe::Beyond(_) | Probe::Lost => {}
+            }
+        }
+        on_face
     }
 }
 
