@@ -561,3 +561,31 @@ fn unsteady_case_from_time_directories() {
         Err(FoamError::NoSuchTime { .. })
     ));
 }
+
+#[test]
+fn snappy_mesh_convergence_in_the_cells_at_the_sphere() {
+    // Points 0.2–0.8 surface-cell sizes (h = 1/(2 NX), refinement level 1) off the sphere: the
+    // snapped, layered wall cells, whose reconstructions use the patch values.
+    let (centre, radius) = (Vec3::new(0.5, 0.2, 0.2), 0.1);
+    let mut errs = Vec::new();
+    for n in [10, 20, 40] {
+        let h = 1.0 / (2.0 * n as f64);
+        let mesh = snappy(n).mesh().clone();
+        let flow = FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, |x| smooth(x).0))]).unwrap();
+        let pts: Vec<Vec3> = points(5000, -1.0, 1.0, 9)
+            .into_iter()
+            .zip(points(5000, 0.2, 0.8, 10))
+            .map(|(dir, offset)| centre + dir.normalize() * (radius + h * offset[0]))
+            .collect();
+        let (eu, eg, found) = errors(&flow, &pts, smooth);
+        // The facets lie inside the true sphere, so every such point is in the mesh.
+        assert_eq!(found, pts.len(), "n = {n}");
+        errs.push((eu, eg));
+    }
+    let order = |a: f64, b: f64| (a / b).log2();
+    let (pu, pg) = (order(errs[0].0, errs[2].0) / 2.0, order(errs[0].1, errs[2].1) / 2.0);
+    eprintln!("wall cells, max errors (u, grad u) on n = 10, 20, 40: {errs:?}; observed orders {pu:.2}, {pg:.2}");
+    // As on the whole mesh: O(h²) and O(h) less 0.3 for the pre-asymptotic range.
+    assert!(pu > 1.7, "u order {pu}");
+    assert!(pg > 0.7, "grad u order {pg}");
+}
