@@ -1,8 +1,10 @@
 //! Cost of one particle-step. Criterion reports the throughput in particle-steps per second
 //! (`thrpt`), for the paper's IMEX step and the inertialess Rosenbrock step.
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use pseudorigid::integrator::Stokesian;
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
+use pseudorigid::integrator::imex::StabilityGuard;
+use pseudorigid::integrator::{Stokesian, TimeIntegrator};
 use pseudorigid::prelude::*;
 use std::hint::black_box;
 
@@ -26,30 +28,41 @@ fn particle_and_state() -> (Particle<NeoHooke>, State) {
     (p, s)
 }
 
-fn bench_steps(c: &mut Criterion) {
-    let (p, s) = particle_and_state();
+/// Steps of a running particle: the state and the integrator's step memory carry over from
+/// one iteration to the next, as in a real run (geometry reuse, first-same-as-last, the cached
+/// stability limit). The particle keeps tumbling in the shear flow meanwhile.
+fn bench_running<I: TimeIntegrator>(g: &mut BenchmarkGroup<'_, WallTime>, name: &str, integ: &I, dt: f64) {
+    let (p, s0) = particle_and_state();
     let flow = LinearFlow::simple_shear(1.0).unwrap();
-    let mut g = c.benchmark_group("particle_step");
-    g.throughput(Throughput::Elements(1));
-    g.bench_function("imex_paper", |b| {
-        b.iter(|| ImexPaper::default().step(&p, black_box(&s), &flow, 5e-4).unwrap())
-    });
-    let unchecked = ImexPaper {
-        check_stability: false,
-        ..ImexPaper::default()
-    };
-    g.bench_function("imex_paper_unchecked", |b| {
-        b.iter(|| unchecked.step(&p, black_box(&s), &flow, 5e-4).unwrap())
-    });
-    g.bench_function("stokesian_rosenbrock", |b| {
+    let mut s = s0;
+    let mut memory = I::Memory::default();
+    g.bench_function(name, |b| {
         b.iter(|| {
-            Stokesian::overdamped(1e-6)
-                .step(&p, black_box(&s), &flow, 0.05)
-                .unwrap()
+            let step = integ.step_with(&p, black_box(&s), &mut memory, &flow, dt).unwrap();
+            s = step.state;
         })
     });
+}
+
+fn bench_steps(c: &mut Criterion) {
+    let (p, s) = particle_and_state();
+    let mut g = c.benchmark_group("particle_step");
+    g.throughput(Throughput::Elements(1));
+    bench_running(&mut g, "imex_paper", &ImexPaper::default(), 5e-4);
+    bench_running(&mut g, "imex_paper_unguarded", &ImexPaper::unguarded(), 5e-4);
+    let exact = ImexPaper {
+        guard: StabilityGuard::Exact,
+        ..ImexPaper::default()
+    };
+    bench_running(&mut g, "imex_paper_exact_guard", &exact, 5e-4);
+    bench_running(
+        &mut g,
+        "stokesian_rosenbrock",
+        &Stokesian::overdamped(1e-6).unwrap(),
+        0.05,
+    );
     g.bench_function("geometry_frame_integrals_traction", |b| {
-        b.iter(|| p.geometry(black_box(&s)))
+        b.iter(|| p.geometry(black_box(&s.f)))
     });
     g.finish();
 }

@@ -24,11 +24,8 @@ fn population(c: &mut Criterion) {
             s
         })
         .collect();
-    let imex = ImexPaper {
-        check_stability: false,
-        ..ImexPaper::default()
-    };
-    let stokes = Stokesian::overdamped(1e-6);
+    let imex = ImexPaper::unguarded();
+    let stokes = Stokesian::overdamped(1e-6).unwrap();
     let mut g = c.benchmark_group(format!("population_{n}"));
     g.sample_size(10);
     g.throughput(Throughput::Elements(n as u64));

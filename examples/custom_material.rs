@@ -44,14 +44,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let particle = Particle::new(shape, law, Fluid::new(1.0, 1.0)?, 1.0)?;
     let flow = LinearFlow::simple_shear(1.0)?;
     let (end, stats) = advance(
-        &Stokesian::overdamped(1e-8),
+        &Stokesian::overdamped(1e-8)?,
         &particle,
         State::at_rest(Vec3::zeros()),
         &flow,
         1e-3,
         40.0,
     )?;
-    let r = particle.geometry(&end).frame.r;
+    let r = particle.geometry(&end.f).frame.r;
     println!(
         "Yeoh particle, Ca = {ca}: steady semi-axes r = ({:.4}, {:.4}, {:.4}) d_eq",
         r[0], r[1], r[2]

@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         .iter()
         .flat_map(|family| ASPECT_RATIOS.map(|r| (r, family(r))))
         .collect();
-    let points = phase_map::compute(&phase_map::paper_search(), &shapes)?;
+    let points = phase_map::compute(&phase_map::paper_search()?, &shapes)?;
     for p in &points {
         let b = p.boundary;
         println!(

@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let section_a = tenths(1, 10).map(|w2| (w2, ShearShape::triaxial("a_omega1_0.5", 0.5, w2)));
     let section_b = tenths(1, 9).map(|w1| (w1, ShearShape::triaxial("b_omega2_0.5", w1, 0.5)));
     let shapes: Vec<_> = section_a.chain(section_b).collect();
-    let points = phase_map::compute(&phase_map::paper_search(), &shapes)?;
+    let points = phase_map::compute(&phase_map::paper_search()?, &shapes)?;
     for p in &points {
         let b = p.boundary;
         println!(

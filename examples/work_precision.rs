@@ -1,34 +1,43 @@
 //! Work-precision diagrams of every integrator on the three reference problems of
 //! `scenes::work_precision`. Writes `paper-figures/work-precision/work_precision.csv` and
-//! `work_precision.svg`.
+//! `work_precision.svg`, beside the SciPy peer (`benches/peers/inertialess.py`, rows
+//! `scipy_radau` / `scipy_lsoda`), and the peer's wall time over the fastest library
+//! integrator's at equal error in `peer_ratios.csv`.
 //!
 //! Run: `cargo run --release --example work_precision`
+//! (Python from `PSEUDORIGID_PYTHON`, default `python3`; without NumPy/SciPy the peer rows are
+//! skipped with a message.)
 
 use pseudorigid::output::{Csv, Figure, Panel, Series};
-use pseudorigid::scenes::work_precision::{Case, Record, Setting, measure, oblate_reference, work_at_error};
+use pseudorigid::scenes::scipy_peer::Peer;
+use pseudorigid::scenes::work_precision::{
+    Case, RATIO_ERRORS, Record, error_floor, has_peer, measure, oblate_reference, peer_ratios, sweep, work_at_error,
+};
 use std::time::Instant;
-
-const RHO_STAR: f64 = 0.01;
-
-fn settings(case: Case) -> Vec<Setting> {
-    let mut s: Vec<Setting> = [80.0, 160.0, 320.0, 640.0]
-        .iter()
-        .map(|d| Setting::ImexPaper(RHO_STAR / d))
-        .collect();
-    s.extend([1e-3, 1e-4, 1e-5, 1e-6].map(Setting::ImexAdaptive));
-    s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9].map(Setting::Stokesian));
-    if case == Case::Jeffery {
-        s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::Rigid));
-    }
-    s
-}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
     let reference = oblate_reference()?;
+    let peer = Peer::from_env().check();
+    // The error floor of each case the peer runs: its measure applied to the peer's
+    // high-accuracy run.
+    let mut floors: Vec<(Case, f64)> = Vec::new();
+    match &peer {
+        Ok(()) => {
+            for case in [Case::Jeffery, Case::TankTreading, Case::Oblate]
+                .into_iter()
+                .filter(|&c| has_peer(c))
+            {
+                let floor = error_floor(case, Some(&reference))?;
+                println!("{} error floor (SciPy DOP853 at 1e-13): {floor:.3e}", case.name());
+                floors.push((case, floor));
+            }
+        }
+        Err(e) => println!("skipping the SciPy peer rows: {e}"),
+    }
     let mut records: Vec<Record> = Vec::new();
     for case in [Case::Jeffery, Case::TankTreading, Case::Oblate] {
-        for setting in settings(case) {
+        for setting in sweep(case).into_iter().filter(|s| s.peer().is_none() || peer.is_ok()) {
             let rec = match measure(case, setting, Some(&reference)) {
                 Ok(rec) => rec,
                 Err(e) => {
@@ -79,7 +88,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     csv.write("paper-figures/work-precision/work_precision.csv")?;
 
-    let integrators = ["imex_paper", "imex_adaptive", "stokesian", "rigid"];
+    let mut integrators: Vec<&str> = Vec::new();
+    for r in &records {
+        if !integrators.contains(&r.setting.integrator()) {
+            integrators.push(r.setting.integrator());
+        }
+    }
     let mut panels = Vec::new();
     for case in [Case::Jeffery, Case::TankTreading, Case::Oblate] {
         for (x_label, wall) in [("log10 wall time [s]", true), ("log10 model evaluations", false)] {
@@ -127,6 +141,46 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 best.wall_s / wall
             );
         }
+    }
+    // The library against the SciPy peer at equal error, on levels at least 10× above the
+    // case's error floor (below it both curves measure the reference, not the integrator).
+    if !floors.is_empty() {
+        println!("peer wall time / fastest library wall time at equal error");
+        let mut csv = Csv::new(&[
+            "case",
+            "error",
+            "best_integrator",
+            "library_wall_s",
+            "peer",
+            "peer_wall_s",
+            "ratio",
+        ]);
+        let rows = floors.iter().flat_map(|&(case, floor)| {
+            let levels: Vec<f64> = RATIO_ERRORS.into_iter().filter(|&e| e >= 10.0 * floor).collect();
+            peer_ratios(&records, case, &levels)
+        });
+        for r in rows {
+            println!(
+                "  {:14} error {:7.0e}: {:13} {:9.3e} s  {:12} {:9.3e} s  ratio {:7.1}",
+                r.case.name(),
+                r.error,
+                r.best_integrator,
+                r.library_wall_s,
+                r.peer,
+                r.peer_wall_s,
+                r.ratio
+            );
+            csv.push(vec![
+                r.case.name().into(),
+                format!("{:e}", r.error),
+                r.best_integrator.into(),
+                format!("{:.6e}", r.library_wall_s),
+                r.peer.into(),
+                format!("{:.6e}", r.peer_wall_s),
+                format!("{:.4e}", r.ratio),
+            ])?;
+        }
+        csv.write("paper-figures/work-precision/peer_ratios.csv")?;
     }
     println!("work_precision finished in {:.1} s", start.elapsed().as_secs_f64());
     Ok(())

@@ -1,14 +1,26 @@
-//! The driver owns the time loop: it calls an integrator step by step, honours the step sizes
-//! the integrator proposes, lands exactly on requested output times, and accumulates the work
-//! statistics used in work-precision studies.
+//! The driver owns the time loop: it calls an integrator step by step with the particle's step
+//! memory, honours the step sizes the integrator proposes, lands exactly on requested output
+//! times, locates terminal events on each step's dense output, enforces a step and wall-time
+//! budget, and accumulates the work statistics used in work-precision studies.
+//!
+//! # Events
+//! An [`Event`] is a signed gap g(state), positive while nothing happens (a wall gap, the
+//! distance to an outlet plane). When an accepted step ends with g ≤ 0 the driver solves
+//! g(state(t)) = 0 on the step's [`Dense`] interpolant by the Illinois variant of regula falsi
+//! until |g| ≤ 10⁻⁹ · [`Event::scale`], and stops there. An event may cap the step
+//! ([`Event::max_step`]) so that a tumbling tip cannot touch and leave a wall within one step,
+//! which no end-point test can see.
+//!
+//! [`Dense`]: crate::integrator::Dense
 
-use crate::error::StepError;
+use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::integrator::{StepInfo, TimeIntegrator};
+use crate::integrator::{Dense, Step, StepInfo, TimeIntegrator};
 use crate::material::Hyperelastic;
 use crate::particle::{Particle, State};
 use serde::{Deserialize, Serialize};
+use std::time::{Duration, Instant};
 
 /// Accumulated work of a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
@@ -17,7 +29,7 @@ pub struct RunStats {
     pub steps: u64,
     /// Rejected step attempts.
     pub rejected: u64,
-    /// Hydrodynamic model evaluations.
+    /// Model evaluations.
     pub rhs_evals: u64,
     /// Jacobian evaluations.
     pub jac_evals: u64,
@@ -38,9 +50,306 @@ impl RunStats {
     }
 }
 
-/// Advance from `state` to `t_end`, starting with step `dt` (fixed-step integrators keep it),
-/// stopping exactly at every time in `outputs` (ascending) and calling `observe` there.
-/// `on_step` sees every accepted step.
+/// Limits on one run; exceeding one is a [`StepError::BudgetExceeded`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    /// Largest number of accepted steps (default 10⁹: hours of work for one particle).
+    pub max_steps: u64,
+    /// Wall-clock limit, if any.
+    pub wall_time: Option<Duration>,
+}
+
+impl Default for Budget {
+    fn default() -> Self {
+        Self {
+            max_steps: 1_000_000_000,
+            wall_time: None,
+        }
+    }
+}
+
+/// A terminal event: fires when the signed gap g(state) crosses from > 0 to ≤ 0.
+pub trait Event {
+    /// Signed gap, positive before the event.
+    fn gap(&self, state: &State) -> f64;
+
+    /// Scale of g: the event is located to |g| ≤ 10⁻⁹ · scale (default 1).
+    fn scale(&self, _state: &State) -> f64 {
+        1.0
+    }
+
+    /// Largest step the driver may take from `state` (default unbounded).
+    fn max_step(&self, _state: &State) -> f64 {
+        f64::INFINITY
+    }
+}
+
+/// Relative tolerance of event location on the dense output.
+pub const EVENT_TOL: f64 = 1e-9;
+/// Iterations allowed to locate one event (Illinois converges superlinearly; 200 is a bound
+/// that only a discontinuous gap function can reach).
+const MAX_EVENT_ITERS: u32 = 200;
+
+/// Why [`integrate`] returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Stop {
+    /// The end time was reached.
+    EndTime,
+    /// Event number `index` (position in the events slice) fired.
+    Event {
+        /// Which event.
+        index: usize,
+    },
+}
+
+/// The end of a run.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// Final state (at t_end, or at the located event).
+    pub state: State,
+    /// Work statistics.
+    pub stats: RunStats,
+    /// Why the run ended.
+    pub stop: Stop,
+}
+
+/// What to integrate to and how: end time, output times, first step, step cap and budget.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    t_end: f64,
+    outputs: Vec<f64>,
+    dt0: f64,
+    dt_max: f64,
+    budget: Budget,
+}
+
+impl Plan {
+    /// Integrate to `t_end` starting with step `dt0` (fixed-step integrators keep it).
+    /// Both must be finite, dt0 > 0.
+    pub fn new(t_end: f64, dt0: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            t_end: crate::error::finite("t_end", t_end)?,
+            outputs: Vec::new(),
+            dt0: crate::error::positive("dt", dt0)?,
+            dt_max: f64::INFINITY,
+            budget: Budget::default(),
+        })
+    }
+
+    /// Stop exactly at these times (ascending, finite, ≤ t_end) and observe the state there.
+    pub fn with_outputs(mut self, outputs: &[f64]) -> Result<Self, ParamError> {
+        let mut last = f64::NEG_INFINITY;
+        for &t in outputs {
+            if !(t.is_finite() && t > last && t <= self.t_end) {
+                return Err(ParamError::OutOfRange {
+                    name: "output time (ascending, ≤ t_end)",
+                    value: t,
+                    min: last,
+                    max: self.t_end,
+                });
+            }
+            last = t;
+        }
+        self.outputs = outputs.to_vec();
+        Ok(self)
+    }
+
+    /// Never step further than `dt_max` (> 0).
+    pub fn with_dt_max(mut self, dt_max: f64) -> Result<Self, ParamError> {
+        self.dt_max = crate::error::positive("dt_max", dt_max)?;
+        Ok(self)
+    }
+
+    /// Limit the run.
+    pub fn with_budget(mut self, budget: Budget) -> Self {
+        self.budget = budget;
+        self
+    }
+
+    /// End time.
+    pub fn t_end(&self) -> f64 {
+        self.t_end
+    }
+}
+
+/// Times closer than this (relative to max(|t|, 1)) count as equal when landing on an output.
+const LANDING_TOL: f64 = 1e-12;
+
+/// Advance `state` with `memory` as `plan` says, stopping at the first event that fires.
+/// `observe` sees the start, every output time and the event state; `on_step` every accepted
+/// step. Refuses a start state already past t_end.
+#[allow(clippy::too_many_arguments)] // the problem (4), its memory, the plan, events, two observers
+pub fn integrate<I, M, D, F>(
+    integrator: &I,
+    particle: &Particle<M, D>,
+    flow: &F,
+    state: State,
+    memory: &mut I::Memory,
+    plan: &Plan,
+    events: &[&dyn Event],
+    mut observe: impl FnMut(&State),
+    mut on_step: impl FnMut(&Step),
+) -> Result<Outcome, StepError>
+where
+    I: TimeIntegrator,
+    M: Hyperelastic,
+    D: DragModel,
+    F: FlowField + ?Sized,
+{
+    state.validate()?;
+    if state.t > plan.t_end {
+        return Err(ParamError::OutOfRange {
+            name: "t_end (must not lie before the start time)",
+            value: plan.t_end,
+            min: state.t,
+            max: f64::INFINITY,
+        }
+        .into());
+    }
+    let started = Instant::now();
+    let mut s = state;
+    let mut stats = RunStats::default();
+    let mut h = plan.dt0.min(plan.dt_max);
+    observe(&s);
+    for (index, e) in events.iter().enumerate() {
+        if e.gap(&s) <= 0.0 {
+            return Ok(Outcome {
+                state: s,
+                stats,
+                stop: Stop::Event { index },
+            });
+        }
+    }
+    let t_start = s.t;
+    let mut outputs = plan.outputs.iter().copied().filter(|&t| t > t_start).peekable();
+    loop {
+        let target = outputs.peek().copied().unwrap_or(plan.t_end);
+        let remaining = target - s.t;
+        if remaining <= LANDING_TOL * target.abs().max(1.0) {
+            s.t = target;
+            if outputs.next().is_some() {
+                observe(&s);
+                continue;
+            }
+            return Ok(Outcome {
+                state: s,
+                stats,
+                stop: Stop::EndTime,
+            });
+        }
+        if stats.steps >= plan.budget.max_steps {
+            return Err(StepError::BudgetExceeded {
+                steps: stats.steps,
+                t: s.t,
+                wall_s: started.elapsed().as_secs_f64(),
+            });
+        }
+        if let Some(limit) = plan.budget.wall_time
+            && started.elapsed() > limit
+        {
+            return Err(StepError::BudgetExceeded {
+                steps: stats.steps,
+                t: s.t,
+                wall_s: started.elapsed().as_secs_f64(),
+            });
+        }
+        let cap = events.iter().map(|e| e.max_step(&s)).fold(plan.dt_max, f64::min);
+        let cap = if cap.is_nan() { plan.dt_max } else { cap };
+        // Land on the target; never leave a sliver step (< 1 % of h) before it.
+        let want = h.min(cap);
+        let clamped = want >= 0.99 * remaining;
+        let try_h = if clamped { remaining } else { want };
+        if s.t + try_h <= s.t || try_h.is_nan() {
+            return Err(StepError::NoProgress { t: s.t, dt: try_h });
+        }
+        let step = integrator.step_with(particle, &s, memory, flow, try_h)?;
+        stats.record(&step.info);
+        // A step shortened to hit a target or a cap says nothing about the next step size.
+        h = if clamped || want < h {
+            h.max(step.info.dt_next)
+        } else {
+            step.info.dt_next
+        };
+        on_step(&step);
+        if let Some((index, at)) = first_event(events, &s, &step.dense, &step.state)? {
+            observe(&at);
+            return Ok(Outcome {
+                state: at,
+                stats,
+                stop: Stop::Event { index },
+            });
+        }
+        s = step.state;
+    }
+}
+
+/// The earliest event that fires within the step from `before` to `after`, located on `dense`.
+fn first_event(
+    events: &[&dyn Event],
+    before: &State,
+    dense: &Dense,
+    after: &State,
+) -> Result<Option<(usize, State)>, StepError> {
+    let mut first: Option<(usize, State)> = None;
+    for (index, e) in events.iter().enumerate() {
+        let (g0, g1) = (e.gap(before), e.gap(after));
+        if g1 > 0.0 {
+            continue;
+        }
+        if g1.is_nan() || g0.is_nan() {
+            return Err(StepError::NonFinite {
+                what: "event gap",
+                t: after.t,
+            });
+        }
+        let at = locate(*e, dense, (before.t, g0), (after.t, g1), e.scale(after))?;
+        if first.as_ref().is_none_or(|(_, s)| at.t < s.t) {
+            first = Some((index, at));
+        }
+    }
+    Ok(first)
+}
+
+/// Illinois regula falsi for g(state(t)) = 0 on `dense` between a (g > 0) and b (g ≤ 0).
+fn locate(e: &dyn Event, dense: &Dense, a: (f64, f64), b: (f64, f64), scale: f64) -> Result<State, StepError> {
+    let ((mut ta, mut ga), (mut tb, mut gb)) = (a, b);
+    let tol = EVENT_TOL * scale.abs().max(f64::MIN_POSITIVE);
+    if -gb <= tol {
+        return Ok(dense.state_at(tb));
+    }
+    let mut side = 0i8;
+    for _ in 0..MAX_EVENT_ITERS {
+        let tc = ta + ga / (ga - gb) * (tb - ta);
+        let sc = dense.state_at(tc);
+        let gc = e.gap(&sc);
+        if gc.is_nan() {
+            return Err(StepError::NonFinite {
+                what: "event gap",
+                t: tc,
+            });
+        }
+        if gc.abs() <= tol || tb - ta <= 4.0 * f64::EPSILON * tb.abs().max(1.0) {
+            return Ok(sc);
+        }
+        if gc > 0.0 {
+            (ta, ga) = (tc, gc);
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        } else {
+            (tb, gb) = (tc, gc);
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    Err(StepError::EventNotLocated { t: tb, gap: gb })
+}
+
+/// Advance from `state` to the last of `outputs` (ascending), starting with step `dt`,
+/// calling `observe` at every output time and `on_step` after every accepted step.
 // The eight arguments are the problem (integrator, particle, state, flow), the step and the
 // output schedule, and two observers; bundling them would only rename them.
 #[allow(clippy::too_many_arguments)]
@@ -60,27 +369,29 @@ where
     D: DragModel,
     F: FlowField + ?Sized,
 {
-    crate::error::positive("dt", dt)?;
-    let mut s = state;
-    let mut stats = RunStats::default();
-    let mut h = dt;
-    for &t_out in outputs {
-        while t_out - s.t > 1e-12 * t_out.abs().max(1.0) {
-            let remaining = t_out - s.t;
-            // Land on t_out; never leave a sliver step (< 1 % of h) before it.
-            let clamped = h >= 0.99 * remaining;
-            let try_h = if clamped { remaining } else { h };
-            let (next, info) = integrator.step(particle, &s, flow, try_h)?;
-            stats.record(&info);
-            // A step shortened to hit t_out says nothing about the next step size.
-            h = if clamped { h.max(info.dt_next) } else { info.dt_next };
-            s = next;
-            on_step(&s, &info);
-        }
-        s.t = t_out;
-        observe(&s);
-    }
-    Ok((s, stats))
+    let t_end = outputs.last().copied().unwrap_or(state.t);
+    let plan = Plan::new(t_end, dt)?.with_outputs(outputs)?;
+    // `integrate` shows the start state first; `run` shows it only if it is an output time.
+    let mut show_start = outputs.first().is_some_and(|&t| t <= state.t);
+    let mut started = false;
+    let mut memory = I::Memory::default();
+    let out = integrate(
+        integrator,
+        particle,
+        flow,
+        state,
+        &mut memory,
+        &plan,
+        &[],
+        |s| {
+            if started || std::mem::take(&mut show_start) {
+                observe(s);
+            }
+            started = true;
+        },
+        |step| on_step(&step.state, &step.info),
+    )?;
+    Ok((out.state, out.stats))
 }
 
 /// Convenience: advance to `t_end` without observers.
@@ -98,73 +409,23 @@ where
     D: DragModel,
     F: FlowField + ?Sized,
 {
-    run(integrator, particle, state, flow, dt, &[t_end], |_| {}, |_, _| {})
+    let plan = Plan::new(t_end, dt)?;
+    let mut memory = I::Memory::default();
+    let out = integrate(
+        integrator,
+        particle,
+        flow,
+        state,
+        &mut memory,
+        &plan,
+        &[],
+        |_| {},
+        |_| {},
+    )?;
+    Ok((out.state, out.stats))
 }
 
 /// Evenly spaced output times n·Δ for n = 1..=N with NΔ = t_end.
 pub fn output_times(t_end: f64, count: usize) -> Vec<f64> {
     (1..=count).map(|n| t_end * n as f64 / count as f64).collect()
-}
-
-/// Why [`run_until`] returned.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Stop {
-    /// The end time was reached.
-    EndTime,
-    /// The stop predicate fired after an accepted step.
-    Event,
-}
-
-/// Advance to `t_end` with steps no longer than `dt_max`, calling `observe` every `dt_out`
-/// (and at the end), and stop early after the first accepted step for which `stop(state)`
-/// is true. Used for deposition and domain exit, where a step must not jump across a wall:
-/// choose `dt_max` so that the particle moves less than its smallest semi-axis per step.
-#[allow(clippy::too_many_arguments)] // problem (4), time controls (3), two callbacks
-pub fn run_until<I, M, D, F>(
-    integrator: &I,
-    particle: &Particle<M, D>,
-    state: State,
-    flow: &F,
-    dt_max: f64,
-    dt_out: f64,
-    t_end: f64,
-    mut observe: impl FnMut(&State),
-    mut stop: impl FnMut(&State) -> bool,
-) -> Result<(State, RunStats, Stop), StepError>
-where
-    I: TimeIntegrator,
-    M: Hyperelastic,
-    D: DragModel,
-    F: FlowField + ?Sized,
-{
-    crate::error::positive("dt_max", dt_max)?;
-    crate::error::positive("dt_out", dt_out)?;
-    let mut s = state;
-    let mut stats = RunStats::default();
-    let mut h = dt_max;
-    let mut next_out = s.t + dt_out;
-    let mut last_observed = s.t;
-    observe(&s);
-    while t_end - s.t > 1e-12 * t_end.abs().max(1.0) {
-        let try_h = h.min(dt_max).min(t_end - s.t);
-        let (next, info) = integrator.step(particle, &s, flow, try_h)?;
-        stats.record(&info);
-        h = info.dt_next;
-        s = next;
-        if s.t >= next_out - 1e-12 {
-            observe(&s);
-            last_observed = s.t;
-            next_out += dt_out * ((s.t - next_out) / dt_out).floor().max(0.0) + dt_out;
-        }
-        if stop(&s) {
-            if last_observed < s.t {
-                observe(&s);
-            }
-            return Ok((s, stats, Stop::Event));
-        }
-    }
-    if last_observed < s.t {
-        observe(&s);
-    }
-    Ok((s, stats, Stop::EndTime))
 }

@@ -22,6 +22,18 @@ pub enum ParamError {
         /// Offending value.
         value: f64,
     },
+    /// A parameter lies outside its allowed interval.
+    #[error("parameter `{name}` must lie in [{min}, {max}], got {value}")]
+    OutOfRange {
+        /// Parameter name.
+        name: &'static str,
+        /// Offending value.
+        value: f64,
+        /// Smallest allowed value.
+        min: f64,
+        /// Largest allowed value.
+        max: f64,
+    },
     /// The initial axes are not a right-handed orthonormal triad.
     #[error("initial axes are not a rotation: |QᵀQ − 1| = {orthogonality_defect:.3e}, det = {det}")]
     NotARotation {
@@ -95,6 +107,13 @@ pub enum StepError {
         /// Which term limits the step.
         reason: &'static str,
     },
+    /// The eigenvalues behind the explicit stability limit could not be computed (the bounded
+    /// Schur iteration did not converge), so the step cannot be certified stable.
+    #[error("stability limit unknown at t = {t}: the 9×9 eigenproblem did not converge")]
+    StabilityUnknown {
+        /// Time.
+        t: f64,
+    },
     /// An adaptive integrator shrank the step below its floor.
     #[error("step size underflow: dt = {dt:.3e} at t = {t} (error estimate {error:.3e})")]
     StepSizeUnderflow {
@@ -104,6 +123,32 @@ pub enum StepError {
         t: f64,
         /// Last scaled error estimate.
         error: f64,
+    },
+    /// A run used up its step or wall-time budget.
+    #[error("budget exceeded after {steps} steps ({wall_s:.1} s) at t = {t}")]
+    BudgetExceeded {
+        /// Accepted steps taken.
+        steps: u64,
+        /// Time reached.
+        t: f64,
+        /// Wall-clock seconds used.
+        wall_s: f64,
+    },
+    /// A step would not advance time in floating point (t + dt == t).
+    #[error("step dt = {dt:.3e} does not advance t = {t}")]
+    NoProgress {
+        /// Time.
+        t: f64,
+        /// Step that vanished against t.
+        dt: f64,
+    },
+    /// An event's zero crossing was not located on the dense output.
+    #[error("event not located: gap {gap:.3e} at t = {t}")]
+    EventNotLocated {
+        /// Best estimate of the event time.
+        t: f64,
+        /// Gap there.
+        gap: f64,
     },
     /// The flow field could not be sampled.
     #[error(transparent)]

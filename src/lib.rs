@@ -17,6 +17,7 @@
 //! Units are the caller's: any consistent set works. [`particle::ShearScaling`] builds the
 //! paper's nondimensional shear-flow particles (lengths d_eq, times 1/γ̇, stresses μ_f γ̇).
 
+pub mod contact;
 pub mod driver;
 pub mod ellipsoid;
 pub mod error;

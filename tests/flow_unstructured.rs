@@ -1,13 +1,10 @@
-//! Meshed flow fields (src/flow/unstructured): location, interpolation, readers, walls, and the
+//! Meshed flow fields (src/flow/unstructured): location, interpolation, readers, and the
 //! shipped cavity field. Everything here runs without OpenFOAM.
 
-use approx::assert_relative_eq;
 use proptest::prelude::*;
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
-use pseudorigid::flow::unstructured::{
-    Boundary, HexMesh, MeshError, MeshedFlow, WallRule, compact, support_distance, vtk,
-};
+use pseudorigid::flow::unstructured::{HexMesh, MeshError, MeshedFlow, compact, vtk};
 use pseudorigid::tensor::{Mat3, Vec3};
 use std::path::PathBuf;
 
@@ -222,59 +219,6 @@ fn truncated_vtk_is_malformed_not_a_panic() {
     let err = MeshedFlow::load(&path);
     std::fs::remove_file(&path).ok();
     assert!(matches!(err, Err(MeshError::Malformed { .. })));
-}
-
-mod walls {
-    use super::*;
-
-    fn rotation_about_y(angle: f64) -> Mat3 {
-        let (s, c) = angle.sin_cos();
-        // Rows are the principal directions n_a.
-        Mat3::new(c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c)
-    }
-
-    #[test]
-    fn support_distance_of_sphere_and_spheroid() {
-        let n = Vec3::new(1.0, 2.0, -2.0) / 3.0;
-        assert_relative_eq!(
-            support_distance(&Vec3::repeat(0.7), &rotation_about_y(0.3), &n),
-            0.7,
-            epsilon = 1e-15
-        );
-        let axes = Vec3::new(5.0, 1.0, 1.0);
-        assert_relative_eq!(support_distance(&axes, &Mat3::identity(), &Vec3::x()), 5.0);
-        assert_relative_eq!(support_distance(&axes, &Mat3::identity(), &Vec3::z()), 1.0);
-        // Long axis tilted 45° in the x-z plane: h(e_z) = √((25 + 1)/2).
-        let q = rotation_about_y(std::f64::consts::FRAC_PI_4);
-        assert_relative_eq!(support_distance(&axes, &q, &Vec3::z()), 13.0f64.sqrt(), epsilon = 1e-14);
-    }
-
-    #[test]
-    fn cavity_walls_exit_through_the_lid_and_stick_elsewhere() {
-        let l = 0.1;
-        let b = Boundary::cavity(l).unwrap();
-        let axes = Vec3::new(0.005, 0.001, 0.001);
-        let id = Mat3::identity();
-        assert_eq!(b.contact(&Vec3::repeat(0.05), &axes, &id), None);
-        // Long axis along x: 4.9 mm from the lid is clear, 0.9 mm is contact.
-        let near_lid = Vec3::new(0.05, 0.05, l - 0.0009);
-        let c = b.contact(&near_lid, &axes, &id).expect("touches the lid");
-        assert_eq!((b.walls()[c.wall].name.as_str(), c.rule), ("lid", WallRule::Exit));
-        assert_relative_eq!(c.gap, -0.0001, epsilon = 1e-15);
-        // The same centre height is clear of the lid only if the long axis lies flat.
-        let upright = rotation_about_y(std::f64::consts::FRAC_PI_2);
-        let below = Vec3::new(0.05, 0.05, l - 0.002);
-        assert!(b.contact(&below, &axes, &id).is_none());
-        assert_eq!(b.contact(&below, &axes, &upright).map(|c| c.rule), Some(WallRule::Exit));
-        // Near the right wall x = L with the long axis along x: sticks.
-        let right = Vec3::new(l - 0.004, 0.05, 0.05);
-        let c = b.contact(&right, &axes, &id).expect("touches x = L");
-        assert_eq!((b.walls()[c.wall].name.as_str(), c.rule), ("x1", WallRule::Stick));
-        // In a corner the deepest overlap wins.
-        let corner = Vec3::new(0.0005, 0.05, 0.0008);
-        let c = b.contact(&corner, &Vec3::repeat(0.001), &id).unwrap();
-        assert_eq!(b.walls()[c.wall].name, "x0");
-    }
 }
 
 /// The shipped OpenFOAM fields (reference-data/*.prf, provenance next to them).

@@ -82,7 +82,7 @@ fn settling_sphere_reaches_stokes_velocity() {
         s.v[2],
         -v_stokes
     );
-    for integrator in [Stokesian::new(1e-8), Stokesian::overdamped(1e-8)] {
+    for integrator in [Stokesian::new(1e-8).unwrap(), Stokesian::overdamped(1e-8).unwrap()] {
         let (s, _) = advance(
             &integrator,
             &p,
@@ -108,7 +108,7 @@ fn spheroid_period(r: f64, ca: f64) -> f64 {
         .unwrap()
         .particle([r, 1.0, 1.0], Mat3::identity())
         .unwrap();
-    let integ = Stokesian::overdamped(1e-9);
+    let integ = Stokesian::overdamped(1e-9).unwrap();
     let t_guess = 2.0 * PI * (r + 1.0 / r);
     let dt_out = 0.01;
     let n = (1.2 * t_guess / dt_out) as usize;
@@ -176,7 +176,7 @@ fn imex_stability_limit_matches_physics_notes() {
                 .unwrap()
                 .particle(ratios, Mat3::identity())
                 .unwrap();
-            let limit = stability_limit(&p, &State::at_rest(Vec3::zeros())) / rho_star;
+            let limit = stability_limit(&p, &State::at_rest(Vec3::zeros())).unwrap() / rho_star;
             assert!(
                 (limit * denom - 1.0).abs() <= 0.05,
                 "{ratios:?}: Δt_max = ρ*/{:.1}, notes ρ*/{denom}",

@@ -55,7 +55,7 @@ proptest! {
         s.f = f0;
         let mut energy = p.elastic_energy(&f0);
         let tol = 1e-8;
-        let (end, _) = run(&Stokesian::overdamped(tol), &p, s, &Quiescent, 1e-2, &[40.0], |_| {}, |st, _| {
+        let (end, _) = run(&Stokesian::overdamped(tol).unwrap(), &p, s, &Quiescent, 1e-2, &[40.0], |_| {}, |st, _| {
             let e = p.elastic_energy(&st.f);
             assert!(e <= energy + 10.0 * tol * energy.max(1e-3), "energy rose from {energy} to {e} at t = {}", st.t);
             energy = e;
@@ -175,7 +175,7 @@ fn bad_input_gives_typed_errors() {
         Err(StepError::Flow(FlowError::OutsideDomain { .. }))
     ));
     assert!(matches!(
-        Stokesian::new(1e-6).step(&p, &outside, &pipe, 1e-3),
+        Stokesian::new(1e-6).unwrap().step(&p, &outside, &pipe, 1e-3),
         Err(StepError::Flow(_))
     ));
     assert!(ShearScaling::new(0.0, 1.0, 1.0).is_err());

@@ -16,7 +16,7 @@ use pseudorigid::tensor::dev;
 
 fn oblate_run(ca: f64, times: &[f64]) -> Vec<ShearSample> {
     sample(
-        &Stokesian::overdamped(1e-8),
+        &Stokesian::overdamped(1e-8).unwrap(),
         &ShearShape::oblate(2.5),
         &stokesian_scaling(ca).unwrap(),
         times,
@@ -35,7 +35,7 @@ fn grid(from: f64, to: f64, step: f64) -> Vec<f64> {
 /// their integration error (< 1e-5, see the convergence test).
 #[test]
 fn oblate_2_5_tumbles_at_0_4_and_trembles_at_0_5() {
-    let c = RegimeClassifier::stokesian(1e-7);
+    let c = RegimeClassifier::stokesian(1e-7).unwrap();
     let tu = c
         .classify(&ShearShape::oblate(2.5), &stokesian_scaling(0.4).unwrap())
         .unwrap();
@@ -84,7 +84,7 @@ fn lines_reverse_between_23_5_and_24_at_ca_0_5() {
 /// seven shapes, checked while writing this, showed the same).
 #[test]
 fn regime_switches_once_in_ca() {
-    let c = RegimeClassifier::stokesian(1e-6);
+    let c = RegimeClassifier::stokesian(1e-6).unwrap();
     let cas: Vec<f64> = (0..=16).map(|i| 0.02 * 200f64.powf(i as f64 / 16.0)).collect();
     for shape in [
         ShearShape::oblate(2.5),
@@ -113,6 +113,7 @@ fn regime_and_margin_converged_in_tolerance() {
             .iter()
             .map(|&tol| {
                 RegimeClassifier::stokesian(tol)
+                    .unwrap()
                     .classify(&ShearShape::oblate(2.5), &scaling)
                     .unwrap()
             })
@@ -122,7 +123,7 @@ fn regime_and_margin_converged_in_tolerance() {
         assert!((m[0].margin - m[2].margin).abs() <= 5e-5, "{m:?}");
     }
     let boundary = |tol| {
-        BoundarySearch::new(RegimeClassifier::stokesian(tol), 1e-3)
+        BoundarySearch::new(RegimeClassifier::stokesian(tol).unwrap(), 1e-3)
             .find(&ShearShape::oblate(2.5))
             .unwrap()
             .ca_critical()
@@ -139,7 +140,7 @@ fn regime_and_margin_converged_in_tolerance() {
 #[test]
 fn hermite_checks_refine_the_margin() {
     let scaling = stokesian_scaling(0.4).unwrap();
-    let mut c = RegimeClassifier::stokesian(1e-6);
+    let mut c = RegimeClassifier::stokesian(1e-6).unwrap();
     let dense = c.classify(&ShearShape::oblate(2.5), &scaling).unwrap();
     c.substeps = 0;
     let sparse = c.classify(&ShearShape::oblate(2.5), &scaling).unwrap();
@@ -155,7 +156,7 @@ fn hermite_checks_refine_the_margin() {
 fn paper_imex_agrees_on_the_fig4_regimes() {
     let rho_star = 0.1;
     let imex = RegimeClassifier::new(ImexPaper::default(), rho_star / 200.0);
-    let stokes = RegimeClassifier::stokesian(1e-8);
+    let stokes = RegimeClassifier::stokesian(1e-8).unwrap();
     for ca in [0.4, 0.5] {
         let shape = ShearShape::oblate(2.5);
         let a = imex
@@ -293,7 +294,7 @@ fn snapshot_phase_boundaries() {
         (0.2, ShearShape::triaxial("a_omega1_0.5", 0.5, 0.2)),
         (0.3, ShearShape::triaxial("b_omega2_0.5", 0.3, 0.5)),
     ];
-    let mut search = phase_map::paper_search();
+    let mut search = phase_map::paper_search().unwrap();
     search.tol = 0.01;
     let points = phase_map::compute(&search, &shapes).unwrap();
     insta::assert_snapshot!(boundary_table(&points).unwrap().to_text());

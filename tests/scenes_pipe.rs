@@ -2,14 +2,15 @@
 //! released rigid fibre, deposition runs, and snapshots of reduced datasets.
 
 use nalgebra::{Rotation3, Vector3};
+use pseudorigid::contact::pipe::wall_gap;
 use pseudorigid::driver::output_times;
+use pseudorigid::ellipsoid::frame::support_distance;
 use pseudorigid::ellipsoid::{Ellipsoid, PrincipalFrame};
 use pseudorigid::flow::analytic::Poiseuille;
 use pseudorigid::hydro::DragModel;
 use pseudorigid::scenes::pipe::orbit::{downward_crossings, jeffery_period};
 use pseudorigid::scenes::pipe::{
-    Deposition, PipeFlowData, PipeParticleData, PipeScene, Softness, sample_orientation, support_distance,
-    track_to_deposition, wall_gap,
+    Deposition, PipeFlowData, PipeParticleData, PipeScene, Softness, sample_orientation, track_to_deposition,
 };
 use pseudorigid::tensor::{Mat3, Vec3};
 use std::f64::consts::PI;
@@ -127,7 +128,7 @@ const GAMMA_DOT_0: f64 = 725.85;
 fn rigid_fibre_tumbles_with_the_release_jeffery_period() {
     let scene = PipeScene::tian_cui(14.0, 0.0).unwrap();
     let times = output_times(0.32 / scene.time_unit, 3200);
-    let samples = sample_orientation(&scene, &scene.integrator(1e-8), &times, 1e-3).unwrap();
+    let samples = sample_orientation(&scene, &scene.integrator(1e-8).unwrap(), &times, 1e-3).unwrap();
     let crossings = downward_crossings(&samples);
     assert!(crossings.len() >= 3, "crossings {crossings:?}");
     let t0 = jeffery_period(14.0, GAMMA_DOT_0);
@@ -155,7 +156,7 @@ fn sphere_settling_speed(scene: &PipeScene) -> f64 {
 fn orbit_phase_is_jefferys_however_the_fibre_drifts() {
     let scene = PipeScene::tian_cui(14.0, 0.0).unwrap();
     let times = output_times(0.45 / scene.time_unit, 4500);
-    let samples = sample_orientation(&scene, &scene.integrator(1e-8), &times, 1e-3).unwrap();
+    let samples = sample_orientation(&scene, &scene.integrator(1e-8).unwrap(), &times, 1e-3).unwrap();
     let crossings = downward_crossings(&samples);
     assert!(crossings.len() >= 4, "crossings {crossings:?}");
     let rate: Vec<(f64, f64)> = samples
@@ -194,7 +195,7 @@ fn integrate_linear(points: &[(f64, f64)], a: f64, b: f64) -> f64 {
 fn first_orbit_period(ca: f64) -> f64 {
     let scene = PipeScene::tian_cui(14.0, ca).unwrap();
     let times = output_times(0.2 / scene.time_unit, 2000);
-    let samples = sample_orientation(&scene, &scene.integrator(1e-7), &times, 1e-3).unwrap();
+    let samples = sample_orientation(&scene, &scene.integrator(1e-7).unwrap(), &times, 1e-3).unwrap();
     let c = downward_crossings(&samples);
     (c[1] - c[0]) * scene.time_unit
 }
@@ -235,7 +236,7 @@ fn near_wall(lambda1: f64, ca: f64) -> PipeScene {
 
 fn deposit(scene: &PipeScene, tol: f64) -> Deposition {
     let t_max = 50.0 * scene.sphere_settling_time();
-    track_to_deposition(scene, &scene.integrator(tol), 1e-3, t_max, 1.0).unwrap()
+    track_to_deposition(scene, &scene.integrator(tol).unwrap(), 1e-3, t_max, 1.0).unwrap()
 }
 
 /// The rigid particle keeps its shape, so its settling speed towards the wall lies between
@@ -250,7 +251,7 @@ fn rigid_deposition_respects_drag_and_flow_bounds() {
     assert!(contact.gap.abs() <= 1e-9, "gap {}", contact.gap);
     let p = &scene.particle;
     let start = scene.initial_state().unwrap();
-    let geo = p.geometry(&start);
+    let geo = p.geometry(&start.f);
     let k = p.drag().resistance(&geo.frame, &geo.ints).symmetric_eigenvalues();
     let a_g = p.gravity().norm() * (1.0 - p.fluid().rho / p.rho_solid());
     let (v_min, v_max) = (p.mass() * a_g / k.max(), p.mass() * a_g / k.min());
@@ -287,7 +288,7 @@ fn release_inside_the_wall_is_an_error() {
         ..PipeFlowData::tian_cui()
     };
     let scene = PipeScene::new(flow, PipeParticleData::prolate(3.5), Softness::Rigid).unwrap();
-    let err = track_to_deposition(&scene, &scene.integrator(1e-6), 1e-3, 1e3, 1.0).unwrap_err();
+    let err = track_to_deposition(&scene, &scene.integrator(1e-6).unwrap(), 1e-3, 1e3, 1.0).unwrap_err();
     assert!(
         matches!(err, pseudorigid::scenes::SceneError::ReleasedInWall { .. }),
         "{err}"
@@ -304,7 +305,7 @@ fn snapshot_fig10_reduced() {
     for ca in [0.0, 0.05] {
         let scene = PipeScene::tian_cui(14.0, ca).unwrap();
         let times = output_times(0.1 / scene.time_unit, 10);
-        let samples = sample_orientation(&scene, &scene.integrator(1e-8), &times, 1e-3).unwrap();
+        let samples = sample_orientation(&scene, &scene.integrator(1e-8).unwrap(), &times, 1e-3).unwrap();
         for s in &samples {
             let c = s.direction_cosines();
             text += &format!("{ca},{:.3},{:.3},{:.3}\n", s.t * scene.time_unit, c[0], c[1]);

@@ -7,4 +7,4 @@ pub mod gravity;
 pub mod traction;
 
 pub use drag::{Brenner, DragModel, StokesSphere};
-pub use traction::{InertialessSolver, JefferyRoscoe, VolumetricTraction};
+pub use traction::{InertialessSolver, JefferyRoscoe, VolumetricTraction, jeffery_spin};

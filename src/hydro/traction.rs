@@ -198,3 +198,19 @@ impl InertialessSolver {
 
 /// Row of the (2,2) component in column-major order; replaced by tr l_s' = 0.
 const TRACE_ROW: usize = 8;
+
+/// Jeffery's (1922) torque-free spin of a rigid ellipsoid in the flow gradient `l_f`: the skew
+/// l_s with skw σ̃ = 0 and d_s = 0. In the principal frame
+/// $w_{s,ij} = w_{f,ij} - \frac{x_i - x_j}{x_i + x_j}\, d_{f,ij}$ with x_i = r_i².
+pub fn jeffery_spin(frame: &PrincipalFrame, l_f: &Mat3) -> Mat3 {
+    let lf = frame.to_principal(l_f);
+    let x = frame.r.component_mul(&frame.r);
+    let ws = Mat3::from_fn(|i, j| {
+        if i == j {
+            0.0
+        } else {
+            0.5 * (lf[(i, j)] - lf[(j, i)]) - (x[i] - x[j]) / (x[i] + x[j]) * 0.5 * (lf[(i, j)] + lf[(j, i)])
+        }
+    });
+    frame.to_global(&ws)
+}

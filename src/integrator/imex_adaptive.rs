@@ -3,71 +3,80 @@
 //!
 //! # Scheme
 //! Each attempt is one paper step of size h, capped at 0.9× the explicit viscous stability
-//! limit ([`super::imex::stability_limit`]). A step is rejected when Newton fails or the
-//! particle inverts, or when the local error estimate of the first-order scheme,
+//! limit ([`super::imex::stability_limit`], cached as in [`super::imex::StabilityGuard`]).
+//! A step is rejected when Newton fails or the particle inverts, or when the local error
+//! estimate of the first-order scheme,
 //! $e = \tfrac12 \lVert F^{n+1} - F^n - h A^n\rVert_\infty = \tfrac h2 \lVert A^{n+1} - A^n\rVert_\infty$
 //! (the difference to the explicit predictor, ≈ ½h²|Ȧ|), exceeds tol·(1 + |Fⁿ|∞).
 //! The next step is h·clamp(0.9 (tol/e)^{1/2}, 0.2, 2).
 
-use super::{ImexPaper, StepInfo, TimeIntegrator, imex::stability_limit};
-use crate::error::StepError;
+use super::dense::{Dense, Knot};
+use super::imex::{ImexMemory, StabilityGuard};
+use super::{ImexPaper, Step, StepInfo, TimeIntegrator};
+use crate::error::{ParamError, StepError, positive};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
 use crate::material::Hyperelastic;
-use crate::particle::{Particle, State};
+use crate::particle::{Model, Particle, State};
+
+/// Rejected attempts allowed in one step: each at least halves h, so 60 attempts span more
+/// than 18 decades of step size.
+const MAX_REJECTIONS: u32 = 60;
 
 /// Adaptive IMEX integrator.
 #[derive(Debug, Clone, Copy)]
 pub struct ImexAdaptive {
-    /// Local error tolerance (relative to 1 + |F|).
-    pub tol: f64,
-    /// Smallest step before giving up.
-    pub h_min: f64,
+    tol: f64,
+    h_min: f64,
 }
 
 impl ImexAdaptive {
-    /// Adaptive IMEX with local tolerance `tol`.
-    pub fn new(tol: f64) -> Self {
-        Self { tol, h_min: 1e-14 }
+    /// Adaptive IMEX with local tolerance `tol` (finite, > 0) and h_min = 1e-14.
+    pub fn new(tol: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            tol: positive("imex_adaptive tol", tol)?,
+            h_min: 1e-14,
+        })
+    }
+
+    /// Local tolerance.
+    pub fn tol(&self) -> f64 {
+        self.tol
     }
 }
 
 impl TimeIntegrator for ImexAdaptive {
+    type Memory = ImexMemory;
+
     fn name(&self) -> &'static str {
         "imex_adaptive"
     }
 
-    fn step<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    fn step_with<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,
+        memory: &mut ImexMemory,
         flow: &F,
         dt: f64,
-    ) -> Result<(State, StepInfo), StepError> {
-        crate::error::positive("dt", dt)?;
-        crate::error::positive("tol", self.tol)?;
+    ) -> Result<Step, StepError> {
+        positive("dt", dt)?;
         state.validate()?;
-        let inner = ImexPaper {
-            check_stability: false,
-            ..ImexPaper::default()
-        };
-        let limit = 0.9 * stability_limit(particle, state);
+        let inner = ImexPaper::unguarded();
+        let model = Model::new(particle, flow);
+        let geo = memory.geometry(&model, &state.f, state.t)?;
+        let limit = memory
+            .limit(StabilityGuard::default(), particle, &state.f, &geo, state.t)?
+            .unwrap_or(f64::INFINITY);
         let mut h = dt.min(limit);
-        let mut rejected = 0;
-        let mut work = StepInfo::default();
-        loop {
+        let mut newton_iters = 0;
+        for rejected in 0..=MAX_REJECTIONS {
             if h < self.h_min {
-                return Err(StepError::StepSizeUnderflow {
-                    dt: h,
-                    t: state.t,
-                    error: f64::NAN,
-                });
+                break;
             }
-            match inner.step(particle, state, flow, h) {
-                Ok((next, info)) => {
-                    work.rhs_evals += info.rhs_evals;
-                    work.jac_evals += info.jac_evals;
-                    work.newton_iters += info.newton_iters;
+            match inner.unguarded_step(&model, state, &geo, memory, h) {
+                Ok((next, sol)) => {
+                    newton_iters += sol.iters;
                     let e = 0.5 * (next.f - state.f - state.a * h).amax();
                     let err = e / (self.tol * (1.0 + state.f.amax()));
                     if err <= 1.0 {
@@ -77,15 +86,23 @@ impl TimeIntegrator for ImexAdaptive {
                             (0.9 / err.sqrt()).clamp(0.2, 2.0)
                         };
                         let info = StepInfo {
-                            dt: h,
-                            dt_next: h * grow,
-                            residual: info.residual,
+                            newton_iters,
+                            residual: sol.residual,
                             rejected,
-                            ..work
+                            ..StepInfo::from_work(model.work(), h, h * grow)
                         };
-                        return Ok((next, info));
+                        return Ok(Step {
+                            dense: Dense::new(state.t, h, Knot::of_state(state), Knot::of_state(&next)),
+                            state: next,
+                            info,
+                        });
                     }
-                    h *= (0.9 / err.sqrt()).clamp(0.1, 0.5);
+                    // A NaN error is not ≤ 1 and lands here: shrink hard.
+                    h *= if err.is_finite() {
+                        (0.9 / err.sqrt()).clamp(0.1, 0.5)
+                    } else {
+                        0.25
+                    };
                 }
                 Err(
                     StepError::NewtonNotConverged { .. } | StepError::Inverted { .. } | StepError::NonFinite { .. },
@@ -94,7 +111,11 @@ impl TimeIntegrator for ImexAdaptive {
                 }
                 Err(e) => return Err(e),
             }
-            rejected += 1;
         }
+        Err(StepError::StepSizeUnderflow {
+            dt: h,
+            t: state.t,
+            error: f64::NAN,
+        })
     }
 }

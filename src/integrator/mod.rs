@@ -1,24 +1,31 @@
-//! Time integrators. One integrator owns one step; a driver ([`crate::driver`]) owns the loop.
+//! Time integrators. One integrator owns one step and the per-particle step memory it keeps
+//! between steps; the driver ([`crate::driver`]) owns the loop, events and output.
 //!
-//! Every step returns a [`StepInfo`] so that work-precision studies count work (model and
-//! Jacobian evaluations, Newton iterations), not only seconds.
+//! Integrators discretise the model of [`crate::particle::dynamics`] and re-derive no physics.
+//! Every step returns a [`Step`]: the new state, a [`StepInfo`] whose counts come from the
+//! model wrapper that did the work, and a [`Dense`] interpolant over the step for event location
+//! and output.
 
+pub mod dense;
 pub mod imex;
 pub mod imex_adaptive;
 pub mod newton;
+pub mod radau5;
 pub mod rosenbrock;
 pub mod stokesian;
 
+pub use dense::Dense;
 pub use imex::ImexPaper;
 pub use imex_adaptive::ImexAdaptive;
 pub use rosenbrock::Tolerances;
-pub use stokesian::{BarycentreModel, ShapeResponse, Stokesian};
+pub use stokesian::{BarycentreModel, Scheme, ShapeResponse, Stokesian};
 
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
 use crate::material::Hyperelastic;
-use crate::particle::{Particle, State};
+use crate::particle::{Particle, State, Work};
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 /// Work and convergence record of one accepted step.
@@ -32,25 +39,71 @@ pub struct StepInfo {
     pub newton_iters: u32,
     /// Final Newton residual (max-norm), 0 when the scheme has no Newton solve.
     pub residual: f64,
-    /// Evaluations of the hydrodynamic model (σ̃ with its frame and integrals).
+    /// Model evaluations (geometry: frame, integrals, traction coefficients), counted by
+    /// [`crate::particle::Model`] where they were computed, rejected attempts included.
     pub rhs_evals: u32,
-    /// Jacobian evaluations.
+    /// Jacobians built, counted where they were built.
     pub jac_evals: u32,
     /// Rejected attempts before this step was accepted.
     pub rejected: u32,
 }
 
+impl StepInfo {
+    /// A record carrying the counts of `work`.
+    pub fn from_work(work: Work, dt: f64, dt_next: f64) -> Self {
+        Self {
+            dt,
+            dt_next,
+            rhs_evals: work.model_evals,
+            jac_evals: work.jac_evals,
+            ..Self::default()
+        }
+    }
+}
+
+/// One accepted step: the new state, its record and the interpolant over [t, t + dt].
+#[derive(Debug, Clone)]
+pub struct Step {
+    /// State at t + dt.
+    pub state: State,
+    /// Work and convergence record.
+    pub info: StepInfo,
+    /// Dense output over the step.
+    pub dense: Dense,
+}
+
 /// A one-step time integrator for a pseudo-rigid particle.
 pub trait TimeIntegrator: Send + Sync {
+    /// What the integrator keeps per particle between steps (cached model evaluations, the
+    /// Jacobian and its evaluation point, controller history). The driver stores it beside the
+    /// [`State`]; a checkpoint serialises it, so a resumed run continues bitwise identically.
+    /// `Default` is the memory of a fresh start.
+    type Memory: Default + Clone + Send + Serialize + DeserializeOwned + std::fmt::Debug;
+
     /// Short name used in datasets (e.g. `imex_paper`).
     fn name(&self) -> &'static str;
 
-    /// Advance `state` by `dt` (adaptive schemes may take less; see [`StepInfo::dt`]).
+    /// Advance `state` by `dt` (adaptive schemes may take less; see [`StepInfo::dt`]),
+    /// reading and updating the particle's step `memory`.
+    fn step_with<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        state: &State,
+        memory: &mut Self::Memory,
+        flow: &F,
+        dt: f64,
+    ) -> Result<Step, StepError>;
+
+    /// One step from a fresh memory (a first step, or a test of a single step).
     fn step<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,
         flow: &F,
         dt: f64,
-    ) -> Result<(State, StepInfo), StepError>;
+    ) -> Result<(State, StepInfo), StepError> {
+        let mut memory = Self::Memory::default();
+        self.step_with(particle, state, &mut memory, flow, dt)
+            .map(|s| (s.state, s.info))
+    }
 }

@@ -8,82 +8,117 @@
 //! The second-order solution keeps its order for an approximate J (a W-method), which is what
 //! lets the callers freeze slowly varying, non-stiff parts of the Jacobian.
 //!
+//! F₂ = f(y₁) is the F₀ of the next step (first same as last): the caller passes F₀ and J in,
+//! and gets F₂ back with the caller's payload of that evaluation, so an accepted step costs two
+//! new evaluations of f.
+//!
 //! Hand-written rather than taken from an ODE crate because the callers need per-step control
-//! (one accepted step per call with its work counts, stateless across particles, static sizes).
+//! (one accepted step per call with its work counts, per-particle memory, static sizes).
 
-use crate::error::StepError;
+use crate::error::{ParamError, StepError, positive};
 use nalgebra::{Const, DimMin, SMatrix, SVector};
 
 const D: f64 = 0.292_893_218_813_452_5; // 1/(2+√2)
 const E32: f64 = 7.414_213_562_373_095; // 6+√2
 
-/// Error-control settings of an adaptive integrator.
+/// Rejected attempts allowed in one step; each at least halves h (18 decades in 60).
+pub const MAX_REJECTIONS: u32 = 60;
+
+/// Error-control settings of an adaptive integrator (validated: rtol, atol finite and > 0,
+/// 0 < h_min finite).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tolerances {
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Absolute tolerance.
-    pub atol: f64,
-    /// Smallest step before giving up with [`StepError::StepSizeUnderflow`].
-    pub h_min: f64,
+    rtol: f64,
+    atol: f64,
+    h_min: f64,
 }
 
 impl Tolerances {
+    /// Relative and absolute tolerances and the smallest step before giving up with
+    /// [`StepError::StepSizeUnderflow`].
+    pub fn new(rtol: f64, atol: f64, h_min: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            rtol: positive("rtol", rtol)?,
+            atol: positive("atol", atol)?,
+            h_min: positive("h_min", h_min)?,
+        })
+    }
+
     /// rtol = atol = `tol`, h_min = 1e-12.
-    pub fn uniform(tol: f64) -> Self {
-        Self {
-            rtol: tol,
-            atol: tol,
-            h_min: 1e-12,
+    pub fn uniform(tol: f64) -> Result<Self, ParamError> {
+        Self::new(tol, tol, 1e-12)
+    }
+
+    /// Relative tolerance.
+    pub fn rtol(&self) -> f64 {
+        self.rtol
+    }
+
+    /// Absolute tolerance.
+    pub fn atol(&self) -> f64 {
+        self.atol
+    }
+
+    /// Smallest step.
+    pub fn h_min(&self) -> f64 {
+        self.h_min
+    }
+
+    /// max_i |e_i| / (atol + rtol max(|y0_i|, |y1_i|)); NaN anywhere gives +∞ (a rejection).
+    pub fn scaled_error<const N: usize>(
+        &self,
+        err: &SVector<f64, N>,
+        y0: &SVector<f64, N>,
+        y1: &SVector<f64, N>,
+    ) -> f64 {
+        let mut worst = 0.0_f64;
+        for ((e, a), b) in err.iter().zip(y0.iter()).zip(y1.iter()) {
+            let s = e.abs() / (self.atol + self.rtol * a.abs().max(b.abs()));
+            if s.is_nan() {
+                return f64::INFINITY;
+            }
+            worst = worst.max(s);
         }
+        worst
     }
 }
 
 /// Outcome of one accepted adaptive step.
-pub struct Accepted<const N: usize> {
+pub struct Accepted<const N: usize, P> {
     /// New state.
     pub y: SVector<f64, N>,
     /// Step taken.
     pub h: f64,
     /// Proposed next step.
     pub h_next: f64,
-    /// f(t + h, y) at the new state (first-same-as-last data for the caller).
+    /// f(t + h, y) at the new state (the next step's F₀).
     pub f_new: SVector<f64, N>,
-    /// Right-hand-side evaluations.
-    pub rhs_evals: u32,
-    /// Jacobian evaluations.
-    pub jac_evals: u32,
+    /// The caller's payload of that evaluation.
+    pub payload: P,
     /// Rejected attempts.
     pub rejected: u32,
 }
 
-/// Take one accepted step from (t, y) trying `h` first.
+/// Take one accepted step from (t, y) with f(t, y) = `f0` and Jacobian `j`, trying `h` first.
 ///
-/// `rhs(t, y)` returns f or an error; an error (e.g. an inverted trial state) rejects the
-/// attempt and halves h. `jac(t, y)` returns the (approximate) Jacobian at the step start.
-pub fn step<const N: usize>(
+/// `rhs(t, y)` returns f and a payload, or an error; an `Inverted`/`NonFinite` error (e.g. an
+/// inverted trial state) rejects the attempt and quarters h, any other error is returned.
+pub fn step<const N: usize, P>(
     t: f64,
     y: &SVector<f64, N>,
+    f0: &SVector<f64, N>,
+    j: &SMatrix<f64, N, N>,
     h: f64,
     tol: Tolerances,
-    mut rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<SVector<f64, N>, StepError>,
-    jac: impl FnOnce(f64, &SVector<f64, N>) -> Result<SMatrix<f64, N, N>, StepError>,
-) -> Result<Accepted<N>, StepError>
+    mut rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<(SVector<f64, N>, P), StepError>,
+) -> Result<Accepted<N, P>, StepError>
 where
     Const<N>: DimMin<Const<N>, Output = Const<N>>,
 {
-    let f0 = rhs(t, y)?;
-    let j = jac(t, y)?;
-    let mut h = h;
-    let mut rhs_evals = 1;
-    let mut rejected = 0;
-    loop {
+    let mut h = positive("h", h)?;
+    for rejected in 0..=MAX_REJECTIONS {
         if h < tol.h_min {
-            return Err(StepError::StepSizeUnderflow {
-                dt: h,
-                t,
-                error: f64::NAN,
-            });
+            break;
         }
         let attempt = (|| {
             let w = (SMatrix::<f64, N, N>::identity() - j * (h * D)).lu();
@@ -93,23 +128,17 @@ where
                     t,
                 })
             };
-            let k1 = solve(f0)?;
-            let f1 = rhs(t + 0.5 * h, &(y + k1 * (0.5 * h)))?;
+            let k1 = solve(*f0)?;
+            let (f1, _) = rhs(t + 0.5 * h, &(y + k1 * (0.5 * h)))?;
             let k2 = solve(f1 - k1)? + k1;
             let y1 = y + k2 * h;
-            let f2 = rhs(t + h, &y1)?;
+            let (f2, payload) = rhs(t + h, &y1)?;
             let k3 = solve(f2 - (k2 - f1) * E32 - (k1 - f0) * 2.0)?;
             let err = (k1 - k2 * 2.0 + k3) * (h / 6.0);
-            let scaled = err
-                .iter()
-                .zip(y.iter().zip(y1.iter()))
-                .map(|(e, (a, b))| e.abs() / (tol.atol + tol.rtol * a.abs().max(b.abs())))
-                .fold(0.0, f64::max);
-            Ok::<_, StepError>((y1, f2, scaled))
+            Ok::<_, StepError>((y1, f2, payload, tol.scaled_error(&err, y, &y1)))
         })();
         match attempt {
-            Ok((y1, f_new, err)) if err <= 1.0 => {
-                rhs_evals += 2;
+            Ok((y1, f_new, payload, err)) if err <= 1.0 => {
                 let grow: f64 = if err == 0.0 {
                     5.0
                 } else {
@@ -120,21 +149,22 @@ where
                     h,
                     h_next: h * grow,
                     f_new,
-                    rhs_evals,
-                    jac_evals: 1,
+                    payload,
                     rejected,
                 });
             }
-            Ok((_, _, err)) if err.is_finite() => {
-                rhs_evals += 2;
+            Ok((_, _, _, err)) if err.is_finite() => {
                 h *= (0.8 * err.powf(-1.0 / 3.0_f64)).clamp(0.1, 0.5);
             }
             Ok(_) | Err(StepError::Inverted { .. }) | Err(StepError::NonFinite { .. }) => {
-                rhs_evals += 2;
                 h *= 0.25;
             }
             Err(e) => return Err(e),
         }
-        rejected += 1;
     }
+    Err(StepError::StepSizeUnderflow {
+        dt: h,
+        t,
+        error: f64::NAN,
+    })
 }

@@ -1,4 +1,5 @@
-//! Inertialess (Stokesian) shape dynamics with adaptive Rosenbrock stepping.
+//! Inertialess (Stokesian) shape dynamics with adaptive, L-stable stepping: Radau IIA of order 5
+//! ([`Scheme::Radau5`]) or a Rosenbrock-W pair of order 2(3) ([`Scheme::Rosenbrock23`]).
 //!
 //! # Physics (physics.md §9.5, §9.7)
 //! For a micro-particle Θ ∝ ρ* is negligible and eq. 18 degenerates to the balance P̃ = P,
@@ -8,8 +9,12 @@
 //! (St → 0), ẋ = u + (μ_f K̂/m)⁻¹ a_G.
 //!
 //! # Scheme
-//! The state y = (F, x, v) ∈ ℝ¹⁵ is advanced by the L-stable Rosenbrock-W 2(3) pair
-//! ([`super::rosenbrock`]). The Jacobian is exact (num-dual tangent of W) in the elastic
+//! The state y = (F, x, v) ∈ ℝ¹⁵ is advanced by Radau IIA(5) ([`super::radau5`]) or by the
+//! L-stable Rosenbrock-W 2(3) pair ([`super::rosenbrock`]). Radau's order does not depend on the
+//! Jacobian (only its Newton convergence does), which matters here because the Jacobian below
+//! is approximate; the Rosenbrock-W pair keeps its order 2 with an approximate Jacobian by
+//! construction, and a higher-order Rosenbrock method (Rodas) would not. The Jacobian is exact
+//! (num-dual tangent of W) in the elastic
 //! response and freezes the principal frame and integrals of the hydrodynamic operator for
 //! the step; the W-method keeps order 2 with such an approximation (tested).
 //!
@@ -18,16 +23,18 @@
 //!
 //! [`InertialessSolver`]: crate::hydro::InertialessSolver
 
+use super::dense::{Dense, Knot};
+use super::radau5::{self, RadauMemory};
 use super::rosenbrock::{self, Tolerances};
-use super::{StepInfo, TimeIntegrator};
-use crate::error::StepError;
+use super::{Step, StepInfo, TimeIntegrator};
+use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
-use crate::hydro::DragModel;
-use crate::hydro::gravity::reduced_gravity;
+use crate::hydro::{DragModel, InertialessSolver, jeffery_spin};
 use crate::material::Hyperelastic;
-use crate::particle::{Particle, State};
+use crate::particle::{Model, Particle, State};
 use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, vec9};
 use nalgebra::{SMatrix, SVector};
+use serde::{Deserialize, Serialize};
 
 type Y = SVector<f64, 15>;
 type Jac = SMatrix<f64, 15, 15>;
@@ -54,6 +61,17 @@ pub enum ShapeResponse {
     Rigid,
 }
 
+/// The time-stepping scheme of [`Stokesian`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Scheme {
+    /// Radau IIA, order 5.
+    Radau5,
+    /// Shampine's Rosenbrock-W 2(3) (`ode23s`), two model evaluations per accepted step: the
+    /// default until every scene's datasets have been re-validated with Radau IIA.
+    #[default]
+    Rosenbrock23,
+}
+
 /// Adaptive inertialess integrator (elastic or rigid shape).
 #[derive(Debug, Clone, Copy)]
 pub struct Stokesian {
@@ -63,47 +81,41 @@ pub struct Stokesian {
     pub barycentre: BarycentreModel,
     /// Shape response.
     pub shape: ShapeResponse,
+    /// Time-stepping scheme.
+    pub scheme: Scheme,
 }
 
 impl Stokesian {
-    /// Elastic integrator with rtol = atol = `tol` and an inertial barycentre.
-    pub fn new(tol: f64) -> Self {
-        Self {
-            tol: Tolerances::uniform(tol),
+    /// Elastic integrator with rtol = atol = `tol` (finite, > 0) and an inertial barycentre.
+    pub fn new(tol: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            tol: Tolerances::uniform(tol)?,
             barycentre: BarycentreModel::Inertial,
             shape: ShapeResponse::Elastic,
-        }
+            scheme: Scheme::default(),
+        })
+    }
+
+    /// The same integrator with another scheme.
+    pub fn with_scheme(self, scheme: Scheme) -> Self {
+        Self { scheme, ..self }
     }
 
     /// Elastic, with an overdamped barycentre.
-    pub fn overdamped(tol: f64) -> Self {
-        Self {
+    pub fn overdamped(tol: f64) -> Result<Self, ParamError> {
+        Ok(Self {
             barycentre: BarycentreModel::Overdamped,
-            ..Self::new(tol)
-        }
+            ..Self::new(tol)?
+        })
     }
 
     /// Rigid limit (Ca = 0): Jeffery rotation plus Brenner drag, overdamped barycentre.
-    pub fn rigid(tol: f64) -> Self {
-        Self {
+    pub fn rigid(tol: f64) -> Result<Self, ParamError> {
+        Ok(Self {
             shape: ShapeResponse::Rigid,
-            ..Self::overdamped(tol)
-        }
+            ..Self::overdamped(tol)?
+        })
     }
-}
-
-/// Jeffery's torque-free spin of the current (rigid) ellipsoid in the flow `l_f`.
-pub fn jeffery_spin(frame: &crate::ellipsoid::PrincipalFrame, l_f: &Mat3) -> Mat3 {
-    let lf = frame.to_principal(l_f);
-    let x = frame.r.component_mul(&frame.r);
-    let ws = Mat3::from_fn(|i, j| {
-        if i == j {
-            0.0
-        } else {
-            0.5 * (lf[(i, j)] - lf[(j, i)]) - (x[i] - x[j]) / (x[i] + x[j]) * 0.5 * (lf[(i, j)] + lf[(j, i)])
-        }
-    });
-    frame.to_global(&ws)
 }
 
 fn pack(f: &Mat3, x: &Vec3, v: &Vec3) -> Y {
@@ -123,7 +135,8 @@ fn unpack(y: &Y) -> (Mat3, Vec3, Vec3) {
 }
 
 /// Everything the right-hand side computes at one state.
-struct Evaluation {
+#[derive(Debug, Clone)]
+pub(crate) struct Evaluation {
     f_dot: Mat3,
     l_s: Mat3,
     x_dot: Vec3,
@@ -131,81 +144,58 @@ struct Evaluation {
     drag_rate: Mat3,
     l_f: Mat3,
     /// `None` in the rigid limit.
-    solver: Option<crate::hydro::InertialessSolver>,
+    solver: Option<InertialessSolver>,
 }
 
-fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
-    particle: &Particle<M, D>,
-    flow: &F,
-    model: BarycentreModel,
+/// The right-hand side of the inertialess model at (t, y): one model evaluation.
+pub(crate) fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    model: &Model<M, D, F>,
+    barycentre: BarycentreModel,
     shape: ShapeResponse,
     t: f64,
     y: &Y,
 ) -> Result<Evaluation, StepError> {
     let (f, x, v) = unpack(y);
-    let det_f = f.determinant();
-    if det_f.is_nan() || det_f <= 0.0 {
-        return Err(StepError::Inverted { det_f, t });
-    }
-    let sample = flow.sample(&x, t)?;
-    let mu_f = particle.fluid().mu;
-    let geo = particle.geometry(&State {
-        t,
-        x,
-        v,
-        f,
-        a: Mat3::zeros(),
-    });
+    let geo = model.geometry(&f, t)?;
+    let sample = model.sample(&x, t)?;
     let (l_s, solver) = match shape {
         ShapeResponse::Elastic => {
-            let solver = geo
-                .traction
-                .inertialess(&sample.grad_u, mu_f)
-                .ok_or(StepError::NonFinite {
-                    what: "inertialess traction operator",
-                    t,
-                })?;
-            (solver.velocity_gradient(&particle.material().cauchy(&f)), Some(solver))
+            let (l_s, solver) = model.inertialess_rate(&geo, &f, &sample.grad_u, t)?;
+            (l_s, Some(solver))
         }
         ShapeResponse::Rigid => (jeffery_spin(&geo.frame, &sample.grad_u), None),
     };
-    let drag_rate = particle.drag().resistance(&geo.frame, &geo.ints) * (mu_f / particle.mass());
-    let a_g = reduced_gravity(particle.gravity(), particle.rho_solid(), particle.fluid().rho, det_f);
-    let (x_dot, v_dot) = match model {
-        BarycentreModel::Inertial => (v, a_g + drag_rate * (sample.u - v)),
-        BarycentreModel::Overdamped => {
-            let drift = drag_rate
-                .lu()
-                .solve(&a_g)
-                .ok_or(StepError::NonFinite { what: "drag tensor", t })?;
-            (sample.u + drift, Vec3::zeros())
-        }
+    let forcing = model.forcing(&geo, f.determinant());
+    let (x_dot, v_dot) = match barycentre {
+        BarycentreModel::Inertial => (v, forcing.acceleration(&sample.u, &v)),
+        BarycentreModel::Overdamped => (forcing.overdamped_velocity(&sample.u, t)?, Vec3::zeros()),
     };
     Ok(Evaluation {
         f_dot: l_s * f,
         l_s,
         x_dot,
         v_dot,
-        drag_rate,
+        drag_rate: forcing.drag_rate,
         l_f: sample.grad_u,
         solver,
     })
 }
 
-fn rhs_vector(e: &Evaluation) -> Y {
+pub(crate) fn rhs_vector(e: &Evaluation) -> Y {
     pack(&e.f_dot, &e.x_dot, &e.v_dot)
 }
 
 /// W-method Jacobian: exact elastic part, frozen hydrodynamic operator, linear-flow coupling.
-fn jacobian<M: Hyperelastic, D: DragModel>(
-    particle: &Particle<M, D>,
-    model: BarycentreModel,
+pub(crate) fn jacobian<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    model: &Model<M, D, F>,
+    barycentre: BarycentreModel,
     y: &Y,
     e: &Evaluation,
 ) -> Jac {
+    model.count_jacobian();
     let (f, _, _) = unpack(y);
     let mut jac = Jac::zeros();
-    barycentre_jacobian(&mut jac, model, e);
+    barycentre_jacobian(&mut jac, barycentre, e);
     let Some(solver) = &e.solver else {
         // Rigid: d(W_s F) ≈ W_s dF with the spin frozen over the step (W-method).
         for q in 0..9 {
@@ -215,7 +205,7 @@ fn jacobian<M: Hyperelastic, D: DragModel>(
         }
         return jac;
     };
-    let law = particle.material();
+    let law = model.particle.material();
     let det_f = f.determinant();
     let p = law.piola(&f);
     let sigma = p * f.transpose() / det_f;
@@ -247,43 +237,102 @@ fn barycentre_jacobian(jac: &mut Jac, model: BarycentreModel, e: &Evaluation) {
     }
 }
 
+/// Step memory of [`Stokesian`]: the evaluation at the last accepted state (first same as
+/// last), keyed by (t, y). A pure cache of a function of (t, y): a checkpoint need not store it.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct StokesianMemory {
+    #[serde(skip)]
+    last: Option<(f64, Y, Evaluation)>,
+    /// Radau's Jacobian, controller history and starting-value polynomial (not a cache: it
+    /// changes the next step, so checkpoints keep it).
+    radau: RadauMemory<15>,
+}
+
 impl TimeIntegrator for Stokesian {
+    type Memory = StokesianMemory;
+
     fn name(&self) -> &'static str {
-        match self.shape {
-            ShapeResponse::Elastic => "stokesian",
-            ShapeResponse::Rigid => "rigid",
+        match (self.shape, self.scheme) {
+            (ShapeResponse::Elastic, Scheme::Radau5) => "stokesian_radau5",
+            (ShapeResponse::Elastic, Scheme::Rosenbrock23) => "stokesian",
+            (ShapeResponse::Rigid, Scheme::Radau5) => "rigid_radau5",
+            (ShapeResponse::Rigid, Scheme::Rosenbrock23) => "rigid",
         }
     }
 
-    fn step<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    fn step_with<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,
+        memory: &mut StokesianMemory,
         flow: &F,
         dt: f64,
-    ) -> Result<(State, StepInfo), StepError> {
+    ) -> Result<Step, StepError> {
         crate::error::positive("dt", dt)?;
         state.validate()?;
-        let (model, shape) = (self.barycentre, self.shape);
+        let (barycentre, shape) = (self.barycentre, self.shape);
+        let model = Model::new(particle, flow);
         let y0 = pack(&state.f, &state.x, &state.v);
-        let acc = rosenbrock::step(
-            state.t,
-            &y0,
-            dt,
-            self.tol,
-            |t, y| evaluate(particle, flow, model, shape, t, y).map(|e| rhs_vector(&e)),
-            |t, y| evaluate(particle, flow, model, shape, t, y).map(|e| jacobian(particle, model, y, &e)),
-        )?;
+        let e0 = match memory.last.take() {
+            Some((t, y, e)) if t == state.t && y == y0 => e,
+            _ => evaluate(&model, barycentre, shape, state.t, &y0)?,
+        };
+        let f0 = rhs_vector(&e0);
+        let eval = |t: f64, y: &Y| evaluate(&model, barycentre, shape, t, y);
+        let acc = match self.scheme {
+            Scheme::Rosenbrock23 => {
+                let jac = jacobian(&model, barycentre, &y0, &e0);
+                rosenbrock::step(state.t, &y0, &f0, &jac, dt, self.tol, |t, y| {
+                    eval(t, y).map(|e| (rhs_vector(&e), e))
+                })?
+            }
+            Scheme::Radau5 => {
+                let step = radau5::step(
+                    state.t,
+                    &y0,
+                    dt,
+                    self.tol,
+                    &mut memory.radau,
+                    |t, y| {
+                        if t == state.t && *y == y0 {
+                            Ok(f0)
+                        } else {
+                            eval(t, y).map(|e| rhs_vector(&e))
+                        }
+                    },
+                    |t, y| {
+                        if t == state.t && *y == y0 {
+                            Ok(jacobian(&model, barycentre, y, &e0))
+                        } else {
+                            eval(t, y).map(|e| jacobian(&model, barycentre, y, &e))
+                        }
+                    },
+                )?;
+                // Ḟ at the new state (the state's A and the end knot of the dense output), and
+                // the next step's first evaluation.
+                let e1 = eval(state.t + step.h, &step.y)?;
+                rosenbrock::Accepted {
+                    y: step.y,
+                    h: step.h,
+                    h_next: step.h_next,
+                    f_new: rhs_vector(&e1),
+                    payload: e1,
+                    rejected: step.rejected,
+                }
+            }
+        };
         let (mut f, x, v) = unpack(&acc.y);
         if shape == ShapeResponse::Rigid {
             // Polar projection onto SO(3): the nearest rotation to the integrated F.
             let svd = f.svd(true, true);
-            f = svd.u.expect("requested") * svd.v_t.expect("requested");
+            if let (Some(u), Some(v_t)) = (svd.u, svd.v_t) {
+                f = u * v_t;
+            }
         }
-        let (a, _, _) = unpack(&acc.f_new);
-        let v = match model {
+        let (a, x_dot, _) = unpack(&acc.f_new);
+        let v = match barycentre {
             BarycentreModel::Inertial => v,
-            BarycentreModel::Overdamped => acc.f_new.fixed_rows::<3>(9).into_owned(),
+            BarycentreModel::Overdamped => x_dot,
         };
         let next = State {
             t: state.t + acc.h,
@@ -293,15 +342,24 @@ impl TimeIntegrator for Stokesian {
             a,
         };
         next.validate()?;
-        let info = StepInfo {
-            dt: acc.h,
-            dt_next: acc.h_next,
-            newton_iters: 0,
-            residual: 0.0,
-            rhs_evals: acc.rhs_evals + 1,
-            jac_evals: acc.jac_evals,
-            rejected: acc.rejected,
+        if shape == ShapeResponse::Elastic {
+            // The projection of the rigid limit moves F off the evaluated point.
+            memory.last = Some((next.t, acc.y, acc.payload));
+        }
+        let start = Knot {
+            x: state.x,
+            x_dot: e0.x_dot,
+            f: state.f,
+            f_dot: e0.f_dot,
         };
-        Ok((next, info))
+        let end = Knot { x, x_dot, f, f_dot: a };
+        Ok(Step {
+            dense: Dense::new(state.t, acc.h, start, end),
+            state: next,
+            info: StepInfo {
+                rejected: acc.rejected,
+                ..StepInfo::from_work(model.work(), acc.h, acc.h_next)
+            },
+        })
     }
 }

@@ -3,11 +3,12 @@
 //!
 //! Particles are independent and `Send`, so a scene advances them in parallel.
 
-pub mod barycentre;
+pub mod dynamics;
 pub mod lines;
 pub mod model;
 pub mod scaling;
 
+pub use dynamics::{Forcing, Geometry, Model, Work};
 pub use model::{Fluid, Particle};
 pub use scaling::ShearScaling;
 

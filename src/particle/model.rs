@@ -1,10 +1,10 @@
 //! Constant data of a particle: shape, material, drag law, fluid, gravity, and the derived
 //! mass m = ρ₀ vol(B₀) and Euler tensor Θ = (m/5) S Sᵀ (paper eq. 8).
 
-use super::State;
-use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
+use super::dynamics::Geometry;
+use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, finite, positive};
-use crate::hydro::{Brenner, DragModel, JefferyRoscoe, VolumetricTraction};
+use crate::hydro::{Brenner, DragModel, VolumetricTraction};
 use crate::material::Hyperelastic;
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -149,30 +149,13 @@ impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
         f * self.s
     }
 
-    /// Current principal frame, integrals and traction coefficients of a state.
-    pub fn geometry(&self, state: &State) -> Geometry {
-        let frame = PrincipalFrame::from_total_distortion(&self.total_distortion(&state.f));
-        let ints = EllipsoidIntegrals::new(&frame.r);
-        Geometry {
-            traction: JefferyRoscoe::new(&frame, &ints),
-            frame,
-            ints,
-        }
+    /// Geometry (frame, integrals, traction coefficients) of the shape with deformation F.
+    pub fn geometry(&self, f: &Mat3) -> Geometry {
+        Geometry::of_total_distortion(&self.total_distortion(f))
     }
 
     /// Elastic energy W(F) vol(B₀) of a state.
     pub fn elastic_energy(&self, f: &Mat3) -> f64 {
         self.material.energy(f) * self.volume0
     }
-}
-
-/// Everything that depends on the current shape only: r_a, Q, integrals, σ̃ coefficients.
-#[derive(Debug, Clone, Copy)]
-pub struct Geometry {
-    /// Principal frame (r_a, Q).
-    pub frame: PrincipalFrame,
-    /// Jeffery integrals.
-    pub ints: EllipsoidIntegrals,
-    /// Traction coefficients.
-    pub traction: JefferyRoscoe,
 }

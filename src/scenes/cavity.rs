@@ -20,16 +20,22 @@
 //! tilting prolate touches the lid within a fraction of a second.
 
 use super::SceneError;
-use crate::driver::{RunStats, Stop, run_until};
+use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule, Planes};
+use crate::driver::{Plan, RunStats, Stop, integrate};
 use crate::ellipsoid::Ellipsoid;
 use crate::error::StepError;
 use crate::flow::FlowField;
-use crate::flow::unstructured::{Boundary, MeshedFlow, WallRule};
+use crate::flow::unstructured::MeshedFlow;
 use crate::integrator::{BarycentreModel, Stokesian};
 use crate::material::NeoHooke;
 use crate::particle::{Fluid, Particle, State};
 use crate::tensor::{Mat3, Vec3, sym};
 use serde::Serialize;
+
+/// Contact distance of [`Contact::Barycentre`]: 0.15 d_eq, the smallest rest semi-axis of the
+/// most elongated shapes of §6.3 (prolate 8: r_min = d_eq/(2·8^{1/3}) = 0.25 d_eq) with margin,
+/// so that the integrator's trial stages (which move ≤ 0.25 r_min per step) stay in the mesh.
+pub const BARYCENTRE_CONTACT_DISTANCE: f64 = 0.15 * D_EQ;
 
 /// Cavity edge L [m].
 pub const EDGE: f64 = 0.1;
@@ -84,9 +90,10 @@ impl Shape {
 pub enum Contact {
     /// The particle's surface (support distance of the current ellipsoid): physical.
     Extent,
-    /// The barycentre (a point particle, as a point-particle tracker does), with a contact
-    /// distance of 0.3 r_min: steps move the particle by ≤ 0.25 r_min, so no integrator stage
-    /// samples the flow outside the mesh before contact is detected.
+    /// The barycentre (a point particle, as a point-particle tracker does), touching at a fixed
+    /// distance of [`BARYCENTRE_CONTACT_DISTANCE`] from a wall. The distance is fixed, not a
+    /// fraction of the current shape: a soft particle thinning in the corner flow would
+    /// otherwise shrink its own margin to nothing and park against the wall.
     Barycentre,
 }
 
@@ -146,7 +153,7 @@ pub struct CavityRun {
 /// The cavity experiment: flow field, walls and fluid.
 pub struct Cavity<'a> {
     flow: &'a MeshedFlow,
-    boundary: Boundary,
+    boundary: Planes,
     fluid: Fluid,
     shear_rate: f64,
 }
@@ -158,7 +165,7 @@ impl<'a> Cavity<'a> {
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
         Ok(Self {
             flow,
-            boundary: Boundary::cavity(EDGE)?,
+            boundary: Planes::cavity(EDGE)?,
             fluid: Fluid::new(rho_fluid() * NU, rho_fluid())?,
             shear_rate,
         })
@@ -192,44 +199,64 @@ impl<'a> Cavity<'a> {
     ) -> Result<CavityRun, SceneError> {
         let p = self.particle(&release)?;
         let mut integ = match release.ca {
-            Some(_) => Stokesian::new(tol),
-            None => Stokesian::rigid(tol),
+            Some(_) => Stokesian::new(tol)?,
+            None => Stokesian::rigid(tol)?,
         };
         integ.barycentre = BarycentreModel::Inertial;
         let mut s0 = State::at_rest(release_point());
         s0.v = self.flow.sample(&s0.x, 0.0).map_err(StepError::from)?.u;
-        // No step may carry the particle further than a quarter of its smallest semi-axis,
-        // so contact is detected before any stage leaves the mesh (|u| ≤ U_lid).
+        let model = match contact_model {
+            Contact::Extent => ContactModel::Extent,
+            Contact::Barycentre => ContactModel::Barycentre {
+                radius: BARYCENTRE_CONTACT_DISTANCE,
+            },
+        };
+        let contact = ContactEvent::new(&self.boundary, &p, self.flow, model);
+        // No step may carry the particle further than a quarter of its smallest semi-axis
+        // (|u| ≤ U_lid): in the corners two walls are near at once, and the contact event
+        // watches only the nearest.
         let dt_max = 0.25 * p.shape().semi_axes().min() / LID_VELOCITY;
-        let mut path = Vec::new();
-        let mut contact = None;
-        let (end, stats, stop) = run_until(
+        let plan = Plan::new(t_max, dt_max)?.with_dt_max(dt_max)?;
+        let path = std::cell::RefCell::new(Vec::new());
+        let mut next_out = dt_out;
+        let mut memory = Default::default();
+        let end = integrate(
             &integ,
             &p,
-            s0,
             self.flow,
-            dt_max,
-            dt_out,
-            t_max,
-            |s| path.push((s.t, s.x)),
-            |s| {
-                let frame = p.geometry(s).frame;
-                let extent = match contact_model {
-                    Contact::Extent => frame.r,
-                    Contact::Barycentre => Vec3::repeat(0.3 * frame.r_min()),
-                };
-                contact = self.boundary.contact(&s.x, &extent, &frame.q);
-                contact.is_some()
+            s0,
+            &mut memory,
+            &plan,
+            &[&contact],
+            |s| path.borrow_mut().push((s.t, s.x)),
+            |step| {
+                if step.state.t >= next_out {
+                    path.borrow_mut().push((step.state.t, step.state.x));
+                    next_out = dt_out * ((step.state.t / dt_out).floor() + 1.0);
+                }
             },
         )?;
-        let outcome = match (stop, contact) {
-            (Stop::Event, Some(c)) if c.rule == WallRule::Exit => Outcome::Exited { t: end.t },
-            (Stop::Event, Some(c)) => Outcome::Deposited {
-                t: end.t,
-                wall: self.boundary.walls()[c.wall].name.clone(),
-            },
-            _ => Outcome::Suspended,
+        let outcome = match end.stop {
+            Stop::Event { .. } => {
+                let near = contact.nearest(&end.state);
+                match self.boundary.rule(near.patch) {
+                    PatchRule::Exit => Outcome::Exited { t: end.state.t },
+                    PatchRule::Stick => Outcome::Deposited {
+                        t: end.state.t,
+                        wall: self.boundary.patch_name(near.patch).to_string(),
+                    },
+                }
+            }
+            Stop::EndTime => {
+                let mut path = path.borrow_mut();
+                if path.last().is_none_or(|(t, _)| *t < end.state.t) {
+                    path.push((end.state.t, end.state.x));
+                }
+                Outcome::Suspended
+            }
         };
+        let path = path.into_inner();
+        let stats = end.stats;
         Ok(CavityRun {
             release,
             contact: contact_model,

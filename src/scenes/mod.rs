@@ -8,6 +8,8 @@
 //! - [`shear_regimes`]: the tumbling/trembling (TU/TR) classifier with dense checking;
 //! - [`phase_boundary`]: bisection in Ca for the TU/TR boundary, parallel over shapes (Figs 7, 8);
 //! - [`phase_map`]: boundaries over families of shapes, with their dataset and figure;
+//! - [`work_precision`]: error against work for every integrator, beside the SciPy peer
+//!   ([`scipy_peer`], an independent NumPy/SciPy implementation of the inertialess model);
 //! - [`tank_treading`]: steady tank-treading of an initially spherical particle, by time
 //!   integration and by Roscoe's (1967) steady algebraic equations.
 //!
@@ -19,6 +21,7 @@ pub mod cavity;
 pub mod phase_boundary;
 pub mod phase_map;
 pub mod pipe;
+pub mod scipy_peer;
 pub mod section;
 pub mod shear_regimes;
 pub mod shear_run;
@@ -38,6 +41,9 @@ pub enum SceneError {
     /// Invalid parameters.
     #[error(transparent)]
     Param(#[from] ParamError),
+    /// The SciPy peer of the work-precision study failed or is unavailable.
+    #[error(transparent)]
+    Peer(#[from] scipy_peer::PeerError),
     /// No Ca in the allowed range gives both regimes.
     #[error(
         "no TU/TR bracket in Ca ∈ [{ca_min}, {ca_max}]: {regime_at_min:?} at Ca = {ca_min}, {regime_at_max:?} at Ca = {ca_max}"

@@ -23,8 +23,8 @@ pub struct MapPoint {
 /// The search used for the paper maps: inertialess classifier at rtol = atol = 1e-7 (the
 /// margin is converged to ~1e-7 there, far below its ~0.6 ΔCa sensitivity; tested) and
 /// ΔCa ≤ 1e-3.
-pub fn paper_search() -> BoundarySearch<Stokesian> {
-    BoundarySearch::new(RegimeClassifier::stokesian(1e-7), 1e-3)
+pub fn paper_search() -> Result<BoundarySearch<Stokesian>, crate::error::ParamError> {
+    Ok(BoundarySearch::new(RegimeClassifier::stokesian(1e-7)?, 1e-3))
 }
 
 /// Boundaries of all `(x, shape)` pairs, in parallel.

@@ -2,7 +2,6 @@
 //! Tian/Cui Hagen–Poiseuille air flow, settling under gravity until it touches the wall.
 //!
 //! - [`setup`]: the physical set-up (SI) and its nondimensional form (d_eq, 1/γ̇₀, μ_f γ̇₀);
-//! - [`wall`]: the support distance of the ellipsoid and the wall gap (deposition test);
 //! - [`tracking`]: orientation histories and tracking to deposition;
 //! - [`orbit`]: Jeffery periods and the measured orbit periods of l_a;
 //! - [`study`]: the paper's (λ₁, Ca) studies, in parallel;
@@ -13,9 +12,7 @@ pub mod orbit;
 pub mod setup;
 pub mod study;
 pub mod tracking;
-pub mod wall;
 
 pub use setup::{PipeFlowData, PipeParticleData, PipeScene, Softness};
 pub use study::{PipeCase, deposition_study, orientation_study};
 pub use tracking::{Deposition, PipeSample, sample_orientation, track_to_deposition};
-pub use wall::{support_distance, wall_gap};

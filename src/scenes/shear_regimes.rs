@@ -16,16 +16,17 @@
 //! boundaries came out one ΔCa = 0.001 step too high, while 7, 10 and 20 half periods give
 //! identical minima. The default horizon is therefore T = max(30, 8 π(r + 1/r)).
 //! Every accepted step is checked, and inside each step l_a − l_c is evaluated at `substeps`
-//! interior points of the cubic Hermite interpolant of ξ = FΞ built from (F, Ḟ) at both ends.
+//! interior points of the step's dense output (the driver's cubic Hermite interpolant of F,
+//! [`crate::integrator::Dense`]), on which ξ = FΞ is linear.
 //! Sampling a smooth minimum at spacing δ misses it by ≤ ½|m''|(δ/2)²: ≈ 2.5e-5 with step ends
 //! only (h ≈ 0.027 at rtol 1e-6, tested), 25× less with the default 4 interior points, below
-//! the 1e-5–1e-4 margins met next to the boundary. (The first step starts from rest,
-//! Ḟ(0) = 0, which only affects the interpolant over the initial 1e-3.)
+//! the 1e-5–1e-4 margins met next to the boundary.
 
 use super::SceneError;
 use super::shear_run::unit_shear;
 use super::shear_shape::ShearShape;
-use crate::driver::{RunStats, run};
+use crate::driver::{Plan, RunStats, integrate};
+use crate::integrator::Dense;
 use crate::integrator::{Stokesian, TimeIntegrator};
 use crate::particle::{ShearScaling, State};
 use crate::tensor::Vec3;
@@ -74,8 +75,8 @@ pub struct RegimeClassifier<I> {
 
 impl RegimeClassifier<Stokesian> {
     /// Inertialess classifier with rtol = atol = `tol`, horizon max(30, 8 half periods).
-    pub fn stokesian(tol: f64) -> Self {
-        Self::new(Stokesian::overdamped(tol), 1e-3)
+    pub fn stokesian(tol: f64) -> Result<Self, crate::error::ParamError> {
+        Ok(Self::new(Stokesian::overdamped(tol)?, 1e-3))
     }
 }
 
@@ -104,16 +105,19 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
         let horizon = self.horizon(shape);
         let start = State::at_rest(Vec3::zeros());
         let mut track = MarginTracker::new(&start, xi_a0, xi_c0);
-        let (_, stats) = run(
+        let mut memory = I::Memory::default();
+        let stats = integrate(
             &self.integrator,
             &particle,
-            start,
             &unit_shear(),
-            self.dt0,
-            &[horizon],
+            start,
+            &mut memory,
+            &Plan::new(horizon, self.dt0)?,
+            &[],
             |_| {},
-            |s, _| track.step(s, self.substeps),
-        )?;
+            |step| track.step(&step.dense, self.substeps),
+        )?
+        .stats;
         Ok(Classification {
             regime: if track.first_trembling.is_some() {
                 Regime::Trembling
@@ -134,10 +138,9 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
     }
 }
 
-/// Running minimum of l_a − l_c over accepted steps and their Hermite interpolants.
+/// Running minimum of l_a − l_c over accepted steps and their dense output.
 struct MarginTracker {
     xi0: (Vec3, Vec3),
-    prev: (f64, [Vec3; 4]),
     margin: f64,
     t_margin: f64,
     first_trembling: Option<f64>,
@@ -147,44 +150,31 @@ impl MarginTracker {
     fn new(s: &State, xi_a0: Vec3, xi_c0: Vec3) -> Self {
         let mut t = Self {
             xi0: (xi_a0, xi_c0),
-            prev: (s.t, [Vec3::zeros(); 4]),
             margin: f64::INFINITY,
             t_margin: s.t,
             first_trembling: None,
         };
-        t.prev.1 = t.lines(s);
-        t.record(s.t, t.prev.1[0].norm() - t.prev.1[1].norm());
+        t.record(s);
         t
     }
 
-    /// (ξ_a, ξ_c, ξ̇_a, ξ̇_c) of a state.
-    fn lines(&self, s: &State) -> [Vec3; 4] {
-        [s.f * self.xi0.0, s.f * self.xi0.1, s.a * self.xi0.0, s.a * self.xi0.1]
-    }
-
-    fn record(&mut self, t: f64, m: f64) {
+    fn record(&mut self, s: &State) {
+        let m = (s.f * self.xi0.0).norm() - (s.f * self.xi0.1).norm();
         if m < self.margin {
             self.margin = m;
-            self.t_margin = t;
+            self.t_margin = s.t;
         }
         if m < 0.0 && self.first_trembling.is_none() {
-            self.first_trembling = Some(t);
+            self.first_trembling = Some(s.t);
         }
     }
 
-    fn step(&mut self, s: &State, substeps: usize) {
-        let (t0, p) = self.prev;
-        let q = self.lines(s);
-        let h = s.t - t0;
-        for i in 1..=substeps {
+    /// Check `substeps` interior points and the end of one step.
+    fn step(&mut self, dense: &Dense, substeps: usize) {
+        let (t0, t1) = (dense.t_start(), dense.t_end());
+        for i in 1..=substeps + 1 {
             let u = i as f64 / (substeps + 1) as f64;
-            let (h00, h10) = (2.0 * u.powi(3) - 3.0 * u * u + 1.0, u.powi(3) - 2.0 * u * u + u);
-            let (h01, h11) = (-2.0 * u.powi(3) + 3.0 * u * u, u.powi(3) - u * u);
-            let xa = p[0] * h00 + p[2] * (h * h10) + q[0] * h01 + q[2] * (h * h11);
-            let xc = p[1] * h00 + p[3] * (h * h10) + q[1] * h01 + q[3] * (h * h11);
-            self.record(t0 + u * h, xa.norm() - xc.norm());
+            self.record(&dense.state_at(t0 + u * (t1 - t0)));
         }
-        self.record(s.t, q[0].norm() - q[1].norm());
-        self.prev = (s.t, q);
     }
 }

@@ -87,7 +87,7 @@ pub fn sample<I: TimeIntegrator>(
 /// sampled at `times`.
 pub fn oblate_fig4_run(ca: f64, times: &[f64]) -> Result<Vec<ShearSample>, SceneError> {
     sample(
-        &Stokesian::overdamped(1e-8),
+        &Stokesian::overdamped(1e-8)?,
         &ShearShape::oblate(2.5),
         &stokesian_scaling(ca)?,
         times,

@@ -215,7 +215,7 @@ pub fn integrate(ca: f64, tol: f64, t_end: f64) -> Result<IntegratedSteady, Scen
     let particle = ShearShape::sphere().particle(&scaling)?;
     let mut read = Vec::with_capacity(2);
     run(
-        &Stokesian::overdamped(tol),
+        &Stokesian::overdamped(tol)?,
         &particle,
         State::at_rest(Vec3::zeros()),
         &unit_shear(),

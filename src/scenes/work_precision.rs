@@ -10,6 +10,12 @@
 //! - `oblate`: the Fig. 4 oblate (2.5:2.5:1) at Ca = 0.4 over t ≤ 30 against the tightest
 //!   inertialess run: max over t = 1, 2, …, 30 of |F − F_ref|∞.
 //!
+//! The SciPy peer ([`super::scipy_peer`], `solve_ivp` with Radau and LSODA on an independent
+//! NumPy implementation of the inertialess model) runs the tank-treading and oblate cases under
+//! the same error measures; [`peer_ratios`] compares its wall time with the fastest library
+//! integrator's at equal error, and [`error_floor`] gives the error below which a case's measure
+//! no longer resolves an integrator.
+//!
 //! Inertial integrators use ρ* = 0.01 (a micro-particle; the paper's Δt ≤ ρ*/200 rule then
 //! means Δt ≤ 5e-5) and λ_s/μ_s = 1e5: the literal volumetric traction of the paper is
 //! anti-damped unless λ_s Δt ≳ (2/3)μ_f (physics.md §7, condition 2), so the scheme also has a
@@ -18,15 +24,17 @@
 //! difference (≈ 3e-4 here) in their error.
 
 use super::SceneError;
+use super::scipy_peer::{Peer, PeerCase, PeerMethod, PeerRun};
+use super::shear_shape::ShearShape;
 use super::tank_treading::roscoe;
 use crate::driver::{RunStats, run};
 use crate::flow::analytic::LinearFlow;
-use crate::integrator::{ImexAdaptive, ImexPaper, Stokesian, TimeIntegrator};
+use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator};
 use crate::material::NeoHooke;
 use crate::particle::lines::material_line;
 use crate::particle::{Particle, ShearScaling, State};
 use crate::reference::{jeffery_flow_aligned_time, jeffery_phi};
-use crate::tensor::{Mat3, Vec3};
+use crate::tensor::Vec3;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -59,10 +67,16 @@ pub enum Setting {
     ImexPaper(f64),
     /// `imex_adaptive` with tolerance.
     ImexAdaptive(f64),
-    /// `stokesian` (overdamped barycentre) with tolerance.
+    /// `stokesian` (Rosenbrock-W 2(3), overdamped barycentre) with tolerance.
     Stokesian(f64),
+    /// `stokesian_radau5` (Radau IIA order 5, overdamped barycentre) with tolerance.
+    Radau5(f64),
     /// `rigid` with tolerance.
     Rigid(f64),
+    /// The SciPy peer, `solve_ivp(method="Radau")` at rtol = atol = tolerance.
+    ScipyRadau(f64),
+    /// The SciPy peer, `solve_ivp(method="LSODA")` at rtol = atol = tolerance.
+    ScipyLsoda(f64),
 }
 
 impl Setting {
@@ -72,15 +86,59 @@ impl Setting {
             Setting::ImexPaper(_) => "imex_paper",
             Setting::ImexAdaptive(_) => "imex_adaptive",
             Setting::Stokesian(_) => "stokesian",
+            Setting::Radau5(_) => "stokesian_radau5",
             Setting::Rigid(_) => "rigid",
+            Setting::ScipyRadau(_) => PeerMethod::Radau.integrator(),
+            Setting::ScipyLsoda(_) => PeerMethod::Lsoda.integrator(),
         }
     }
     /// The accuracy knob (Δt or tolerance).
     pub fn value(&self) -> f64 {
         match *self {
-            Setting::ImexPaper(v) | Setting::ImexAdaptive(v) | Setting::Stokesian(v) | Setting::Rigid(v) => v,
+            Setting::ImexPaper(v)
+            | Setting::ImexAdaptive(v)
+            | Setting::Stokesian(v)
+            | Setting::Radau5(v)
+            | Setting::Rigid(v)
+            | Setting::ScipyRadau(v)
+            | Setting::ScipyLsoda(v) => v,
         }
     }
+
+    /// The SciPy method and tolerance, for the peer's settings.
+    pub fn peer(&self) -> Option<(PeerMethod, f64)> {
+        match *self {
+            Setting::ScipyRadau(tol) => Some((PeerMethod::Radau, tol)),
+            Setting::ScipyLsoda(tol) => Some((PeerMethod::Lsoda, tol)),
+            _ => None,
+        }
+    }
+}
+
+/// The settings of the study for `case`: every integrator with its sweep of Δt or tolerance.
+/// This table is the one place that lists the integrators; a new one is a line here.
+pub fn sweep(case: Case) -> Vec<Setting> {
+    const DECADES: [f64; 7] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
+    let mut s: Vec<Setting> = [80.0, 160.0, 320.0, 640.0]
+        .iter()
+        .map(|d| Setting::ImexPaper(RHO_STAR / d))
+        .collect();
+    s.extend([1e-3, 1e-4, 1e-5, 1e-6].map(Setting::ImexAdaptive));
+    s.extend(DECADES.map(Setting::Stokesian));
+    s.extend(DECADES.map(Setting::Radau5));
+    if case == Case::Jeffery {
+        s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::Rigid));
+    }
+    if has_peer(case) {
+        // Two more decades so the library's curve spans the error levels of the ratio table.
+        s.extend([1e-10, 1e-11].map(Setting::Stokesian));
+        s.extend([1e-10, 1e-11].map(Setting::Radau5));
+        // Down to an error of ≈ 1e-10 (Radau at 1e-10, LSODA at 1e-12 on the oblate case), so
+        // the peer's curves span the 1e-4 … 1e-9 error levels of the ratio table.
+        s.extend([1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::ScipyRadau));
+        s.extend([1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12].map(Setting::ScipyLsoda));
+    }
+    s
 }
 
 /// One point of the work-precision diagram.
@@ -107,18 +165,30 @@ fn shear() -> LinearFlow {
     LinearFlow::simple_shear(1.0).expect("finite")
 }
 
+/// Initial shape and capillary number of `case`.
+fn definition(case: Case) -> (ShearShape, f64) {
+    match case {
+        Case::Jeffery => (ShearShape::prolate(JEFFERY_R), 1e-4),
+        Case::TankTreading => (ShearShape::sphere(), 0.2),
+        // paper §6.1.1: ω₁ = ω₂ = 2.5, the short axis along the gradient
+        Case::Oblate => (ShearShape::oblate(2.5), 0.4),
+    }
+}
+
 fn particle(case: Case) -> Result<Particle<NeoHooke>, SceneError> {
-    let (ca, ratios, axes) = match case {
-        Case::Jeffery => (1e-4, [JEFFERY_R, 1.0, 1.0], Mat3::identity()),
-        Case::TankTreading => (0.2, [1.0, 1.0, 1.0], Mat3::identity()),
-        // paper §6.1.1: r1 along the flow, r3 along the gradient, r2 along the vorticity
-        Case::Oblate => (
-            0.4,
-            [2.5, 2.5, 1.0],
-            Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0),
-        ),
-    };
-    Ok(ShearScaling::new(ca, RHO_STAR, BULK)?.particle(ratios, axes)?)
+    let (shape, ca) = definition(case);
+    Ok(shape.particle(&ShearScaling::new(ca, RHO_STAR, BULK)?)?)
+}
+
+/// The peer's version of `case` (it runs the inertialess model, so ρ* does not enter).
+fn peer_case(case: Case) -> PeerCase {
+    let (shape, ca) = definition(case);
+    PeerCase {
+        semi_axes: shape.ratios(),
+        ca,
+        bulk_ratio: BULK,
+        t_end: t_end(case),
+    }
 }
 
 fn t_end(case: Case) -> f64 {
@@ -140,17 +210,57 @@ fn trajectory(case: Case, setting: Setting) -> Result<(Vec<State>, RunStats, f64
         // The scheme itself is timed, without the per-step stability guard; every Δt used in
         // the study is below the explicit limit (ρ*/62 for the r = 5 prolate).
         Setting::ImexPaper(dt) => {
-            let imex = ImexPaper {
-                check_stability: false,
-                ..ImexPaper::default()
-            };
-            run(&imex, &p, s0, &shear(), dt, &times, observe, |_, _| {})?.1
+            run(
+                &ImexPaper::unguarded(),
+                &p,
+                s0,
+                &shear(),
+                dt,
+                &times,
+                observe,
+                |_, _| {},
+            )?
+            .1
         }
-        Setting::ImexAdaptive(tol) => drive(&ImexAdaptive::new(tol), &p, s0, &times, observe)?,
-        Setting::Stokesian(tol) => drive(&Stokesian::overdamped(tol), &p, s0, &times, observe)?,
-        Setting::Rigid(tol) => drive(&Stokesian::rigid(tol), &p, s0, &times, observe)?,
+        Setting::ImexAdaptive(tol) => drive(&ImexAdaptive::new(tol)?, &p, s0, &times, observe)?,
+        Setting::Stokesian(tol) => drive(&Stokesian::overdamped(tol)?, &p, s0, &times, observe)?,
+        Setting::Radau5(tol) => drive(
+            &Stokesian::overdamped(tol)?.with_scheme(Scheme::Radau5),
+            &p,
+            s0,
+            &times,
+            observe,
+        )?,
+        Setting::Rigid(tol) => drive(&Stokesian::rigid(tol)?, &p, s0, &times, observe)?,
+        // The peer reports the wall time of its own solve, without the interpreter's start-up.
+        Setting::ScipyRadau(tol) => return peer_trajectory(case, PeerMethod::Radau, tol),
+        Setting::ScipyLsoda(tol) => return peer_trajectory(case, PeerMethod::Lsoda, tol),
     };
     Ok((samples, stats, start.elapsed().as_secs_f64()))
+}
+
+fn peer_trajectory(case: Case, method: PeerMethod, tol: f64) -> Result<(Vec<State>, RunStats, f64), SceneError> {
+    let run = Peer::from_env().run(&peer_case(case), method, tol)?;
+    let stats = RunStats {
+        steps: run.steps,
+        rhs_evals: run.rhs_evals,
+        jac_evals: run.jac_evals,
+        ..RunStats::default()
+    };
+    Ok((peer_states(&run), stats, run.wall_s))
+}
+
+/// The peer's samples as states. They carry F only: x, v and A are not part of the
+/// inertialess shape problem, and no error measure reads them.
+fn peer_states(run: &PeerRun) -> Vec<State> {
+    run.samples
+        .iter()
+        .map(|&(t, f)| State {
+            t,
+            f,
+            ..State::at_rest(Vec3::zeros())
+        })
+        .collect()
 }
 
 fn drive<I: TimeIntegrator>(
@@ -172,8 +282,19 @@ fn long_axis_angle(p: &Particle<NeoHooke>, s: &State) -> f64 {
 /// Error of one run against the case's reference (`reference` only for [`Case::Oblate`]).
 pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Result<Record, SceneError> {
     let (samples, stats, wall_s) = trajectory(case, setting)?;
+    Ok(Record {
+        case,
+        setting,
+        error: error_of(case, &samples, reference)?,
+        wall_s,
+        stats,
+    })
+}
+
+/// The case's error measure of a run sampled at t = 1, 2, …, t_end.
+fn error_of(case: Case, samples: &[State], reference: Option<&[State]>) -> Result<f64, SceneError> {
     let last = samples.last().expect("at least one output time");
-    let error = match case {
+    Ok(match case {
         Case::Jeffery => {
             let p = particle(case)?;
             let mut d =
@@ -182,7 +303,7 @@ pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Res
             d.abs()
         }
         Case::TankTreading => {
-            let exact = roscoe(0.2)?.steady;
+            let exact = roscoe(definition(case).1)?.steady;
             let p = particle(case)?;
             let sec = super::section::ShearPlaneSection::of(&p.total_distortion(&last.f));
             (sec.deformation() - exact.deformation()).abs() + (sec.angle - exact.theta).abs()
@@ -195,19 +316,34 @@ pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Res
                 .map(|(a, b)| (a.f - b.f).amax())
                 .fold(0.0, f64::max)
         }
-    };
-    Ok(Record {
-        case,
-        setting,
-        error,
-        wall_s,
-        stats,
     })
 }
 
+/// Whether the SciPy peer runs `case`. It does not run the Jeffery case: its error there is the
+/// elastic model's distance to the rigid orbit (≈ 0.2 Ca), the same for every inertialess
+/// solver, so equal-error comparisons cannot be read from it.
+pub fn has_peer(case: Case) -> bool {
+    case != Case::Jeffery
+}
+
+/// The error the case's measure gives to the SciPy peer's high-accuracy run (DOP853 at
+/// rtol = atol = 1e-13, within ≈ 1e-11 of the converged F here): the floor below which the
+/// case's errors measure its reference (the oblate reference run, or the residual transient
+/// against Roscoe's steady state), not an integrator.
+pub fn error_floor(case: Case, reference: Option<&[State]>) -> Result<f64, SceneError> {
+    let run = Peer::from_env().reference(&peer_case(case), PeerMethod::Dop853)?;
+    error_of(case, &peer_states(&run), reference)
+}
+
 /// The tightest inertialess run of the oblate case (the reference for [`Case::Oblate`]).
+///
+/// `stokesian_radau5` at 1e-13. The Rosenbrock 2(3) reference used before (1e-13,
+/// ≈ 2.4·10⁵ steps) sat ≈ 1.7e-8 from the converged F: every Radau run from 1e-7 down and the
+/// peer's tightest runs all stopped at that floor. Radau's global error falls about as fast as
+/// its tolerance here (3.4e-5, 3.7e-6, 3.5e-7 at 1e-4, 1e-5, 1e-6), so this run is ≈ 1e-12 from
+/// the converged F; [`error_floor`] measures it against the SciPy peer.
 pub fn oblate_reference() -> Result<Vec<State>, SceneError> {
-    Ok(trajectory(Case::Oblate, Setting::Stokesian(1e-11))?.0)
+    Ok(trajectory(Case::Oblate, Setting::Radau5(1e-13))?.0)
 }
 
 /// Work needed by `integrator` to reach `error` in `case`, by log-log interpolation between
@@ -228,4 +364,126 @@ pub fn work_at_error(records: &[Record], case: Case, integrator: &str, error: f6
                 lerp(w[0].wall_s.max(1e-9), w[1].wall_s.max(1e-9)),
             )
         })
+}
+
+/// Error levels of the library-against-peer comparison: each decade from 1e-4 to 1e-9.
+pub const RATIO_ERRORS: [f64; 6] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
+
+/// Wall time of a SciPy peer against the fastest library integrator at one error level.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PeerRatio {
+    /// Problem.
+    pub case: Case,
+    /// Error level.
+    pub error: f64,
+    /// The library integrator with the least interpolated wall time at `error`.
+    pub best_integrator: &'static str,
+    /// Its wall time.
+    pub library_wall_s: f64,
+    /// The peer's integrator name (`scipy_radau`, `scipy_lsoda`).
+    pub peer: &'static str,
+    /// The peer's wall time at `error`.
+    pub peer_wall_s: f64,
+    /// `peer_wall_s / library_wall_s`: how many times faster the library is.
+    pub ratio: f64,
+}
+
+/// For each error in `errors` and each peer with records for `case`: the wall times of the peer
+/// and of the fastest library integrator at that error, both interpolated log-log along their
+/// work-precision curves ([`work_at_error`]). Levels that the peer or every library integrator
+/// does not bracket are left out.
+pub fn peer_ratios(records: &[Record], case: Case, errors: &[f64]) -> Vec<PeerRatio> {
+    let mut library: Vec<&'static str> = Vec::new();
+    let mut peers: Vec<&'static str> = Vec::new();
+    for r in records.iter().filter(|r| r.case == case) {
+        let names = if r.setting.peer().is_some() {
+            &mut peers
+        } else {
+            &mut library
+        };
+        if !names.contains(&r.setting.integrator()) {
+            names.push(r.setting.integrator());
+        }
+    }
+    let mut rows = Vec::new();
+    for &error in errors {
+        let best = library
+            .iter()
+            .filter_map(|&name| work_at_error(records, case, name, error).map(|(_, wall)| (name, wall)))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let Some((best_integrator, library_wall_s)) = best else {
+            continue;
+        };
+        for &peer in &peers {
+            if let Some((_, peer_wall_s)) = work_at_error(records, case, peer, error) {
+                rows.push(PeerRatio {
+                    case,
+                    error,
+                    best_integrator,
+                    library_wall_s,
+                    peer,
+                    peer_wall_s,
+                    ratio: peer_wall_s / library_wall_s,
+                });
+            }
+        }
+    }
+    rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(setting: Setting, error: f64, wall_s: f64, rhs_evals: u64) -> Record {
+        Record {
+            case: Case::Oblate,
+            setting,
+            error,
+            wall_s,
+            stats: RunStats {
+                rhs_evals,
+                ..RunStats::default()
+            },
+        }
+    }
+
+    /// On a curve that is a straight line in log-log (wall ∝ error^(-1/2)), the interpolation
+    /// is exact up to round-off in ln/exp (a few ulps of numbers of size 1e2).
+    #[test]
+    fn work_at_error_is_exact_on_a_power_law() {
+        let wall = |e: f64| 1e-3 * e.powf(-0.5);
+        let records: Vec<Record> = [1e-2, 1e-4, 1e-6]
+            .iter()
+            .map(|&e| record(Setting::Stokesian(e), e, wall(e), (10.0 / e) as u64))
+            .collect();
+        let (evals, w) = work_at_error(&records, Case::Oblate, "stokesian", 3e-5).unwrap();
+        assert!((w / wall(3e-5) - 1.0).abs() < 1e-12, "{w} vs {}", wall(3e-5));
+        assert!((evals / (10.0 / 3e-5) - 1.0).abs() < 1e-12, "{evals}");
+        assert_eq!(work_at_error(&records, Case::Oblate, "stokesian", 1e-7), None);
+        assert_eq!(work_at_error(&records, Case::Oblate, "rigid", 1e-4), None);
+    }
+
+    /// Two library integrators, the faster one changing with the error, against a peer that
+    /// only reaches down to 1e-6: the ratio uses the faster one at each level and skips the
+    /// level the peer does not reach.
+    #[test]
+    fn peer_ratios_pick_the_fastest_library_integrator() {
+        let records = vec![
+            record(Setting::Stokesian(1e-3), 1e-3, 1.0, 1),
+            record(Setting::Stokesian(1e-9), 1e-9, 1.0, 1),
+            record(Setting::Rigid(1e-3), 1e-3, 0.1, 1),
+            record(Setting::Rigid(1e-9), 1e-9, 10.0, 1),
+            record(Setting::ScipyRadau(1e-3), 1e-3, 100.0, 1),
+            record(Setting::ScipyRadau(1e-6), 1e-6, 100.0, 1),
+        ];
+        let rows = peer_ratios(&records, Case::Oblate, &[1e-4, 1e-8]);
+        assert_eq!(rows.len(), 1, "{rows:?}");
+        // rigid at 1e-4: one sixth of the way from 0.1 s to 10 s in log-log, 10^(-1 + 2/6)
+        let rigid = 10f64.powf(-2.0 / 3.0);
+        assert_eq!(rows[0].best_integrator, "rigid");
+        assert!((rows[0].library_wall_s / rigid - 1.0).abs() < 1e-12);
+        assert!((rows[0].ratio - 100.0 / rigid).abs() < 1e-9);
+        assert_eq!(rows[0].peer, "scipy_radau");
+    }
 }

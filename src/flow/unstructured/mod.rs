@@ -25,7 +25,7 @@
 //!
 //! Sources: the legacy VTK export ([`vtk`]) or the compact shipped form ([`compact`]);
 //! [`MeshedFlow::load`] tells them apart by content. Wall contact for deposition is in
-//! [`wall`], the cavity validation against Albensoeder & Kuhlmann in [`cavity`].
+//! [`crate::contact`], the cavity validation against Albensoeder & Kuhlmann in [`cavity`].
 
 pub mod cavity;
 pub mod cavity_report;
@@ -35,12 +35,10 @@ pub mod hex;
 pub mod locate;
 pub mod mesh;
 pub mod vtk;
-pub mod wall;
 
 pub use error::MeshError;
 pub use locate::{Location, Locator};
 pub use mesh::HexMesh;
-pub use wall::{Boundary, Wall, WallContact, WallRule, support_distance};
 
 use super::{FlowField, FlowSample, check_query};
 use crate::error::FlowError;

@@ -18,6 +18,7 @@
 //! alike, so buoyancy keeps its ratio). Every state component is then O(1)…O(10⁵), which
 //! suits the uniform error tolerances of the adaptive integrators.
 
+use crate::contact::PipeWall;
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{FlowError, ParamError, finite, positive};
 use crate::flow::FlowField;
@@ -152,6 +153,8 @@ impl Softness {
 pub struct PipeScene {
     /// Poiseuille flow in units of d_eq and 1/γ̇₀.
     pub flow: Poiseuille,
+    /// The pipe wall (radius R/d_eq).
+    pub wall: PipeWall,
     /// The particle (for [`Softness::Rigid`] its law is never evaluated).
     pub particle: Particle<NeoHooke>,
     /// Physical flow data it was scaled from.
@@ -203,6 +206,7 @@ impl PipeScene {
         .with_gravity(Vec3::new(0.0, -flow.gravity * t * t / l, 0.0))?;
         Ok(Self {
             flow: Poiseuille::new(0.5 * flow.diameter / l, flow.mean_velocity * t / l)?,
+            wall: PipeWall::new(0.5 * flow.diameter / l)?,
             particle: model,
             flow_data: flow,
             particle_data: particle,
@@ -248,15 +252,15 @@ impl PipeScene {
     /// Adaptive inertialess integrator at rtol = atol = `tol` with an inertial barycentre
     /// (m v̇ = m a_G + μ_f K̂(u − v)); the rigid limit keeps the same barycentre model, so rigid
     /// and soft runs differ only in the shape response.
-    pub fn integrator(&self, tol: f64) -> Stokesian {
+    pub fn integrator(&self, tol: f64) -> Result<Stokesian, ParamError> {
         let shape = match self.softness {
             Softness::Rigid => ShapeResponse::Rigid,
             Softness::Elastic { .. } => ShapeResponse::Elastic,
         };
-        Stokesian {
+        Ok(Stokesian {
             shape,
             barycentre: BarycentreModel::Inertial,
-            ..Stokesian::new(tol)
-        }
+            ..Stokesian::new(tol)?
+        })
     }
 }

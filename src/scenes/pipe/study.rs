@@ -51,7 +51,7 @@ pub fn orientation_study(
         .map(|case| {
             let scene = case.scene()?;
             let times = output_times(t_end_seconds / scene.time_unit, count);
-            let samples = sample_orientation(&scene, &scene.integrator(tol), &times, DT0)?;
+            let samples = sample_orientation(&scene, &scene.integrator(tol)?, &times, DT0)?;
             Ok((scene, samples))
         })
         .collect()
@@ -70,7 +70,7 @@ pub fn deposition_study(
             let scene = case.scene()?;
             let t_max = SETTLING_TIMES * scene.sphere_settling_time();
             let record_dt = jeffery_period(case.lambda1, 1.0) / per_orbit;
-            let run = track_to_deposition(&scene, &scene.integrator(tol), DT0, t_max, record_dt)?;
+            let run = track_to_deposition(&scene, &scene.integrator(tol)?, DT0, t_max, record_dt)?;
             Ok((scene, run))
         })
         .collect()

@@ -2,28 +2,19 @@
 //! until the particle touches the wall (Figs 11, 12).
 //!
 //! # Deposition event
-//! The driver loop has no events, so [`track_to_deposition`] steps the integrator itself. It
-//! caps each step so that the wall gap g (see [`super::wall`]) can close by at most
-//! g + r₃/2 at the current rates, (|v_⊥| + r₁|∇u|) Δt ≤ g + r₃/2: translation by v_⊥ and a tip
-//! sweeping at ≤ r₁|∇u|. This keeps the trial barycentre inside the pipe (where the flow is
-//! defined) and prevents a tumbling tip from touching and leaving the wall within one step.
-//! The step that closes the gap is then refined by regula falsi (Illinois) on g, re-stepping
-//! from the last state before contact, until |g| ≤ 10⁻⁹ d_eq.
+//! Wall contact is a [`ContactEvent`] of the driver on the [`PipeWall`]: the gap
+//! g = R − |x_⊥| − h(n) of the particle's extent ([`crate::contact::pipe`]) is located on each
+//! step's dense output to |g| ≤ 10⁻⁹ d_eq, and the event caps each step so that a tumbling tip
+//! cannot touch and leave the wall unseen ([`crate::contact`]).
 
 use super::setup::PipeScene;
-use super::wall::wall_gap;
-use crate::driver::run;
-use crate::flow::FlowField;
+use crate::contact::{ContactEvent, ContactModel, PipeWall};
+use crate::driver::{Event, Plan, Stop, integrate, run};
 use crate::integrator::TimeIntegrator;
 use crate::particle::State;
 use crate::particle::lines::material_line;
 use crate::scenes::SceneError;
 use crate::tensor::Vec3;
-
-/// |g| at which the contact time counts as located (d_eq).
-const CONTACT_GAP_TOL: f64 = 1e-9;
-/// Regula-falsi iterations allowed for the contact time.
-const MAX_CONTACT_ITERS: u32 = 100;
 
 /// The observed quantities of one state (units d_eq and 1/γ̇₀).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,14 +37,21 @@ impl PipeSample {
 }
 
 impl PipeScene {
+    /// Contact of the particle's extent with the pipe wall.
+    pub fn contact(
+        &self,
+    ) -> ContactEvent<'_, PipeWall, crate::material::NeoHooke, crate::hydro::Brenner, crate::flow::analytic::Poiseuille>
+    {
+        ContactEvent::new(&self.wall, &self.particle, &self.flow, ContactModel::Extent)
+    }
+
     /// Observe a state.
     pub fn observe(&self, state: &State) -> PipeSample {
-        let frame = self.particle.geometry(state).frame;
         PipeSample {
             t: state.t,
             x: state.x,
             xi_a: material_line(self.particle.shape(), &state.f, 0),
-            gap: wall_gap(self.flow.radius, &state.x, &frame),
+            gap: self.contact().gap(state),
         }
     }
 }
@@ -87,7 +85,7 @@ pub struct Deposition {
     /// The release state, the first accepted step at or after each multiple of the recording
     /// interval, and the contact state.
     pub samples: Vec<PipeSample>,
-    /// Accepted steps, including the contact refinement.
+    /// Accepted steps.
     pub steps: u64,
     /// Rejected step attempts.
     pub rejected: u64,
@@ -117,90 +115,46 @@ pub fn track_to_deposition<I: TimeIntegrator>(
     t_max: f64,
     record_dt: f64,
 ) -> Result<Deposition, SceneError> {
-    let mut state = scene.initial_state().map_err(crate::error::StepError::from)?;
-    let mut now = scene.observe(&state);
-    if now.gap <= 0.0 {
-        return Err(SceneError::ReleasedInWall { gap: now.gap });
+    let state = scene.initial_state().map_err(crate::error::StepError::from)?;
+    let release = scene.observe(&state);
+    if release.gap <= 0.0 {
+        return Err(SceneError::ReleasedInWall { gap: release.gap });
     }
-    let mut run = Deposition {
-        samples: vec![now],
-        steps: 0,
-        rejected: 0,
-    };
-    let mut h = dt0;
+    let contact = scene.contact();
+    let mut samples = vec![release];
     let mut next_record = record_dt;
-    while state.t < t_max {
-        let cap = approach_cap(scene, &state, now.gap)?;
-        let clamped = h > cap;
-        let (next, info) = integrator.step(&scene.particle, &state, &scene.flow, h.min(cap))?;
-        run.steps += 1;
-        run.rejected += u64::from(info.rejected);
-        h = if clamped { h.max(info.dt_next) } else { info.dt_next };
-        let seen = scene.observe(&next);
-        if seen.gap <= 0.0 {
-            let contact = locate_contact(scene, integrator, (state, now.gap), (next, seen.gap), &mut run)?;
-            run.samples.push(scene.observe(&contact));
-            return Ok(run);
-        }
-        if seen.t >= next_record {
-            run.samples.push(seen);
-            next_record = seen.t + record_dt;
-        }
-        (state, now) = (next, seen);
-    }
-    Err(SceneError::NotDeposited { t_max, gap: now.gap })
-}
-
-/// Largest step that lets the gap close by at most g + r₃/2 at the current rates.
-fn approach_cap(scene: &PipeScene, state: &State, gap: f64) -> Result<f64, SceneError> {
-    let r = scene.particle.geometry(state).frame.r;
-    let grad_u = scene
-        .flow
-        .sample(&state.x, state.t)
-        .map_err(crate::error::StepError::from)?
-        .grad_u;
-    let rate = Vec3::new(0.0, state.v[1], state.v[2]).norm() + r[0] * grad_u.norm();
-    Ok((gap + 0.5 * r[2]) / rate.max(f64::MIN_POSITIVE))
-}
-
-/// Regula falsi (Illinois) on the gap between `before` (g > 0) and `after` (g ≤ 0).
-fn locate_contact<I: TimeIntegrator>(
-    scene: &PipeScene,
-    integrator: &I,
-    before: (State, f64),
-    after: (State, f64),
-    run: &mut Deposition,
-) -> Result<State, SceneError> {
-    let ((mut a, mut ga), (mut b, mut gb)) = (before, after);
-    if -gb <= CONTACT_GAP_TOL {
-        return Ok(b);
-    }
-    let mut last_replaced_a = None;
-    for _ in 0..MAX_CONTACT_ITERS {
-        let h = ga / (ga - gb) * (b.t - a.t);
-        let (c, info) = integrator.step(&scene.particle, &a, &scene.flow, h)?;
-        run.steps += 1;
-        run.rejected += u64::from(info.rejected);
-        let gc = scene.observe(&c).gap;
-        if gc.abs() <= CONTACT_GAP_TOL {
-            return Ok(c);
-        }
-        let replaced_a = gc > 0.0;
-        if replaced_a {
-            (a, ga) = (c, gc);
-        } else {
-            (b, gb) = (c, gc);
-        }
-        // Illinois: an end point kept twice in a row gets half its weight, so that the bracket
-        // shrinks from both sides.
-        if last_replaced_a == Some(replaced_a) {
-            if replaced_a {
-                gb *= 0.5;
-            } else {
-                ga *= 0.5;
+    let mut rejected = 0;
+    let mut memory = I::Memory::default();
+    let plan = Plan::new(t_max, dt0)?;
+    let end = integrate(
+        integrator,
+        &scene.particle,
+        &scene.flow,
+        state,
+        &mut memory,
+        &plan,
+        &[&contact],
+        |_| {},
+        |step| {
+            rejected += u64::from(step.info.rejected);
+            if step.state.t >= next_record {
+                samples.push(scene.observe(&step.state));
+                next_record = step.state.t + record_dt;
             }
+        },
+    )?;
+    match end.stop {
+        Stop::Event { .. } => {
+            samples.push(scene.observe(&end.state));
+            Ok(Deposition {
+                samples,
+                steps: end.stats.steps,
+                rejected,
+            })
         }
-        last_replaced_a = Some(replaced_a);
+        Stop::EndTime => Err(SceneError::NotDeposited {
+            t_max,
+            gap: scene.observe(&end.state).gap,
+        }),
     }
-    Err(SceneError::ContactNotLocated { t: b.t, gap: gb })
 }

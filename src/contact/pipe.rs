@@ -14,9 +14,46 @@
 //! On the axis (x_⊥ = 0) every radial direction is a normal, and the gap uses the largest
 //! support over them, √(largest eigenvalue of the cross-sectional block of b̄).
 
+use super::{Boundary, Extent, Gap, PatchRule};
 use crate::ellipsoid::PrincipalFrame;
-pub use crate::ellipsoid::frame::support_distance;
+use crate::error::{ParamError, positive};
 use crate::tensor::{Mat3, Vec3};
+
+/// The wall of an infinite pipe of radius R along e₁ (one patch, `wall`, [`PatchRule::Stick`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PipeWall {
+    radius: f64,
+}
+
+impl PipeWall {
+    /// Pipe of radius `radius` (finite, > 0).
+    pub fn new(radius: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            radius: positive("pipe radius", radius)?,
+        })
+    }
+}
+
+impl Boundary for PipeWall {
+    fn nearest(&self, x: &Vec3, extent: &Extent) -> Gap {
+        let x_perp = Vec3::new(0.0, x[1], x[2]);
+        let gap = match extent {
+            Extent::Ellipsoid(frame) => wall_gap(self.radius, x, frame),
+            Extent::Point { radius } => self.radius - x_perp.norm() - radius,
+        };
+        // On the axis every radial direction is a normal; the gap does not depend on it there.
+        let normal = x_perp.try_normalize(0.0).unwrap_or_else(Vec3::y);
+        Gap { patch: 0, gap, normal }
+    }
+
+    fn patch_name(&self, _patch: usize) -> &str {
+        "wall"
+    }
+
+    fn rule(&self, _patch: usize) -> PatchRule {
+        PatchRule::Stick
+    }
+}
 
 /// Wall gap g = R − |x_⊥| − h(n) of an ellipsoid in `frame` centred at `x` in a pipe of radius
 /// `radius` whose axis is e₁; g ≤ 0 means contact.
@@ -24,7 +61,7 @@ pub fn wall_gap(radius: f64, x: &Vec3, frame: &PrincipalFrame) -> f64 {
     let x_perp = Vec3::new(0.0, x[1], x[2]);
     let distance = x_perp.norm();
     if distance > 0.0 {
-        radius - distance - support_distance(&frame.r, &frame.q, &(x_perp / distance))
+        radius - distance - frame.support_distance(&(x_perp / distance))
     } else {
         radius - largest_cross_section_support(frame)
     }

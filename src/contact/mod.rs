@@ -1,0 +1,177 @@
+//! Boundaries a particle can touch, and wall contact as a driver event.
+//!
+//! # Physics
+//! A particle is an ellipsoid with barycentre x_c, semi-axes r_a and rotation Q (rows n_a). Its
+//! extent along a unit vector n is the support distance
+//! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2} = \sqrt{n·\bar b\,n}$ with $\bar b = \bar F\bar F^T$
+//! ([`crate::ellipsoid::frame::support_distance`]); a point particle of contact radius δ has
+//! h(n) = δ. It touches a boundary patch with outward normal n at distance d from x_c when the
+//! gap g = d − h(n) ≤ 0. Each patch carries a rule: the particle deposits ([`PatchRule::Stick`])
+//! or leaves the domain ([`PatchRule::Exit`]).
+//!
+//! # Contact as an event
+//! [`ContactEvent`] turns a [`Boundary`] into a terminal [`Event`] of the driver: g is the gap to
+//! the nearest patch, located on the dense output to |g| ≤ 10⁻⁹ of the particle's equivalent
+//! diameter. It caps every step so that the gap to the nearest patch can close by at most
+//! g + δ_s, with δ_s half the particle's smallest rest semi-axis, at the current rates: the
+//! barycentre approaches at |v·n| and a tip at distance ≤ r₁ sweeps at ≤ r₁|∇u| (rotation and
+//! stretching by the flow), so $(|v·n| + r_1 |\nabla u|)\,\Delta t \le g + \delta_s$. A tumbling tip
+//! then cannot touch and leave the wall within one step. Only the nearest patch is watched: in
+//! a corner, where two patches are about equally near, a scene should also cap the step by its
+//! flow speed ([`crate::driver::Plan::with_dt_max`]), as the cavity does.
+
+pub mod pipe;
+pub mod planes;
+
+pub use pipe::PipeWall;
+pub use planes::{Plane, Planes};
+
+use crate::driver::Event;
+use crate::ellipsoid::PrincipalFrame;
+use crate::flow::FlowField;
+use crate::hydro::DragModel;
+use crate::material::Hyperelastic;
+use crate::particle::{Particle, State};
+use crate::tensor::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// What happens to a particle that touches a patch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PatchRule {
+    /// The particle leaves the domain through this patch.
+    Exit,
+    /// The particle deposits (sticks) on this patch.
+    Stick,
+}
+
+/// The extent of a particle seen by a boundary.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Extent {
+    /// The current ellipsoid (physical contact).
+    Ellipsoid(PrincipalFrame),
+    /// A point particle that touches at a fixed distance δ (a point-particle tracker's rule).
+    Point {
+        /// Contact distance δ.
+        radius: f64,
+    },
+}
+
+impl Extent {
+    /// Support distance h(n) along the unit vector `n`.
+    pub fn support(&self, n: &Vec3) -> f64 {
+        match self {
+            Extent::Ellipsoid(frame) => frame.support_distance(n),
+            Extent::Point { radius } => *radius,
+        }
+    }
+}
+
+/// The nearest patch and the gap to it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gap {
+    /// Index of the patch in [`Boundary::rules`] order.
+    pub patch: usize,
+    /// g = d − h(n); negative: overlap depth.
+    pub gap: f64,
+    /// Outward unit normal n of the patch where the gap is measured.
+    pub normal: Vec3,
+}
+
+/// A boundary made of patches: planar walls, a pipe wall, mesh patches.
+pub trait Boundary: Send + Sync {
+    /// The patch with the smallest gap to a particle centred at `x` with `extent`.
+    fn nearest(&self, x: &Vec3, extent: &Extent) -> Gap;
+
+    /// Name of patch `patch` (for reports).
+    fn patch_name(&self, patch: usize) -> &str;
+
+    /// Rule of patch `patch`.
+    fn rule(&self, patch: usize) -> PatchRule;
+}
+
+/// Which extent a [`ContactEvent`] uses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactModel {
+    /// The current ellipsoid.
+    Extent,
+    /// The barycentre with a fixed contact distance δ (not tied to the current shape, so it
+    /// cannot collapse as a soft particle thins).
+    Barycentre {
+        /// Contact distance δ.
+        radius: f64,
+    },
+}
+
+/// Wall contact of one particle with a boundary, as a terminal driver event.
+pub struct ContactEvent<'a, B: ?Sized, M, D, F: ?Sized> {
+    boundary: &'a B,
+    particle: &'a Particle<M, D>,
+    flow: &'a F,
+    model: ContactModel,
+    slack: f64,
+    scale: f64,
+}
+
+impl<'a, B, M, D, F> ContactEvent<'a, B, M, D, F>
+where
+    B: Boundary + ?Sized,
+    M: Hyperelastic,
+    D: DragModel,
+    F: FlowField + ?Sized,
+{
+    /// Contact of `particle` in `flow` with `boundary` under `model`.
+    pub fn new(boundary: &'a B, particle: &'a Particle<M, D>, flow: &'a F, model: ContactModel) -> Self {
+        let rest = particle.shape().semi_axes();
+        Self {
+            boundary,
+            particle,
+            flow,
+            model,
+            slack: 0.5 * rest.min(),
+            scale: 2.0 * rest.product().cbrt(),
+        }
+    }
+
+    /// The extent of the particle in `state`.
+    pub fn extent(&self, state: &State) -> Extent {
+        match self.model {
+            ContactModel::Extent => Extent::Ellipsoid(PrincipalFrame::from_total_distortion(
+                &self.particle.total_distortion(&state.f),
+            )),
+            ContactModel::Barycentre { radius } => Extent::Point { radius },
+        }
+    }
+
+    /// The nearest patch and its gap in `state`.
+    pub fn nearest(&self, state: &State) -> Gap {
+        self.boundary.nearest(&state.x, &self.extent(state))
+    }
+}
+
+impl<B, M, D, F> Event for ContactEvent<'_, B, M, D, F>
+where
+    B: Boundary + ?Sized,
+    M: Hyperelastic,
+    D: DragModel,
+    F: FlowField + ?Sized,
+{
+    fn gap(&self, state: &State) -> f64 {
+        self.nearest(state).gap
+    }
+
+    fn scale(&self, _state: &State) -> f64 {
+        self.scale
+    }
+
+    fn max_step(&self, state: &State) -> f64 {
+        let r1 = PrincipalFrame::from_total_distortion(&self.particle.total_distortion(&state.f)).r[0];
+        let sweep = match self.flow.sample(&state.x, state.t) {
+            Ok(s) => s.grad_u.norm(),
+            // Outside the flow the step fails anyway; do not cap.
+            Err(_) => return f64::INFINITY,
+        };
+        let near = self.nearest(state);
+        let rate = state.v.dot(&near.normal).abs() + r1 * sweep;
+        (near.gap.max(0.0) + self.slack) / rate.max(f64::MIN_POSITIVE)
+    }
+}

@@ -1,0 +1,196 @@
+//! The model's equations, in one place. Integrators discretise these and re-derive no physics.
+//!
+//! # Physics (paper §2–§5; equation numbers of Wedel et al.)
+//! - geometry of the current shape from F alone: F̄ = F·S (eq. 4), r_a = √eig(F̄F̄ᵀ) and the
+//!   rotation Q (§5, with the paper's "r_a = λ_a" read as r_a = √λ_a), Jeffery's integrals and
+//!   the traction coefficients of σ̃ ([`Geometry`]);
+//! - the fluid load on the shape, P̃ = J σ̃ F⁻ᵀ (eq. 16), with the Jeffery–Roscoe traction σ̃
+//!   (eq. 12) ([`Model::sigma_tilde`], [`traction_load`]);
+//! - the inertialess shape rate (eq. 18 with Θ → 0): σ̃(l_s) = σ_el(F) with tr l_s = 0, so
+//!   Ḟ = l_s F ([`Model::inertialess_rate`]); for a rigid particle Jeffery's (1922) torque-free
+//!   spin ([`crate::hydro::traction::jeffery_spin`]);
+//! - the barycentre forcing (eqs. 13, 14, 17): drag rate μ_f K̂/m (the paper's 1/τ_D, eq. 17,
+//!   read as μ_f π r_min/m) and reduced gravity a_G = β_t g ([`Model::forcing`]).
+//!
+//! # Counting work
+//! [`Model`] wraps a particle and a flow for one step and counts what it computes, as argmin
+//! counts cost evaluations inside its problem wrapper: a geometry (eigen-decomposition, Carlson
+//! integrals, traction coefficients) is one *model evaluation*, the unit of the work-precision
+//! studies, because it dominates every integrator's cost and is the same work in all of them.
+//! Jacobians are counted where they are built. [`crate::integrator::StepInfo`] reports these
+//! counts, so they cannot drift from what was computed.
+
+use super::Particle;
+use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
+use crate::error::StepError;
+use crate::flow::{FlowField, FlowSample};
+use crate::hydro::gravity::reduced_gravity;
+use crate::hydro::{DragModel, InertialessSolver, JefferyRoscoe};
+use crate::material::Hyperelastic;
+use crate::tensor::{Mat3, Scalar, Vec3, det3, inv_transpose, lift};
+use std::cell::Cell;
+
+/// Everything that depends on the current shape only: r_a, Q, integrals, σ̃ coefficients.
+#[derive(Debug, Clone, Copy)]
+pub struct Geometry {
+    /// Principal frame (r_a, Q).
+    pub frame: PrincipalFrame,
+    /// Jeffery integrals.
+    pub ints: EllipsoidIntegrals,
+    /// Traction coefficients.
+    pub traction: JefferyRoscoe,
+}
+
+impl Geometry {
+    /// Geometry of the total distortion F̄ = F·S.
+    pub fn of_total_distortion(f_bar: &Mat3) -> Self {
+        let frame = PrincipalFrame::from_total_distortion(f_bar);
+        let ints = EllipsoidIntegrals::new(&frame.r);
+        Self {
+            traction: JefferyRoscoe::new(&frame, &ints),
+            frame,
+            ints,
+        }
+    }
+}
+
+/// Work done by a [`Model`]: the counts behind [`crate::integrator::StepInfo`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Work {
+    /// Model evaluations: geometries computed (frame, integrals, traction coefficients).
+    pub model_evals: u32,
+    /// Jacobians built.
+    pub jac_evals: u32,
+    /// Flow samples taken.
+    pub flow_samples: u32,
+}
+
+/// Barycentre forcing of eq. 17: v̇ = a_G + R(u − v) with the drag rate R = μ_f K̂/m.
+#[derive(Debug, Clone, Copy)]
+pub struct Forcing {
+    /// Drag rate R = μ_f K̂/m (eq. 14 over the mass).
+    pub drag_rate: Mat3,
+    /// Reduced gravity a_G = β_t g (eq. 13).
+    pub a_g: Vec3,
+}
+
+impl Forcing {
+    /// Acceleration a_G + R(u − v) of eq. 17.
+    pub fn acceleration(&self, u: &Vec3, v: &Vec3) -> Vec3 {
+        self.a_g + self.drag_rate * (u - v)
+    }
+
+    /// Overdamped (St → 0) velocity: R(u − v) + a_G = 0 ⇒ v = u + R⁻¹a_G.
+    pub fn overdamped_velocity(&self, u: &Vec3, t: f64) -> Result<Vec3, StepError> {
+        let drift = self
+            .drag_rate
+            .lu()
+            .solve(&self.a_g)
+            .ok_or(StepError::NonFinite { what: "drag tensor", t })?;
+        Ok(u + drift)
+    }
+}
+
+/// A particle in a flow for the duration of one step, counting the work it does.
+pub struct Model<'a, M, D, F: ?Sized> {
+    /// The particle.
+    pub particle: &'a Particle<M, D>,
+    /// The carrier flow.
+    pub flow: &'a F,
+    work: Cell<Work>,
+}
+
+impl<'a, M: Hyperelastic, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
+    /// Wrap a particle and a flow with zero work.
+    pub fn new(particle: &'a Particle<M, D>, flow: &'a F) -> Self {
+        Self {
+            particle,
+            flow,
+            work: Cell::new(Work::default()),
+        }
+    }
+
+    /// Work done so far.
+    pub fn work(&self) -> Work {
+        self.work.get()
+    }
+
+    fn count(&self, f: impl FnOnce(&mut Work)) {
+        let mut w = self.work.get();
+        f(&mut w);
+        self.work.set(w);
+    }
+
+    /// Record a Jacobian built by the caller from this model's derivatives.
+    pub fn count_jacobian(&self) {
+        self.count(|w| w.jac_evals += 1);
+    }
+
+    /// Geometry of the shape F̄ = F·S: one model evaluation. Refuses det F ≤ 0 or NaN.
+    pub fn geometry(&self, f: &Mat3, t: f64) -> Result<Geometry, StepError> {
+        check_orientation(f, t)?;
+        self.count(|w| w.model_evals += 1);
+        Ok(Geometry::of_total_distortion(&self.particle.total_distortion(f)))
+    }
+
+    /// Flow velocity u and gradient l_f = ∇u at (x, t).
+    pub fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, StepError> {
+        self.count(|w| w.flow_samples += 1);
+        Ok(self.flow.sample(x, t)?)
+    }
+
+    /// Jeffery–Roscoe traction σ̃(l_s; l_f) of eq. 12 for the particle's fluid and volumetric
+    /// treatment.
+    pub fn sigma_tilde(&self, geo: &Geometry, l_s: &Mat3, l_f: &Mat3) -> Mat3 {
+        geo.traction
+            .sigma_tilde(l_s, l_f, self.particle.fluid().mu, self.particle.volumetric())
+    }
+
+    /// Inertialess shape rate (eq. 18 with Θ → 0): the l_s with σ̃(l_s) = σ_el(F), tr l_s = 0,
+    /// and the factorised operator for Jacobians.
+    pub fn inertialess_rate(
+        &self,
+        geo: &Geometry,
+        f: &Mat3,
+        l_f: &Mat3,
+        t: f64,
+    ) -> Result<(Mat3, InertialessSolver), StepError> {
+        let solver = geo
+            .traction
+            .inertialess(l_f, self.particle.fluid().mu)
+            .ok_or(StepError::NonFinite {
+                what: "inertialess traction operator",
+                t,
+            })?;
+        Ok((solver.velocity_gradient(&self.particle.material().cauchy(f)), solver))
+    }
+
+    /// Barycentre forcing at the shape `geo` with det F = `det_f` (eqs. 13, 14, 17).
+    pub fn forcing(&self, geo: &Geometry, det_f: f64) -> Forcing {
+        let p = self.particle;
+        Forcing {
+            drag_rate: p.drag().resistance(&geo.frame, &geo.ints) * (p.fluid().mu / p.mass()),
+            a_g: reduced_gravity(p.gravity(), p.rho_solid(), p.fluid().rho, det_f),
+        }
+    }
+}
+
+/// Fluid load P̃ = J σ̃ F⁻ᵀ of eq. 16 for a given σ̃, generic so that AD gives ∂P̃/∂F.
+pub fn traction_load<S: Scalar>(f: &Mat3<S>, sigma: &Mat3) -> Mat3<S> {
+    lift::<S>(sigma) * inv_transpose(f) * det3(f)
+}
+
+/// Refuse an inverted or non-finite deformation gradient (det F ≤ 0 or NaN).
+pub fn check_orientation(f: &Mat3, t: f64) -> Result<(), StepError> {
+    let det_f = f.determinant();
+    if det_f.is_nan() || det_f <= 0.0 {
+        return Err(StepError::Inverted { det_f, t });
+    }
+    if !det_f.is_finite() {
+        return Err(StepError::NonFinite {
+            what: "deformation gradient",
+            t,
+        });
+    }
+    Ok(())
+}

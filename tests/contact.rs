@@ -1,0 +1,190 @@
+//! Boundaries and wall contact (src/contact) and event location in the driver.
+
+use approx::assert_relative_eq;
+use pseudorigid::contact::{Boundary, ContactEvent, ContactModel, Extent, PatchRule, PipeWall, Planes};
+use pseudorigid::driver::{Event, Plan, Stop, integrate};
+use pseudorigid::ellipsoid::PrincipalFrame;
+use pseudorigid::ellipsoid::frame::support_distance;
+use pseudorigid::integrator::{ImexPaper, Stokesian, TimeIntegrator};
+use pseudorigid::prelude::*;
+
+fn rotation_about_y(angle: f64) -> Mat3 {
+    let (s, c) = angle.sin_cos();
+    // Rows are the principal directions n_a.
+    Mat3::new(c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c)
+}
+
+fn ellipsoid(r: Vec3, q: Mat3) -> Extent {
+    Extent::Ellipsoid(PrincipalFrame { r, q })
+}
+
+#[test]
+fn support_distance_of_sphere_and_spheroid() {
+    let n = Vec3::new(1.0, 2.0, -2.0) / 3.0;
+    assert_relative_eq!(
+        support_distance(&Vec3::repeat(0.7), &rotation_about_y(0.3), &n),
+        0.7,
+        epsilon = 1e-15
+    );
+    let axes = Vec3::new(5.0, 1.0, 1.0);
+    assert_relative_eq!(support_distance(&axes, &Mat3::identity(), &Vec3::x()), 5.0);
+    assert_relative_eq!(support_distance(&axes, &Mat3::identity(), &Vec3::z()), 1.0);
+    // Long axis tilted 45° in the x-z plane: h(e_z) = √((25 + 1)/2).
+    let q = rotation_about_y(std::f64::consts::FRAC_PI_4);
+    assert_relative_eq!(support_distance(&axes, &q, &Vec3::z()), 13.0f64.sqrt(), epsilon = 1e-14);
+}
+
+#[test]
+fn cavity_walls_exit_through_the_lid_and_stick_elsewhere() {
+    let l = 0.1;
+    let b = Planes::cavity(l).unwrap();
+    let axes = Vec3::new(0.005, 0.001, 0.001);
+    let id = Mat3::identity();
+    assert!(b.nearest(&Vec3::repeat(0.05), &ellipsoid(axes, id)).gap > 0.0);
+    // Long axis along x: 4.9 mm from the lid is clear, 0.9 mm is contact.
+    let near_lid = Vec3::new(0.05, 0.05, l - 0.0009);
+    let c = b.nearest(&near_lid, &ellipsoid(axes, id));
+    assert_eq!((b.patch_name(c.patch), b.rule(c.patch)), ("lid", PatchRule::Exit));
+    assert_relative_eq!(c.gap, -0.0001, epsilon = 1e-15);
+    assert_eq!(c.normal, Vec3::z());
+    // The same centre height is clear of the lid only if the long axis lies flat.
+    let upright = rotation_about_y(std::f64::consts::FRAC_PI_2);
+    let below = Vec3::new(0.05, 0.05, l - 0.002);
+    assert!(b.nearest(&below, &ellipsoid(axes, id)).gap > 0.0);
+    let c = b.nearest(&below, &ellipsoid(axes, upright));
+    assert!(c.gap <= 0.0);
+    assert_eq!(b.rule(c.patch), PatchRule::Exit);
+    // Near the right wall x = L with the long axis along x: sticks.
+    let right = Vec3::new(l - 0.004, 0.05, 0.05);
+    let c = b.nearest(&right, &ellipsoid(axes, id));
+    assert!(c.gap <= 0.0);
+    assert_eq!((b.patch_name(c.patch), b.rule(c.patch)), ("x1", PatchRule::Stick));
+    // In a corner the deepest overlap wins.
+    let corner = Vec3::new(0.0005, 0.05, 0.0008);
+    let c = b.nearest(&corner, &ellipsoid(Vec3::repeat(0.001), id));
+    assert_eq!(b.patch_name(c.patch), "x0");
+    // In the top corner at equal gaps the lid (listed first) decides.
+    let top_corner = Vec3::new(l - 0.001, 0.05, l - 0.001);
+    let c = b.nearest(&top_corner, &Extent::Point { radius: 0.0 });
+    assert_eq!(b.patch_name(c.patch), "lid");
+}
+
+#[test]
+fn pipe_wall_gap_of_point_and_ellipsoid() {
+    let wall = PipeWall::new(10.0).unwrap();
+    let x = Vec3::new(3.0, 0.0, -6.0);
+    let g = wall.nearest(&x, &Extent::Point { radius: 0.5 });
+    assert_relative_eq!(g.gap, 10.0 - 6.0 - 0.5, epsilon = 1e-14);
+    assert_relative_eq!(g.normal, -Vec3::z(), epsilon = 1e-15);
+    // A prolate with its long axis radial reaches r₁ towards the wall.
+    let g = wall.nearest(
+        &x,
+        &ellipsoid(Vec3::new(2.0, 1.0, 1.0), rotation_about_y(std::f64::consts::FRAC_PI_2)),
+    );
+    assert_relative_eq!(g.gap, 10.0 - 6.0 - 2.0, epsilon = 1e-14);
+    assert!(PipeWall::new(f64::NAN).is_err());
+}
+
+/// A sphere settling at the Stokes velocity onto a floor: the contact time is known in closed
+/// form, t* = (h₀ − a)/v_s, so the located event can be checked against it.
+fn settling_sphere() -> (Particle<NeoHooke>, Vec3, f64) {
+    let a = 0.5;
+    let shape = pseudorigid::ellipsoid::Ellipsoid::new([a, a, a], Mat3::identity()).unwrap();
+    let g = Vec3::new(0.0, 0.0, -1.0);
+    let p = Particle::new(
+        shape,
+        NeoHooke::new(1.0, 1e3).unwrap(),
+        Fluid::new(1.0, 1.0).unwrap(),
+        2.0,
+    )
+    .unwrap()
+    .with_gravity(g)
+    .unwrap();
+    // v_s = (2/9)(ρ_s − ρ_f) g a²/μ (Stokes).
+    let v_s = 2.0 / 9.0 * (2.0 - 1.0) * 1.0 * a * a / 1.0;
+    (p, Vec3::new(0.0, 0.0, -v_s), a)
+}
+
+struct Floor;
+
+impl Boundary for Floor {
+    fn nearest(&self, x: &Vec3, extent: &Extent) -> pseudorigid::contact::Gap {
+        pseudorigid::contact::Gap {
+            patch: 0,
+            gap: x[2] - extent.support(&-Vec3::z()),
+            normal: -Vec3::z(),
+        }
+    }
+    fn patch_name(&self, _: usize) -> &str {
+        "floor"
+    }
+    fn rule(&self, _: usize) -> PatchRule {
+        PatchRule::Stick
+    }
+}
+
+fn locate_floor_contact<I: TimeIntegrator>(integ: &I, dt: f64) -> (f64, f64) {
+    let (p, v_s, a) = settling_sphere();
+    let h0 = 3.0;
+    let mut s0 = State::at_rest(Vec3::new(0.0, 0.0, h0));
+    s0.v = v_s; // already at terminal velocity: x(t) = x₀ + v_s t exactly.
+    let contact = ContactEvent::new(&Floor, &p, &Quiescent, ContactModel::Extent);
+    let mut memory = I::Memory::default();
+    let out = integrate(
+        integ,
+        &p,
+        &Quiescent,
+        s0,
+        &mut memory,
+        &Plan::new(100.0, dt).unwrap(),
+        &[&contact],
+        |_| {},
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(out.stop, Stop::Event { index: 0 });
+    let t_star = (h0 - a) / v_s.norm();
+    (out.state.t, t_star)
+}
+
+/// The event time matches the analytic crossing. The motion is exactly linear in t, which the
+/// cubic Hermite interpolant reproduces exactly, so what remains is the location tolerance
+/// |g| ≤ 1e-9 d_eq over the speed v_s = 1/18: |Δt| ≤ 1e-9/(1/18) ≈ 2e-8, plus the integrator's
+/// own error on a uniform motion (round-off).
+#[test]
+fn contact_event_located_at_the_analytic_crossing_time() {
+    for (name, (t, t_star)) in [
+        ("imex", locate_floor_contact(&ImexPaper::default(), 0.05)),
+        ("stokesian", locate_floor_contact(&Stokesian::new(1e-8).unwrap(), 0.05)),
+    ] {
+        assert!((t - t_star).abs() <= 2e-8, "{name}: t = {t}, t* = {t_star}");
+    }
+}
+
+/// An event whose gap is a fixed function of time only: located on the interpolant to its
+/// tolerance, whatever the step.
+#[test]
+fn time_event_is_located_within_one_large_step() {
+    struct At(f64);
+    impl Event for At {
+        fn gap(&self, s: &State) -> f64 {
+            self.0 - s.t
+        }
+    }
+    let (p, _, _) = settling_sphere();
+    let mut memory = Default::default();
+    let out = integrate(
+        &ImexPaper::default(),
+        &p,
+        &Quiescent,
+        State::at_rest(Vec3::zeros()),
+        &mut memory,
+        &Plan::new(10.0, 0.01).unwrap(),
+        &[&At(0.123456789)],
+        |_| {},
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(out.stop, Stop::Event { index: 0 });
+    assert!((out.state.t - 0.123456789).abs() <= 1e-9);
+}

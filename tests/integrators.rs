@@ -1,0 +1,235 @@
+//! One harness, run over every integrator: the same reference problems with exact or
+//! independently computed solutions. A new integrator is tested by adding one `harness!` line.
+//!
+//! Reference problems:
+//! - the exact Jeffery (1922) orbit of a quasi-rigid prolate in simple shear;
+//! - the steady tank-treading of an initially spherical particle (Roscoe 1967, solved
+//!   independently of any time integrator by `scenes::tank_treading::roscoe`);
+//! - a sphere settling from rest to the Stokes velocity v_s = (2/9)(ρ_s − ρ_f) g a²/μ_f;
+//! - a wall-contact event located against its analytic crossing time.
+use pseudorigid::contact::{Boundary, ContactEvent, ContactModel, Extent, Gap, PatchRule};
+use pseudorigid::driver::{Plan, Stop, advance, integrate};
+use pseudorigid::ellipsoid::Ellipsoid;
+use pseudorigid::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator};
+use pseudorigid::prelude::*;
+use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
+use pseudorigid::scenes::section::ShearPlaneSection;
+use pseudorigid::scenes::shear_shape::ShearShape;
+use pseudorigid::scenes::tank_treading::roscoe;
+
+/// How an integrator is driven through the reference problems.
+struct Setup<I> {
+    integ: I,
+    /// First (or fixed) step for a problem whose fastest rate is 1/γ̇.
+    dt: f64,
+    /// ρ* of the shear problems: 0 for the inertialess schemes (they ignore shape inertia,
+    /// so ρ* only sets the barycentre's response), small for the inertial ones.
+    rho_star: f64,
+    /// Error of the scheme itself on these problems (its tolerance, or its Δt for first order).
+    scheme_error: f64,
+}
+
+/// Jeffery orbit: a 3:1 prolate at Ca = 1e-4 starts along the flow and turns by half a period.
+/// The exact rigid orbit differs from the pseudo-rigid one by the elastic stretch, O(Ca), and
+/// by shape inertia, O(ρ*); each enters the angle with an O(1) constant (rigid-limit test: the
+/// period error is ≤ Ca), so 10 (Ca + ρ*) plus 10× the scheme's own error bounds the angle.
+fn jeffery_orbit<I: TimeIntegrator>(s: &Setup<I>) {
+    let (r, ca) = (3.0, 1e-4);
+    let shape = ShearShape::prolate(r);
+    let p = shape
+        .particle(&ShearScaling::new(ca, s.rho_star.max(1e-3), 1e5).unwrap())
+        .unwrap();
+    let flow = LinearFlow::simple_shear(1.0).unwrap();
+    let t_end = 0.5 * std::f64::consts::PI * (r + 1.0 / r);
+    let (end, _) = advance(&s.integ, &p, State::at_rest(Vec3::zeros()), &flow, s.dt, t_end).unwrap();
+    let sec = ShearPlaneSection::of(&p.total_distortion(&end.f));
+    // ShearPlaneSection measures the long axis from the flow direction x; Jeffery's φ is from
+    // the gradient direction y towards x, so the section angle is π/2 − φ (mod π).
+    let phi = jeffery_phi(r, jeffery_flow_aligned_time(r) + t_end);
+    let diff = (std::f64::consts::FRAC_PI_2 - phi - sec.angle).rem_euclid(std::f64::consts::PI);
+    let err = diff.min(std::f64::consts::PI - diff);
+    let bound = 10.0 * (ca + s.rho_star) + 10.0 * s.scheme_error;
+    assert!(err <= bound, "{}: angle error {err:e} > {bound:e}", s.integ.name());
+}
+
+/// Steady tank-treading at Ca = 0.2 against Roscoe's steady equations. After t = 40 (> 20
+/// relaxation times 1/(μ_s/μ_f)·… of the shape) the transient is below 1e-7 (the tank-treading
+/// study's drift); what remains is shape inertia O(ρ*) and the scheme's error.
+fn steady_tank_treading<I: TimeIntegrator>(s: &Setup<I>) {
+    let ca = 0.2;
+    let p = ShearShape::sphere()
+        .particle(&ShearScaling::new(ca, s.rho_star.max(1e-3), 1e5).unwrap())
+        .unwrap();
+    let flow = LinearFlow::simple_shear(1.0).unwrap();
+    let (end, _) = advance(&s.integ, &p, State::at_rest(Vec3::zeros()), &flow, s.dt, 40.0).unwrap();
+    let sec = ShearPlaneSection::of(&p.total_distortion(&end.f));
+    let d = (sec.r_long - sec.r_short) / (sec.r_long + sec.r_short);
+    let exact = roscoe(ca).unwrap().steady;
+    let bound = 10.0 * s.rho_star + 10.0 * s.scheme_error + 1e-6;
+    assert!(
+        (d - exact.deformation()).abs() <= bound,
+        "{}: D = {d}, Roscoe {}",
+        s.integ.name(),
+        exact.deformation()
+    );
+    assert!(
+        (sec.angle - exact.theta).abs() <= bound,
+        "{}: θ = {}, Roscoe {}",
+        s.integ.name(),
+        sec.angle,
+        exact.theta
+    );
+}
+
+fn settling_particle() -> (Particle<NeoHooke>, f64) {
+    let a = 0.5;
+    let shape = Ellipsoid::new([a, a, a], Mat3::identity()).unwrap();
+    let p = Particle::new(
+        shape,
+        NeoHooke::new(1.0, 1e3).unwrap(),
+        Fluid::new(1.0, 1.0).unwrap(),
+        2.0,
+    )
+    .unwrap()
+    .with_gravity(Vec3::new(0.0, 0.0, -1.0))
+    .unwrap();
+    (p, 2.0 / 9.0 * (2.0 - 1.0) * a * a)
+}
+
+/// A sphere released at rest reaches the Stokes velocity. τ_D = m/(6πμa) = 1/9·…; after
+/// t = 40 ≫ 20 τ_D the transient e^{−t/τ_D} is below 1e-15, and every scheme here has the exact
+/// steady state as its fixed point (implicit Euler; L-stable Rosenbrock and Radau), so the
+/// velocity error is the scheme's error on the transient, damped away: bounded by 10× it.
+fn settling_sphere<I: TimeIntegrator>(s: &Setup<I>) {
+    let (p, v_s) = settling_particle();
+    let (end, _) = advance(
+        &s.integ,
+        &p,
+        State::at_rest(Vec3::new(0.0, 0.0, 1e3)),
+        &Quiescent,
+        s.dt,
+        40.0,
+    )
+    .unwrap();
+    let err = (end.v - Vec3::new(0.0, 0.0, -v_s)).norm() / v_s;
+    assert!(
+        err <= 10.0 * s.scheme_error + 1e-12,
+        "{}: relative velocity error {err:e}",
+        s.integ.name()
+    );
+}
+
+struct Floor;
+
+impl Boundary for Floor {
+    fn nearest(&self, x: &Vec3, extent: &Extent) -> Gap {
+        Gap {
+            patch: 0,
+            gap: x[2] - extent.support(&-Vec3::z()),
+            normal: -Vec3::z(),
+        }
+    }
+    fn patch_name(&self, _: usize) -> &str {
+        "floor"
+    }
+    fn rule(&self, _: usize) -> PatchRule {
+        PatchRule::Stick
+    }
+}
+
+/// The sphere, already at its terminal velocity (x = x₀ + v_s t exactly, which the cubic
+/// Hermite dense output reproduces exactly), touches the floor at t* = (h₀ − a)/v_s. The
+/// event is located to |g| ≤ 1e-9 d_eq, i.e. |Δt| ≤ 1e-9/v_s = 1.8e-8, plus the scheme's
+/// error on a uniform motion (round-off).
+fn contact_event<I: TimeIntegrator>(s: &Setup<I>) {
+    let (p, v_s) = settling_particle();
+    let h0 = 3.0;
+    let mut s0 = State::at_rest(Vec3::new(0.0, 0.0, h0));
+    s0.v = Vec3::new(0.0, 0.0, -v_s);
+    let contact = ContactEvent::new(&Floor, &p, &Quiescent, ContactModel::Extent);
+    let mut memory = I::Memory::default();
+    let plan = Plan::new(100.0, s.dt).unwrap();
+    let out = integrate(
+        &s.integ,
+        &p,
+        &Quiescent,
+        s0,
+        &mut memory,
+        &plan,
+        &[&contact],
+        |_| {},
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(out.stop, Stop::Event { index: 0 });
+    let t_star = (h0 - 0.5) / v_s;
+    assert!(
+        (out.state.t - t_star).abs() <= 2e-8,
+        "{}: t = {}, t* = {t_star}",
+        s.integ.name(),
+        out.state.t
+    );
+}
+
+macro_rules! harness {
+    ($name:ident, $setup:expr) => {
+        mod $name {
+            use super::*;
+            #[test]
+            fn jeffery_orbit() {
+                super::jeffery_orbit(&$setup);
+            }
+            #[test]
+            fn steady_tank_treading() {
+                super::steady_tank_treading(&$setup);
+            }
+            #[test]
+            fn settling_sphere() {
+                super::settling_sphere(&$setup);
+            }
+            #[test]
+            fn contact_event() {
+                super::contact_event(&$setup);
+            }
+        }
+    };
+}
+
+// The paper's scheme at ρ* = 1e-3: Δt = ρ*/100 is inside the explicit limit of every shape here
+// (ρ*/30 … ρ*/62) and λ_s Δt ≥ 1e5·1e-4·1e-5… (bulk ratio 1e5) keeps the volumetric update stable.
+harness!(
+    imex_paper,
+    Setup {
+        integ: ImexPaper::default(),
+        dt: 1e-5,
+        rho_star: 1e-3,
+        scheme_error: 1e-5,
+    }
+);
+harness!(
+    imex_adaptive,
+    Setup {
+        integ: ImexAdaptive::new(1e-6).unwrap(),
+        dt: 1e-5,
+        rho_star: 1e-3,
+        scheme_error: 1e-4,
+    }
+);
+harness!(
+    stokesian_rosenbrock23,
+    Setup {
+        integ: Stokesian::new(1e-8).unwrap().with_scheme(Scheme::Rosenbrock23),
+        dt: 1e-3,
+        rho_star: 0.0,
+        scheme_error: 1e-7,
+    }
+);
+harness!(
+    stokesian_radau5,
+    Setup {
+        integ: Stokesian::new(1e-8).unwrap().with_scheme(Scheme::Radau5),
+        dt: 1e-3,
+        rho_star: 0.0,
+        scheme_error: 1e-7,
+    }
+);
