@@ -6,9 +6,12 @@
 mod build;
 
 use build::{Format, Shape, cube, sampled, write_case};
+use pseudorigid::contact::{Boundary, Extent, PatchRule};
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
-use pseudorigid::flow::openfoam::{FoamCase, FoamError, FoamFlow, PatchGap, PatchRole, PatchSet, PolyMesh};
+use pseudorigid::flow::openfoam::{
+    FoamCase, FoamError, FoamFlow, MeshBoundary, PatchGap, PatchRole, PatchSet, PolyMesh,
+};
 use pseudorigid::tensor::{Mat3, Vec3};
 use std::path::PathBuf;
 
@@ -588,4 +591,28 @@ fn snappy_mesh_convergence_in_the_cells_at_the_sphere() {
     // As on the whole mesh: O(h²) and O(h) less 0.3 for the pre-asymptotic range.
     assert!(pu > 1.7, "u order {pu}");
     assert!(pg > 0.7, "grad u order {pg}");
+}
+
+#[test]
+fn mesh_patches_as_a_contact_boundary() {
+    let mesh = cube(Shape::Prism, 4).mesh();
+    let boundary = MeshBoundary::new(&mesh).unwrap();
+    let point = Extent::Point { radius: 0.01 };
+    // Nearest to the outlet (x = 1): exit; nearest to a side wall (z = 0): deposit. The gap is
+    // the plane distance minus δ, to round-off of the O(1) coordinates.
+    let gap = boundary.nearest(&Vec3::new(0.97, 0.5, 0.5), &point);
+    assert_eq!(
+        (boundary.patch_name(gap.patch), boundary.rule(gap.patch)),
+        ("outlet", PatchRule::Exit)
+    );
+    assert!((gap.gap - 0.02).abs() < 1e-14, "{gap:?}");
+    let gap = boundary.nearest(&Vec3::new(0.5, 0.4, 0.05), &point);
+    assert_eq!(
+        (boundary.patch_name(gap.patch), boundary.rule(gap.patch)),
+        ("walls", PatchRule::Stick)
+    );
+    assert!(
+        (gap.gap - 0.04).abs() < 1e-14 && (gap.normal + Vec3::z()).amax() < 1e-14,
+        "{gap:?}"
+    );
 }

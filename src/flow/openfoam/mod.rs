@@ -37,7 +37,7 @@ pub use error::FoamError;
 pub use field::{VolField, read_vol_field};
 pub use locate::CellLocator;
 pub use mesh::{Patch, PolyMesh};
-pub use patch::{FaceGap, PatchGap, PatchRole, PatchSet};
+pub use patch::{FaceGap, MeshBoundary, PatchGap, PatchRole, PatchSet};
 pub use reconstruct::Stencils;
 
 use super::{FlowField, FlowSample, check_query};

@@ -17,9 +17,13 @@
 //! the surface, within the sagitta O(h²κ) of the gap to the surface (κ the curvature).
 //! Wall patches (`type wall`) deposit; generic patches (`type patch`: inlets and outlets)
 //! let the particle exit; constraint patches (`empty`, `symmetry*`, `wedge`, `cyclic`, ...)
-//! are not particle boundaries.
+//! are not particle boundaries. [`MeshBoundary`] presents the wall and exit patches as a
+//! [`crate::contact::Boundary`], so [`crate::contact::ContactEvent`] detects deposition and
+//! escape on any mesh.
 
+use super::error::FoamError;
 use super::mesh::PolyMesh;
+use crate::contact::{Boundary, Extent, Gap, PatchRule};
 use crate::ellipsoid::frame::support_distance;
 use crate::tensor::{Mat3, Vec3};
 use rstar::RTree;
@@ -205,5 +209,78 @@ impl PatchGap for PatchSet {
             }
         }
         covered.or(nearest.map(|(_, c)| c))
+    }
+}
+
+/// The wall and exit patches of a mesh as a contact boundary: walls deposit
+/// ([`PatchRule::Stick`]), exits let the particle leave ([`PatchRule::Exit`]). Patch indices in
+/// [`Gap::patch`] count these patches only, in mesh order.
+#[derive(Debug, Clone)]
+pub struct MeshBoundary {
+    set: PatchSet,
+    /// Mesh patch index of each boundary patch.
+    mesh_patches: Vec<usize>,
+    names: Vec<String>,
+    rules: Vec<PatchRule>,
+}
+
+impl MeshBoundary {
+    /// The particle boundaries of `mesh`; it needs at least one wall or exit patch with faces.
+    pub fn new(mesh: &PolyMesh) -> Result<Self, FoamError> {
+        let mut mesh_patches = Vec::new();
+        let mut rules = Vec::new();
+        for (p, patch) in mesh.patches().iter().enumerate() {
+            let rule = match PatchRole::of(&patch.kind) {
+                PatchRole::Wall => PatchRule::Stick,
+                PatchRole::Exit => PatchRule::Exit,
+                PatchRole::Constraint => continue,
+            };
+            if patch.size > 0 {
+                mesh_patches.push(p);
+                rules.push(rule);
+            }
+        }
+        if mesh_patches.is_empty() {
+            return Err(FoamError::Mesh {
+                reason: "no wall or patch-type patch with faces: nothing for particles to touch".into(),
+            });
+        }
+        Ok(Self {
+            set: PatchSet::new(mesh, &mesh_patches),
+            names: mesh_patches.iter().map(|&p| mesh.patches()[p].name.clone()).collect(),
+            mesh_patches,
+            rules,
+        })
+    }
+}
+
+impl Boundary for MeshBoundary {
+    fn nearest(&self, x: &Vec3, extent: &Extent) -> Gap {
+        // A point particle of contact radius δ is the sphere of radius δ.
+        let (axes, q) = match extent {
+            Extent::Ellipsoid(frame) => (frame.r, frame.q),
+            Extent::Point { radius } => (Vec3::repeat(*radius), Mat3::identity()),
+        };
+        let hit = self
+            .set
+            .nearest_gap(x, &axes, &q)
+            .expect("MeshBoundary::new keeps at least one face");
+        Gap {
+            patch: self
+                .mesh_patches
+                .iter()
+                .position(|&p| p == hit.patch)
+                .expect("faces come from the listed patches"),
+            gap: hit.gap,
+            normal: hit.normal,
+        }
+    }
+
+    fn patch_name(&self, patch: usize) -> &str {
+        &self.names[patch]
+    }
+
+    fn rule(&self, patch: usize) -> PatchRule {
+        self.rules[patch]
     }
 }
