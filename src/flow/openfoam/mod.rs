@@ -15,7 +15,13 @@
 //! # Accuracy
 //! For a smooth field the reconstruction error is O(h²) in u and O(h) in ∇u, including the
 //! cells at walls (checked on three snappyHexMesh refinements in the tests: observed orders
-//! 2.05 and 1.06), on top of the discretisation error of the CFD solution itself.
+//! 2.05 and 1.06 over the whole mesh, 2.03 and 1.00 in the snapped, layered cells at a curved
+//! wall), on top of the discretisation error of the CFD solution itself.
+//!
+//! # Outside the mesh, outside the time range
+//! [`FoamFlow::locate`] reports a point outside the mesh as [`FoamError::Outside`] with the
+//! nearest patch; through [`FlowField`] it is a [`FlowError::OutsideDomain`]. Before the first
+//! and after the last time level the field holds that level.
 //!
 //! # Relation to [`super::unstructured`]
 //! This module reads what the solver wrote (cell values, patch conditions, any polyhedra), so
