@@ -3,6 +3,7 @@
 //! Analytic fields live in [`analytic`]; meshed CFD fields implement the same trait.
 
 pub mod analytic;
+pub mod openfoam;
 pub mod unstructured;
 
 use crate::error::FlowError;

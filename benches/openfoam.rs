@@ -1,0 +1,71 @@
+//! Point location + interpolation on a snappyHexMesh mesh, with and without a hint, and the
+//! cost of reading a case.
+//!
+//! The mesh is the shipped `reference-data/snappy-sphere/n40` (14 k cells) unless
+//! `PSEUDORIGID_OPENFOAM_CASE` names another case directory (e.g. the same case meshed with
+//! `cases/snappy-test/Allmesh 80 DIR`, 1e5 cells). The field is analytic (written onto the
+//! cell and face centres), so no time directory is needed.
+//! Queries: 1000 points spread over the mesh; "hint" starts each search from the cell of a
+//! point 0.3 cell sizes away (a particle's previous position), "no_hint" from nothing.
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use pseudorigid::flow::openfoam::{FoamCase, FoamFlow, VolField};
+use pseudorigid::tensor::Vec3;
+use std::hint::black_box;
+
+fn case_dir() -> String {
+    std::env::var("PSEUDORIGID_OPENFOAM_CASE")
+        .unwrap_or_else(|_| format!("{}/reference-data/snappy-sphere/n40", env!("CARGO_MANIFEST_DIR")))
+}
+
+fn openfoam(c: &mut Criterion) {
+    let dir = case_dir();
+    let case = FoamCase::open(&dir).expect("readable case");
+    let mesh = case.mesh().clone();
+    let field = VolField::from_fn(&mesh, |x| Vec3::new(x[1] * x[2], x[0].sin(), x[0] * x[1]));
+    let flow = FoamFlow::new(mesh.clone(), vec![(0.0, field)]).expect("valid field");
+    let n_cells = mesh.n_cells();
+    let h = (mesh.cell_volumes().iter().sum::<f64>() / n_cells as f64).cbrt();
+
+    // Cell centres spread over the mesh, each with the cell of a point 0.3 h away as hint.
+    let step = Vec3::new(0.3, -0.2, 0.15).normalize() * 0.3 * h;
+    let queries: Vec<(Vec3, usize)> = (0..1000)
+        .map(|k| mesh.cell_centres()[k * n_cells / 1000])
+        .filter_map(|x| {
+            let previous = flow.locate(&(x - step), None).ok()?;
+            Some((x, previous))
+        })
+        .collect();
+
+    let mut g = c.benchmark_group(format!("openfoam_{n_cells}_cells"));
+    g.throughput(Throughput::Elements(queries.len() as u64));
+    g.bench_function("locate_interpolate_hint", |b| {
+        b.iter(|| {
+            for (x, hint) in &queries {
+                black_box(flow.sample_from(black_box(x), 0.0, Some(*hint)).ok());
+            }
+        })
+    });
+    g.bench_function("locate_interpolate_no_hint", |b| {
+        b.iter(|| {
+            for (x, _) in &queries {
+                black_box(flow.sample_from(black_box(x), 0.0, None).ok());
+            }
+        })
+    });
+    g.finish();
+
+    let mut g = c.benchmark_group("openfoam_read");
+    g.sample_size(10);
+    g.bench_function("mesh_and_locator", |b| {
+        b.iter(|| {
+            let case = FoamCase::open(black_box(&dir)).expect("readable case");
+            let field = VolField::from_fn(case.mesh(), |x| *x);
+            FoamFlow::new(case.mesh().clone(), vec![(0.0, field)]).expect("valid field")
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, openfoam);
+criterion_main!(benches);

@@ -1,0 +1,100 @@
+//! Failures while reading an OpenFOAM case or building a field from it (sampling failures are
+//! [`FlowError`](crate::error::FlowError)s, except [`FoamError::Outside`] which carries the
+//! nearest patch).
+
+use thiserror::Error;
+
+/// Why an OpenFOAM case could not be read, checked or queried.
+#[derive(Debug, Error)]
+pub enum FoamError {
+    /// A file could not be opened or read.
+    #[error("{path}: {source}")]
+    Io {
+        /// File concerned.
+        path: String,
+        /// Underlying I/O error.
+        source: std::io::Error,
+    },
+    /// A file does not follow the OpenFOAM format.
+    #[error("{path}:{line}: malformed file at byte {offset}: {reason}")]
+    Malformed {
+        /// File concerned.
+        path: String,
+        /// 1-based line of `offset`.
+        line: usize,
+        /// Byte offset (in the decompressed text) where parsing stopped.
+        offset: usize,
+        /// What was expected or found.
+        reason: String,
+    },
+    /// A required file is missing (neither plain nor `.gz`).
+    #[error("{path} not found (also tried {path}.gz)")]
+    Missing {
+        /// File looked for.
+        path: String,
+    },
+    /// The case is decomposed for a parallel run and has not been reconstructed.
+    #[error(
+        "{case} is decomposed into {processors} processor directories and has no {what}: run `reconstructPar` (and `reconstructParMesh` for a meshed-in-parallel case) first"
+    )]
+    Decomposed {
+        /// Case directory.
+        case: String,
+        /// Number of `processor*` directories.
+        processors: usize,
+        /// What is missing from the undecomposed case.
+        what: String,
+    },
+    /// No time directory matches the requested time.
+    #[error("{case}: no time directory for t = {time}; available: {available:?}")]
+    NoSuchTime {
+        /// Case directory.
+        case: String,
+        /// Requested time.
+        time: f64,
+        /// Time directories found.
+        available: Vec<f64>,
+    },
+    /// The mesh files are individually well-formed but inconsistent with each other.
+    #[error("inconsistent mesh: {reason}")]
+    Mesh {
+        /// First inconsistency found.
+        reason: String,
+    },
+    /// A cell has zero or negative volume.
+    #[error("cell {cell} has non-positive volume {volume:.3e}")]
+    DegenerateCell {
+        /// Cell index.
+        cell: usize,
+        /// Volume computed from its faces.
+        volume: f64,
+    },
+    /// A field does not fit the mesh or a patch condition cannot be evaluated.
+    #[error("{path}: {reason}")]
+    Field {
+        /// Field file.
+        path: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The least-squares stencil of a cell does not determine a gradient.
+    #[error("cell {cell}: gradient stencil of {points} points is degenerate (smallest/largest eigenvalue {ratio:.3e})")]
+    Stencil {
+        /// Cell index.
+        cell: usize,
+        /// Stencil size.
+        points: usize,
+        /// Conditioning of the normal matrix.
+        ratio: f64,
+    },
+    /// Query point outside the mesh.
+    #[error("point {x:?} is outside the mesh; nearest patch `{patch}` at distance {distance:.3e}")]
+    Outside {
+        /// Query point.
+        x: [f64; 3],
+        /// Name of the patch owning the nearest boundary face.
+        patch: String,
+        /// Distance from x to the centre of that face.
+        distance: f64,
+    },
+}

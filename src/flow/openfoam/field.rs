@@ -1,0 +1,170 @@
+//! Volume fields (`volScalarField`, `volVectorField`) in a time directory: cell values and
+//! the values on every boundary face.
+//!
+//! A patch's face values are the stored `value` entry where the file has one (`fixedValue`,
+//! `calculated`, `inletOutlet`, `pressureInletOutletVelocity`, ... all write it). Without one,
+//! the value follows from the condition and the adjacent cell, as OpenFOAM evaluates it:
+//! `noSlip` is zero, `zeroGradient` and `empty` repeat the cell value, `symmetry`,
+//! `symmetryPlane` and `slip` remove the wall-normal component of a vector. Any other condition
+//! without a stored value is an error naming it.
+
+use super::error::FoamError;
+use super::mesh::PolyMesh;
+use super::parse::{Dict, Entry, Numbers, Value, dictionary_file, number, read_file};
+use crate::tensor::Vec3;
+use std::path::Path;
+
+/// A cell-centred field with values on the boundary faces, `comps` components per value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VolField {
+    /// Components per value (1 scalar, 3 vector).
+    pub comps: usize,
+    /// `n_cells * comps` cell values.
+    pub internal: Vec<f64>,
+    /// `(n_faces − n_internal_faces) * comps` values, boundary faces in face order.
+    pub boundary: Vec<f64>,
+}
+
+impl VolField {
+    /// Value of cell `c`.
+    pub fn cell(&self, c: usize) -> &[f64] {
+        &self.internal[c * self.comps..(c + 1) * self.comps]
+    }
+
+    /// Value on boundary face `b` (counted from the first boundary face).
+    pub fn boundary_face(&self, b: usize) -> &[f64] {
+        &self.boundary[b * self.comps..(b + 1) * self.comps]
+    }
+
+    /// A vector field given by a function, evaluated at the cell centres and the boundary face
+    /// centres (analytic fields for verification and benchmarks).
+    pub fn from_fn(mesh: &PolyMesh, f: impl Fn(&Vec3) -> Vec3) -> Self {
+        let eval = |xs: &[Vec3]| xs.iter().flat_map(|x| <[f64; 3]>::from(f(x))).collect();
+        Self {
+            comps: 3,
+            internal: eval(mesh.cell_centres()),
+            boundary: eval(&mesh.face_centres()[mesh.n_internal_faces()..]),
+        }
+    }
+}
+
+/// Read the field `name` with `comps` components (1 or 3) from time directory `dir`.
+pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> Result<VolField, FoamError> {
+    let (path, text) = read_file(&dir.join(name))?;
+    let (header, dict) = dictionary_file(&path, &text)?;
+    let field_err = |reason: String| FoamError::Field {
+        path: path.clone(),
+        reason,
+    };
+    let expected_class = match comps {
+        1 => "volScalarField",
+        3 => "volVectorField",
+        _ => return Err(field_err(format!("{comps}-component fields are not supported"))),
+    };
+    if header.class != expected_class {
+        return Err(field_err(format!(
+            "class is `{}`, expected `{expected_class}`",
+            header.class
+        )));
+    }
+    let internal = match dict.get("internalField") {
+        Some((Entry::Values(v), _)) => {
+            values(v, comps, mesh.n_cells()).map_err(|r| field_err(format!("internalField: {r}")))?
+        }
+        _ => return Err(field_err("no internalField entry".into())),
+    };
+    let boundary_dict = match dict.get("boundaryField") {
+        Some((Entry::Dict(d), _)) => d,
+        _ => return Err(field_err("no boundaryField dictionary".into())),
+    };
+    let n_internal = mesh.n_internal_faces();
+    let mut boundary = Vec::with_capacity((mesh.n_faces() - n_internal) * comps);
+    for patch in mesh.patches() {
+        let entry = patch_dict(boundary_dict, &patch.name)
+            .ok_or_else(|| field_err(format!("boundaryField has no entry for patch `{}`", patch.name)))?;
+        let kind = entry.word("type").unwrap_or("");
+        let bad = |r: String| field_err(format!("patch `{}` ({kind}): {r}", patch.name));
+        if let Some((Entry::Values(v), _)) = entry.get("value") {
+            boundary.extend(values(v, comps, patch.size).map_err(bad)?);
+            continue;
+        }
+        for f in patch.start..patch.start + patch.size {
+            let cell = &internal[mesh.owner(f) * comps..(mesh.owner(f) + 1) * comps];
+            match kind {
+                "noSlip" if comps == 3 => boundary.extend([0.0; 3]),
+                "zeroGradient" | "empty" => boundary.extend_from_slice(cell),
+                "symmetry" | "symmetryPlane" | "slip" if comps == 1 => boundary.extend_from_slice(cell),
+                "symmetry" | "symmetryPlane" | "slip" => {
+                    let n = mesh.face_areas()[f].normalize();
+                    let u = Vec3::from_row_slice(cell);
+                    boundary.extend((u - u.dot(&n) * n).iter());
+                }
+                _ => {
+                    return Err(bad(
+                        "no stored `value` and the condition cannot be evaluated from the cell".into(),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(VolField {
+        comps,
+        internal,
+        boundary,
+    })
+}
+
+/// The entry of a patch, by exact name (solver-written fields name every patch; patterns
+/// such as `".*"` occur only in hand-written initial conditions).
+fn patch_dict<'d>(dict: &'d Dict, name: &str) -> Option<&'d Dict> {
+    match dict.get(name)? {
+        (Entry::Dict(d), _) => Some(d),
+        _ => None,
+    }
+}
+
+/// `uniform v` or `nonuniform List<T> n (...)` expanded to `n * comps` finite values.
+fn values(v: &[Value], comps: usize, n: usize) -> Result<Vec<f64>, String> {
+    let data = match v {
+        [Value::Word(u), x] if u == "uniform" => {
+            let one: Vec<f64> = match x {
+                Value::Word(_) if comps == 1 => number(x).into_iter().collect(),
+                Value::List(items) => items.iter().filter_map(number).collect(),
+                _ => Vec::new(),
+            };
+            let ok = one.len() == comps && matches!(x, Value::Word(_)) == (comps == 1);
+            if !ok {
+                return Err(format!("uniform value is not a {comps}-component number"));
+            }
+            one.repeat(n)
+        }
+        [
+            Value::Word(u),
+            Value::Numbers(Numbers {
+                comps: c,
+                count,
+                data,
+                offset,
+            }),
+        ] if u == "nonuniform" => {
+            if *c != comps {
+                return Err(format!("list at byte {offset} has {c} components, expected {comps}"));
+            }
+            if *count != n {
+                return Err(format!(
+                    "list at byte {offset} has {count} values for {n} cells or faces"
+                ));
+            }
+            if data.len() == comps {
+                data.repeat(n)
+            } else {
+                data.clone()
+            }
+        }
+        _ => return Err("expected `uniform <value>` or `nonuniform List<...> n (...)`".into()),
+    };
+    if let Some(i) = data.iter().position(|x| !x.is_finite()) {
+        return Err(format!("value {} is not finite", i / comps));
+    }
+    Ok(data)
+}

@@ -1,0 +1,618 @@
+//! OpenFOAM cases: reader (ASCII, binary, gzip, uniform/nonuniform, malformed files), point
+//! location on hexahedra, prisms, tetrahedra and polyhedra, linear exactness and convergence
+//! of the reconstruction, patch gaps, time interpolation.
+
+#[path = "flow_openfoam/build.rs"]
+mod build;
+
+use build::{Format, Shape, cube, sampled, write_case};
+use pseudorigid::contact::{Boundary, Extent, PatchRule};
+use pseudorigid::flow::FlowField;
+use pseudorigid::flow::openfoam::locate::{Probe, probe};
+use pseudorigid::flow::openfoam::{
+    FoamCase, FoamError, FoamFlow, MeshBoundary, PatchGap, PatchRole, PatchSet, PolyMesh,
+};
+use pseudorigid::tensor::{Mat3, Vec3};
+use std::path::PathBuf;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("flow_openfoam")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Deterministic points in [lo, hi]³ (a 64-bit LCG; no dependence on a RNG crate's stream).
+fn points(n: usize, lo: f64, hi: f64, seed: u64) -> Vec<Vec3> {
+    let mut s = seed;
+    let mut next = move || {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n)
+        .map(|_| Vec3::new(next(), next(), next()).map(|c| lo + (hi - lo) * c))
+        .collect()
+}
+
+fn linear_a() -> (Vec3, Mat3) {
+    (
+        Vec3::new(0.3, -1.2, 0.7),
+        Mat3::new(1.0, -2.0, 0.5, 0.25, 3.0, -1.5, -0.75, 2.0, -4.0),
+    )
+}
+
+// ---------------------------------------------------------------------------------------
+// Reader
+
+#[test]
+fn ascii_binary_and_gzip_read_identically() {
+    let raw = cube(Shape::Poly, 2);
+    let mesh = raw.mesh();
+    let (a, g) = linear_a();
+    let u = sampled(&mesh, |x| a + g * x);
+    let mut read = Vec::new();
+    for format in [Format::Ascii, Format::Binary, Format::BinaryGz] {
+        let dir = scratch(&format!("formats-{format:?}"));
+        write_case(&dir, &raw, &u, "0.5", format);
+        let case = FoamCase::open(&dir).unwrap();
+        assert_eq!(case.times(), vec![0.5]);
+        let field = case.read_field(0.5, "U", 3).unwrap();
+        read.push((case, field));
+    }
+    for (case, field) in &read {
+        let m = case.mesh();
+        // ASCII numbers are written in shortest round-trip form, so all three agree bitwise.
+        assert_eq!(m.points(), mesh.points());
+        assert_eq!(m.n_faces(), mesh.n_faces());
+        assert!((0..m.n_faces()).all(|f| m.face(f) == mesh.face(f) && m.owner(f) == mesh.owner(f)));
+        assert_eq!(m.patches(), mesh.patches());
+        assert_eq!(m.cell_centres(), mesh.cell_centres());
+        assert_eq!(field, &u);
+    }
+}
+
+#[test]
+fn uniform_values_and_patch_conditions() {
+    let raw = cube(Shape::Hex, 2);
+    let dir = scratch("uniform");
+    let u = sampled(&raw.mesh(), |_| Vec3::zeros());
+    write_case(&dir, &raw, &u, "0", Format::Ascii);
+    let header = |class: &str, object: &str| {
+        format!("FoamFile {{ version 2.0; format ascii; class {class}; object {object}; }}\n")
+    };
+    std::fs::write(
+        dir.join("0/U"),
+        header("volVectorField", "U")
+            + "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (1 2 3);\nboundaryField\n{\n\
+               inlet { type fixedValue; value uniform (4 5 6); }\n\
+               outlet { type zeroGradient; }\n\
+               walls { type noSlip; }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("0/p"),
+        header("volScalarField", "p")
+            + "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 7.5;\nboundaryField\n{\n\
+               inlet { type zeroGradient; }\n\
+               outlet { type fixedValue; value uniform 0; }\n\
+               walls { type zeroGradient; }\n}\n",
+    )
+    .unwrap();
+    let case = FoamCase::open(&dir).unwrap();
+    let m = case.mesh();
+    let u = case.read_field(0.0, "U", 3).unwrap();
+    assert!((0..m.n_cells()).all(|c| u.cell(c) == [1.0, 2.0, 3.0]));
+    let p = case.read_field(0.0, "p", 1).unwrap();
+    assert!((0..m.n_cells()).all(|c| p.cell(c) == [7.5]));
+    for (i, patch) in m.patches().iter().enumerate() {
+        let (want_u, want_p): ([f64; 3], f64) = match i {
+            0 => ([4.0, 5.0, 6.0], 7.5),
+            1 => ([1.0, 2.0, 3.0], 0.0),
+            _ => ([0.0; 3], 7.5),
+        };
+        for f in patch.start..patch.start + patch.size {
+            let b = f - m.n_internal_faces();
+            assert_eq!(u.boundary_face(b), want_u, "U on {}", patch.name);
+            assert_eq!(p.boundary_face(b), [want_p], "p on {}", patch.name);
+        }
+    }
+    // A vector read as a scalar is refused by class.
+    assert!(matches!(case.read_field(0.0, "U", 1), Err(FoamError::Field { .. })));
+}
+
+/// Replace the first occurrence of `from` in a written file (gz not used here).
+fn corrupt(dir: &std::path::Path, file: &str, from: &[u8], to: &[u8]) {
+    let path = dir.join(file);
+    let mut bytes = std::fs::read(&path).unwrap();
+    let at = bytes
+        .windows(from.len())
+        .position(|w| w == from)
+        .unwrap_or_else(|| panic!("{file}: pattern not found"));
+    bytes.splice(at..at + from.len(), to.iter().copied());
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// (format, file, text replaced, replacement, expected words in the message).
+type Corruption = (Format, &'static str, Vec<u8>, Vec<u8>, &'static str);
+
+#[test]
+fn malformed_files_give_typed_errors_with_location() {
+    let raw = cube(Shape::Hex, 2);
+    let u = sampled(&raw.mesh(), |x| *x);
+    let n_faces = raw.owner.len();
+    let n_points = raw.points.len();
+    let cases: Vec<Corruption> = vec![
+        // A count far beyond the file: refused before allocating.
+        (
+            Format::Ascii,
+            "constant/polyMesh/points",
+            format!("{n_points}\n(").into(),
+            b"1000000000000000\n(".to_vec(),
+            "declares",
+        ),
+        (
+            Format::Binary,
+            "constant/polyMesh/points",
+            format!("{n_points}(").into(),
+            b"99999999999999999(".to_vec(),
+            "declares",
+        ),
+        (
+            Format::Binary,
+            "constant/polyMesh/owner",
+            format!("{n_faces}\n(").into(),
+            b"18446744073709551615\n(".to_vec(),
+            "declares",
+        ),
+        (
+            Format::Ascii,
+            "constant/polyMesh/owner",
+            b"\n0\n".to_vec(),
+            b"\n0.5\n".to_vec(),
+            "expected a label",
+        ),
+        (
+            Format::Ascii,
+            "constant/polyMesh/owner",
+            b"\n0\n".to_vec(),
+            b"\n-1\n".to_vec(),
+            "expected a label",
+        ),
+        (
+            Format::Ascii,
+            "constant/polyMesh/faces",
+            format!("{n_faces}\n(").into(),
+            format!("{n_faces}.0\n(").into(),
+            "non-negative integer",
+        ),
+        (
+            Format::Ascii,
+            "constant/polyMesh/points",
+            b"FoamFile".to_vec(),
+            b"FoamFiel".to_vec(),
+            "FoamFile",
+        ),
+        (
+            Format::Ascii,
+            "constant/polyMesh/points",
+            b"/* test case */".to_vec(),
+            b"/* test case ".to_vec(),
+            "unterminated",
+        ),
+        (
+            Format::Ascii,
+            "constant/polyMesh/boundary",
+            b"nFaces".to_vec(),
+            b"mFaces".to_vec(),
+            "nFaces",
+        ),
+        (
+            Format::Ascii,
+            "0/U",
+            b"dimensions".to_vec(),
+            b"#include \"x\"\ndimensions".to_vec(),
+            "not supported",
+        ),
+        (
+            Format::Binary,
+            "0/U",
+            b"value nonuniform List<vector> ".to_vec(),
+            b"value nonuniform List<vector> 9999999".to_vec(),
+            "declares",
+        ),
+        (
+            Format::Ascii,
+            "0/U",
+            b"dimensions".to_vec(),
+            b"bad List<vector> 1 ((0 0 x));\ndimensions".to_vec(),
+            "expected a number",
+        ),
+    ];
+    for (i, (format, file, from, to, want)) in cases.into_iter().enumerate() {
+        let dir = scratch(&format!("malformed-{i}"));
+        write_case(&dir, &raw, &u, "0", format);
+        corrupt(&dir, file, &from, &to);
+        let err = FoamCase::open(&dir).and_then(|c| c.read_field(0.0, "U", 3).map(|_| ()));
+        match err {
+            Err(e @ FoamError::Malformed { .. }) => {
+                let msg = e.to_string();
+                assert!(msg.contains(file) && msg.contains(want), "case {i}: {msg}");
+                let FoamError::Malformed { line, .. } = e else {
+                    unreachable!()
+                };
+                assert!(line >= 1, "case {i}: line {line}");
+            }
+            other => panic!("case {i} ({file}: {want}): expected Malformed, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn inconsistent_meshes_and_fields_are_refused() {
+    let raw = cube(Shape::Hex, 2);
+    let u = sampled(&raw.mesh(), |x| *x);
+    let n_faces = raw.owner.len();
+    // One owner entry too few.
+    let dir = scratch("inconsistent-owner");
+    write_case(&dir, &raw, &u, "0", Format::Ascii);
+    corrupt(
+        &dir,
+        "constant/polyMesh/owner",
+        format!("{n_faces}\n(\n0\n").as_bytes(),
+        format!("{}\n(\n", n_faces - 1).as_bytes(),
+    );
+    assert!(
+        matches!(FoamCase::open(&dir), Err(FoamError::Mesh { .. })),
+        "{:?}",
+        FoamCase::open(&dir)
+    );
+    // A field with one value too many for the cells.
+    let dir = scratch("inconsistent-field");
+    write_case(&dir, &raw, &u, "0", Format::Ascii);
+    let n = raw.mesh().n_cells();
+    corrupt(
+        &dir,
+        "0/U",
+        format!("List<vector> {n}\n(\n").as_bytes(),
+        format!("List<vector> {}\n(\n(0 0 0)\n", n + 1).as_bytes(),
+    );
+    let err = FoamCase::open(&dir).unwrap().read_field(0.0, "U", 3);
+    assert!(matches!(err, Err(FoamError::Field { .. })), "{err:?}");
+    // Garbage in a gzip file is an I/O error naming the file.
+    let dir = scratch("bad-gzip");
+    write_case(&dir, &raw, &u, "0", Format::BinaryGz);
+    std::fs::write(dir.join("constant/polyMesh/points.gz"), b"not gzip").unwrap();
+    let err = FoamCase::open(&dir).unwrap_err();
+    assert!(
+        matches!(&err, FoamError::Io { path, .. } if path.ends_with("points.gz")),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn decomposed_case_asks_for_reconstruct_par() {
+    let dir = scratch("decomposed");
+    for p in ["processor0/constant/polyMesh", "processor1/constant/polyMesh"] {
+        std::fs::create_dir_all(dir.join(p)).unwrap();
+    }
+    let err = FoamCase::open(&dir).unwrap_err();
+    assert!(matches!(err, FoamError::Decomposed { processors: 2, .. }), "{err:?}");
+    assert!(err.to_string().contains("reconstructPar"));
+    // Reconstructed mesh but the time directory only in the processors.
+    let raw = cube(Shape::Hex, 1);
+    write_case(&dir, &raw, &sampled(&raw.mesh(), |x| *x), "0", Format::Ascii);
+    let err = FoamCase::open(&dir).unwrap().read_field(10.0, "U", 3).unwrap_err();
+    assert!(matches!(err, FoamError::Decomposed { .. }), "{err:?}");
+}
+
+// ---------------------------------------------------------------------------------------
+// Location
+
+fn containing_cells(mesh: &PolyMesh, x: &Vec3) -> Vec<usize> {
+    (0..mesh.n_cells())
+        .filter(|&c| matches!(probe(mesh, c, x), Probe::Inside | Probe::OnFace))
+        .collect()
+}
+
+#[test]
+fn location_on_every_cell_shape() {
+    for shape in [Shape::Hex, Shape::Prism, Shape::Tet, Shape::Poly] {
+        let mesh = cube(shape, 4).mesh();
+        let flow = FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, |x| *x))]).unwrap();
+        for (c, centre) in mesh.cell_centres().iter().enumerate() {
+            assert_eq!(flow.locate(centre, None).unwrap(), c, "{shape:?}: centre of cell {c}");
+        }
+        let n_cells = mesh.n_cells();
+        for (i, x) in points(300, 0.0, 1.0, 7).iter().enumerate() {
+            // Random points miss the faces with probability one, so exactly one cell holds each.
+            let inside = containing_cells(&mesh, x);
+            assert_eq!(inside.len(), 1, "{shape:?}: {x:?} in {inside:?}");
+            assert_eq!(flow.locate(x, None).unwrap(), inside[0], "{shape:?} no hint");
+            let hint = (i * 7919) % n_cells;
+            assert_eq!(flow.locate(x, Some(hint)).unwrap(), inside[0], "{shape:?} hint {hint}");
+        }
+        // Outside: the error names the nearest patch.
+        match flow.locate(&Vec3::new(1.2, 0.5, 0.5), None) {
+            Err(FoamError::Outside { patch, distance, .. }) => {
+                assert_eq!(patch, "outlet");
+                assert!(distance >= 0.2);
+            }
+            other => panic!("{shape:?}: {other:?}"),
+        }
+        assert!(flow.sample(&Vec3::new(0.5, -0.1, 0.5), 0.0).is_err());
+    }
+}
+
+#[test]
+fn points_on_shared_faces_go_to_the_lowest_cell_whatever_the_hint() {
+    // Vertices and face centres lie on several cells; the answer must not depend on where the
+    // search started (reproducible trajectories whatever the query history).
+    let mesh = cube(Shape::Poly, 4).mesh();
+    let flow = FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, |x| *x))]).unwrap();
+    let targets = mesh.points().iter().chain(mesh.face_centres()).step_by(7);
+    for x in targets {
+        let holders = containing_cells(&mesh, x);
+        let lowest = *holders.iter().min().unwrap();
+        for hint in holders.iter().copied().map(Some).chain([None]) {
+            assert_eq!(flow.locate(x, hint).unwrap(), lowest, "{x:?} from {hint:?}");
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Reconstruction
+
+/// Max error of u and ∇u against a field given with its gradient, over points inside.
+fn errors(flow: &FoamFlow, pts: &[Vec3], exact: impl Fn(&Vec3) -> (Vec3, Mat3)) -> (f64, f64, usize) {
+    let (mut eu, mut eg, mut n) = (0.0f64, 0.0f64, 0);
+    for x in pts {
+        let Ok(s) = flow.sample(x, 0.0) else { continue };
+        let (u, g) = exact(x);
+        eu = eu.max((s.u - u).amax());
+        eg = eg.max((s.grad_u - g).amax());
+        n += 1;
+    }
+    (eu, eg, n)
+}
+
+#[test]
+fn linear_fields_are_reproduced_on_every_cell_shape() {
+    let (a, g) = linear_a();
+    for shape in [Shape::Hex, Shape::Prism, Shape::Tet, Shape::Poly] {
+        let mesh = cube(shape, 4).mesh();
+        let flow = FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, |x| a + g * x))]).unwrap();
+        // Points on the walls and corners too: the wall cells use the patch values.
+        let mut pts = points(400, 0.0, 1.0, 11);
+        pts.extend([Vec3::zeros(), Vec3::repeat(1.0), Vec3::new(0.0, 0.3, 1.0)]);
+        for x in &pts {
+            assert!(flow.locate(x, None).is_ok(), "{shape:?}: {x:?} not found");
+        }
+        let (eu, eg, n) = errors(&flow, &pts, |x| (a + g * x, g));
+        assert_eq!(n, pts.len());
+        // Round-off: |u| and |∇u| are O(5); the least-squares solve with a normal matrix of
+        // condition ≲ 1e2 loses about two digits: 5 · 1e2 · 2.2e-16 ≈ 1e-13.
+        assert!(eu < 1e-12 && eg < 1e-12, "{shape:?}: {eu:e} {eg:e}");
+    }
+}
+
+fn snappy(n: usize) -> FoamCase {
+    FoamCase::open(format!(
+        "{}/reference-data/snappy-sphere/n{n}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+}
+
+#[test]
+fn snappy_mesh_linear_field_to_round_off() {
+    let case = snappy(20);
+    let mesh = case.mesh().clone();
+    let (a, g) = linear_a();
+    let flow = FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, |x| a + g * x))]).unwrap();
+    let pts = points(2000, 0.0, 1.0, 3)
+        .into_iter()
+        .map(|p| p.component_mul(&Vec3::new(1.0, 0.4, 0.4)));
+    let pts: Vec<Vec3> = pts.chain(mesh.face_centres().iter().copied()).collect();
+    let (eu, eg, n) = errors(&flow, &pts, |x| (a + g * x, g));
+    // Every face centre is in the mesh; random points miss only the sphere (~2 % of the box).
+    assert!(n > mesh.n_faces() + 1900, "{n}");
+    // As above; snapped and layer cells raise the condition number to ≲ 1e3.
+    assert!(eu < 1e-11 && eg < 1e-11, "{eu:e} {eg:e}");
+}
+
+/// A smooth non-polynomial test field with its gradient.
+fn smooth(x: &Vec3) -> (Vec3, Mat3) {
+    let (s, c) = ((3.0 * x[0] + x[2]).sin(), (2.0 * x[1] - x[2]).cos());
+    let u = Vec3::new(s * c, x[0] * x[1] + x[2] * x[2], s + c);
+    let g = Mat3::new(
+        3.0 * c * (3.0 * x[0] + x[2]).cos(),
+        -2.0 * s * (2.0 * x[1] - x[2]).sin(),
+        c * (3.0 * x[0] + x[2]).cos() + s * (2.0 * x[1] - x[2]).sin(),
+        x[1],
+        x[0],
+        2.0 * x[2],
+        3.0 * (3.0 * x[0] + x[2]).cos(),
+        -2.0 * (2.0 * x[1] - x[2]).sin(),
+        (3.0 * x[0] + x[2]).cos() + (2.0 * x[1] - x[2]).sin(),
+    );
+    (u, g)
+}
+
+#[test]
+fn snappy_mesh_convergence_on_three_refinements() {
+    let pts: Vec<Vec3> = points(4000, 0.0, 1.0, 5)
+        .into_iter()
+        .map(|p| p.component_mul(&Vec3::new(1.0, 0.4, 0.4)))
+        .collect();
+    let mut errs = Vec::new();
+    for n in [10, 20, 40] {
+        let mesh = snappy(n).mesh().clone();
+        let flow = FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, |x| smooth(x).0))]).unwrap();
+        let (eu, eg, _) = errors(&flow, &pts, smooth);
+        errs.push((eu, eg));
+    }
+    let order = |a: f64, b: f64| (a / b).log2();
+    let (pu, pg) = (order(errs[0].0, errs[2].0) / 2.0, order(errs[0].1, errs[2].1) / 2.0);
+    eprintln!("max errors (u, grad u) on n = 10, 20, 40: {errs:?}; observed orders {pu:.2}, {pg:.2}");
+    // Orders from the max error over h = 1/10 .. 1/40: O(h²) in u and O(h) in ∇u, minus 0.3
+    // for the pre-asymptotic range (the snapped cells at the sphere are not geometrically
+    // similar between refinements).
+    assert!(pu > 1.7, "u order {pu}");
+    assert!(pg > 0.7, "grad u order {pg}");
+}
+
+// ---------------------------------------------------------------------------------------
+// Patches and time
+
+#[test]
+fn patch_gaps_of_a_sphere() {
+    let mesh = cube(Shape::Hex, 4).mesh();
+    let walls = PatchSet::with_role(&mesh, PatchRole::Wall);
+    let exits = PatchSet::with_role(&mesh, PatchRole::Exit);
+    let r = 0.1;
+    let (axes, q) = (Vec3::repeat(r), Mat3::identity());
+    // The walls are the planes y, z ∈ {0, 1} (the warp leaves the cube's faces in place), so
+    // the gap is the distance to the nearest one minus r, to round-off.
+    let centre = Vec3::new(0.5, 0.45, 0.17);
+    let hit = walls.nearest_gap(&centre, &axes, &q).unwrap();
+    assert!((hit.gap - (0.17 - r)).abs() < 1e-14, "{hit:?}");
+    assert_eq!(mesh.patches()[hit.patch].name, "walls");
+    let near_outlet = Vec3::new(0.95, 0.5, 0.5);
+    let hit = exits.nearest_gap(&near_outlet, &axes, &q).unwrap();
+    assert_eq!(mesh.patches()[hit.patch].name, "outlet");
+    // The warp moves the cube faces by sin(π) ≈ 1e-16 only.
+    assert!((hit.normal - Vec3::x()).amax() < 1e-14, "{hit:?}");
+    // Both sets together: the outlet is nearer than any wall from there.
+    let both = PatchSet::boundaries(&mesh)
+        .nearest_gap(&near_outlet, &axes, &q)
+        .unwrap();
+    assert_eq!(both, hit);
+    assert!((hit.gap - (0.05 - r)).abs() < 1e-14, "{hit:?}");
+    // A prolate spheroid lying along z reaches the floor with its long semi-axis.
+    let prolate = Vec3::new(0.3, 0.05, 0.05);
+    let q = Mat3::new(0.0, 0.0, 1.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0);
+    let hit = walls.nearest_gap(&Vec3::new(0.5, 0.5, 0.35), &prolate, &q).unwrap();
+    assert!((hit.gap - 0.05).abs() < 1e-14, "{hit:?}");
+}
+
+#[test]
+fn time_levels_are_interpolated_linearly() {
+    let mesh = cube(Shape::Tet, 2).mesh();
+    let (a, g) = linear_a();
+    let f1 = sampled(&mesh, |x| a + g * x);
+    let f2 = sampled(&mesh, |x| 3.0 * (a + g * x));
+    let flow = FoamFlow::new(mesh, vec![(3.0, f2), (1.0, f1)]).unwrap();
+    assert_eq!(flow.times(), vec![1.0, 3.0]);
+    let x = Vec3::new(0.3, 0.6, 0.2);
+    let u1 = a + g * x;
+    for (t, factor) in [(0.0, 1.0), (1.0, 1.0), (1.5, 1.5), (2.0, 2.0), (3.0, 3.0), (9.0, 3.0)] {
+        let s = flow.sample(&x, t).unwrap();
+        // Linear in time between levels, held beyond them; round-off as above.
+        assert!((s.u - factor * u1).amax() < 1e-12, "t = {t}");
+        assert!((s.grad_u - factor * g).amax() < 1e-12, "t = {t}");
+    }
+}
+
+#[test]
+fn sphere_patch_gap_on_the_snappy_mesh() {
+    // The snapped sphere (radius R = 0.1 around (0.5, 0.2, 0.2)) is meshed with planar faces
+    // of size h = 1/80 whose vertices lie on it; a face plane is a chord plane, at most the
+    // sagitta of its diagonal, (√2 h)²/(8R) = h²/(4R) ≈ 3.9e-4, inside the sphere. Allow
+    // h²/(2R) for the vertices' snapping tolerance.
+    let mesh = snappy(40).mesh().clone();
+    let sphere = mesh.patches().iter().position(|p| p.name == "sphere").unwrap();
+    let set = PatchSet::new(&mesh, &[sphere]);
+    let (centre, radius, h) = (Vec3::new(0.5, 0.2, 0.2), 0.1, 1.0 / 80.0);
+    let axes = Vec3::repeat(0.01);
+    for dir in [
+        Vec3::x(),
+        -Vec3::y(),
+        Vec3::new(1.0, 1.0, -1.0).normalize(),
+        Vec3::new(-0.3, 0.2, 0.9).normalize(),
+    ] {
+        let x = centre + dir * (radius + 0.02);
+        let hit = set.nearest_gap(&x, &axes, &Mat3::identity()).unwrap();
+        let exact = 0.02 - 0.01;
+        assert!(
+            (hit.gap - exact).abs() < h * h / (2.0 * radius),
+            "{dir:?}: {} vs {exact}",
+            hit.gap
+        );
+        assert_eq!(hit.patch, sphere);
+    }
+}
+
+#[test]
+fn unsteady_case_from_time_directories() {
+    let raw = cube(Shape::Prism, 2);
+    let mesh = raw.mesh();
+    let (a, g) = linear_a();
+    let dir = scratch("unsteady");
+    write_case(&dir, &raw, &sampled(&mesh, |x| a + g * x), "0.5", Format::Binary);
+    write_case(&dir, &raw, &sampled(&mesh, |x| -(a + g * x)), "1.5", Format::Ascii);
+    let case = FoamCase::open(&dir).unwrap();
+    assert_eq!(case.times(), vec![0.5, 1.5]);
+    let flow = FoamFlow::read(&case, &case.times()).unwrap();
+    let x = Vec3::new(0.2, 0.7, 0.4);
+    // Halfway between +u and −u: zero, to round-off of the O(1) values.
+    let s = flow.sample(&x, 1.0).unwrap();
+    assert!(s.u.amax() < 1e-12 && s.grad_u.amax() < 1e-12, "{s:?}");
+    assert!(matches!(
+        case.read_field(2.0, "U", 3),
+        Err(FoamError::NoSuchTime { .. })
+    ));
+}
+
+#[test]
+fn snappy_mesh_convergence_in_the_cells_at_the_sphere() {
+    // Points 0.2–0.8 surface-cell sizes (h = 1/(2 NX), refinement level 1) off the sphere: the
+    // snapped, layered wall cells, whose reconstructions use the patch values.
+    let (centre, radius) = (Vec3::new(0.5, 0.2, 0.2), 0.1);
+    let mut errs = Vec::new();
+    for n in [10, 20, 40] {
+        let h = 1.0 / (2.0 * n as f64);
+        let mesh = snappy(n).mesh().clone();
+        let flow = FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, |x| smooth(x).0))]).unwrap();
+        let pts: Vec<Vec3> = points(5000, -1.0, 1.0, 9)
+            .into_iter()
+            .zip(points(5000, 0.2, 0.8, 10))
+            .map(|(dir, offset)| centre + dir.normalize() * (radius + h * offset[0]))
+            .collect();
+        let (eu, eg, found) = errors(&flow, &pts, smooth);
+        // The facets lie inside the true sphere, so every such point is in the mesh.
+        assert_eq!(found, pts.len(), "n = {n}");
+        errs.push((eu, eg));
+    }
+    let order = |a: f64, b: f64| (a / b).log2();
+    let (pu, pg) = (order(errs[0].0, errs[2].0) / 2.0, order(errs[0].1, errs[2].1) / 2.0);
+    eprintln!("wall cells, max errors (u, grad u) on n = 10, 20, 40: {errs:?}; observed orders {pu:.2}, {pg:.2}");
+    // As on the whole mesh: O(h²) and O(h) less 0.3 for the pre-asymptotic range.
+    assert!(pu > 1.7, "u order {pu}");
+    assert!(pg > 0.7, "grad u order {pg}");
+}
+
+#[test]
+fn mesh_patches_as_a_contact_boundary() {
+    let mesh = cube(Shape::Prism, 4).mesh();
+    let boundary = MeshBoundary::new(&mesh).unwrap();
+    let point = Extent::Point { radius: 0.01 };
+    // Nearest to the outlet (x = 1): exit; nearest to a side wall (z = 0): deposit. The gap is
+    // the plane distance minus δ, to round-off of the O(1) coordinates.
+    let gap = boundary.nearest(&Vec3::new(0.97, 0.5, 0.5), &point);
+    assert_eq!(
+        (boundary.patch_name(gap.patch), boundary.rule(gap.patch)),
+        ("outlet", PatchRule::Exit)
+    );
+    assert!((gap.gap - 0.02).abs() < 1e-14, "{gap:?}");
+    let gap = boundary.nearest(&Vec3::new(0.5, 0.4, 0.05), &point);
+    assert_eq!(
+        (boundary.patch_name(gap.patch), boundary.rule(gap.patch)),
+        ("walls", PatchRule::Stick)
+    );
+    assert!(
+        (gap.gap - 0.04).abs() < 1e-14 && (gap.normal + Vec3::z()).amax() < 1e-14,
+        "{gap:?}"
+    );
+}

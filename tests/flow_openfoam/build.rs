@@ -1,0 +1,441 @@
+//! Test meshes: warped unit cubes of hexahedra, prisms, tetrahedra or hexahedra with a
+//! refinement interface (polyhedra), assembled into OpenFOAM's face-based form and written
+//! as ASCII or binary case files.
+
+use pseudorigid::flow::openfoam::{Patch, PolyMesh, VolField};
+use pseudorigid::tensor::Vec3;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::Path;
+
+/// Cell shapes of the generated meshes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    Hex,
+    Prism,
+    Tet,
+    /// Left half coarse hexahedra, right half refined 2×: the coarse cells at the interface
+    /// are polyhedra with nine faces.
+    Poly,
+}
+
+/// A smooth warp that keeps the cube's faces planar in place: interior faces become
+/// non-planar and cells skewed. Amplitude 0.04 keeps every cell star-shaped for n ≤ 8.
+pub fn warp(p: Vec3) -> Vec3 {
+    use std::f64::consts::PI;
+    let s = (PI * p[0]).sin() * (PI * p[1]).sin() * (PI * p[2]).sin();
+    p + 0.04 * s * Vec3::new(1.0, 0.6, -0.8)
+}
+
+/// Raw face-based mesh arrays.
+pub struct Raw {
+    pub points: Vec<Vec3>,
+    pub offsets: Vec<u32>,
+    pub flat: Vec<u32>,
+    pub owner: Vec<u32>,
+    pub neighbour: Vec<u32>,
+    pub patches: Vec<Patch>,
+}
+
+impl Raw {
+    pub fn mesh(&self) -> PolyMesh {
+        PolyMesh::new(
+            self.points.clone(),
+            self.offsets.clone(),
+            self.flat.clone(),
+            self.owner.clone(),
+            self.neighbour.clone(),
+            self.patches.clone(),
+        )
+        .expect("generated mesh is valid")
+    }
+}
+
+/// Unit cube with `n` cells per edge (`n` even for [`Shape::Poly`]).
+pub fn cube(shape: Shape, n: usize) -> Raw {
+    let m = if shape == Shape::Poly { 2 * n } else { n };
+    let id = |i: usize, j: usize, k: usize| (i + (m + 1) * (j + (m + 1) * k)) as u32;
+    let mut points = Vec::new();
+    for k in 0..=m {
+        for j in 0..=m {
+            for i in 0..=m {
+                points.push(warp(Vec3::new(i as f64, j as f64, k as f64) / m as f64));
+            }
+        }
+    }
+    let hex = |s: usize, i: usize, j: usize, k: usize| -> [u32; 8] {
+        [
+            id(i, j, k),
+            id(i + s, j, k),
+            id(i + s, j + s, k),
+            id(i, j + s, k),
+            id(i, j, k + s),
+            id(i + s, j, k + s),
+            id(i + s, j + s, k + s),
+            id(i, j + s, k + s),
+        ]
+    };
+    let hex_faces = |v: [u32; 8]| -> Vec<Vec<u32>> {
+        [
+            [0, 3, 2, 1],
+            [4, 5, 6, 7],
+            [0, 1, 5, 4],
+            [3, 7, 6, 2],
+            [0, 4, 7, 3],
+            [1, 2, 6, 5],
+        ]
+        .iter()
+        .map(|f| f.iter().map(|&l| v[l]).collect())
+        .collect()
+    };
+    let mut cells: Vec<Vec<Vec<u32>>> = Vec::new();
+    match shape {
+        Shape::Hex => {
+            for k in 0..n {
+                for j in 0..n {
+                    for i in 0..n {
+                        cells.push(hex_faces(hex(1, i, j, k)));
+                    }
+                }
+            }
+        }
+        Shape::Prism => {
+            for k in 0..n {
+                for j in 0..n {
+                    for i in 0..n {
+                        let v = hex(1, i, j, k);
+                        for t in [[0, 1, 2], [0, 2, 3]] {
+                            let (a, b, c) = (v[t[0]], v[t[1]], v[t[2]]);
+                            let (a2, b2, c2) = (v[t[0] + 4], v[t[1] + 4], v[t[2] + 4]);
+                            cells.push(vec![
+                                vec![a, b, c],
+                                vec![a2, b2, c2],
+                                vec![a, b, b2, a2],
+                                vec![b, c, c2, b2],
+                                vec![c, a, a2, c2],
+                            ]);
+                        }
+                    }
+                }
+            }
+        }
+        Shape::Tet => {
+            // Kuhn triangulation: one tetrahedron per path 000 -> 111 along the axes.
+            for k in 0..n {
+                for j in 0..n {
+                    for i in 0..n {
+                        for perm in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
+                            let mut c = [i, j, k];
+                            let mut verts = vec![id(c[0], c[1], c[2])];
+                            for d in perm {
+                                c[d] += 1;
+                                verts.push(id(c[0], c[1], c[2]));
+                            }
+                            let [a, b, c, d] = [verts[0], verts[1], verts[2], verts[3]];
+                            cells.push(vec![vec![a, b, c], vec![a, b, d], vec![a, c, d], vec![b, c, d]]);
+                        }
+                    }
+                }
+            }
+        }
+        Shape::Poly => {
+            // Coarse cells of size 2 (fine units) for x < 1/2, fine cells of size 1 beyond.
+            for k in (0..m).step_by(2) {
+                for j in (0..m).step_by(2) {
+                    for i in (0..n).step_by(2) {
+                        let mut faces = hex_faces(hex(2, i, j, k));
+                        if i + 2 == n {
+                            // Edges on x = 1/2 carry the fine cells' mid-edge vertices (as in
+                            // snappyHexMesh's split hexahedra), so the side faces have five.
+                            let on_interface = |v: u32| v as usize % (m + 1) == n;
+                            for face in &mut faces {
+                                let mut with_mid = Vec::new();
+                                for (e, &a) in face.iter().enumerate() {
+                                    let b = face[(e + 1) % face.len()];
+                                    with_mid.push(a);
+                                    if on_interface(a) && on_interface(b) {
+                                        with_mid.push((a + b) / 2);
+                                    }
+                                }
+                                *face = with_mid;
+                            }
+                            // The face at x = 1/2 meets four fine cells: split it.
+                            faces.pop();
+                            for (dj, dk) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                                let (j0, k0) = (j + dj, k + dk);
+                                faces.push(vec![
+                                    id(n, j0, k0),
+                                    id(n, j0 + 1, k0),
+                                    id(n, j0 + 1, k0 + 1),
+                                    id(n, j0, k0 + 1),
+                                ]);
+                            }
+                        }
+                        cells.push(faces);
+                    }
+                }
+            }
+            for k in 0..m {
+                for j in 0..m {
+                    for i in n..m {
+                        cells.push(hex_faces(hex(1, i, j, k)));
+                    }
+                }
+            }
+        }
+    }
+    assemble(points, &cells)
+}
+
+/// Patch of a boundary face by its centre.
+fn patch_name(c: &Vec3) -> &'static str {
+    if c[0] < 1e-9 {
+        "inlet"
+    } else if c[0] > 1.0 - 1e-9 {
+        "outlet"
+    } else {
+        "walls"
+    }
+}
+
+/// Face-based form: faces matched by vertex set, internal faces first (by owner, then
+/// neighbour), then the patches `inlet`, `outlet`, `walls`; every face oriented out of its owner.
+fn assemble(points: Vec<Vec3>, cells: &[Vec<Vec<u32>>]) -> Raw {
+    let centroid = |vs: &[u32]| vs.iter().map(|&v| points[v as usize]).sum::<Vec3>() / vs.len() as f64;
+    let newell = |vs: &[u32]| {
+        let mut n = Vec3::zeros();
+        for (i, &a) in vs.iter().enumerate() {
+            let b = vs[(i + 1) % vs.len()];
+            n += points[a as usize].cross(&points[b as usize]);
+        }
+        n
+    };
+    let mut by_key: HashMap<Vec<u32>, (usize, Vec<u32>, Option<usize>)> = HashMap::new();
+    for (c, faces) in cells.iter().enumerate() {
+        for f in faces {
+            let mut key = f.clone();
+            key.sort_unstable();
+            by_key
+                .entry(key)
+                .and_modify(|e| e.2 = Some(c))
+                .or_insert((c, f.clone(), None));
+        }
+    }
+    let cell_centre: Vec<Vec3> = cells
+        .iter()
+        .map(|fs| {
+            let mut all: Vec<u32> = fs.iter().flatten().copied().collect();
+            all.sort_unstable();
+            all.dedup();
+            centroid(&all)
+        })
+        .collect();
+    let mut internal = Vec::new();
+    let mut boundary: Vec<(usize, usize, Vec<u32>)> = Vec::new();
+    let order = ["inlet", "outlet", "walls"];
+    for (_, (a, f, b)) in by_key {
+        let (own, nei) = match b {
+            Some(b) => (a.min(b), Some(a.max(b))),
+            None => (a, None),
+        };
+        let mut f = f;
+        if newell(&f).dot(&(centroid(&f) - cell_centre[own])) < 0.0 {
+            f.reverse();
+        }
+        match nei {
+            Some(nei) => internal.push((own, nei, f)),
+            None => {
+                let p = order.iter().position(|&o| o == patch_name(&centroid(&f))).unwrap();
+                boundary.push((p, own, f));
+            }
+        }
+    }
+    internal.sort();
+    boundary.sort();
+    let mut raw = Raw {
+        points,
+        offsets: vec![0],
+        flat: Vec::new(),
+        owner: Vec::new(),
+        neighbour: Vec::new(),
+        patches: Vec::new(),
+    };
+    let push = |raw: &mut Raw, own: usize, f: &[u32]| {
+        raw.flat.extend_from_slice(f);
+        raw.offsets.push(raw.flat.len() as u32);
+        raw.owner.push(own as u32);
+    };
+    for (own, nei, f) in &internal {
+        push(&mut raw, *own, f);
+        raw.neighbour.push(*nei as u32);
+    }
+    for (p, name) in order.iter().enumerate() {
+        let start = raw.owner.len();
+        for (_, own, f) in boundary.iter().filter(|b| b.0 == p) {
+            push(&mut raw, *own, f);
+        }
+        raw.patches.push(Patch {
+            name: name.to_string(),
+            kind: if *name == "walls" { "wall" } else { "patch" }.to_string(),
+            start,
+            size: raw.owner.len() - start,
+        });
+    }
+    raw
+}
+
+/// The field `f` sampled at the cell centres and boundary face centres of `mesh`.
+pub fn sampled(mesh: &PolyMesh, f: impl Fn(&Vec3) -> Vec3) -> VolField {
+    VolField::from_fn(mesh, f)
+}
+
+/// File encodings of a written case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Format {
+    Ascii,
+    Binary,
+    /// Binary, every file gzipped.
+    BinaryGz,
+}
+
+fn header(binary: bool, class: &str, object: &str) -> String {
+    format!(
+        "/* test case */\nFoamFile\n{{\n    version 2.0;\n    format {};\n    class {class};\n    arch \"LSB;label=32;scalar=64\";\n    object {object};\n}}\n// * * //\n\n",
+        if binary { "binary" } else { "ascii" }
+    )
+}
+
+fn put(path: &Path, bytes: &[u8], gz: bool) {
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    if gz {
+        let mut name = path.as_os_str().to_owned();
+        name.push(".gz");
+        let file = std::fs::File::create(name).unwrap();
+        let mut enc = flate2::write::GzEncoder::new(file, flate2::Compression::default());
+        enc.write_all(bytes).unwrap();
+        enc.finish().unwrap();
+    } else {
+        std::fs::write(path, bytes).unwrap();
+    }
+}
+
+fn scalars_bin(out: &mut Vec<u8>, xs: impl IntoIterator<Item = f64>) {
+    for x in xs {
+        out.extend_from_slice(&x.to_le_bytes());
+    }
+}
+
+fn labels_bin(out: &mut Vec<u8>, xs: &[u32]) {
+    for &x in xs {
+        out.extend_from_slice(&(x as i32).to_le_bytes());
+    }
+}
+
+fn label_list(binary: bool, object: &str, xs: &[u32]) -> Vec<u8> {
+    let mut out = header(binary, "labelList", object).into_bytes();
+    if binary {
+        out.extend(format!("{}\n(", xs.len()).bytes());
+        labels_bin(&mut out, xs);
+        out.extend(b")\n");
+    } else {
+        let mut s = format!("{}\n(\n", xs.len());
+        for x in xs {
+            writeln!(s, "{x}").unwrap();
+        }
+        s.push_str(")\n");
+        out.extend(s.bytes());
+    }
+    out
+}
+
+/// Vector list body `n(...)` in the file's encoding.
+fn vector_list(binary: bool, vs: &[f64]) -> Vec<u8> {
+    let n = vs.len() / 3;
+    let mut out = Vec::new();
+    if binary {
+        out.extend(format!("{n}(").bytes());
+        scalars_bin(&mut out, vs.iter().copied());
+        out.push(b')');
+    } else {
+        let mut s = format!("{n}\n(\n");
+        for v in vs.chunks_exact(3) {
+            writeln!(s, "({} {} {})", v[0], v[1], v[2]).unwrap();
+        }
+        s.push(')');
+        out.extend(s.bytes());
+    }
+    out
+}
+
+/// Write the mesh and the velocity at time directory `time` of a case in `dir`.
+pub fn write_case(dir: &Path, raw: &Raw, u: &VolField, time: &str, format: Format) {
+    let binary = format != Format::Ascii;
+    let gz = format == Format::BinaryGz;
+    let poly = dir.join("constant/polyMesh");
+    let coords: Vec<f64> = raw.points.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
+    let mut points = header(binary, "vectorField", "points").into_bytes();
+    points.extend(vector_list(binary, &coords));
+    put(&poly.join("points"), &points, gz);
+
+    let mut faces;
+    if binary {
+        faces = header(true, "faceCompactList", "faces").into_bytes();
+        faces.extend(format!("{}\n(", raw.offsets.len()).bytes());
+        labels_bin(&mut faces, &raw.offsets);
+        faces.extend(format!(")\n{}\n(", raw.flat.len()).bytes());
+        labels_bin(&mut faces, &raw.flat);
+        faces.extend(b")\n");
+    } else {
+        faces = header(false, "faceList", "faces").into_bytes();
+        let mut s = format!("{}\n(\n", raw.owner.len());
+        for w in raw.offsets.windows(2) {
+            let f = &raw.flat[w[0] as usize..w[1] as usize];
+            let labels: Vec<String> = f.iter().map(u32::to_string).collect();
+            writeln!(s, "{}({})", f.len(), labels.join(" ")).unwrap();
+        }
+        s.push_str(")\n");
+        faces.extend(s.bytes());
+    }
+    put(&poly.join("faces"), &faces, gz);
+    put(&poly.join("owner"), &label_list(binary, "owner", &raw.owner), gz);
+    put(
+        &poly.join("neighbour"),
+        &label_list(binary, "neighbour", &raw.neighbour),
+        gz,
+    );
+
+    let mut boundary = header(binary, "polyBoundaryMesh", "boundary");
+    writeln!(boundary, "{}\n(", raw.patches.len()).unwrap();
+    for p in &raw.patches {
+        writeln!(
+            boundary,
+            "    {}\n    {{\n        type {};\n        inGroups List<word> 1({});\n        nFaces {};\n        startFace {};\n    }}",
+            p.name, p.kind, p.kind, p.size, p.start
+        )
+        .unwrap();
+    }
+    boundary.push_str(")\n");
+    put(&poly.join("boundary"), boundary.as_bytes(), gz);
+
+    let mut field = header(binary, "volVectorField", "U").into_bytes();
+    field.extend(b"dimensions [0 1 -1 0 0 0 0];\n\ninternalField nonuniform List<vector> ");
+    field.extend(vector_list(binary, &u.internal));
+    field.extend(b";\n\nboundaryField\n{\n");
+    let n_internal = raw.neighbour.len();
+    for p in &raw.patches {
+        let (a, b) = (3 * (p.start - n_internal), 3 * (p.start - n_internal + p.size));
+        let kind = if p.name == "walls" { "calculated" } else { "fixedValue" };
+        field.extend(
+            format!(
+                "    {}\n    {{\n        type {kind};\n        value nonuniform List<vector> ",
+                p.name
+            )
+            .bytes(),
+        );
+        field.extend(vector_list(binary, &u.boundary[a..b]));
+        field.extend(b";\n    }\n");
+    }
+    field.extend(b"}\n");
+    put(&dir.join(time).join("U"), &field, gz);
+}
