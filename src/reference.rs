@@ -3,7 +3,7 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Jeffery's in-plane orbit of a rigid spheroid with aspect ratio r in simple shear
-/// u = γ̇ y e_x (Jeffery 1922; reference-notes §3): the symmetry axis' angle φ from the gradient
+/// u = γ̇ y e_x (Jeffery 1922): the symmetry axis' angle φ from the gradient
 /// axis y towards the flow, with φ(0) = 0, satisfies tan φ = r tan(γ̇ t r/(r² + 1)).
 /// Returned unwrapped (continuous in t). Time is in units of 1/γ̇.
 pub fn jeffery_phi(r: f64, t: f64) -> f64 {

@@ -1,5 +1,5 @@
 //! Cavity validation at Re = 1000 (src/flow/unstructured/cavity) on the shipped 60³ OpenFOAM
-//! field against Albensoeder & Kuhlmann (2005), reference-notes §5b.
+//! field against Albensoeder & Kuhlmann (2005).
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::flow::unstructured::cavity::{CavityCase, ReferenceTable, compare_extrema};
 
@@ -10,7 +10,7 @@ const CASE: CavityCase = CavityCase {
 
 /// The centreline extrema lie within 5 % of the spectral reference: a uniform 60³ finite-volume
 /// grid is expected 2–5 % shallow (Ben Beya & Lili: 1–2 % at 48³–64³ with a finer scheme, 5 %
-/// at 32³; reference-notes §5b), so 5 % is the acceptance bound, not a fitted one.
+/// at 32³), so 5 % is the acceptance bound, not a fitted one.
 /// Values rounded to 3 decimals are snapshotted (the compact field stores 12 mantissa bits,
 /// relative error ≤ 1.2e-4).
 #[test]

@@ -94,8 +94,8 @@ fn capillary_numbers_from_1e_minus_6_to_3() {
     }
 }
 
-/// λ_s/μ_s from 10 (compressible: the `paper` volumetric traction is anti-damped, physics.md
-/// §7 condition 2) to 1e6 (stiff volume mode).
+/// λ_s/μ_s from 10 (compressible: the `paper` volumetric traction is anti-damped unless
+/// λ_s Δt ≳ μ_f) to 1e6 (stiff volume mode).
 #[test]
 fn bulk_ratios_from_10_to_1e6() {
     for bulk in [10.0, 1e2, 1e4, 1e6] {
@@ -126,7 +126,7 @@ fn bulk_ratios_from_10_to_1e6() {
 
 /// ρ* from 1e-4 (explicit limit Δt < ρ*/37) to 10. The adaptive IMEX caps Δt at the viscous
 /// limit. With the `source` volumetric traction it must succeed everywhere. With the literal
-/// `paper` traction the volume mode is anti-damped unless λ_s Δt ≳ μ_f (physics.md §7,
+/// `paper` traction the volume mode is anti-damped unless λ_s Δt ≳ μ_f (the explicit stability analysis of `integrator::imex`,
 /// condition 2); both limits together need λ_s ρ* R² ≳ 5 μ_f², violated at ρ* = 1e-4 with
 /// λ_s/μ_s = 1e4 (λ_s ρ* R² ≈ 0.6): there the run must stop with a typed error, not NaN.
 /// The fixed-step scheme with Δt = 1e-3 must refuse ρ* < 0.037 as `Unstable`.

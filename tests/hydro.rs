@@ -31,7 +31,7 @@ fn jeffery_spin(frame: &PrincipalFrame, l_f: &Mat3) -> Mat3 {
 }
 
 proptest! {
-    /// Sphere: σ̃ = 2μ d_s + 5μ d + 3μ w exactly (physics.md §5.1). Integrals are exact to
+    /// Sphere: σ̃ = 2μ d_s + 5μ d + 3μ w exactly (Jeffery 1922, Roscoe 1967). Integrals are exact to
     /// ~1e-15 at the degenerate point, so 1e-12 of the stress scale is round-off with margin.
     #[test]
     fn sphere_stress_identity(a in 0.2f64..3.0, q in strategies::rotation(),
@@ -73,7 +73,7 @@ proptest! {
     }
 
     /// σ̃ and K̂ ignore the sign, order and degenerate choice of eigenvectors, as long as each
-    /// r_a stays paired with its n_a (physics.md §9.2).
+    /// r_a stays paired with its n_a (eigenvector signs carry no meaning).
     #[test]
     fn invariance_under_eigenvector_choice(r in strategies::semi_axes(6.0), q in strategies::rotation(),
                                            perm in 0usize..6, signs in proptest::array::uniform3(proptest::bool::ANY),
@@ -120,7 +120,7 @@ proptest! {
 }
 
 /// The normal-stress functions of a rigid-surface-free torque-free ellipsoid reproduce
-/// Roscoe's I and J (physics.md §5.1) in units abc = 1.
+/// Roscoe's I and J (Jeffery 1922, Roscoe 1967) in units abc = 1.
 #[test]
 fn roscoe_normal_stress_functions() {
     let r = [1.6, 0.9, 1.0 / (1.6 * 0.9)];
@@ -140,7 +140,7 @@ fn roscoe_normal_stress_functions() {
     );
 }
 
-/// Volumetric variants differ only in the isotropic part, by the amounts of physics.md §5.3.
+/// Volumetric variants differ only in the isotropic part, by the amounts of the `VolumetricTraction` docs.
 #[test]
 fn volumetric_variants() {
     let tr = traction_for([1.2, 0.8, 1.0 / 0.96], &Mat3::identity());
@@ -177,7 +177,7 @@ fn drag_sphere_is_six() {
     );
 }
 
-/// reference-notes §7 (grade A): tables printed to 6 significant digits, so the tolerance is
+/// Brenner (1963): tables printed to 6 significant digits, so the tolerance is
 /// half a unit in the last printed digit relative to the value (≤ 1e-5).
 #[test]
 fn drag_matches_reference_tables() {
@@ -198,7 +198,7 @@ fn drag_matches_reference_tables() {
 
 #[test]
 fn drag_closed_forms_prolate() {
-    // Gallily–Cohen / Zhang et al. closed forms (physics.md §6), independent of the integrals.
+    // Gallily–Cohen / Zhang et al. closed forms (Brenner 1963), independent of the integrals.
     for beta in [1.5f64, 4.0, 14.0] {
         let s = (beta * beta - 1.0).sqrt();
         let ln = (beta + s).ln();

@@ -22,7 +22,7 @@ fn oblate(ca: f64, rho_star: f64, bulk: f64) -> Particle<NeoHooke> {
 }
 
 /// Paper §5: "converges quadratically and typically in 3 iterations to 1e-12". Ordinary case:
-/// the Fig. 4 particle at the recommended Δt = ρ*/200 (physics.md §7).
+/// the Fig. 4 particle at the recommended Δt = ρ*/200 (the explicit stability analysis of `integrator::imex`).
 #[test]
 fn imex_newton_converges_in_at_most_four_iterations() {
     let p = oblate(0.4, 0.1, 1e3);
@@ -158,7 +158,7 @@ proptest! {
     }
 }
 
-/// The explicit viscous limit matches physics.md §7 (Δt < ρ*/30 sphere, ρ*/37 oblate 2.5,
+/// The explicit viscous limit matches the explicit stability analysis of `integrator::imex` (Δt < ρ*/30 sphere, ρ*/37 oblate 2.5,
 /// ρ*/38 prolate 2, ρ*/62 prolate 5). The table gives integer denominators, i.e. ±2 %; we
 /// allow 5 %. The limit scales with ρ* (Θ ∝ ρ*), checked at two densities.
 #[test]

@@ -1,7 +1,7 @@
 //! Exact reference problems (src/reference) against the literature test vector.
 use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
 
-/// reference-notes §3 (grade A): r = 2, φ(0) = 0: γ̇t = 1 → 40.2174°, 2 → 64.0985°,
+/// Jeffery (1922): r = 2, φ(0) = 0: γ̇t = 1 → 40.2174°, 2 → 64.0985°,
 /// 5π/4 → 90°, 5 → 102.8890°, 5π/2 → 180°. Printed to 4 decimals of a degree: 1e-4°.
 #[test]
 fn jeffery_orbit_matches_test_vector() {

@@ -96,7 +96,7 @@ fn wall_gap_on_the_axis_takes_the_largest_cross_section() {
 
 // ---------------------------------------------------------------- set-up
 
-/// reference-notes §0: γ̇₀ = 725.85 s⁻¹, u(x₀) = 0.3712 m/s, d_eq = 2.4101 µm, μ_f = 1.8011e-5 Pa s,
+/// the paper's §6.2 set-up: γ̇₀ = 725.85 s⁻¹, u(x₀) = 0.3712 m/s, d_eq = 2.4101 µm, μ_f = 1.8011e-5 Pa s,
 /// τ_p = ρ_p d_eq²/(18 μ_f) = 4.587e-5 s.
 #[test]
 fn tian_cui_numbers() {

@@ -69,7 +69,7 @@ impl Extent {
 /// The nearest patch and the gap to it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gap {
-    /// Index of the patch in [`Boundary::rules`] order.
+    /// Index of the patch (as [`Boundary::patch_name`] and [`Boundary::rule`] take it).
     pub patch: usize,
     /// g = d − h(n); negative: overlap depth.
     pub gap: f64,

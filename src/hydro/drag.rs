@@ -1,10 +1,10 @@
 //! Translational drag f_D = μ_f K̂ · (u − v_c) (paper eq. 14 writes K̂ = π r_min k).
 //!
-//! # Physics (Brenner 1963 / Oberbeck; physics.md §6)
+//! # Physics (Brenner 1963 / Oberbeck)
 //! For an ellipsoid with principal frame (r, Q) and integrals χ₀, α_i:
 //! $\hat K = 16\pi\, Q^T \mathrm{diag}\big(1/(\chi_0 + x_i\alpha_i)\big) Q$, i.e. the paper's
 //! $k_i = 16 / (r_{min}(\chi_0 + x_i\alpha_i))$. A sphere has k = 6 (f = 6πμa u); prolate values
-//! are tabulated in reference-notes §7 and tested.
+//! are tabulated by Brenner (1963) and tested.
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::tensor::{Mat3, Vec3};

@@ -1,6 +1,6 @@
 //! Jeffery–Roscoe traction stress σ̃.
 //!
-//! # Physics (paper eq. 12; closed form from physics.md §5.1)
+//! # Physics (paper eq. 12; closed form from Jeffery 1922 and Roscoe 1967)
 //! σ̃ := (1/vol B_t) ∫ t ⊗ ξ da is the first moment of the fluid traction on an ellipsoid whose
 //! surface moves affinely with l_s in the undisturbed linear flow l_f. In the principal frame,
 //! with g = l_f − l_s, d = dev sym g, w = skw g, d_s = sym l_s and
@@ -18,7 +18,7 @@
 //! σ̃ = 2μd_s + 5μd + 3μw; a torque-free ellipsoid spins at Jeffery's rate.
 //!
 //! The formula covers incompressible surface motion only. The volumetric part of the "2 d_s"
-//! term is a modelling choice ([`VolumetricTraction`], physics.md §5.3).
+//! term is a modelling choice ([`VolumetricTraction`]).
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::tensor::{Mat3, Mat9, Vec9, dev, mat3, skw, sym, vec9};
@@ -141,14 +141,14 @@ impl JefferyRoscoe {
         self.frame.to_global(&sp) * mu_f
     }
 
-    /// Linear solver for the inertialess shape dynamics in flow `l_f` (physics.md §9.7).
+    /// Linear solver for the inertialess shape dynamics in flow `l_f` (paper eq. 18 with Θ → 0).
     pub fn inertialess(&self, l_f: &Mat3, mu_f: f64) -> Option<InertialessSolver> {
         InertialessSolver::new(self, l_f, mu_f)
     }
 }
 
 /// The inertialess (Θ → 0) balance P̃ = P, i.e. σ̃(l_s) = σ_el, for an incompressible particle:
-/// dev σ̃(l_s) = dev σ_el with tr l_s = 0 (physics.md §9.7). σ̃ is affine in l_s, so this is a
+/// dev σ̃(l_s) = dev σ_el with tr l_s = 0 (paper eq. 18 with Θ → 0). σ̃ is affine in l_s, so this is a
 /// 9×9 linear system in the principal frame; one diagonal row of dev is replaced by the trace
 /// condition. The LU factors are kept so that Jacobians reuse them.
 #[derive(Debug, Clone)]

@@ -1,7 +1,7 @@
 //! Inertialess (Stokesian) shape dynamics with adaptive, L-stable stepping: Radau IIA of order 5
 //! ([`Scheme::Radau5`]) or a Rosenbrock-W pair of order 2(3) ([`Scheme::Rosenbrock23`]).
 //!
-//! # Physics (physics.md §9.5, §9.7)
+//! # Physics (paper eq. 18 in the limit Θ → 0)
 //! For a micro-particle Θ ∝ ρ* is negligible and eq. 18 degenerates to the balance P̃ = P,
 //! i.e. σ̃(l_s) = σ_el(F) with σ_el = P Fᵀ/J. With tr l_s = 0 (incompressible particle) this is
 //! the 9×9 linear system of [`InertialessSolver`], and the shape evolves by Ḟ = l_s(F) F.

@@ -136,7 +136,7 @@ impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
         Ok(self)
     }
 
-    /// Choose the volumetric treatment of the traction (physics.md §5.3).
+    /// Choose the volumetric treatment of the traction (see [`VolumetricTraction`]).
     pub fn with_volumetric(mut self, vol: VolumetricTraction) -> Self {
         self.volumetric = vol;
         self

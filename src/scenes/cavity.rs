@@ -1,6 +1,6 @@
 //! Soft and quasi-rigid ellipsoids in the lid-driven cavity (paper §6.3, Figs 13–16).
 //!
-//! # Set-up (paper §6.3; reference-notes §0)
+//! # Set-up (paper §6.3)
 //! Cube L = 0.1 m, lid z = L moving at U = 0.0813 m/s along +x, ν_f = 17.3 mm²/s (Re = 470),
 //! steady field from OpenFOAM (`reference-data/cavity_re470.prf`). Particles: d_eq = 3 mm,
 //! ρ_p = 1209.395 kg/m³ and ρ* = (ρ_f − ρ_p)/ρ_f = +0.05 %, so ρ_f = ρ_p/(1 − 5e-4) ≈ 1210 kg/m³;
@@ -37,7 +37,7 @@ use serde::Serialize;
 /// so that the integrator's trial stages (which move ≤ 0.25 r_min per step) stay in the mesh.
 pub const BARYCENTRE_CONTACT_DISTANCE: f64 = 0.15 * D_EQ;
 
-/// Cavity edge L [m].
+/// Cavity edge L (m).
 pub const EDGE: f64 = 0.1;
 /// Lid velocity [m/s].
 pub const LID_VELOCITY: f64 = 0.0813;
@@ -47,7 +47,7 @@ pub const NU: f64 = 17.3e-6;
 pub const RHO_PARTICLE: f64 = 1209.395;
 /// ρ* = (ρ_f − ρ_p)/ρ_f.
 pub const RHO_STAR: f64 = 5e-4;
-/// Volume-equivalent diameter [m].
+/// Volume-equivalent diameter (m).
 pub const D_EQ: f64 = 3e-3;
 
 /// Fluid density ρ_f = ρ_p/(1 − ρ*).
@@ -121,12 +121,12 @@ pub struct Release {
 pub enum Outcome {
     /// Left through the lid.
     Exited {
-        /// Time [s].
+        /// Time (s).
         t: f64,
     },
     /// Stuck to a wall.
     Deposited {
-        /// Time [s].
+        /// Time (s).
         t: f64,
         /// Wall name.
         wall: String,

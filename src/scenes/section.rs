@@ -4,7 +4,7 @@
 //! The current ellipsoid is {ξ : ξᵀ b̄⁻¹ ξ ≤ 1} with b̄ = F̄F̄ᵀ (paper §2). Its section with
 //! z = 0 is the ellipse with matrix M = [b̄⁻¹]_{xy}, semi-axes 1/√eig(M); the long axis is the
 //! eigenvector of the smaller eigenvalue. Its angle from the flow direction is folded into
-//! (−π/2, π/2] (physics.md §9.2: eigenvector signs carry no meaning). The out-of-plane size is
+//! (−π/2, π/2] (eigenvector signs carry no meaning). The out-of-plane size is
 //! the half-chord along the vorticity axis, 1/√(b̄⁻¹)_zz; for shapes with z as a symmetry
 //! plane (all shapes of paper §6.1) z stays a principal axis and this is the principal r.
 

@@ -6,7 +6,7 @@
 //! at any time and **tumbles** otherwise. We also return the margin m = min_t (l_a − l_c):
 //! m > 0 is TU, m < 0 is TR, and |m| says how far the shape is from the boundary.
 //!
-//! # Horizon and dense checking (physics.md §9.9)
+//! # Horizon and dense checking (paper §6.1)
 //! The motion is quasi-periodic with a shape period of about half a Jeffery period π(r + 1/r)
 //! (r the in-plane aspect ratio; ≈ 10 for the oblate 2.5 at Ca 0.4–0.5, where the minimum of
 //! l_a − l_c falls at t̂ ≈ 3.5 and recurs every period to within ~1e-3). For elongated shapes

@@ -1,6 +1,6 @@
 //! Steady tank-treading of an initially spherical Neo-Hooke particle in simple shear.
 //!
-//! # Physics (Roscoe 1967; paper §6.1; physics.md §5.1)
+//! # Physics (Roscoe 1967; paper §6.1)
 //! An initially spherical particle (radius R₀ = 1/2) reaches a steady state with fixed shape
 //! and orientation while its material rotates through that shape. Such a motion is affine,
 //! F(t) = V·R(t) with V = Qᵀ diag(λ₁, λ₂, λ₃) Q fixed and R(t) a rotation about the vorticity
@@ -14,7 +14,7 @@
 //! The fluid gradient in the body frame is l'_f,11 = −l'_f,22 = ½ sin 2θ,
 //! l'_f,12 = cos²θ, l'_f,21 = −sin²θ. With g = l_f − l_s, d = sym g, w = skw g and
 //! x_i = r_i² = R₀²λ_i², the steady inertialess balance dev σ̃ = dev σ_el of the
-//! Jeffery–Roscoe traction (physics.md §5.1) reduces to four algebraic equations:
+//! Jeffery–Roscoe traction ([`crate::hydro::traction`]) reduces to four algebraic equations:
 //!
 //! 1. torque-free (Jeffery): $w_{12} = e\,d_{12}$, $e = (x_1 - x_2)/(x_1 + x_2)$;
 //! 2. no in-plane shear stress: $2 d_{s,12} + K d_{12} = 0$, $K = 4/(abc\,\alpha'_3 (x_1+x_2))$;
@@ -29,7 +29,7 @@
 //! Jeffery integrals α', α'' are shared.
 //!
 //! Small Ca: the sphere has 2(α''₁+α''₂)/(abcΣ'') = 5, so D = (r₁ − r₃)/(r₁ + r₃) → (5/4)Ca and
-//! θ → π/4 − (3/4)Ca (physics.md, "analytic checks"); the error is O(Ca²).
+//! θ → π/4 − (3/4)Ca (Roscoe 1967, small-Ca expansion); the error is O(Ca²).
 
 use super::SceneError;
 use super::section::ShearPlaneSection;

@@ -18,7 +18,7 @@
 //!
 //! Inertial integrators use ρ* = 0.01 (a micro-particle; the paper's Δt ≤ ρ*/200 rule then
 //! means Δt ≤ 5e-5) and λ_s/μ_s = 1e5: the literal volumetric traction of the paper is
-//! anti-damped unless λ_s Δt ≳ (2/3)μ_f (physics.md §7, condition 2), so the scheme also has a
+//! anti-damped unless λ_s Δt ≳ (2/3)μ_f ([`crate::integrator::imex`]), so the scheme also has a
 //! *lower* bound on Δt; with λ_s/μ_s = 1e4 the oblate case inverts at Δt = ρ*/640.
 //! The oblate reference is inertialess, so inertial runs also carry the O(ρ*) model
 //! difference (≈ 3e-4 here) in their error.

@@ -12,7 +12,7 @@ use crate::output::{Csv, OutputError, Panel, Series};
 pub type Run<'a> = (&'a PipeScene, &'a [PipeSample]);
 
 /// The paper's statements on the extra streamwise travel of soft particles over the rigid one
-/// (§6.2.1, text; reference-notes §0): (λ₁, Ca, relation, Δx₁ in d_eq). Figs 11/12 list
+/// (§6.2.1, text): (λ₁, Ca, relation, Δx₁ in d_eq). Figs 11/12 list
 /// Ca = 0.2 where the text quotes 0.25.
 pub const PAPER_EXTRA_TRAVEL: [(f64, f64, &str, f64); 4] = [
     (3.5, 0.25, "approx", 4500.0),

@@ -1,6 +1,6 @@
 //! Orbit periods of the material line l_a (paper Fig. 10 discussion).
 //!
-//! # Physics (Jeffery 1922; reference-notes §3)
+//! # Physics (Jeffery 1922)
 //! A rigid spheroid of aspect ratio λ whose axis lies in the shear plane of a simple shear of
 //! rate γ̇ rotates with period $T = 2\pi(\lambda + 1/\lambda)/\dot\gamma$; the axis passes the
 //! gradient direction twice per period, so the direction cosine of l_a with the flow direction

@@ -6,7 +6,7 @@
 //! $u = 2\bar U (1 − r^2/R^2)\, e_1$. The particle is released at x₀ = (0, x₂⁰, 0) with its long
 //! axis along e₁ (Fig. 9), moving with the local fluid velocity (§6.2). The shear rate there,
 //! $\dot\gamma_0 = 4\bar U |x_2^0|/R^2 = 725.85\ \mathrm{s^{-1}}$ for Tian/Cui, sets the capillary number
-//! Ca = μ_f γ̇₀/μ_s (eq. 23); the paper quotes ω_f = 726.95 s⁻¹ (0.15 % more, reference-notes §0).
+//! Ca = μ_f γ̇₀/μ_s (eq. 23); the paper quotes ω_f = 726.95 s⁻¹ (0.15 % more).
 //! Gravity acts along −e₂. The paper does not state its direction; this choice keeps the
 //! motion in the x₁–x₂ plane of Fig. 9 and lets the particle, released below the axis, settle
 //! towards the nearer wall.
@@ -56,7 +56,7 @@ pub struct PipeFlowData {
 }
 
 impl PipeFlowData {
-    /// Tian et al. / Cui et al. (paper §6.2, reference-notes §0): D = 4.2 mm, Ū = 0.485 m/s,
+    /// Tian et al. / Cui et al. (paper §6.2; Tian et al. 2012, Cui et al.): D = 4.2 mm, Ū = 0.485 m/s,
     /// ν_f = 1.491e-5 m²/s (the paper prints mm²/s, a typo), ρ_f = 1.208 kg/m³, L = 0.7 m,
     /// x₂⁰ = −1.65 mm, g = 9.81 m/s².
     pub fn tian_cui() -> Self {
