@@ -9,8 +9,8 @@
 //! Writes `centrelines.csv`, `extrema.csv` and `centrelines.svg` there.
 
 use pseudorigid::flow::unstructured::MeshedFlow;
-use pseudorigid::flow::unstructured::cavity::{CavityCase, ReferenceTable, compare_extrema};
-use pseudorigid::flow::unstructured::cavity_report::{plot_centrelines_svg, write_centrelines_csv, write_extrema_csv};
+use pseudorigid::scenes::cavity_benchmark::report::{plot_centrelines_svg, write_centrelines_csv, write_extrema_csv};
+use pseudorigid::scenes::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
 use std::path::PathBuf;
 
 /// cases/cavity-re1000/system/caseParameters: L = 0.1 m, U = 0.173 m/s, ν = 17.3 mm²/s.

@@ -1,7 +1,7 @@
 //! Cavity validation at Re = 1000 (src/flow/unstructured/cavity) on the shipped 60³ OpenFOAM
 //! field against Albensoeder & Kuhlmann (2005).
 use pseudorigid::flow::unstructured::MeshedFlow;
-use pseudorigid::flow::unstructured::cavity::{CavityCase, ReferenceTable, compare_extrema};
+use pseudorigid::scenes::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
 
 const CASE: CavityCase = CavityCase {
     edge: 0.1,

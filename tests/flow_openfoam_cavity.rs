@@ -8,7 +8,7 @@
 //! [`PolyMesh::new`] like a read mesh. The field file names the patches `lid` and `fixedWalls`.
 
 use pseudorigid::flow::openfoam::{FoamFlow, Patch, PolyMesh, read_vol_field};
-use pseudorigid::flow::unstructured::cavity::{CavityCase, ReferenceTable, compare_extrema};
+use pseudorigid::scenes::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
 use pseudorigid::tensor::Vec3;
 
 const CASE: CavityCase = CavityCase {

@@ -224,7 +224,7 @@ fn truncated_vtk_is_malformed_not_a_panic() {
 /// The shipped OpenFOAM fields (reference-data/*.prf, provenance next to them).
 mod shipped {
     use super::*;
-    use pseudorigid::flow::unstructured::cavity::{CavityCase, Centreline};
+    use pseudorigid::scenes::cavity_benchmark::{CavityCase, Centreline};
 
     const EDGE: f64 = 0.1;
     const LID: f64 = 0.0813;

@@ -15,9 +15,12 @@
 //!
 //! Real flow fields:
 //! - [`pipe`]: the Tian/Cui laminar pipe flow (§6.2): orientation and deposition of soft
-//!   prolate particles.
+//!   prolate particles;
+//! - [`cavity`]: soft and quasi-rigid ellipsoids in the lid-driven cavity (§6.3);
+//! - [`cavity_benchmark`]: the cavity flow field against Albensoeder & Kuhlmann (2005).
 
 pub mod cavity;
+pub mod cavity_benchmark;
 pub mod phase_boundary;
 pub mod phase_map;
 pub mod pipe;

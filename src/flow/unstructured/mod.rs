@@ -25,10 +25,8 @@
 //!
 //! Sources: the legacy VTK export ([`vtk`]) or the compact shipped form ([`compact`]);
 //! [`MeshedFlow::load`] tells them apart by content. Wall contact for deposition is in
-//! [`crate::contact`], the cavity validation against Albensoeder & Kuhlmann in [`cavity`].
+//! [`crate::contact`], the cavity validation against Albensoeder & Kuhlmann in [`crate::scenes::cavity_benchmark`].
 
-pub mod cavity;
-pub mod cavity_report;
 pub mod compact;
 pub mod error;
 pub mod hex;

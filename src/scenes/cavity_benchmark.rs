@@ -13,11 +13,13 @@
 //! [`EXTREMUM_SAMPLES`] equispaced samples refined by the vertex of the parabola through it and
 //! its two neighbours (error O(Δs³) in position for a smooth profile, far below the mesh size).
 
-use super::error::MeshError;
 use crate::error::FlowError;
 use crate::flow::FlowField;
+use crate::flow::unstructured::MeshError;
 use crate::tensor::Vec3;
 use std::path::Path;
+
+pub mod report;
 
 /// Equispaced samples along a centreline for the extremum search.
 pub const EXTREMUM_SAMPLES: usize = 2001;

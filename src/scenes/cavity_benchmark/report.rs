@@ -1,9 +1,9 @@
 //! Files of the cavity validation: centreline CSV, extrema CSV and an SVG plot.
 
-use super::cavity::{CavityCase, Centreline, ExtremumComparison, LinePoint, ReferenceTable};
-use super::error::MeshError;
+use super::{CavityCase, Centreline, ExtremumComparison, LinePoint, ReferenceTable};
 use crate::error::FlowError;
 use crate::flow::FlowField;
+use crate::flow::unstructured::MeshError;
 use crate::output::write_atomic;
 use plotters::prelude::*;
 use std::fmt::Write as _;
