@@ -4,7 +4,7 @@
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use pseudorigid::integrator::imex::StabilityGuard;
-use pseudorigid::integrator::{Stokesian, TimeIntegrator};
+use pseudorigid::integrator::{Scheme, Stokesian, TimeIntegrator};
 use pseudorigid::prelude::*;
 use std::hint::black_box;
 
@@ -55,12 +55,10 @@ fn bench_steps(c: &mut Criterion) {
         ..ImexPaper::default()
     };
     bench_running(&mut g, "imex_paper_exact_guard", &exact, 5e-4);
-    bench_running(
-        &mut g,
-        "stokesian_rosenbrock",
-        &Stokesian::overdamped(1e-6).unwrap(),
-        0.05,
-    );
+    let rosenbrock = Stokesian::overdamped(1e-6).unwrap().with_scheme(Scheme::Rosenbrock23);
+    bench_running(&mut g, "stokesian_rosenbrock", &rosenbrock, 0.05);
+    let radau = Stokesian::overdamped(1e-6).unwrap().with_scheme(Scheme::Radau5);
+    bench_running(&mut g, "stokesian_radau5", &radau, 0.05);
     g.bench_function("geometry_frame_integrals_traction", |b| {
         b.iter(|| p.geometry(black_box(&s.f)))
     });
