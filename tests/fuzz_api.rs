@@ -14,8 +14,12 @@
 //! To add a class (a driver or integrator family, say), write one `fn(u64) -> Outcome` and add
 //! a line to [`CLASSES`].
 
+use pseudorigid::driver::{Budget, Plan, integrate};
 use pseudorigid::ellipsoid::integrals::{carlson_rd, carlson_rf};
 use pseudorigid::flow::unstructured::{HexMesh, MeshedFlow, compact, vtk};
+use pseudorigid::integrator::imex::StabilityGuard;
+use pseudorigid::integrator::newton::NewtonOptions;
+use pseudorigid::integrator::{ImexAdaptive, Scheme, Stokesian, Tolerances};
 use pseudorigid::output::{Csv, write_atomic};
 use pseudorigid::prelude::*;
 use serde_json::Value;
@@ -32,7 +36,7 @@ const WATCHDOG: Duration = Duration::from_secs(10);
 /// Abandoned (hung) threads keep a core busy; after this many, the class stops.
 const MAX_HANGS_PER_CLASS: usize = 2;
 
-/// Cases per class in the CI-sized run (10 classes: a few thousand cases, seconds in release).
+/// Cases per class in the CI-sized run (12 classes: a few thousand cases, seconds in release).
 const CI_CASES: u64 = 400;
 
 /// What one case observed.
@@ -70,6 +74,8 @@ const CLASSES: &[(&str, Case)] = &[
     ("vtk", vtk_case),
     ("prf", prf_case),
     ("outputs", output_case),
+    ("driver", driver_case),
+    ("steps", step_case),
 ];
 
 // ---------------------------------------------------------------------------------------------
@@ -485,6 +491,137 @@ fn state_case(seed: u64) -> Outcome {
     check(finite_all(frame.r.iter().chain(frame.q.iter()).copied()), || {
         format!("frame of a valid state: {frame:?}")
     })
+}
+
+/// One of the integrators with fuzzed settings (defect 9: settings validate themselves).
+enum AnyIntegrator {
+    Imex(ImexPaper),
+    ImexAdaptive(ImexAdaptive),
+    Stokesian(Stokesian),
+}
+
+fn any_integrator(rng: &mut Rng) -> Result<AnyIntegrator, ParamError> {
+    let tol = if rng.chance(0.8) {
+        rng.log_uniform(-9.0, -2.0)
+    } else {
+        rng.wild_signed()
+    };
+    Ok(match rng.below(5) {
+        0 => AnyIntegrator::Imex(ImexPaper::default()),
+        1 => AnyIntegrator::Imex(ImexPaper {
+            newton: NewtonOptions::new(tol, rng.pick(&[0, 1, 3, 12, 100, 101, u32::MAX]))?,
+            guard: rng.pick(&[StabilityGuard::Exact, StabilityGuard::Off, StabilityGuard::default()]),
+        }),
+        2 => AnyIntegrator::ImexAdaptive(ImexAdaptive::new(tol)?),
+        3 => AnyIntegrator::Stokesian(Stokesian::new(tol)?.with_scheme(Scheme::Radau5)),
+        _ => {
+            let mut s = Stokesian::overdamped(tol)?;
+            s.tol = Tolerances::new(tol, rng.mostly(), rng.mostly() * 1e-12)?;
+            AnyIntegrator::Stokesian(s.with_scheme(rng.pick(&[Scheme::Radau5, Scheme::Rosenbrock23])))
+        }
+    })
+}
+
+/// A particle that mostly gets past validation (shape, Ca, ρ*, bulk ratio mostly ordinary).
+fn any_particle(rng: &mut Rng) -> Result<Particle<NeoHooke>, ParamError> {
+    let ratios = [rng.mostly(), rng.mostly(), rng.mostly()].map(|r| r.clamp(-1e6, 1e6));
+    let scaling = ShearScaling::new(rng.mostly(), rng.mostly(), rng.mostly())?;
+    scaling.particle(ratios, rng.rotation())
+}
+
+/// A short run through the driver with fuzzed times, outputs and budget (defects 6 and 7):
+/// `Ok` must end exactly at t_end with a finite, oriented state.
+fn driver_case(seed: u64) -> Outcome {
+    let mut rng = Rng::new(seed);
+    let integ = typed!(any_integrator(&mut rng));
+    let p = typed!(any_particle(&mut rng));
+    let flow = typed!(LinearFlow::simple_shear(if rng.chance(0.8) {
+        1.0
+    } else {
+        rng.wild_signed()
+    }));
+    let mut start = State::at_rest(Vec3::zeros());
+    start.t = if rng.chance(0.7) { 0.0 } else { rng.wild_signed() };
+    let t_end = if rng.chance(0.7) {
+        start.t + rng.log_uniform(-3.0, 0.0)
+    } else {
+        rng.wild_signed()
+    };
+    let dt = if rng.chance(0.7) {
+        rng.log_uniform(-5.0, -1.0)
+    } else {
+        rng.wild_signed()
+    };
+    let outputs: Vec<f64> = (0..rng.below(4))
+        .map(|_| start.t + (t_end - start.t) * rng.unit())
+        .collect();
+    let plan = typed!(Plan::new(t_end, dt).and_then(|p| p.with_outputs(&outputs)));
+    // 2 000 steps bound a case to milliseconds; running out is the typed BudgetExceeded.
+    let plan = plan.with_budget(Budget {
+        max_steps: 2_000,
+        wall_time: Some(Duration::from_secs(2)),
+    });
+    let end = match &integ {
+        AnyIntegrator::Imex(i) => run_plan(i, &p, &flow, start, &plan),
+        AnyIntegrator::ImexAdaptive(i) => run_plan(i, &p, &flow, start, &plan),
+        AnyIntegrator::Stokesian(i) => run_plan(i, &p, &flow, start, &plan),
+    };
+    let end = typed!(end);
+    check(end.t == t_end && end.validate().is_ok(), || {
+        format!("run to t_end = {t_end} ended at {end:?}")
+    })
+}
+
+fn run_plan<I: TimeIntegrator>(
+    integ: &I,
+    p: &Particle<NeoHooke>,
+    flow: &LinearFlow,
+    start: State,
+    plan: &Plan,
+) -> Result<State, StepError> {
+    let mut memory = I::Memory::default();
+    integrate(integ, p, flow, start, &mut memory, plan, &[], |_| {}, |_| {}).map(|o| o.state)
+}
+
+/// Single steps of every integrator from fuzzed states and step sizes: `Ok` must be a finite,
+/// oriented state later in time.
+fn step_case(seed: u64) -> Outcome {
+    let mut rng = Rng::new(seed);
+    let integ = typed!(any_integrator(&mut rng));
+    let p = typed!(any_particle(&mut rng));
+    let flow = typed!(LinearFlow::simple_shear(1.0));
+    let mut s = State::at_rest(Vec3::from_fn(|_, _| rng.normal()));
+    s.t = if rng.chance(0.8) { rng.unit() } else { rng.wild_signed() };
+    s.f = Mat3::identity()
+        + Mat3::from_fn(|_, _| {
+            if rng.chance(0.9) {
+                0.2 * rng.normal()
+            } else {
+                rng.wild_signed()
+            }
+        });
+    s.a = Mat3::from_fn(|_, _| {
+        if rng.chance(0.9) {
+            rng.normal()
+        } else {
+            rng.wild_signed()
+        }
+    });
+    let dt = if rng.chance(0.7) {
+        rng.log_uniform(-6.0, 0.0)
+    } else {
+        rng.wild_signed()
+    };
+    let next = match &integ {
+        AnyIntegrator::Imex(i) => i.step(&p, &s, &flow, dt),
+        AnyIntegrator::ImexAdaptive(i) => i.step(&p, &s, &flow, dt),
+        AnyIntegrator::Stokesian(i) => i.step(&p, &s, &flow, dt),
+    };
+    let (next, info) = typed!(next);
+    check(
+        next.validate().is_ok() && next.t > s.t && info.dt > 0.0 && info.dt <= dt,
+        || format!("step of {dt} from {s:?} gave {next:?}, {info:?}"),
+    )
 }
 
 /// A scratch folder per case (removed afterwards).

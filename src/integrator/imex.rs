@@ -371,8 +371,7 @@ impl TimeIntegrator for ImexPaper {
         flow: &F,
         dt: f64,
     ) -> Result<Step, StepError> {
-        crate::error::positive("dt", dt)?;
-        state.validate()?;
+        super::check_step(state, dt)?;
         let model = Model::new(particle, flow);
         let geo = memory.geometry(&model, &state.f, state.t)?;
         if let Some(limit) = memory.limit(self.guard, particle, &state.f, &geo, state.t)?

@@ -60,8 +60,7 @@ impl TimeIntegrator for ImexAdaptive {
         flow: &F,
         dt: f64,
     ) -> Result<Step, StepError> {
-        positive("dt", dt)?;
-        state.validate()?;
+        super::check_step(state, dt)?;
         let inner = ImexPaper::unguarded();
         let model = Model::new(particle, flow);
         let geo = memory.geometry(&model, &state.f, state.t)?;
@@ -71,7 +70,7 @@ impl TimeIntegrator for ImexAdaptive {
         let mut h = dt.min(limit);
         let mut newton_iters = 0;
         for rejected in 0..=MAX_REJECTIONS {
-            if h < self.h_min {
+            if h < self.h_min || state.t + h <= state.t {
                 break;
             }
             match inner.unguarded_step(&model, state, &geo, memory, h) {

@@ -72,6 +72,17 @@ pub struct Step {
     pub dense: Dense,
 }
 
+/// Check the inputs of a step: a valid state and a step Δt that is finite, > 0 and advances
+/// t in floating point (t + Δt > t; a step below the spacing of t would silently not move).
+pub fn check_step(state: &State, dt: f64) -> Result<(), StepError> {
+    crate::error::positive("dt", dt)?;
+    state.validate()?;
+    if state.t + dt <= state.t {
+        return Err(StepError::NoProgress { t: state.t, dt });
+    }
+    Ok(())
+}
+
 /// A one-step time integrator for a pseudo-rigid particle.
 pub trait TimeIntegrator: Send + Sync {
     /// What the integrator keeps per particle between steps (cached model evaluations, the

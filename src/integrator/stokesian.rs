@@ -268,8 +268,7 @@ impl TimeIntegrator for Stokesian {
         flow: &F,
         dt: f64,
     ) -> Result<Step, StepError> {
-        crate::error::positive("dt", dt)?;
-        state.validate()?;
+        super::check_step(state, dt)?;
         let (barycentre, shape) = (self.barycentre, self.shape);
         let model = Model::new(particle, flow);
         let y0 = pack(&state.f, &state.x, &state.v);
@@ -334,6 +333,9 @@ impl TimeIntegrator for Stokesian {
             BarycentreModel::Inertial => v,
             BarycentreModel::Overdamped => x_dot,
         };
+        if state.t + acc.h <= state.t {
+            return Err(StepError::NoProgress { t: state.t, dt: acc.h });
+        }
         let next = State {
             t: state.t + acc.h,
             x,
