@@ -78,6 +78,16 @@ pub enum FlowError {
         /// Query point.
         x: [f64; 3],
     },
+    /// The point lies outside a meshed flow domain, past the named boundary patch.
+    #[error("point {x:?} is outside the mesh, {distance:.3e} from its nearest patch `{patch}`")]
+    OutsideMesh {
+        /// Query point.
+        x: [f64; 3],
+        /// Name of the boundary patch nearest to the point.
+        patch: String,
+        /// Distance to that patch's nearest face.
+        distance: f64,
+    },
     /// The field's value at a valid point overflows (the parameters are too large for the
     /// query's distance from the origin, or the flow was built from non-finite data).
     #[error("flow at {x:?}, t = {t} is not finite: u = {u:?}")]

@@ -7,6 +7,7 @@ mod build;
 
 use build::{Format, Shape, cube, sampled, write_case};
 use pseudorigid::contact::{Boundary, Extent, PatchRule};
+use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
 use pseudorigid::flow::openfoam::{
@@ -339,6 +340,11 @@ fn location_on_every_cell_shape() {
                 assert_eq!(patch, "outlet");
                 assert!(distance >= 0.2);
             }
+            other => panic!("{shape:?}: {other:?}"),
+        }
+        // Through the FlowField interface too: a typed error naming the patch.
+        match flow.sample(&Vec3::new(1.2, 0.5, 0.5), 0.0) {
+            Err(FlowError::OutsideMesh { patch, .. }) => assert_eq!(patch, "outlet"),
             other => panic!("{shape:?}: {other:?}"),
         }
         assert!(flow.sample(&Vec3::new(0.5, -0.1, 0.5), 0.0).is_err());

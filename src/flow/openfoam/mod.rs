@@ -20,7 +20,7 @@
 //!
 //! # Outside the mesh, outside the time range
 //! [`FoamFlow::locate`] reports a point outside the mesh as [`FoamError::Outside`] with the
-//! nearest patch; through [`FlowField`] it is a [`FlowError::OutsideDomain`]. Before the first
+//! nearest patch; through [`FlowField`] it is a [`FlowError::OutsideMesh`] naming that patch. Before the first
 //! and after the last time level the field holds that level.
 //!
 //! # Relation to [`super::unstructured`]
@@ -291,10 +291,10 @@ impl FlowField for FoamFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         check_query(x, t)?;
         let hint = LAST_CELL.with(Cell::get);
-        let cell = self
-            .locator
-            .locate(&self.mesh, x, Some(hint))
-            .ok_or_else(|| FlowError::outside(x))?;
+        let cell = self.locate(x, Some(hint)).map_err(|e| match e {
+            FoamError::Outside { x, patch, distance } => FlowError::OutsideMesh { x, patch, distance },
+            _ => FlowError::outside(x),
+        })?;
         LAST_CELL.with(|c| c.set(cell));
         Ok(self.sample_cell(cell, x, t))
     }
