@@ -17,7 +17,7 @@ use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
 use crate::integrator::{Dense, Step, StepInfo, TimeIntegrator};
-use crate::material::Hyperelastic;
+use crate::material::Response;
 use crate::particle::{Particle, State};
 use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
@@ -192,7 +192,7 @@ pub fn integrate<I, M, D, F>(
 ) -> Result<Outcome, StepError>
 where
     I: TimeIntegrator,
-    M: Hyperelastic,
+    M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
 {
@@ -365,7 +365,7 @@ pub fn run<I, M, D, F>(
 ) -> Result<(State, RunStats), StepError>
 where
     I: TimeIntegrator,
-    M: Hyperelastic,
+    M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
 {
@@ -405,7 +405,7 @@ pub fn advance<I, M, D, F>(
 ) -> Result<(State, RunStats), StepError>
 where
     I: TimeIntegrator,
-    M: Hyperelastic,
+    M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
 {

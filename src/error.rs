@@ -170,6 +170,12 @@ pub enum StepError {
         /// Last scaled error estimate.
         error: f64,
     },
+    /// The integrator needs an elastic law and the particle is rigid.
+    #[error("{integrator} integrates the elastic shape dynamics (eq. 18) and cannot step a rigid particle")]
+    RigidParticle {
+        /// The integrator's name.
+        integrator: &'static str,
+    },
     /// A run used up its step or wall-time budget.
     #[error("budget exceeded after {steps} steps ({wall_s:.1} s) at t = {t}")]
     BudgetExceeded {

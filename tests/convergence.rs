@@ -1,13 +1,14 @@
 //! Observed order of convergence of every integrator: halve Δt, fit the slope.
 
 use pseudorigid::integrator::{Scheme, Stokesian, Tolerances};
+use pseudorigid::material::{Response, Rigid};
 use pseudorigid::particle::lines::material_line;
 use pseudorigid::prelude::*;
 use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
 
 /// Fixed-step run: call `step` with constant Δt and a tolerance so loose that every step is
 /// accepted as proposed (the adaptive controller is bypassed, the formula is what is tested).
-fn fixed_steps<I: TimeIntegrator>(integ: &I, p: &Particle<NeoHooke>, dt: f64, t_end: f64) -> State {
+fn fixed_steps<I: TimeIntegrator, M: Response>(integ: &I, p: &Particle<M>, dt: f64, t_end: f64) -> State {
     let flow = LinearFlow::simple_shear(1.0).unwrap();
     let mut s = State::at_rest(Vec3::zeros());
     let n = (t_end / dt).round() as usize;
@@ -47,7 +48,7 @@ fn rigid_rosenbrock_is_second_order_on_jeffery_orbit() {
     let r = 2.0;
     let p = ShearScaling::new(1.0, 1.0, 1e3)
         .unwrap()
-        .particle([r, 1.0, 1.0], Mat3::identity())
+        .particle_with([r, 1.0, 1.0], Mat3::identity(), Rigid)
         .unwrap();
     let t0 = jeffery_flow_aligned_time(r);
     let t_end = 4.0;
@@ -55,7 +56,7 @@ fn rigid_rosenbrock_is_second_order_on_jeffery_orbit() {
     let errs: Vec<f64> = dts
         .iter()
         .map(|&dt| {
-            let s = fixed_steps(&loose(Stokesian::rigid(1.0).unwrap()), &p, dt, t_end);
+            let s = fixed_steps(&loose(Stokesian::overdamped(1.0).unwrap()), &p, dt, t_end);
             let l = material_line(p.shape(), &s.f, 0);
             // angle from the gradient axis y towards x; the orbit turns clockwise in (x, y)
             let phi = l[0].atan2(l[1]);

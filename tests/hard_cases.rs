@@ -3,6 +3,7 @@
 //! is asserted too.
 use pseudorigid::driver::advance;
 use pseudorigid::integrator::{ImexAdaptive, Stokesian};
+use pseudorigid::material::{Response, Rigid};
 use pseudorigid::prelude::*;
 
 fn shear() -> LinearFlow {
@@ -16,8 +17,16 @@ fn particle(ratios: [f64; 3], ca: f64, rho_star: f64, bulk: f64) -> Particle<Neo
         .unwrap()
 }
 
+/// The rigid particle of the same shape (Ca → 0: Jeffery rotation, no elasticity).
+fn rigid_particle(ratios: [f64; 3]) -> Particle<Rigid> {
+    ShearScaling::new(0.1, 1.0, 1e3)
+        .unwrap()
+        .particle_with(ratios, Mat3::identity(), Rigid)
+        .unwrap()
+}
+
 /// A physical end state: finite, det F > 0 and semi-axes within a factor 50 of d_eq.
-fn assert_sane(p: &Particle<NeoHooke>, s: &State, what: &str) {
+fn assert_sane<M: Response>(p: &Particle<M>, s: &State, what: &str) {
     assert!(
         s.f.iter().chain(s.a.iter()).chain(s.x.iter()).all(|c| c.is_finite()),
         "{what}: non-finite state"
@@ -45,11 +54,14 @@ fn assert_typed(e: &StepError, what: &str) {
 fn extreme_aspect_ratios() {
     for ratios in [[20.0, 1.0, 1.0], [20.0, 20.0, 1.0], [1.0, 1.0, 20.0]] {
         let p = particle(ratios, 0.1, 1.0, 1e3);
-        for integ in [Stokesian::overdamped(1e-6).unwrap(), Stokesian::rigid(1e-6).unwrap()] {
-            let (s, _) = advance(&integ, &p, State::at_rest(Vec3::zeros()), &shear(), 1e-3, 5.0)
-                .unwrap_or_else(|e| panic!("{ratios:?} {:?}: {e}", integ.shape));
-            assert_sane(&p, &s, "aspect 20");
-        }
+        let integ = Stokesian::overdamped(1e-6).unwrap();
+        let (s, _) = advance(&integ, &p, State::at_rest(Vec3::zeros()), &shear(), 1e-3, 5.0)
+            .unwrap_or_else(|e| panic!("{ratios:?} elastic: {e}"));
+        assert_sane(&p, &s, "aspect 20");
+        let rigid = rigid_particle(ratios);
+        let (s, _) = advance(&integ, &rigid, State::at_rest(Vec3::zeros()), &shear(), 1e-3, 5.0)
+            .unwrap_or_else(|e| panic!("{ratios:?} rigid: {e}"));
+        assert_sane(&p, &s, "aspect 20 rigid");
         let (s, _) = advance(
             &ImexAdaptive::new(1e-4).unwrap(),
             &p,
@@ -188,6 +200,10 @@ fn exact_sphere_at_start() {
     assert_sane(&p, &s, "imex_adaptive");
     let (s, _) = advance(&Stokesian::new(1e-8).unwrap(), &p, s0, &shear(), 1e-3, 0.5).unwrap();
     assert_sane(&p, &s, "stokesian");
-    let (s, _) = advance(&Stokesian::rigid(1e-8).unwrap(), &p, s0, &shear(), 1e-3, 0.5).unwrap();
+    let rigid = rigid_particle([1.0, 1.0, 1.0]);
+    let (s, _) = advance(&Stokesian::new(1e-8).unwrap(), &rigid, s0, &shear(), 1e-3, 0.5).unwrap();
     assert_sane(&p, &s, "rigid");
+    // The paper's scheme integrates the elastic eq. 18: a rigid particle is a typed refusal.
+    let r = advance(&ImexPaper::default(), &rigid, s0, &shear(), 5e-4, 0.5);
+    assert!(matches!(r, Err(StepError::RigidParticle { .. })), "{r:?}");
 }

@@ -30,7 +30,7 @@ use crate::driver::Event;
 use crate::ellipsoid::PrincipalFrame;
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::material::Hyperelastic;
+use crate::material::Response;
 use crate::particle::{Particle, State};
 use crate::tensor::Vec3;
 use serde::{Deserialize, Serialize};
@@ -115,7 +115,7 @@ pub struct ContactEvent<'a, B: ?Sized, M, D, F: ?Sized> {
 impl<'a, B, M, D, F> ContactEvent<'a, B, M, D, F>
 where
     B: Boundary + ?Sized,
-    M: Hyperelastic,
+    M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
 {
@@ -151,7 +151,7 @@ where
 impl<B, M, D, F> Event for ContactEvent<'_, B, M, D, F>
 where
     B: Boundary + ?Sized,
-    M: Hyperelastic,
+    M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
 {

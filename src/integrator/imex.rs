@@ -41,7 +41,7 @@ use super::{Step, StepInfo, TimeIntegrator};
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::material::Hyperelastic;
+use crate::material::{Hyperelastic, Response};
 use crate::particle::dynamics::{Geometry, Model, traction_load};
 use crate::particle::{Particle, State};
 use crate::tensor::{Mat3, Mat9, Vec9, inv_transpose, mat3, vec9};
@@ -115,7 +115,7 @@ pub struct ImexMemory {
 
 impl ImexMemory {
     /// Geometry of `f`: cached when `f` is the last accepted F, else one model evaluation.
-    pub(crate) fn geometry<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    pub(crate) fn geometry<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         model: &Model<M, D, F>,
         f: &Mat3,
@@ -129,7 +129,7 @@ impl ImexMemory {
 
     /// The explicit stability limit at `f` under `guard`, re-computed only when needed:
     /// `None` for [`StabilityGuard::Off`].
-    pub(crate) fn limit<M: Hyperelastic, D: DragModel>(
+    pub(crate) fn limit<M: Response, D: DragModel>(
         &mut self,
         guard: StabilityGuard,
         particle: &Particle<M, D>,
@@ -162,10 +162,7 @@ impl ImexMemory {
 /// eigenvalue λ = a + ib with a < 0, i.e. Δt ≤ −2a/|λ|². Eigenvalues with a ≥ 0 are not viscous
 /// damping (the volumetric anti-damping of the `paper` traction is left to the implicit
 /// elastic update, which needs λ_s Δt ≳ μ_f).
-pub fn stability_limit<M: Hyperelastic, D: DragModel>(
-    particle: &Particle<M, D>,
-    state: &State,
-) -> Result<f64, StepError> {
+pub fn stability_limit<M: Response, D: DragModel>(particle: &Particle<M, D>, state: &State) -> Result<f64, StepError> {
     stability_limit_at(particle, &state.f, &particle.geometry(&state.f), state.t)
 }
 
@@ -175,7 +172,7 @@ const SCHUR_MAX_ITERS: usize = 300;
 /// Deflation threshold of the Schur iteration (see [`stability_limit_at`]).
 const SCHUR_EPS: f64 = 64.0 * f64::EPSILON;
 
-fn stability_limit_at<M: Hyperelastic, D: DragModel>(
+fn stability_limit_at<M: Response, D: DragModel>(
     particle: &Particle<M, D>,
     f: &Mat3,
     geo: &Geometry,
@@ -253,7 +250,7 @@ fn limit_of_eigenvalues(eig: impl Iterator<Item = (f64, f64)>) -> f64 {
 }
 
 /// Shape update of one IMEX step: F^{n+1} and the Newton record.
-pub(crate) fn shape_update<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+pub(crate) fn shape_update<M: Response, D: DragModel, F: FlowField + ?Sized>(
     model: &Model<M, D, F>,
     state: &State,
     sigma_star: &Mat3,
@@ -274,8 +271,11 @@ pub(crate) fn shape_update<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>
     };
     // vec(X Θ⁻¹) = (Θ⁻ᵀ ⊗ 1) vec(X)
     let right_theta: Mat9 = theta_inv.transpose().kronecker(&Mat3::identity());
-    let material = particle.material();
     let t_new = state.t + dt;
+    // The scheme integrates eq. 18, which needs the elastic stress.
+    let material = particle.elastic().ok_or(StepError::RigidParticle {
+        integrator: "imex_paper",
+    })?;
     newton::solve_cached(
         vec9(&start),
         opts,
@@ -318,7 +318,7 @@ fn barycentre_update(
 impl ImexPaper {
     /// One paper step with `memory`; the guard is the caller's business (see
     /// [`TimeIntegrator::step_with`]).
-    pub(crate) fn unguarded_step<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    pub(crate) fn unguarded_step<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         model: &Model<M, D, F>,
         state: &State,
@@ -363,7 +363,7 @@ impl TimeIntegrator for ImexPaper {
         "imex_paper"
     }
 
-    fn step_with<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,
@@ -398,7 +398,7 @@ impl TimeIntegrator for ImexPaper {
 }
 
 /// Flattened residual helper for tests: R(F) of the Newton problem at `f`.
-pub fn imex_residual<M: Hyperelastic, D: DragModel>(
+pub fn imex_residual<M: Response, D: DragModel>(
     particle: &Particle<M, D>,
     state: &State,
     sigma_star: &Mat3,
@@ -406,6 +406,6 @@ pub fn imex_residual<M: Hyperelastic, D: DragModel>(
     f: &Mat3,
 ) -> Vec9 {
     let c = dt * dt * particle.volume0();
-    let p = particle.material().piola(f);
+    let p = particle.elastic().map_or_else(Mat3::zeros, |law| law.piola(f));
     vec9(&(f - state.f - state.a * dt - (traction_load(f, sigma_star) - p) * particle.theta_inv() * c))
 }

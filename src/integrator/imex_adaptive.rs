@@ -16,7 +16,7 @@ use super::{ImexPaper, Step, StepInfo, TimeIntegrator};
 use crate::error::{ParamError, StepError, positive};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::material::Hyperelastic;
+use crate::material::Response;
 use crate::particle::{Model, Particle, State};
 
 /// Rejected attempts allowed in one step: each at least halves h, so 60 attempts span more
@@ -52,7 +52,7 @@ impl TimeIntegrator for ImexAdaptive {
         "imex_adaptive"
     }
 
-    fn step_with<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,

@@ -18,12 +18,12 @@ pub use dense::Dense;
 pub use imex::ImexPaper;
 pub use imex_adaptive::ImexAdaptive;
 pub use rosenbrock::Tolerances;
-pub use stokesian::{BarycentreModel, Scheme, ShapeResponse, Stokesian};
+pub use stokesian::{BarycentreModel, Scheme, Stokesian};
 
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::material::Hyperelastic;
+use crate::material::Response;
 use crate::particle::{Particle, State, Work};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -96,7 +96,7 @@ pub trait TimeIntegrator: Send + Sync {
 
     /// Advance `state` by `dt` (adaptive schemes may take less; see [`StepInfo::dt`]),
     /// reading and updating the particle's step `memory`.
-    fn step_with<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,
@@ -106,7 +106,7 @@ pub trait TimeIntegrator: Send + Sync {
     ) -> Result<Step, StepError>;
 
     /// One step from a fresh memory (a first step, or a test of a single step).
-    fn step<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    fn step<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,

@@ -29,8 +29,8 @@ use super::rosenbrock::{self, Tolerances};
 use super::{Step, StepInfo, TimeIntegrator};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
-use crate::hydro::{DragModel, InertialessSolver, jeffery_spin};
-use crate::material::Hyperelastic;
+use crate::hydro::{DragModel, InertialessSolver};
+use crate::material::{Hyperelastic, Response};
 use crate::particle::{Model, Particle, State};
 use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, vec9};
 use nalgebra::{SMatrix, SVector};
@@ -49,18 +49,6 @@ pub enum BarycentreModel {
     Overdamped,
 }
 
-/// How the shape responds to the flow.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ShapeResponse {
-    /// Elastic and inertialess: σ̃(l_s) = σ_el(F), tr l_s = 0.
-    #[default]
-    Elastic,
-    /// Rigid limit Ca = 0: F stays a rotation spinning at Jeffery's torque-free rate,
-    /// w_s,ij = w_f,ij − ((x_i − x_j)/(x_i + x_j)) d_f,ij in the principal frame (Jeffery 1922).
-    /// No elasticity is evaluated; F is projected back onto SO(3) after every step.
-    Rigid,
-}
-
 /// The time-stepping scheme of [`Stokesian`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Scheme {
@@ -72,15 +60,15 @@ pub enum Scheme {
     Rosenbrock23,
 }
 
-/// Adaptive inertialess integrator (elastic or rigid shape).
+/// Adaptive inertialess integrator. The shape response is the particle's: elastic for a
+/// hyperelastic law, Jeffery rotation for a [`crate::material::Rigid`] particle (Ca → 0, no
+/// elasticity evaluated; F is projected back onto SO(3) after every step).
 #[derive(Debug, Clone, Copy)]
 pub struct Stokesian {
     /// Error tolerances.
     pub tol: Tolerances,
     /// Barycentre model.
     pub barycentre: BarycentreModel,
-    /// Shape response.
-    pub shape: ShapeResponse,
     /// Time-stepping scheme.
     pub scheme: Scheme,
 }
@@ -91,7 +79,6 @@ impl Stokesian {
         Ok(Self {
             tol: Tolerances::uniform(tol)?,
             barycentre: BarycentreModel::Inertial,
-            shape: ShapeResponse::Elastic,
             scheme: Scheme::default(),
         })
     }
@@ -106,14 +93,6 @@ impl Stokesian {
         Ok(Self {
             barycentre: BarycentreModel::Overdamped,
             ..Self::new(tol)?
-        })
-    }
-
-    /// Rigid limit (Ca = 0): Jeffery rotation plus Brenner drag, overdamped barycentre.
-    pub fn rigid(tol: f64) -> Result<Self, ParamError> {
-        Ok(Self {
-            shape: ShapeResponse::Rigid,
-            ..Self::overdamped(tol)?
         })
     }
 }
@@ -148,23 +127,16 @@ pub(crate) struct Evaluation {
 }
 
 /// The right-hand side of the inertialess model at (t, y): one model evaluation.
-pub(crate) fn evaluate<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+pub(crate) fn evaluate<M: Response, D: DragModel, F: FlowField + ?Sized>(
     model: &Model<M, D, F>,
     barycentre: BarycentreModel,
-    shape: ShapeResponse,
     t: f64,
     y: &Y,
 ) -> Result<Evaluation, StepError> {
     let (f, x, v) = unpack(y);
     let geo = model.geometry(&f, t)?;
     let sample = model.sample(&x, t)?;
-    let (l_s, solver) = match shape {
-        ShapeResponse::Elastic => {
-            let (l_s, solver) = model.inertialess_rate(&geo, &f, &sample.grad_u, t)?;
-            (l_s, Some(solver))
-        }
-        ShapeResponse::Rigid => (jeffery_spin(&geo.frame, &sample.grad_u), None),
-    };
+    let (l_s, solver) = model.inertialess_rate(&geo, &f, &sample.grad_u, t)?;
     let forcing = model.forcing(&geo, f.determinant());
     let (x_dot, v_dot) = match barycentre {
         BarycentreModel::Inertial => (v, forcing.acceleration(&sample.u, &v)),
@@ -186,7 +158,7 @@ pub(crate) fn rhs_vector(e: &Evaluation) -> Y {
 }
 
 /// W-method Jacobian: exact elastic part, frozen hydrodynamic operator, linear-flow coupling.
-pub(crate) fn jacobian<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+pub(crate) fn jacobian<M: Response, D: DragModel, F: FlowField + ?Sized>(
     model: &Model<M, D, F>,
     barycentre: BarycentreModel,
     y: &Y,
@@ -205,7 +177,9 @@ pub(crate) fn jacobian<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
         }
         return jac;
     };
-    let law = model.particle.material();
+    let Some(law) = model.particle.elastic() else {
+        unreachable!("an evaluation with an inertialess solver belongs to an elastic particle")
+    };
     let det_f = f.determinant();
     let p = law.piola(&f);
     let sigma = p * f.transpose() / det_f;
@@ -252,15 +226,13 @@ impl TimeIntegrator for Stokesian {
     type Memory = StokesianMemory;
 
     fn name(&self) -> &'static str {
-        match (self.shape, self.scheme) {
-            (ShapeResponse::Elastic, Scheme::Radau5) => "stokesian_radau5",
-            (ShapeResponse::Elastic, Scheme::Rosenbrock23) => "stokesian",
-            (ShapeResponse::Rigid, Scheme::Radau5) => "rigid_radau5",
-            (ShapeResponse::Rigid, Scheme::Rosenbrock23) => "rigid",
+        match self.scheme {
+            Scheme::Radau5 => "stokesian_radau5",
+            Scheme::Rosenbrock23 => "stokesian",
         }
     }
 
-    fn step_with<M: Hyperelastic, D: DragModel, F: FlowField + ?Sized>(
+    fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         state: &State,
@@ -269,15 +241,16 @@ impl TimeIntegrator for Stokesian {
         dt: f64,
     ) -> Result<Step, StepError> {
         super::check_step(state, dt)?;
-        let (barycentre, shape) = (self.barycentre, self.shape);
+        let barycentre = self.barycentre;
+        let rigid = particle.elastic().is_none();
         let model = Model::new(particle, flow);
         let y0 = pack(&state.f, &state.x, &state.v);
         let e0 = match memory.last.take() {
             Some((t, y, e)) if t == state.t && y == y0 => e,
-            _ => evaluate(&model, barycentre, shape, state.t, &y0)?,
+            _ => evaluate(&model, barycentre, state.t, &y0)?,
         };
         let f0 = rhs_vector(&e0);
-        let eval = |t: f64, y: &Y| evaluate(&model, barycentre, shape, t, y);
+        let eval = |t: f64, y: &Y| evaluate(&model, barycentre, t, y);
         let acc = match self.scheme {
             Scheme::Rosenbrock23 => {
                 let jac = jacobian(&model, barycentre, &y0, &e0);
@@ -321,7 +294,7 @@ impl TimeIntegrator for Stokesian {
             }
         };
         let (mut f, x, v) = unpack(&acc.y);
-        if shape == ShapeResponse::Rigid {
+        if rigid {
             // Polar projection onto SO(3): the nearest rotation to the integrated F.
             let svd = f.svd(true, true);
             if let (Some(u), Some(v_t)) = (svd.u, svd.v_t) {
@@ -344,7 +317,7 @@ impl TimeIntegrator for Stokesian {
             a,
         };
         next.validate()?;
-        if shape == ShapeResponse::Elastic {
+        if !rigid {
             // The projection of the rigid limit moves F off the evaluated point.
             memory.last = Some((next.t, acc.y, acc.payload));
         }

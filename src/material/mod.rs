@@ -9,9 +9,11 @@
 
 pub mod mooney_rivlin;
 pub mod neo_hooke;
+pub mod response;
 
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hooke::NeoHooke;
+pub use response::{NoLaw, Response, Rigid, Softness};
 
 use crate::tensor::{Mat3, Mat9, Scalar, Vec9, mat3, vec9};
 use nalgebra::{Const, SVector};

@@ -25,8 +25,8 @@ use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::error::StepError;
 use crate::flow::{FlowField, FlowSample};
 use crate::hydro::gravity::reduced_gravity;
-use crate::hydro::{DragModel, InertialessSolver, JefferyRoscoe};
-use crate::material::Hyperelastic;
+use crate::hydro::{DragModel, InertialessSolver, JefferyRoscoe, jeffery_spin};
+use crate::material::{Hyperelastic, Response};
 use crate::tensor::{Mat3, Scalar, Vec3, det3, inv_transpose, lift};
 use std::cell::Cell;
 
@@ -100,7 +100,7 @@ pub struct Model<'a, M, D, F: ?Sized> {
     work: Cell<Work>,
 }
 
-impl<'a, M: Hyperelastic, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
+impl<'a, M: Response, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
     /// Wrap a particle and a flow with zero work.
     pub fn new(particle: &'a Particle<M, D>, flow: &'a F) -> Self {
         Self {
@@ -146,15 +146,19 @@ impl<'a, M: Hyperelastic, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F
             .sigma_tilde(l_s, l_f, self.particle.fluid().mu, self.particle.volumetric())
     }
 
-    /// Inertialess shape rate (eq. 18 with Θ → 0): the l_s with σ̃(l_s) = σ_el(F), tr l_s = 0,
-    /// and the factorised operator for Jacobians.
+    /// Inertialess shape rate (eq. 18 with Θ → 0). Elastic: the l_s with σ̃(l_s) = σ_el(F),
+    /// tr l_s = 0, and the factorised operator for Jacobians. Rigid: Jeffery's torque-free spin,
+    /// and no operator.
     pub fn inertialess_rate(
         &self,
         geo: &Geometry,
         f: &Mat3,
         l_f: &Mat3,
         t: f64,
-    ) -> Result<(Mat3, InertialessSolver), StepError> {
+    ) -> Result<(Mat3, Option<InertialessSolver>), StepError> {
+        let Some(law) = self.particle.elastic() else {
+            return Ok((jeffery_spin(&geo.frame, l_f), None));
+        };
         let solver = geo
             .traction
             .inertialess(l_f, self.particle.fluid().mu)
@@ -162,7 +166,7 @@ impl<'a, M: Hyperelastic, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F
                 what: "inertialess traction operator",
                 t,
             })?;
-        Ok((solver.velocity_gradient(&self.particle.material().cauchy(f)), solver))
+        Ok((solver.velocity_gradient(&law.cauchy(f)), Some(solver)))
     }
 
     /// Barycentre forcing at the shape `geo` with det F = `det_f` (eqs. 13, 14, 17).

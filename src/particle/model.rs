@@ -5,7 +5,7 @@ use super::dynamics::Geometry;
 use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use crate::error::{ParamError, derived, finite, positive};
 use crate::hydro::{Brenner, DragModel, JefferyRoscoe, VolumetricTraction};
-use crate::material::Hyperelastic;
+use crate::material::{Hyperelastic, Response};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -69,21 +69,23 @@ pub struct Particle<M, D = Brenner> {
     theta_inv: Mat3,
 }
 
-impl<M: Hyperelastic> Particle<M, Brenner> {
+impl<M: Response> Particle<M, Brenner> {
     /// Particle with Brenner drag, the paper's volumetric traction and no gravity.
     pub fn new(shape: Ellipsoid, material: M, fluid: Fluid, rho_solid: f64) -> Result<Self, ParamError> {
         Self::with_drag(shape, material, Brenner, fluid, rho_solid)
     }
 }
 
-impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
+impl<M: Response, D: DragModel> Particle<M, D> {
     /// Particle with an explicit drag model.
     pub fn with_drag(shape: Ellipsoid, material: M, drag: D, fluid: Fluid, rho_solid: f64) -> Result<Self, ParamError> {
         let rho_solid = positive("rho_s", rho_solid)?;
         // Public fields: a hand-built fluid has not been through Fluid::new.
         let fluid = Fluid::new(fluid.mu, fluid.rho)?;
-        positive("shear modulus mu_s", material.shear_modulus())?;
-        finite("Lame parameter lambda_s", material.lame_lambda())?;
+        if let Some(law) = material.elastic() {
+            positive("shear modulus mu_s", law.shear_modulus())?;
+            finite("Lame parameter lambda_s", law.lame_lambda())?;
+        }
         let s = shape.shape_tensor();
         let volume0 = shape.volume();
         let mass = derived("mass m = rho_s vol(B0)", rho_solid * volume0, &[rho_solid, volume0])?;
@@ -150,7 +152,7 @@ impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
     pub fn shape_tensor(&self) -> &Mat3 {
         &self.s
     }
-    /// Constitutive law.
+    /// Shape response: a constitutive law, [`crate::material::Rigid`] or [`crate::material::Softness`].
     pub fn material(&self) -> &M {
         &self.material
     }
@@ -197,8 +199,13 @@ impl<M: Hyperelastic, D: DragModel> Particle<M, D> {
         Geometry::of_total_distortion(&self.total_distortion(f))
     }
 
-    /// Elastic energy W(F) vol(B₀) of a state.
+    /// The hyperelastic law, or `None` for a rigid particle.
+    pub fn elastic(&self) -> Option<&M::Law> {
+        self.material.elastic()
+    }
+
+    /// Elastic energy W(F) vol(B₀) of a state (0 for a rigid particle).
     pub fn elastic_energy(&self, f: &Mat3) -> f64 {
-        self.material.energy(f) * self.volume0
+        self.elastic().map_or(0.0, |law| law.energy(f) * self.volume0)
     }
 }

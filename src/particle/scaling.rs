@@ -7,7 +7,7 @@
 use super::{Fluid, Particle};
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, derived, positive};
-use crate::material::NeoHooke;
+use crate::material::{NeoHooke, Response};
 use serde::{Deserialize, Serialize};
 
 /// Capillary number, dimensionless density and bulk ratio of a neutrally buoyant particle.
@@ -111,7 +111,18 @@ impl ShearScaling {
     /// Neutrally buoyant Neo-Hooke particle with axis ratios `ratios` along `axes` (columns),
     /// scaled to d_eq = 1.
     pub fn particle(&self, ratios: [f64; 3], axes: crate::tensor::Mat3) -> Result<Particle<NeoHooke>, ParamError> {
+        self.particle_with(ratios, axes, self.neo_hooke())
+    }
+
+    /// The same particle with another shape response: any law (whose moduli then replace
+    /// 1/Ca), or [`crate::material::Rigid`].
+    pub fn particle_with<M: Response>(
+        &self,
+        ratios: [f64; 3],
+        axes: crate::tensor::Mat3,
+        response: M,
+    ) -> Result<Particle<M>, ParamError> {
         let shape = Ellipsoid::with_volume_diameter(ratios, 1.0, axes)?;
-        Particle::new(shape, self.neo_hooke(), Fluid::new(1.0, self.rho_star)?, self.rho_star)
+        Particle::new(shape, response, Fluid::new(1.0, self.rho_star)?, self.rho_star)
     }
 }

@@ -27,7 +27,7 @@ use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::flow::unstructured::MeshedFlow;
 use crate::integrator::{BarycentreModel, Stokesian};
-use crate::material::NeoHooke;
+use crate::material::{NeoHooke, Softness};
 use crate::particle::{Fluid, Particle, State};
 use crate::tensor::{Mat3, Vec3, sym};
 use serde::Serialize;
@@ -176,15 +176,17 @@ impl<'a> Cavity<'a> {
         self.shear_rate
     }
 
-    fn particle(&self, release: &Release) -> Result<Particle<NeoHooke>, SceneError> {
-        // Rigid runs need no elasticity; a finite modulus keeps the particle well-defined.
-        let ca = release.ca.unwrap_or(1e-3);
-        let mu_s = self.fluid.mu * self.shear_rate / ca;
+    fn particle(&self, release: &Release) -> Result<Particle<Softness<NeoHooke>>, SceneError> {
+        // The rigid limit (Ca → 0) is a rigid particle: Jeffery rotation, no elasticity.
+        let response = match release.ca {
+            None => Softness::Rigid,
+            Some(ca) => {
+                let mu_s = self.fluid.mu * self.shear_rate / ca;
+                Softness::Elastic(NeoHooke::new(mu_s, 1e3 * mu_s)?)
+            }
+        };
         let shape = Ellipsoid::with_volume_diameter(release.shape.ratios(), D_EQ, Mat3::identity())?;
-        Ok(
-            Particle::new(shape, NeoHooke::new(mu_s, 1e3 * mu_s)?, self.fluid, RHO_PARTICLE)?
-                .with_gravity(Vec3::new(0.0, 0.0, -9.81))?,
-        )
+        Ok(Particle::new(shape, response, self.fluid, RHO_PARTICLE)?.with_gravity(Vec3::new(0.0, 0.0, -9.81))?)
     }
 
     /// Track `release` for `t_max` seconds with tolerance `tol`, sampling every `dt_out`;
@@ -200,7 +202,7 @@ impl<'a> Cavity<'a> {
         let p = self.particle(&release)?;
         let mut integ = match release.ca {
             Some(_) => Stokesian::new(tol)?,
-            None => Stokesian::rigid(tol)?,
+            None => Stokesian::new(tol)?,
         };
         integ.barycentre = BarycentreModel::Inertial;
         let mut s0 = State::at_rest(release_point());

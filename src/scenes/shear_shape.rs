@@ -13,7 +13,7 @@
 //! The stress-free particle is scaled to d_eq = 1 (R₁R₂R₃ = 1/8).
 
 use crate::error::ParamError;
-use crate::material::NeoHooke;
+use crate::material::{NeoHooke, Response};
 use crate::particle::{Particle, ShearScaling};
 use crate::tensor::Mat3;
 use serde::{Deserialize, Serialize};
@@ -99,5 +99,10 @@ impl ShearShape {
     /// The Neo-Hooke particle of this shape with the groups `scaling`, axes E'_a = e_a.
     pub fn particle(&self, scaling: &ShearScaling) -> Result<Particle<NeoHooke>, ParamError> {
         scaling.particle(self.ratios(), Mat3::identity())
+    }
+
+    /// The particle of this shape with another shape response (a law, or rigid).
+    pub fn particle_with<M: Response>(&self, scaling: &ShearScaling, response: M) -> Result<Particle<M>, ParamError> {
+        scaling.particle_with(self.ratios(), Mat3::identity(), response)
     }
 }

@@ -30,7 +30,7 @@ use super::tank_treading::roscoe;
 use crate::driver::{RunStats, run};
 use crate::flow::analytic::LinearFlow;
 use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator};
-use crate::material::NeoHooke;
+use crate::material::{NeoHooke, Response, Rigid};
 use crate::particle::lines::material_line;
 use crate::particle::{Particle, ShearScaling, State};
 use crate::reference::{jeffery_flow_aligned_time, jeffery_phi};
@@ -231,7 +231,11 @@ fn trajectory(case: Case, setting: Setting) -> Result<(Vec<State>, RunStats, f64
             &times,
             observe,
         )?,
-        Setting::Rigid(tol) => drive(&Stokesian::rigid(tol)?, &p, s0, &times, observe)?,
+        Setting::Rigid(tol) => {
+            let (shape, ca) = definition(case);
+            let rigid = shape.particle_with(&ShearScaling::new(ca, RHO_STAR, BULK)?, Rigid)?;
+            drive(&Stokesian::overdamped(tol)?, &rigid, s0, &times, observe)?
+        }
         // The peer reports the wall time of its own solve, without the interpreter's start-up.
         Setting::ScipyRadau(tol) => return peer_trajectory(case, PeerMethod::Radau, tol),
         Setting::ScipyLsoda(tol) => return peer_trajectory(case, PeerMethod::Lsoda, tol),
@@ -263,9 +267,9 @@ fn peer_states(run: &PeerRun) -> Vec<State> {
         .collect()
 }
 
-fn drive<I: TimeIntegrator>(
+fn drive<I: TimeIntegrator, M: Response>(
     integ: &I,
-    p: &Particle<NeoHooke>,
+    p: &Particle<M>,
     s0: State,
     times: &[f64],
     observe: impl FnMut(&State),

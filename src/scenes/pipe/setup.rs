@@ -24,8 +24,8 @@ use crate::error::{FlowError, ParamError, finite, positive};
 use crate::flow::FlowField;
 use crate::flow::analytic::Poiseuille;
 use crate::hydro::gravity::reduced_gravity;
-use crate::integrator::{BarycentreModel, ShapeResponse, Stokesian};
-use crate::material::NeoHooke;
+use crate::integrator::{BarycentreModel, Stokesian};
+use crate::material::{self, NeoHooke};
 use crate::particle::{Fluid, Particle, State};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -115,6 +115,9 @@ impl PipeParticleData {
     }
 }
 
+/// The shape response of the pipe's particles.
+pub type PipeMaterial = material::Softness<NeoHooke>;
+
 /// Softness of the particle.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum Softness {
@@ -155,8 +158,8 @@ pub struct PipeScene {
     pub flow: Poiseuille,
     /// The pipe wall (radius R/d_eq).
     pub wall: PipeWall,
-    /// The particle (for [`Softness::Rigid`] its law is never evaluated).
-    pub particle: Particle<NeoHooke>,
+    /// The particle: elastic Neo-Hooke, or rigid for [`Softness::Rigid`].
+    pub particle: Particle<PipeMaterial>,
     /// Physical flow data it was scaled from.
     pub flow_data: PipeFlowData,
     /// Physical particle data it was scaled from.
@@ -193,8 +196,8 @@ impl PipeScene {
         let mu_f = flow.mu_f();
         let density = |rho: f64| rho * shear_rate * d_eq * d_eq / mu_f;
         let law = match softness {
-            Softness::Rigid => NeoHooke::from_capillary(1.0, BULK_RATIO)?,
-            Softness::Elastic { ca } => NeoHooke::from_capillary(ca, BULK_RATIO)?,
+            Softness::Rigid => material::Softness::Rigid,
+            Softness::Elastic { ca } => material::Softness::Elastic(NeoHooke::from_capillary(ca, BULK_RATIO)?),
         };
         let shape = Ellipsoid::with_volume_diameter([particle.lambda1, particle.lambda2, 1.0], 1.0, Mat3::identity())?;
         let model = Particle::new(
@@ -253,12 +256,7 @@ impl PipeScene {
     /// (m v̇ = m a_G + μ_f K̂(u − v)); the rigid limit keeps the same barycentre model, so rigid
     /// and soft runs differ only in the shape response.
     pub fn integrator(&self, tol: f64) -> Result<Stokesian, ParamError> {
-        let shape = match self.softness {
-            Softness::Rigid => ShapeResponse::Rigid,
-            Softness::Elastic { .. } => ShapeResponse::Elastic,
-        };
         Ok(Stokesian {
-            shape,
             barycentre: BarycentreModel::Inertial,
             ..Stokesian::new(tol)?
         })

@@ -7,7 +7,7 @@
 //! step's dense output to |g| ≤ 10⁻⁹ d_eq, and the event caps each step so that a tumbling tip
 //! cannot touch and leave the wall unseen ([`crate::contact`]).
 
-use super::setup::PipeScene;
+use super::setup::{PipeMaterial, PipeScene};
 use crate::contact::{ContactEvent, ContactModel, PipeWall};
 use crate::driver::{Event, Plan, Stop, integrate, run};
 use crate::integrator::TimeIntegrator;
@@ -40,8 +40,7 @@ impl PipeScene {
     /// Contact of the particle's extent with the pipe wall.
     pub fn contact(
         &self,
-    ) -> ContactEvent<'_, PipeWall, crate::material::NeoHooke, crate::hydro::Brenner, crate::flow::analytic::Poiseuille>
-    {
+    ) -> ContactEvent<'_, PipeWall, PipeMaterial, crate::hydro::Brenner, crate::flow::analytic::Poiseuille> {
         ContactEvent::new(&self.wall, &self.particle, &self.flow, ContactModel::Extent)
     }
 
