@@ -385,3 +385,24 @@ mod section {
         }
     }
 }
+
+/// Scenes are generic over the law: the phase-boundary search runs with Mooney–Rivlin without a
+/// scene edit. With β = 0 its energy μ/2(I₁ − 3 − 2 ln J) + λ/2 ln²J is the Neo-Hooke energy of
+/// eq. 9 term by term, so the bracket must be the Neo-Hooke one (the AD stress equals the
+/// closed form to round-off, far below a ΔCa = 1e-3 bisection step). With half the shear
+/// modulus in the second invariant the nonlinear response differs and the boundary moves.
+#[test]
+fn phase_boundary_with_mooney_rivlin_needs_no_scene_edit() {
+    use pseudorigid::material::MooneyRivlinLaw;
+    let shape = ShearShape::oblate(2.5);
+    let classifier = RegimeClassifier::stokesian(1e-7).unwrap();
+    let neo = BoundarySearch::new(classifier, 1e-3).find(&shape).unwrap();
+    let mr0 = BoundarySearch::new(classifier.with_law(MooneyRivlinLaw { beta: 0.0 }), 1e-3)
+        .find(&shape)
+        .unwrap();
+    assert_eq!((mr0.ca_tu, mr0.ca_tr), (neo.ca_tu, neo.ca_tr));
+    let mr = BoundarySearch::new(classifier.with_law(MooneyRivlinLaw { beta: 0.5 }), 1e-3)
+        .find(&shape)
+        .unwrap();
+    assert!(mr.ca_tr < neo.ca_tu || mr.ca_tu > neo.ca_tr, "{mr:?} vs {neo:?}");
+}

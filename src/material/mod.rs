@@ -46,6 +46,53 @@ pub trait Hyperelastic: Send + Sync {
     }
 }
 
+/// Builds a law from the small-strain moduli a scene prescribes: shear modulus μ_s (= 1/Ca in
+/// the shear-flow units) and first Lamé parameter λ_s. Scenes take a factory, so the paper's
+/// studies run with any law without a scene edit.
+pub trait LawFactory: Send + Sync {
+    /// The law built.
+    type Law: Hyperelastic;
+
+    /// The law with small-strain moduli μ_s and λ_s.
+    fn law(&self, mu_s: f64, lambda_s: f64) -> Result<Self::Law, crate::error::ParamError>;
+}
+
+/// Builds [`NeoHooke`] laws (the paper's eq. 9).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NeoHookeLaw;
+
+impl LawFactory for NeoHookeLaw {
+    type Law = NeoHooke;
+
+    fn law(&self, mu_s: f64, lambda_s: f64) -> Result<NeoHooke, crate::error::ParamError> {
+        NeoHooke::new(mu_s, lambda_s)
+    }
+}
+
+/// Builds [`MooneyRivlin`] laws with μ₁ = (1 − β)μ_s and μ₂ = βμ_s, whose small-strain shear
+/// modulus is μ₁ + μ₂ = μ_s; β = 0 is Neo-Hooke-like.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MooneyRivlinLaw {
+    /// Share β ∈ [0, 1] of the second invariant.
+    pub beta: f64,
+}
+
+impl LawFactory for MooneyRivlinLaw {
+    type Law = MooneyRivlin;
+
+    fn law(&self, mu_s: f64, lambda_s: f64) -> Result<MooneyRivlin, crate::error::ParamError> {
+        if !(0.0..=1.0).contains(&self.beta) {
+            return Err(crate::error::ParamError::OutOfRange {
+                name: "Mooney-Rivlin share beta",
+                value: self.beta,
+                min: 0.0,
+                max: 1.0,
+            });
+        }
+        MooneyRivlin::new((1.0 - self.beta) * mu_s, self.beta * mu_s, lambda_s)
+    }
+}
+
 /// P = ∂W/∂F by forward-mode AD (nine dual directions).
 pub fn piola_ad<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Mat3 {
     let (_, g) = num_dual::gradient(|v: SVector<DualVec<f64, Const<9>>, 9>| law.energy(&mat3(&v)), &vec9(f));

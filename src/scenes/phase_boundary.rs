@@ -13,14 +13,15 @@ use super::SceneError;
 use super::shear_regimes::{Classification, Regime, RegimeClassifier};
 use super::shear_shape::ShearShape;
 use crate::integrator::TimeIntegrator;
+use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::ShearScaling;
 use rayon::prelude::*;
 
 /// Bracket search settings.
 #[derive(Debug, Clone, Copy)]
-pub struct BoundarySearch<I> {
+pub struct BoundarySearch<I, L = NeoHookeLaw> {
     /// Classifier used at every Ca.
-    pub classifier: RegimeClassifier<I>,
+    pub classifier: RegimeClassifier<I, L>,
     /// ρ* and λ_s/μ_s of the particles (Ca is replaced).
     pub base: ShearScaling,
     /// Initial bracket guess (lower, upper).
@@ -57,9 +58,9 @@ impl Boundary {
     }
 }
 
-impl<I: TimeIntegrator> BoundarySearch<I> {
+impl<I: TimeIntegrator, L: LawFactory> BoundarySearch<I, L> {
     /// Search with bracket guess (0.1, 1), limits [1e-3, 20] and ΔCa ≤ `tol`.
-    pub fn new(classifier: RegimeClassifier<I>, tol: f64) -> Self {
+    pub fn new(classifier: RegimeClassifier<I, L>, tol: f64) -> Self {
         Self {
             classifier,
             base: ShearScaling::new(1.0, 1.0, 1e3).expect("valid constants"),

@@ -9,6 +9,7 @@ use super::phase_boundary::{Boundary, BoundarySearch};
 use super::shear_regimes::RegimeClassifier;
 use super::shear_shape::ShearShape;
 use crate::integrator::{Stokesian, TimeIntegrator};
+use crate::material::LawFactory;
 use crate::output::{Csv, OutputError, Panel, Series};
 
 /// One located boundary and the abscissa it is plotted at.
@@ -28,8 +29,8 @@ pub fn paper_search() -> Result<BoundarySearch<Stokesian>, crate::error::ParamEr
 }
 
 /// Boundaries of all `(x, shape)` pairs, in parallel.
-pub fn compute<I: TimeIntegrator + Sync>(
-    search: &BoundarySearch<I>,
+pub fn compute<I: TimeIntegrator + Sync, L: LawFactory + Sync>(
+    search: &BoundarySearch<I, L>,
     shapes: &[(f64, ShearShape)],
 ) -> Result<Vec<MapPoint>, SceneError> {
     let list: Vec<ShearShape> = shapes.iter().map(|(_, s)| *s).collect();

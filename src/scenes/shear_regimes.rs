@@ -34,6 +34,7 @@ use super::shear_shape::ShearShape;
 use crate::driver::{Plan, RunStats, integrate};
 use crate::integrator::Dense;
 use crate::integrator::{Scheme, Stokesian, TimeIntegrator};
+use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::{ShearScaling, State};
 use crate::tensor::Vec3;
 use serde::{Deserialize, Serialize};
@@ -64,11 +65,13 @@ pub struct Classification {
     pub stats: RunStats,
 }
 
-/// The TU/TR classifier: an integrator plus the horizon and checking density.
+/// The TU/TR classifier: an integrator, the particles' law, the horizon and checking density.
 #[derive(Debug, Clone, Copy)]
-pub struct RegimeClassifier<I> {
+pub struct RegimeClassifier<I, L = NeoHookeLaw> {
     /// Time integrator.
     pub integrator: I,
+    /// Builds each particle's law from μ_s = 1/Ca and λ_s = (λ_s/μ_s)/Ca.
+    pub law: L,
     /// First step (adaptive) or the fixed step.
     pub dt0: f64,
     /// Minimum horizon t̂.
@@ -91,6 +94,7 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
     pub fn new(integrator: I, dt0: f64) -> Self {
         Self {
             integrator,
+            law: NeoHookeLaw,
             dt0,
             t_min: 30.0,
             periods: 8.0,
@@ -98,6 +102,20 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
         }
     }
 
+    /// The same classifier for particles of another law.
+    pub fn with_law<L: LawFactory>(self, law: L) -> RegimeClassifier<I, L> {
+        RegimeClassifier {
+            integrator: self.integrator,
+            law,
+            dt0: self.dt0,
+            t_min: self.t_min,
+            periods: self.periods,
+            substeps: self.substeps,
+        }
+    }
+}
+
+impl<I: TimeIntegrator, L: LawFactory> RegimeClassifier<I, L> {
     /// Horizon for `shape`.
     pub fn horizon(&self, shape: &ShearShape) -> f64 {
         self.t_min.max(self.periods * shape.rigid_shape_period())
@@ -105,7 +123,9 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
 
     /// Classify `shape` at the groups `scaling` (Ca, ρ*, λ_s/μ_s).
     pub fn classify(&self, shape: &ShearShape, scaling: &ShearScaling) -> Result<Classification, SceneError> {
-        let particle = shape.particle(scaling)?;
+        let mu_s = 1.0 / scaling.ca();
+        let law = self.law.law(mu_s, scaling.bulk_ratio() * mu_s)?;
+        let particle = shape.particle_with(scaling, law)?;
         let (a, c) = shape.in_plane_axes();
         let (xi_a0, xi_c0) = (particle.shape().axis_point(a), particle.shape().axis_point(c));
         let horizon = self.horizon(shape);
