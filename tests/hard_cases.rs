@@ -76,8 +76,10 @@ fn extreme_aspect_ratios() {
 }
 
 /// Ca from 1e-6 (stiff: relaxation rate 1e6 γ̇) to 3 (large deformation). The inertialess
-/// integrator is L-stable, so it must succeed everywhere; the IMEX scheme must succeed or stop
-/// with a typed error.
+/// integrator is L-stable, so it must succeed everywhere. The IMEX scheme at ρ* = 1, Δt = 5e-3
+/// meets both stability conditions for every Ca here: Δt is below the explicit viscous limit
+/// ρ*/38 of the 2:1 prolate, and λ_s Δt = (1e3/Ca)·5e-3 ≥ 5/3 > (2/3)μ_f (the volumetric
+/// condition of the `paper` traction). So it must succeed too.
 #[test]
 fn capillary_numbers_from_1e_minus_6_to_3() {
     for ca in [1e-6, 1e-3, 0.1, 1.0, 3.0] {
@@ -92,22 +94,25 @@ fn capillary_numbers_from_1e_minus_6_to_3() {
         )
         .unwrap_or_else(|e| panic!("Ca {ca}: {e}"));
         assert_sane(&p, &s, "stokesian");
-        match advance(
+        let (s, _) = advance(
             &ImexPaper::default(),
             &p,
             State::at_rest(Vec3::zeros()),
             &shear(),
             5e-3,
             0.5,
-        ) {
-            Ok((s, _)) => assert_sane(&p, &s, "imex_paper"),
-            Err(e) => assert_typed(&e, "imex_paper"),
-        }
+        )
+        .unwrap_or_else(|e| panic!("imex_paper, Ca {ca}: {e}"));
+        assert_sane(&p, &s, "imex_paper");
     }
 }
 
-/// λ_s/μ_s from 10 (compressible: the `paper` volumetric traction is anti-damped unless
-/// λ_s Δt ≳ μ_f) to 1e6 (stiff volume mode).
+/// λ_s/μ_s from 10 (compressible) to 1e6 (stiff volume mode). The `paper` volumetric traction
+/// anti-damps the volume mode unless λ_s Δt ≳ (2/3)μ_f: with Ca = 0.4 and Δt = 5e-4 that is
+/// λ_s/μ_s ≳ 533. So the IMEX scheme must succeed from 1e3 up, and below it must not return a
+/// silently wrong state: it either stops with a typed error or stays physical over t ≤ 1
+/// (the anti-damped growth rate is O(1/Δt)·(1 − λ_sΔt/(2/3)μ_f), which may not show in a
+/// short run). The inertialess integrator has no such condition and must succeed everywhere.
 #[test]
 fn bulk_ratios_from_10_to_1e6() {
     for bulk in [10.0, 1e2, 1e4, 1e6] {
@@ -121,7 +126,8 @@ fn bulk_ratios_from_10_to_1e6() {
             1.0,
         ) {
             Ok((s, _)) => assert_sane(&p, &s, "imex_paper"),
-            Err(e) => assert_typed(&e, "imex_paper"),
+            Err(e) if bulk < 533.0 => assert_typed(&e, "imex_paper"),
+            Err(e) => panic!("imex_paper at λ_s/μ_s = {bulk} meets both stability conditions: {e}"),
         }
         let (s, _) = advance(
             &Stokesian::overdamped(1e-6).unwrap(),

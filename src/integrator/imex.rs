@@ -283,9 +283,12 @@ pub(crate) fn shape_update<M: Response, D: DragModel, F: FlowField + ?Sized>(
         |x| {
             let f = mat3(x);
             crate::particle::dynamics::check_orientation(&f, t_new)?;
-            Ok(vec9(
-                &(f - anchor - (traction_load(&f, sigma_star) - material.piola(&f)) * theta_inv * c),
-            ))
+            let (load, stress) = (
+                traction_load(&f, sigma_star) * theta_inv * c,
+                material.piola(&f) * theta_inv * c,
+            );
+            let floor = f64::EPSILON * f.amax().max(anchor.amax()).max(load.amax()).max(stress.amax());
+            Ok((vec9(&(f - anchor - (load - stress))), floor))
         },
         |x| {
             model.count_jacobian();
