@@ -5,7 +5,7 @@
 //! Every recorded sample is written; runs are thinned where they are recorded.
 
 use super::setup::PipeScene;
-use super::tracking::{Deposition, PipeSample};
+use super::tracking::{Deposition, PipeSample, ShapeStats};
 use crate::output::{Csv, OutputError, Panel, Series};
 
 /// A particle's scene with its samples.
@@ -106,6 +106,8 @@ pub struct DepositionRow {
     pub steps: u64,
     /// True if the distance exceeds the pipe length L (the particle would have left the pipe).
     pub beyond_pipe: bool,
+    /// Time averages ⟨(p·e₂)²⟩, ⟨r₁/r₃⟩ and max r₁/r₃ of the main run.
+    pub shape: ShapeStats,
 }
 
 impl DepositionRow {
@@ -147,13 +149,15 @@ pub fn deposition_rows(runs: &[(PipeScene, Deposition)], checks: &[(PipeScene, D
                 check_distance_deq: check.distance(),
                 steps: run.steps,
                 beyond_pipe: run.distance() * l > scene.flow_data.length,
+                shape: run.shape,
             }
         })
         .collect()
 }
 
 /// `lambda1,ca,d_eq_um,t_dep_s,x1_dep_deq,x1_dep_m,extra_vs_rigid_deq,paper_relation,
-/// paper_extra_deq,x1_dep_deq_check,tolerance_change,beyond_pipe_length,steps`.
+/// paper_extra_deq,x1_dep_deq_check,tolerance_change,beyond_pipe_length,steps,mean_p_e2_sq,
+/// mean_r1_over_r3,max_r1_over_r3` (p the current long axis; time averages over the run).
 pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
     let mut csv = Csv::new(&[
         "lambda1",
@@ -169,6 +173,9 @@ pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
         "tolerance_change",
         "beyond_pipe_length",
         "steps",
+        "mean_p_e2_sq",
+        "mean_r1_over_r3",
+        "max_r1_over_r3",
     ]);
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for r in rows {
@@ -187,6 +194,9 @@ pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
             r.tolerance_change().to_string(),
             r.beyond_pipe.to_string(),
             r.steps.to_string(),
+            opt(r.shape.mean_gradient_alignment()),
+            opt(r.shape.mean_aspect()),
+            r.shape.max_aspect().to_string(),
         ])?;
     }
     Ok(csv)
