@@ -6,6 +6,7 @@
 
 use super::setup::PipeScene;
 use super::tracking::{Deposition, PipeSample, ShapeStats};
+use crate::diagnostics::{Thresholds, Validity};
 use crate::output::{Csv, OutputError, Panel, Series};
 
 /// A particle's scene with its samples.
@@ -108,6 +109,8 @@ pub struct DepositionRow {
     pub beyond_pipe: bool,
     /// Time averages ⟨(p·e₂)²⟩, ⟨r₁/r₃⟩ and max r₁/r₃ of the main run.
     pub shape: ShapeStats,
+    /// Validity diagnostics of the main run (r₁ in d_eq).
+    pub validity: Validity,
 }
 
 impl DepositionRow {
@@ -150,6 +153,7 @@ pub fn deposition_rows(runs: &[(PipeScene, Deposition)], checks: &[(PipeScene, D
                 steps: run.steps,
                 beyond_pipe: run.distance() * l > scene.flow_data.length,
                 shape: run.shape,
+                validity: run.validity,
             }
         })
         .collect()
@@ -157,9 +161,10 @@ pub fn deposition_rows(runs: &[(PipeScene, Deposition)], checks: &[(PipeScene, D
 
 /// `lambda1,ca,d_eq_um,t_dep_s,x1_dep_deq,x1_dep_m,extra_vs_rigid_deq,paper_relation,
 /// paper_extra_deq,x1_dep_deq_check,tolerance_change,beyond_pipe_length,steps,mean_p_e2_sq,
-/// mean_r1_over_r3,max_r1_over_r3` (p the current long axis; time averages over the run).
+/// mean_r1_over_r3,max_r1_over_r3` (p the current long axis; time averages over the run),
+/// then the validity columns [`Validity::COLUMNS`] under the default [`Thresholds`].
 pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
-    let mut csv = Csv::new(&[
+    let mut header = vec![
         "lambda1",
         "ca",
         "d_eq_um",
@@ -176,11 +181,14 @@ pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
         "mean_p_e2_sq",
         "mean_r1_over_r3",
         "max_r1_over_r3",
-    ]);
+    ];
+    header.extend(Validity::COLUMNS);
+    let mut csv = Csv::new(&header);
+    let limits = Thresholds::default();
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for r in rows {
         let paper = r.paper_statement();
-        csv.push(vec![
+        let mut cells = vec![
             r.lambda1.to_string(),
             r.ca.to_string(),
             r.d_eq_um.to_string(),
@@ -197,7 +205,9 @@ pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
             opt(r.shape.mean_gradient_alignment()),
             opt(r.shape.mean_aspect()),
             r.shape.max_aspect().to_string(),
-        ])?;
+        ];
+        cells.extend(r.validity.cells(&limits));
+        csv.push(cells)?;
     }
     Ok(csv)
 }

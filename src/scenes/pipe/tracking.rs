@@ -9,6 +9,7 @@
 
 use super::setup::PipeScene;
 use crate::contact::{ContactEvent, ContactModel, PipeWall};
+use crate::diagnostics::{Monitor, Validity};
 use crate::driver::{Event, Plan, Stop, integrate, run};
 use crate::ellipsoid::PrincipalFrame;
 use crate::integrator::TimeIntegrator;
@@ -139,6 +140,8 @@ pub struct Deposition {
     pub rejected: u64,
     /// Time-averaged shape and alignment.
     pub shape: ShapeStats,
+    /// Validity diagnostics over the accepted steps.
+    pub validity: Validity,
 }
 
 impl Deposition {
@@ -175,6 +178,8 @@ pub fn track_to_deposition<I: TimeIntegrator>(
     let mut shape = ShapeStats::default();
     let frame = |s: &State| PrincipalFrame::from_total_distortion(&scene.particle.total_distortion(&s.f));
     shape.add(&frame(&state), state.t);
+    let mut monitor = Monitor::new(&scene.particle, &scene.flow, &scene.wall);
+    monitor.observe(&state);
     let mut next_record = record_dt;
     let mut rejected = 0;
     let mut memory = I::Memory::default();
@@ -191,6 +196,7 @@ pub fn track_to_deposition<I: TimeIntegrator>(
         |step| {
             rejected += u64::from(step.info.rejected);
             shape.add(&frame(&step.state), step.state.t);
+            monitor.observe(&step.state);
             if step.state.t >= next_record {
                 samples.push(scene.observe(&step.state));
                 next_record = step.state.t + record_dt;
@@ -205,6 +211,7 @@ pub fn track_to_deposition<I: TimeIntegrator>(
                 steps: end.stats.steps,
                 rejected,
                 shape,
+                validity: monitor.validity(),
             })
         }
         Stop::EndTime => Err(SceneError::NotDeposited {
