@@ -560,7 +560,7 @@ pub struct Member {
     pub run: Result<CavityRun, String>,
 }
 
-/// Events (exit or deposition) after this time [s] are flagged as sensitive to the paper's
+/// Events (exit or deposition) after this time (s) are flagged as sensitive to the paper's
 /// 100 s tracking horizon.
 pub const LATE_EVENT: f64 = 95.0;
 

@@ -78,10 +78,12 @@ pub fn shear_averaged_mobility<I: TimeIntegrator>(
     let plan = Plan::new(t_end, 1e-3)?.with_outputs(&[t_transient, t_end])?;
     let mut memory = I::Memory::default();
     // (t, mobility, cos) of the previous state; ∫mobility dt since t_transient;
-    // (t, integral) at the first and last downward crossing.
+    // (t, integral) at the first and the last downward crossing, and their count.
     let mut last = (start.t, mobility(&start)?, cosine(&start));
     let mut integral = 0.0;
-    let mut crossings: (Option<(f64, f64)>, Option<(f64, f64)>, usize) = (None, None, 0);
+    let mut first: Option<(f64, f64)> = None;
+    let mut latest: Option<(f64, f64)> = None;
+    let mut count = 0usize;
     let mut failure = None;
     integrate(
         integrator,
@@ -110,9 +112,9 @@ pub fn shear_averaged_mobility<I: TimeIntegrator>(
                         t0 + frac * (s.t - t0),
                         integral + frac * (s.t - t0) * (m0 + 0.5 * frac * (m - m0)),
                     );
-                    crossings.0.get_or_insert(at);
-                    crossings.1 = Some(at);
-                    crossings.2 += 1;
+                    first.get_or_insert(at);
+                    latest = Some(at);
+                    count += 1;
                 }
                 integral += 0.5 * (s.t - t0) * (m0 + m);
             }
@@ -122,10 +124,10 @@ pub fn shear_averaged_mobility<I: TimeIntegrator>(
     if let Some(e) = failure {
         return Err(e);
     }
-    match crossings {
-        (Some((ta, ia)), Some((tb, ib)), n) if n >= 2 => Ok((ib - ia) / (tb - ta)),
-        (_, _, n) => Err(SceneError::TooFewOrbits {
-            crossings: n,
+    match (first, latest) {
+        (Some((ta, ia)), Some((tb, ib))) if count >= 2 => Ok((ib - ia) / (tb - ta)),
+        _ => Err(SceneError::TooFewOrbits {
+            crossings: count,
             t_average,
         }),
     }
