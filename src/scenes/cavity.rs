@@ -20,6 +20,14 @@
 //! has no shape dynamics. The particle Reynolds number at release is Re_γ = γ̇₀ d_eq²/ν ≈ 5.5:
 //! creeping flow at the particle scale is itself violated ([`crate::diagnostics`]).
 //!
+//! Where the paper contradicts itself (§6, §6.3), this scene follows the stated set-up:
+//! - it quotes u⁰ = 0.367 m/s at the release point, 4.5× the lid speed; the field gives
+//!   ≈ 0.062 m/s there (its Re_p ≈ 64 "worst case" rests on the larger value);
+//! - it quotes Stk = 0.0023, but its eqs. 25–26 with d_eq = 3 mm, U = 0.0813 m/s, L = 0.1 m give
+//!   (ρ_p/ρ_f) d_eq² U/(18 ν_f L) = 0.0235;
+//! - its sentence on λ₁ = 8 says particles with Ca ≥ 0.25 leave through the lid and that the one
+//!   with Ca ≥ 0.75 sticks to the right wall.
+//!
 //! Set-up uncertainties ([`Variant`]): the lid direction is given only in a figure, the field
 //! carries the grid error of its solver (≈ 4 %), and outcomes depend on the initial
 //! orientation; [`Variant`] mirrors the lid motion and scales the field, and
