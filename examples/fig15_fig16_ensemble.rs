@@ -4,8 +4,9 @@
 //! events after 95 s flagged. Writes `paper-figures/fig15_fig16/{outcome_fractions.csv,
 //! ensemble_runs.csv}`.
 //!
-//! Run: `cargo run --release --example fig15_fig16_ensemble [orientations] [scales…]`
-//! (defaults: 9 orientations, scales 0.98 1.02).
+//! Run: `cargo run --release --example fig15_fig16_ensemble [inertialess] [orientations]
+//! [scales…]` (defaults: inertial shapes, 9 orientations, scales 0.98 1.02); `inertialess`
+//! writes `outcome_fractions_inertialess.csv` and `ensemble_runs_inertialess.csv` instead.
 
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::paper_figure_path;
@@ -16,7 +17,13 @@ use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
-    let mut args = std::env::args().skip(1);
+    let mut args = std::env::args().skip(1).peekable();
+    let inertialess = args.next_if(|a| a == "inertialess").is_some();
+    let (model, suffix) = if inertialess {
+        (ShapeModel::Inertialess, "_inertialess")
+    } else {
+        (ShapeModel::Inertial, "")
+    };
     let count: usize = args.next().map_or(Ok(9), |a| a.parse())?;
     let scales: Vec<f64> = args.map(|a| a.parse()).collect::<Result<_, _>>()?;
     let scales = if scales.is_empty() { vec![0.98, 1.02] } else { scales };
@@ -38,11 +45,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .into_iter()
         .flat_map(|mirrored| scales.iter().map(move |&scale| Variant { mirrored, scale }))
         .collect();
-    let members = ensemble(&flow, ShapeModel::Inertial, &releases, &variants, count, 100.0, 1e-6)?;
+    let members = ensemble(&flow, model, &releases, &variants, count, 100.0, 1e-6)?;
     let table = outcome_fraction_table(&members)?;
     print!("{}", table.to_text());
-    table.write(paper_figure_path("fig15_fig16", "outcome_fractions.csv"))?;
-    member_table(&members)?.write(paper_figure_path("fig15_fig16", "ensemble_runs.csv"))?;
+    table.write(paper_figure_path(
+        "fig15_fig16",
+        &format!("outcome_fractions{suffix}.csv"),
+    ))?;
+    member_table(&members)?.write(paper_figure_path("fig15_fig16", &format!("ensemble_runs{suffix}.csv")))?;
     let failed = members.iter().filter(|m| m.run.is_err()).count();
     println!(
         "fig15_fig16_ensemble: {} runs ({failed} failed), wall time {:.1} s",

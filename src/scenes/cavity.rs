@@ -19,7 +19,8 @@
 //! [`ShapeModel::Inertialess`] (ρ* → 0) is kept for comparison and for the rigid limit, which
 //! has no shape dynamics. Caution: for thin soft shapes (oblate 5 and 8, prolate 5 at high Ca)
 //! the inertial runs change outcome between tolerances 10⁻⁶ and 10⁻⁷, where a fast mode
-//! (suspected dilatational) grows and lifts the particle to the lid within a second; see the
+//! (dilatational: |J − 1| grows to O(1), which reverses the 0.05 % buoyancy) grows and lifts
+//! the particle to the lid within a second; see the
 //! Figs 15/16 dataset notes. The particle Reynolds number at release is Re_γ = γ̇₀ d_eq²/ν ≈ 5.5:
 //! creeping flow at the particle scale is itself violated ([`crate::diagnostics`]).
 //!
