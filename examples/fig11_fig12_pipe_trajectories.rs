@@ -76,7 +76,7 @@ fn report(r: &DepositionRow) {
         .paper_statement()
         .map_or(String::new(), |(rel, v)| format!("  paper: {rel} +{v}"));
     println!(
-        "λ1 = {:<3} Ca = {:<4}: deposits after {:.3} s at x1 = {:.0} d_eq ({:.3} m{}), extra vs rigid {extra} d_eq{paper}; tol/2 changes it by {:.1e} (relative to the extra), {} steps",
+        "λ1 = {:<3} Ca = {:<4}: deposits after {:.3} s at x1 = {:.0} d_eq ({:.3} m{}), extra vs rigid {extra} d_eq{paper}; tol/2 changes it by {:.1e} (relative to the extra), {} steps; <(p.e2)^2> {:.3}, <r1/r3> {:.2}, max r1/r3 {:.2}",
         r.lambda1,
         r.ca,
         r.t_s,
@@ -84,6 +84,9 @@ fn report(r: &DepositionRow) {
         r.distance_m,
         if r.beyond_pipe { ", beyond L" } else { "" },
         r.tolerance_change(),
-        r.steps
+        r.steps,
+        r.shape.mean_gradient_alignment().unwrap_or(f64::NAN),
+        r.shape.mean_aspect().unwrap_or(f64::NAN),
+        r.shape.max_aspect()
     );
 }

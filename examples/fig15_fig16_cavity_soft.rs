@@ -1,19 +1,29 @@
 //! Paper Figs 15 and 16: soft prolate (λ₁ = 1, 2, 5, 8) and oblate (λ₁ = λ₂ = 2, 5, 8)
-//! ellipsoids at Ca = 0.001, 0.25, 0.5, 0.75 in the Re = 470 cavity, tracked for 100 s.
-//! Writes `paper-figures/fig15_fig16/`.
+//! ellipsoids at Ca = 0.001, 0.25, 0.5, 0.75 in the Re = 470 cavity, tracked for 100 s with
+//! solid inertia (ρ* ≈ 5.5 at release; `scenes::cavity` docs). `inertialess` as the first
+//! argument runs the inertialess shape model instead and writes `outcomes_inertialess.csv`
+//! only, for comparison. Writes `paper-figures/fig15_fig16/`.
 //!
 //! Run: `cargo run --release --example fig15_fig16_cavity_soft`
 
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::Figure;
-use pseudorigid::scenes::cavity::{Cavity, Contact, Release, Shape, outcome_table, trajectory_panel, trajectory_table};
+use pseudorigid::scenes::cavity::{
+    Cavity, Contact, Release, Shape, ShapeModel, outcome_table, trajectory_panel, trajectory_table,
+};
 use rayon::prelude::*;
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
     let flow = MeshedFlow::load("reference-data/cavity_re470.prf")?;
-    let cavity = Cavity::new(&flow)?;
+    let inertialess = std::env::args().nth(1).as_deref() == Some("inertialess");
+    let model = if inertialess {
+        ShapeModel::Inertialess
+    } else {
+        ShapeModel::Inertial
+    };
+    let cavity = Cavity::new(&flow)?.with_shape_model(model);
     let shapes = [
         Shape::Prolate(1.0),
         Shape::Prolate(2.0),
@@ -39,6 +49,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             run.outcome,
             run.stats.steps
         );
+    }
+    if inertialess {
+        outcome_table(&runs)?.write("paper-figures/fig15_fig16/outcomes_inertialess.csv")?;
+        return Ok(());
     }
     trajectory_table(&runs)?.write("paper-figures/fig15_fig16/trajectories.csv")?;
     outcome_table(&runs)?.write("paper-figures/fig15_fig16/outcomes.csv")?;

@@ -18,6 +18,7 @@
 //! paper's nondimensional shear-flow particles (lengths d_eq, times 1/γ̇, stresses μ_f γ̇).
 
 pub mod contact;
+pub mod diagnostics;
 pub mod driver;
 pub mod ellipsoid;
 pub mod error;

@@ -1,5 +1,6 @@
 //! Reference problems with exact solutions, shared by tests, benches and examples.
 
+use crate::error::ParamError;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Jeffery's in-plane orbit of a rigid spheroid with aspect ratio r in simple shear
@@ -16,4 +17,89 @@ pub fn jeffery_phi(r: f64, t: f64) -> f64 {
 /// t₀ = (π/2)(r² + 1)/r. An orbit started with the axis along the flow is φ(t₀ + t).
 pub fn jeffery_flow_aligned_time(r: f64) -> f64 {
     FRAC_PI_2 * (r * r + 1.0) / r
+}
+
+/// Time average of (p·e_y)² over Jeffery's orbit of [`jeffery_phi`], p the unit symmetry axis:
+/// with tan φ = r tan τ and τ uniform in time, $\langle\cos^2\phi\rangle = \frac{2}{\pi}
+/// \int_0^{\pi/2} \frac{d\tau}{1 + r^2\tan^2\tau} = \frac{1}{1 + r}$
+/// (substitute s = tan τ and close the contour, or check r = 1: ½). Independent of γ̇, so it
+/// also holds while the shear rate a particle sees drifts slowly.
+pub fn jeffery_mean_gradient_alignment(r: f64) -> f64 {
+    1.0 / (1.0 + r)
+}
+
+/// Jeffery-orbit average of the settling mobility e_y·K̂⁻¹e_y of a rigid spheroid whose
+/// symmetry axis p tumbles in the flow–gradient plane: K̂⁻¹ = pp/K_a + (1 − pp)/K_t, so
+/// $\langle e_y·\hat K^{-1} e_y\rangle = w/K_a + (1 − w)/K_t$ with w = 1/(1 + r) from
+/// [`jeffery_mean_gradient_alignment`]. The flow-wise part of K̂⁻¹e_y, ∝ sin φ cos φ, is odd in
+/// the orbit phase and averages to zero. `k_axial`, `k_transverse` are the principal
+/// resistances (K̂ of Brenner 1963, dimensions of length).
+pub fn jeffery_averaged_settling_mobility(r: f64, k_axial: f64, k_transverse: f64) -> f64 {
+    let w = jeffery_mean_gradient_alignment(r);
+    w / k_axial + (1.0 - w) / k_transverse
+}
+
+/// Hagen–Poiseuille flow u = 2Ū(1 − y²/R²) e_x of radius R and mean velocity Ū, crossed by a
+/// particle settling along the radius from |y| = `from` to `to` at a speed V(|y|) while it moves
+/// with the flow: the streamwise distance it travels is
+/// $D = \int_{y_0}^{y_1} \frac{u(y)}{V(y)}\,dy$
+/// (dx/dt = u, d|y|/dt = V; the settling drift along the flow averages out over an orbit,
+/// [`jeffery_averaged_settling_mobility`]). Composite 3-point Gauss–Legendre on `panels`
+/// equal panels: exact for a constant V (u is quadratic), error O(panels⁻⁶) for smooth V.
+pub fn poiseuille_settling_distance(
+    radius: f64,
+    mean_velocity: f64,
+    from: f64,
+    to: f64,
+    speed: impl Fn(f64) -> f64,
+    panels: usize,
+) -> Result<f64, ParamError> {
+    validate_settling_path(radius, mean_velocity, from, to)?;
+    crate::error::positive("quadrature panels", panels as f64)?;
+    // Gauss–Legendre nodes ±√(3/5), 0 with weights 5/9, 8/9 on [−1, 1].
+    let node = (0.6f64).sqrt();
+    let rule = [(-node, 5.0 / 9.0), (0.0, 8.0 / 9.0), (node, 5.0 / 9.0)];
+    let h = (to - from) / panels as f64;
+    let mut sum = 0.0;
+    for k in 0..panels {
+        let mid = from + (k as f64 + 0.5) * h;
+        for (x, w) in rule {
+            let y = mid + 0.5 * h * x;
+            let u = 2.0 * mean_velocity * (1.0 - y * y / (radius * radius));
+            sum += 0.5 * h * w * u / speed(y);
+        }
+    }
+    crate::error::finite("settling distance (speed must be non-zero and finite)", sum)
+}
+
+/// [`poiseuille_settling_distance`] for a constant settling speed V, in closed form:
+/// $D = \frac{2\bar U}{V}\Big[y - \frac{y^3}{3R^2}\Big]_{y_0}^{y_1}$.
+pub fn poiseuille_settling_distance_uniform(
+    radius: f64,
+    mean_velocity: f64,
+    from: f64,
+    to: f64,
+    speed: f64,
+) -> Result<f64, ParamError> {
+    validate_settling_path(radius, mean_velocity, from, to)?;
+    let speed = crate::error::positive("settling speed", speed)?;
+    let antiderivative = |y: f64| y - y * y * y / (3.0 * radius * radius);
+    Ok(2.0 * mean_velocity / speed * (antiderivative(to) - antiderivative(from)))
+}
+
+/// R > 0, Ū finite and both ends of the settling path inside the pipe, 0 ≤ |y| ≤ R.
+fn validate_settling_path(radius: f64, mean_velocity: f64, from: f64, to: f64) -> Result<(), ParamError> {
+    crate::error::positive("pipe radius", radius)?;
+    crate::error::finite("mean velocity", mean_velocity)?;
+    for (name, y) in [("settling start |y|", from), ("settling end |y|", to)] {
+        if !(0.0..=radius).contains(&y) {
+            return Err(ParamError::OutOfRange {
+                name,
+                value: y,
+                min: 0.0,
+                max: radius,
+            });
+        }
+    }
+    Ok(())
 }

@@ -10,23 +10,50 @@
 //!
 //! Readings where the paper is silent: the initial long axis is along the lid motion x (for
 //! oblate shapes the two long axes span x–y, the short one is vertical); the barycentre is
-//! inertial (St ≈ 0.02); shapes are inertialess (ρ* of the shape dynamics ≈ ρ_p γ̇₀ d²/μ_f
-//! ≈ 0.5 for γ̇₀ ≈ 1 s⁻¹, but the shape relaxes on the viscous time scale).
+//! inertial (St ≈ 0.02).
+//!
+//! Shape dynamics ([`ShapeModel`]): at the release point γ̇₀ = 10.6 s⁻¹, so the shape's
+//! nondimensional density is ρ* = ρ_p γ̇₀ d_eq²/μ_f ≈ 5.5, not small: solid inertia is not
+//! negligible against the viscous load, and the paper integrates it (§5). Figs 15/16 therefore
+//! use the inertial model ([`ShapeModel::Inertial`], the paper's IMEX step with error control);
+//! [`ShapeModel::Inertialess`] (ρ* → 0) is kept for comparison and for the rigid limit, which
+//! has no shape dynamics. Caution: for thin soft shapes (oblate 5 and 8, prolate 5 at high Ca)
+//! the inertial runs change outcome between tolerances 10⁻⁶ and 10⁻⁷, where a fast mode
+//! (dilatational: |J − 1| grows to O(1), which reverses the 0.05 % buoyancy) grows and lifts
+//! the particle to the lid within a second; see the
+//! Figs 15/16 dataset notes. The particle Reynolds number at release is Re_γ = γ̇₀ d_eq²/ν ≈ 5.5:
+//! creeping flow at the particle scale is itself violated ([`crate::diagnostics`]).
+//!
+//! Where the paper contradicts itself (§6, §6.3), this scene follows the stated set-up:
+//! - it quotes u⁰ = 0.367 m/s at the release point, 4.5× the lid speed; the field gives
+//!   ≈ 0.062 m/s there (its Re_p ≈ 64 "worst case" rests on the larger value);
+//! - it quotes Stk = 0.0023, but its eqs. 25–26 with d_eq = 3 mm, U = 0.0813 m/s, L = 0.1 m give
+//!   (ρ_p/ρ_f) d_eq² U/(18 ν_f L) = 0.0235;
+//! - its sentence on λ₁ = 8 says particles with Ca ≥ 0.25 leave through the lid and that the one
+//!   with Ca ≥ 0.75 sticks to the right wall.
+//!
+//! Set-up uncertainties ([`Variant`]): the lid direction is given only in a figure, the field
+//! carries the grid error of its solver (≈ 4 %), and outcomes depend on the initial
+//! orientation; [`Variant`] mirrors the lid motion and scales the field, and
+//! [`Cavity::track_oriented`] turns the release.
 //!
 //! Wall rules (paper §6.3): a particle touching the lid leaves the cavity; one touching any
-//! other wall sticks. Contact uses the particle's extent (support distance, `flow::unstructured`)
+//! other wall sticks. In the top corners a particle can be equally near the lid and a side wall;
+//! the lid is decided first ([`Planes::nearest`] lets the first-listed wall win ties), so such a
+//! particle exits: it has reached the lid's height, which is the paper's exit criterion. Contact uses the particle's extent (support distance, `flow::unstructured`)
 //! or, as a point-particle tracker would, the barycentre only ([`Contact`]). The release point
 //! is 1.7 mm below the lid while the particles are 2.4–4.8 mm long, so with the extent rule a
 //! tilting prolate touches the lid within a fraction of a second.
 
 use super::SceneError;
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule, Planes};
+use crate::diagnostics::{Monitor, Thresholds, Validity};
 use crate::driver::{Plan, RunStats, Stop, integrate};
 use crate::ellipsoid::Ellipsoid;
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::flow::unstructured::MeshedFlow;
-use crate::integrator::{BarycentreModel, Stokesian};
+use crate::integrator::{BarycentreModel, ImexAdaptive, Stokesian, TimeIntegrator};
 use crate::material::{NeoHooke, Softness};
 use crate::particle::{Fluid, Particle, State};
 use crate::tensor::{Mat3, Vec3, sym};
@@ -142,33 +169,131 @@ pub struct CavityRun {
     pub release: Release,
     /// Contact model used.
     pub contact: Contact,
+    /// Shape model used (inertialess for the rigid limit whatever was asked).
+    pub shape_model: ShapeModel,
     /// (t, x) samples [s, m].
     pub path: Vec<(f64, Vec3)>,
     /// Outcome.
     pub outcome: Outcome,
     /// Work.
     pub stats: RunStats,
+    /// Validity diagnostics over the accepted steps (r₁ in m).
+    pub validity: Validity,
+}
+
+/// How the shape responds (the barycentre is inertial in both).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum ShapeModel {
+    /// Inertialess shape (ρ* → 0): [`Stokesian`] at rtol = atol = tol.
+    Inertialess,
+    /// Solid inertia as in the paper: [`ImexAdaptive`] with local tolerance tol.
+    Inertial,
+}
+
+impl ShapeModel {
+    /// Label for datasets.
+    pub fn label(self) -> &'static str {
+        match self {
+            ShapeModel::Inertialess => "inertialess",
+            ShapeModel::Inertial => "inertial",
+        }
+    }
+}
+
+/// A variant of the shipped field within the set-up's uncertainty.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Variant {
+    /// Mirror about x = L/2: the lid moves along −x (the release point stays where it is).
+    pub mirrored: bool,
+    /// Factor on u and ∇u (the field's grid error is ≈ 4 %).
+    pub scale: f64,
+}
+
+impl Default for Variant {
+    fn default() -> Self {
+        Self {
+            mirrored: false,
+            scale: 1.0,
+        }
+    }
+}
+
+/// The shipped field seen through a [`Variant`]: with J = diag(−1, 1, 1) and the mirror
+/// x ↦ Jx + L e_x, u'(x) = s J u(Jx + L e_x) and ∇u'(x) = s J ∇u(Jx + L e_x) J.
+struct VariantFlow<'a> {
+    mesh: &'a MeshedFlow,
+    variant: Variant,
+}
+
+impl FlowField for VariantFlow<'_> {
+    fn sample(&self, x: &Vec3, t: f64) -> Result<crate::flow::FlowSample, crate::error::FlowError> {
+        let s = self.variant.scale;
+        if !self.variant.mirrored {
+            let mut sample = self.mesh.sample(x, t)?;
+            sample.u *= s;
+            sample.grad_u *= s;
+            return Ok(sample);
+        }
+        let j = Mat3::from_diagonal(&Vec3::new(-1.0, 1.0, 1.0));
+        let mut sample = self.mesh.sample(&Vec3::new(EDGE - x[0], x[1], x[2]), t)?;
+        sample.u = j * sample.u * s;
+        sample.grad_u = j * sample.grad_u * j * s;
+        Ok(sample)
+    }
 }
 
 /// The cavity experiment: flow field, walls and fluid.
 pub struct Cavity<'a> {
-    flow: &'a MeshedFlow,
+    flow: VariantFlow<'a>,
     boundary: Planes,
     fluid: Fluid,
     shear_rate: f64,
+    shape_model: ShapeModel,
 }
 
 impl<'a> Cavity<'a> {
-    /// Experiment on a loaded Re = 470 field.
+    /// Experiment on a loaded Re = 470 field, inertialess shapes.
     pub fn new(flow: &'a MeshedFlow) -> Result<Self, SceneError> {
         let d = sym(&flow.sample(&release_point(), 0.0).map_err(StepError::from)?.grad_u);
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
         Ok(Self {
-            flow,
+            flow: VariantFlow {
+                mesh: flow,
+                variant: Variant::default(),
+            },
             boundary: Planes::cavity(EDGE)?,
             fluid: Fluid::new(rho_fluid() * NU, rho_fluid())?,
             shear_rate,
+            shape_model: ShapeModel::Inertialess,
         })
+    }
+
+    /// The same experiment with another shape model.
+    pub fn with_shape_model(self, shape_model: ShapeModel) -> Self {
+        Self { shape_model, ..self }
+    }
+
+    /// The same experiment in a variant of the field. The particles keep their stiffness: Ca
+    /// stays defined by the nominal field's γ̇₀ (the particle is real, the field uncertain).
+    pub fn with_variant(self, variant: Variant) -> Result<Self, SceneError> {
+        crate::error::positive("field scale", variant.scale)?;
+        Ok(Self {
+            flow: VariantFlow { variant, ..self.flow },
+            ..self
+        })
+    }
+
+    /// The same experiment with a neutrally buoyant particle (ρ_f = ρ_p, ν unchanged).
+    pub fn neutrally_buoyant(self) -> Result<Self, SceneError> {
+        Ok(Self {
+            fluid: Fluid::new(RHO_PARTICLE * NU, RHO_PARTICLE)?,
+            ..self
+        })
+    }
+
+    /// The experiment's flow (the shipped field in its [`Variant`]) at `x`.
+    pub fn sample(&self, x: &Vec3) -> Result<crate::flow::FlowSample, crate::error::FlowError> {
+        self.flow.sample(x, 0.0)
     }
 
     /// γ̇₀ = √(2 d:d) at the release point [1/s].
@@ -199,13 +324,60 @@ impl<'a> Cavity<'a> {
         tol: f64,
         dt_out: f64,
     ) -> Result<CavityRun, SceneError> {
-        let p = self.particle(&release)?;
-        let mut integ = match release.ca {
-            Some(_) => Stokesian::new(tol)?,
-            None => Stokesian::new(tol)?,
+        self.track_oriented(release, contact_model, &Mat3::identity(), t_max, tol, dt_out)
+    }
+
+    /// [`Self::track`] with the release turned by the rotation `turn` (its axes become
+    /// turn·(e_x, e_y, e_z)); F = turn, so the stress-free shape is turned as a rigid body.
+    pub fn track_oriented(
+        &self,
+        release: Release,
+        contact_model: Contact,
+        turn: &Mat3,
+        t_max: f64,
+        tol: f64,
+        dt_out: f64,
+    ) -> Result<CavityRun, SceneError> {
+        let model = match (self.shape_model, release.ca) {
+            (ShapeModel::Inertial, Some(_)) => ShapeModel::Inertial,
+            _ => ShapeModel::Inertialess,
         };
-        integ.barycentre = BarycentreModel::Inertial;
+        match model {
+            ShapeModel::Inertial => {
+                let integ = ImexAdaptive::new(tol)?;
+                self.track_with(&integ, model, release, contact_model, turn, t_max, dt_out)
+            }
+            ShapeModel::Inertialess => {
+                // Rigid releases are rigid particles (see `particle`); the integrator is the same.
+                let mut integ = Stokesian::new(tol)?;
+                integ.barycentre = BarycentreModel::Inertial;
+                self.track_with(&integ, model, release, contact_model, turn, t_max, dt_out)
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)] // the release, its integrator and the run's limits
+    fn track_with<I: TimeIntegrator>(
+        &self,
+        integ: &I,
+        shape_model: ShapeModel,
+        release: Release,
+        contact_model: Contact,
+        turn: &Mat3,
+        t_max: f64,
+        dt_out: f64,
+    ) -> Result<CavityRun, SceneError> {
+        let defect = (turn.transpose() * turn - Mat3::identity()).amax();
+        if defect > 1e-12 || turn.determinant() <= 0.0 {
+            return Err(crate::error::ParamError::NotARotation {
+                orthogonality_defect: defect,
+                det: turn.determinant(),
+            }
+            .into());
+        }
+        let p = self.particle(&release)?;
         let mut s0 = State::at_rest(release_point());
+        s0.f = *turn;
         s0.v = self.flow.sample(&s0.x, 0.0).map_err(StepError::from)?.u;
         let model = match contact_model {
             Contact::Extent => ContactModel::Extent,
@@ -213,7 +385,9 @@ impl<'a> Cavity<'a> {
                 radius: BARYCENTRE_CONTACT_DISTANCE,
             },
         };
-        let contact = ContactEvent::new(&self.boundary, &p, self.flow, model);
+        let contact = ContactEvent::new(&self.boundary, &p, &self.flow, model);
+        let mut monitor = Monitor::new(&p, &self.flow, &self.boundary);
+        monitor.observe(&s0);
         // No step may carry the particle further than a quarter of its smallest semi-axis
         // (|u| ≤ U_lid): in the corners two walls are near at once, and the contact event
         // watches only the nearest.
@@ -223,15 +397,16 @@ impl<'a> Cavity<'a> {
         let mut next_out = dt_out;
         let mut memory = Default::default();
         let end = integrate(
-            &integ,
+            integ,
             &p,
-            self.flow,
+            &self.flow,
             s0,
             &mut memory,
             &plan,
             &[&contact],
             |s| path.borrow_mut().push((s.t, s.x)),
             |step| {
+                monitor.observe(&step.state);
                 if step.state.t >= next_out {
                     path.borrow_mut().push((step.state.t, step.state.x));
                     next_out = dt_out * ((step.state.t / dt_out).floor() + 1.0);
@@ -262,9 +437,11 @@ impl<'a> Cavity<'a> {
         Ok(CavityRun {
             release,
             contact: contact_model,
+            shape_model,
             path,
             outcome,
             stats,
+            validity: monitor.validity(),
         })
     }
 }
@@ -288,32 +465,58 @@ pub fn trajectory_table(runs: &[CavityRun]) -> Result<crate::output::Csv, crate:
     Ok(csv)
 }
 
-/// Outcomes as CSV: `contact,shape,ca,outcome,wall,t_end,x_over_l,y_over_l,z_over_l,steps`.
+/// Outcomes as CSV: `contact,shape,ca,outcome,wall,t_end,x_over_l,y_over_l,z_over_l,steps,
+/// shape_model`, then the validity columns [`Validity::COLUMNS`] under the default
+/// [`Thresholds`] (r₁ in m).
 pub fn outcome_table(runs: &[CavityRun]) -> Result<crate::output::Csv, crate::output::OutputError> {
-    let mut csv = crate::output::Csv::new(&[
-        "contact", "shape", "ca", "outcome", "wall", "t_end", "x_over_l", "y_over_l", "z_over_l", "steps",
-    ]);
+    let mut csv = crate::output::Csv::new(&outcome_header());
+    let limits = Thresholds::default();
     for run in runs {
-        let (t, x) = run.path.last().copied().unwrap_or((0.0, release_point()));
-        let (kind, wall) = match &run.outcome {
-            Outcome::Exited { .. } => ("exited", String::new()),
-            Outcome::Deposited { wall, .. } => ("deposited", wall.clone()),
-            Outcome::Suspended => ("suspended", String::new()),
-        };
-        csv.push(vec![
-            run.contact.label().into(),
-            run.release.shape.label(),
-            run.release.ca.map(|c| c.to_string()).unwrap_or_default(),
-            kind.into(),
-            wall,
-            format!("{t:.3}"),
-            format!("{:.4}", x[0] / EDGE),
-            format!("{:.4}", x[1] / EDGE),
-            format!("{:.4}", x[2] / EDGE),
-            run.stats.steps.to_string(),
-        ])?;
+        csv.push(outcome_cells(run, &limits))?;
     }
     Ok(csv)
+}
+
+fn outcome_header() -> Vec<&'static str> {
+    let mut header = vec![
+        "contact",
+        "shape",
+        "ca",
+        "outcome",
+        "wall",
+        "t_end",
+        "x_over_l",
+        "y_over_l",
+        "z_over_l",
+        "steps",
+        "shape_model",
+    ];
+    header.extend(Validity::COLUMNS);
+    header
+}
+
+fn outcome_cells(run: &CavityRun, limits: &Thresholds) -> Vec<String> {
+    let (t, x) = run.path.last().copied().unwrap_or((0.0, release_point()));
+    let (kind, wall) = match &run.outcome {
+        Outcome::Exited { .. } => ("exited", String::new()),
+        Outcome::Deposited { wall, .. } => ("deposited", wall.clone()),
+        Outcome::Suspended => ("suspended", String::new()),
+    };
+    let mut cells = vec![
+        run.contact.label().into(),
+        run.release.shape.label(),
+        run.release.ca.map(|c| c.to_string()).unwrap_or_default(),
+        kind.into(),
+        wall,
+        format!("{t:.3}"),
+        format!("{:.4}", x[0] / EDGE),
+        format!("{:.4}", x[1] / EDGE),
+        format!("{:.4}", x[2] / EDGE),
+        run.stats.steps.to_string(),
+        run.shape_model.label().into(),
+    ];
+    cells.extend(run.validity.cells(limits));
+    cells
 }
 
 /// Trajectories projected on the x–z plane (the paper's x₂/L = 0.4 view), one panel.
@@ -328,4 +531,213 @@ pub fn trajectory_panel(runs: &[CavityRun], title: &str) -> crate::output::Panel
         panel = panel.with(crate::output::Series::line(label, pts, i));
     }
     panel
+}
+
+/// Initial orientations of an ensemble: the identity (the nominal release) and `count − 1`
+/// rotations that carry the shape's symmetry axis (e_x for prolates, e_z for oblates) to
+/// directions spread evenly over a hemisphere (a Fibonacci lattice; axis and −axis give the
+/// same ellipsoid), each by the smallest rotation.
+pub fn orientations(shape: Shape, count: usize) -> Vec<Mat3> {
+    let axis = match shape {
+        Shape::Prolate(_) => Vec3::x(),
+        Shape::Oblate(_) => Vec3::z(),
+    };
+    let others = count.saturating_sub(1);
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut out = Vec::with_capacity(count);
+    if count > 0 {
+        out.push(Mat3::identity());
+    }
+    for k in 0..others {
+        let z = 1.0 - (k as f64 + 0.5) / others as f64;
+        let rho = (1.0 - z * z).sqrt();
+        let phi = golden * k as f64;
+        let target = Vec3::new(rho * phi.cos(), rho * phi.sin(), z);
+        let turn = nalgebra::Rotation3::rotation_between(&axis, &target)
+            .unwrap_or_else(|| nalgebra::Rotation3::from_axis_angle(&Vec3::y_axis(), std::f64::consts::PI));
+        out.push(turn.into_inner());
+    }
+    out
+}
+
+/// One ensemble member: the variant and orientation it was run in, and its run (or the error
+/// that stopped it).
+#[derive(Debug, Clone)]
+pub struct Member {
+    /// Field variant.
+    pub variant: Variant,
+    /// Index into [`orientations`] (0: nominal).
+    pub orientation: usize,
+    /// The run, or why it failed.
+    pub run: Result<CavityRun, String>,
+}
+
+/// Events (exit or deposition) after this time (s) are flagged as sensitive to the paper's
+/// 100 s tracking horizon.
+pub const LATE_EVENT: f64 = 95.0;
+
+/// Outcome fractions per (shape, Ca) over the members given:
+/// `shape,ca,shape_model,runs,failed,exited,deposited,suspended,late_events,deposit_walls,
+/// nominal_outcome` where the fractions are of the runs that finished, `late_events` the
+/// fraction of them with an event after [`LATE_EVENT`], `deposit_walls` the walls hit with
+/// counts (`x1:5;bottom:2`) and `nominal_outcome` the outcome of the nominal member
+/// (orientation 0, lid +x, scale 1) if it was run.
+pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, crate::output::OutputError> {
+    let mut csv = crate::output::Csv::new(&[
+        "shape",
+        "ca",
+        "shape_model",
+        "runs",
+        "failed",
+        "exited",
+        "deposited",
+        "suspended",
+        "late_events",
+        "deposit_walls",
+        "nominal_outcome",
+    ]);
+    let mut keys: Vec<(String, Option<f64>)> = Vec::new();
+    let key = |m: &Member| -> Option<(String, Option<f64>)> {
+        m.run.as_ref().ok().map(|r| (r.release.shape.label(), r.release.ca))
+    };
+    for m in members {
+        if let Some(k) = key(m)
+            && !keys.contains(&k)
+        {
+            keys.push(k);
+        }
+    }
+    for (shape, ca) in keys {
+        let group: Vec<&Member> = members
+            .iter()
+            .filter(|m| key(m).as_ref() == Some(&(shape.clone(), ca)))
+            .collect();
+        let runs: Vec<&CavityRun> = group.iter().filter_map(|m| m.run.as_ref().ok()).collect();
+        let n = runs.len() as f64;
+        let frac = |f: &dyn Fn(&CavityRun) -> bool| runs.iter().filter(|r| f(r)).count() as f64 / n;
+        let mut walls: Vec<(String, usize)> = Vec::new();
+        for r in &runs {
+            if let Outcome::Deposited { wall, .. } = &r.outcome {
+                match walls.iter_mut().find(|(w, _)| w == wall) {
+                    Some((_, c)) => *c += 1,
+                    None => walls.push((wall.clone(), 1)),
+                }
+            }
+        }
+        let nominal = group
+            .iter()
+            .find(|m| m.orientation == 0 && m.variant == Variant::default())
+            .and_then(|m| m.run.as_ref().ok())
+            .map(|r| outcome_label(&r.outcome))
+            .unwrap_or_default();
+        csv.push(vec![
+            shape,
+            ca.map(|c| c.to_string()).unwrap_or_default(),
+            runs.first().map(|r| r.shape_model.label()).unwrap_or_default().into(),
+            group.len().to_string(),
+            (group.len() - runs.len()).to_string(),
+            format!("{:.3}", frac(&|r| matches!(r.outcome, Outcome::Exited { .. }))),
+            format!("{:.3}", frac(&|r| matches!(r.outcome, Outcome::Deposited { .. }))),
+            format!("{:.3}", frac(&|r| matches!(r.outcome, Outcome::Suspended))),
+            format!(
+                "{:.3}",
+                frac(&|r| event_time(&r.outcome).is_some_and(|t| t > LATE_EVENT))
+            ),
+            walls
+                .iter()
+                .map(|(w, c)| format!("{w}:{c}"))
+                .collect::<Vec<_>>()
+                .join(";"),
+            nominal,
+        ])?;
+    }
+    Ok(csv)
+}
+
+/// Per-member table: `mirrored,scale,orientation,error` followed by the [`outcome_table`]
+/// columns (empty on error).
+pub fn member_table(members: &[Member]) -> Result<crate::output::Csv, crate::output::OutputError> {
+    let mut header = vec!["mirrored", "scale", "orientation", "error"];
+    let inner = outcome_header();
+    header.extend(&inner);
+    let mut csv = crate::output::Csv::new(&header);
+    let limits = Thresholds::default();
+    for m in members {
+        let mut cells = vec![
+            m.variant.mirrored.to_string(),
+            m.variant.scale.to_string(),
+            m.orientation.to_string(),
+        ];
+        match &m.run {
+            Ok(run) => {
+                cells.push(String::new());
+                cells.extend(outcome_cells(run, &limits));
+            }
+            Err(e) => {
+                cells.push(e.replace([',', '"', '\n'], " "));
+                cells.extend(inner.iter().map(|_| String::new()));
+            }
+        }
+        csv.push(cells)?;
+    }
+    Ok(csv)
+}
+
+fn outcome_label(outcome: &Outcome) -> String {
+    match outcome {
+        Outcome::Exited { .. } => "exited".into(),
+        Outcome::Deposited { wall, .. } => format!("deposited:{wall}"),
+        Outcome::Suspended => "suspended".into(),
+    }
+}
+
+fn event_time(outcome: &Outcome) -> Option<f64> {
+    match outcome {
+        Outcome::Exited { t } | Outcome::Deposited { t, .. } => Some(*t),
+        Outcome::Suspended => None,
+    }
+}
+
+/// Run every release in every variant and in `count` orientations ([`orientations`]) for
+/// `t_max` seconds at tolerance `tol` with barycentre contact, in parallel. A failed run is
+/// kept as its error message, so one failure does not hide the rest of the ensemble.
+pub fn ensemble(
+    flow: &MeshedFlow,
+    shape_model: ShapeModel,
+    releases: &[Release],
+    variants: &[Variant],
+    count: usize,
+    t_max: f64,
+    tol: f64,
+) -> Result<Vec<Member>, SceneError> {
+    use rayon::prelude::*;
+    let cavities = variants
+        .iter()
+        .map(|v| Ok((*v, Cavity::new(flow)?.with_shape_model(shape_model).with_variant(*v)?)))
+        .collect::<Result<Vec<_>, SceneError>>()?;
+    let jobs: Vec<(usize, Release, usize, Mat3)> = cavities
+        .iter()
+        .enumerate()
+        .flat_map(|(c, _)| {
+            releases.iter().flat_map(move |r| {
+                orientations(r.shape, count)
+                    .into_iter()
+                    .enumerate()
+                    .map(move |(k, turn)| (c, *r, k, turn))
+            })
+        })
+        .collect();
+    Ok(jobs
+        .par_iter()
+        .map(|(c, release, k, turn)| {
+            let (variant, cavity) = &cavities[*c];
+            Member {
+                variant: *variant,
+                orientation: *k,
+                run: cavity
+                    .track_oriented(*release, Contact::Barycentre, turn, t_max, tol, t_max)
+                    .map_err(|e| e.to_string()),
+            }
+        })
+        .collect())
 }

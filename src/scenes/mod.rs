@@ -71,6 +71,14 @@ pub enum SceneError {
         /// Final residual (max-norm).
         residual: f64,
     },
+    /// An orbit average needs at least one whole orbit in its window.
+    #[error("orbit average over {t_average} time units saw {crossings} orbit crossings (need ≥ 2)")]
+    TooFewOrbits {
+        /// Downward crossings of ξ_a·e₁ seen.
+        crossings: usize,
+        /// Length of the averaging window.
+        t_average: f64,
+    },
     /// The released particle already overlaps the wall.
     #[error("particle released touching the wall: gap {gap:.3e}")]
     ReleasedInWall {

@@ -15,4 +15,4 @@ pub mod tracking;
 
 pub use setup::{PipeFlowData, PipeParticleData, PipeScene, Softness};
 pub use study::{PipeCase, deposition_study, orientation_study};
-pub use tracking::{Deposition, PipeSample, sample_orientation, track_to_deposition};
+pub use tracking::{Deposition, PipeSample, ShapeStats, sample_orientation, track_to_deposition};

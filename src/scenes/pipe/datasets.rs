@@ -5,7 +5,8 @@
 //! Every recorded sample is written; runs are thinned where they are recorded.
 
 use super::setup::PipeScene;
-use super::tracking::{Deposition, PipeSample};
+use super::tracking::{Deposition, PipeSample, ShapeStats};
+use crate::diagnostics::{Thresholds, Validity};
 use crate::output::{Csv, OutputError, Panel, Series};
 
 /// A particle's scene with its samples.
@@ -106,6 +107,10 @@ pub struct DepositionRow {
     pub steps: u64,
     /// True if the distance exceeds the pipe length L (the particle would have left the pipe).
     pub beyond_pipe: bool,
+    /// Time averages ⟨(p·e₂)²⟩, ⟨r₁/r₃⟩ and max r₁/r₃ of the main run.
+    pub shape: ShapeStats,
+    /// Validity diagnostics of the main run (r₁ in d_eq).
+    pub validity: Validity,
 }
 
 impl DepositionRow {
@@ -147,15 +152,19 @@ pub fn deposition_rows(runs: &[(PipeScene, Deposition)], checks: &[(PipeScene, D
                 check_distance_deq: check.distance(),
                 steps: run.steps,
                 beyond_pipe: run.distance() * l > scene.flow_data.length,
+                shape: run.shape,
+                validity: run.validity,
             }
         })
         .collect()
 }
 
 /// `lambda1,ca,d_eq_um,t_dep_s,x1_dep_deq,x1_dep_m,extra_vs_rigid_deq,paper_relation,
-/// paper_extra_deq,x1_dep_deq_check,tolerance_change,beyond_pipe_length,steps`.
+/// paper_extra_deq,x1_dep_deq_check,tolerance_change,beyond_pipe_length,steps,mean_p_e2_sq,
+/// mean_r1_over_r3,max_r1_over_r3` (p the current long axis; time averages over the run),
+/// then the validity columns [`Validity::COLUMNS`] under the default [`Thresholds`].
 pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
-    let mut csv = Csv::new(&[
+    let mut header = vec![
         "lambda1",
         "ca",
         "d_eq_um",
@@ -169,11 +178,17 @@ pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
         "tolerance_change",
         "beyond_pipe_length",
         "steps",
-    ]);
+        "mean_p_e2_sq",
+        "mean_r1_over_r3",
+        "max_r1_over_r3",
+    ];
+    header.extend(Validity::COLUMNS);
+    let mut csv = Csv::new(&header);
+    let limits = Thresholds::default();
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for r in rows {
         let paper = r.paper_statement();
-        csv.push(vec![
+        let mut cells = vec![
             r.lambda1.to_string(),
             r.ca.to_string(),
             r.d_eq_um.to_string(),
@@ -187,7 +202,12 @@ pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
             r.tolerance_change().to_string(),
             r.beyond_pipe.to_string(),
             r.steps.to_string(),
-        ])?;
+            opt(r.shape.mean_gradient_alignment()),
+            opt(r.shape.mean_aspect()),
+            r.shape.max_aspect().to_string(),
+        ];
+        cells.extend(r.validity.cells(&limits));
+        csv.push(cells)?;
     }
     Ok(csv)
 }

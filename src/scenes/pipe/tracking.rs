@@ -9,7 +9,9 @@
 
 use super::setup::{PipeMaterial, PipeScene};
 use crate::contact::{ContactEvent, ContactModel, PipeWall};
+use crate::diagnostics::{Monitor, Validity};
 use crate::driver::{Event, Plan, Stop, integrate, run};
+use crate::ellipsoid::PrincipalFrame;
 use crate::integrator::TimeIntegrator;
 use crate::particle::State;
 use crate::particle::lines::material_line;
@@ -78,6 +80,53 @@ pub fn sample_orientation<I: TimeIntegrator>(
     Ok(out)
 }
 
+/// Time averages over a run of the shape quantities that set the settling mobility
+/// (stretching, not alignment, dominates the soft particles' extra travel), by the trapezoidal
+/// rule over accepted steps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ShapeStats {
+    /// ∫(p·e₂)² dt.
+    alignment_integral: f64,
+    /// ∫r₁/r₃ dt.
+    aspect_integral: f64,
+    duration: f64,
+    max_aspect: f64,
+    /// (t, (p·e₂)², r₁/r₃) of the last state added.
+    last: Option<(f64, f64, f64)>,
+}
+
+impl ShapeStats {
+    /// Add the current ellipsoid `frame` at time `t` (after the previous one).
+    pub fn add(&mut self, frame: &PrincipalFrame, t: f64) {
+        let p = frame.q.row(0);
+        let (align, aspect) = (p[1] * p[1], frame.r[0] / frame.r[2]);
+        if let Some((t0, a0, r0)) = self.last {
+            let dt = t - t0;
+            self.alignment_integral += 0.5 * dt * (a0 + align);
+            self.aspect_integral += 0.5 * dt * (r0 + aspect);
+            self.duration += dt;
+        }
+        self.max_aspect = self.max_aspect.max(aspect);
+        self.last = Some((t, align, aspect));
+    }
+
+    /// ⟨(p·e₂)²⟩, p the long axis: the rigid Jeffery value is 1/(1 + λ₁)
+    /// ([`crate::reference::jeffery_mean_gradient_alignment`]). `None` before time has passed.
+    pub fn mean_gradient_alignment(&self) -> Option<f64> {
+        (self.duration > 0.0).then(|| self.alignment_integral / self.duration)
+    }
+
+    /// ⟨r₁/r₃⟩ of the current ellipsoid. `None` before time has passed.
+    pub fn mean_aspect(&self) -> Option<f64> {
+        (self.duration > 0.0).then(|| self.aspect_integral / self.duration)
+    }
+
+    /// max r₁/r₃ over the states added.
+    pub fn max_aspect(&self) -> f64 {
+        self.max_aspect
+    }
+}
+
 /// A run from release to wall contact.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Deposition {
@@ -88,6 +137,10 @@ pub struct Deposition {
     pub steps: u64,
     /// Rejected step attempts.
     pub rejected: u64,
+    /// Time-averaged shape and alignment.
+    pub shape: ShapeStats,
+    /// Validity diagnostics over the accepted steps.
+    pub validity: Validity,
 }
 
 impl Deposition {
@@ -121,6 +174,11 @@ pub fn track_to_deposition<I: TimeIntegrator>(
     }
     let contact = scene.contact();
     let mut samples = vec![release];
+    let mut shape = ShapeStats::default();
+    let frame = |s: &State| PrincipalFrame::from_total_distortion(&scene.particle.total_distortion(&s.f));
+    shape.add(&frame(&state), state.t);
+    let mut monitor = Monitor::new(&scene.particle, &scene.flow, &scene.wall);
+    monitor.observe(&state);
     let mut next_record = record_dt;
     let mut rejected = 0;
     let mut memory = I::Memory::default();
@@ -136,6 +194,8 @@ pub fn track_to_deposition<I: TimeIntegrator>(
         |_| {},
         |step| {
             rejected += u64::from(step.info.rejected);
+            shape.add(&frame(&step.state), step.state.t);
+            monitor.observe(&step.state);
             if step.state.t >= next_record {
                 samples.push(scene.observe(&step.state));
                 next_record = step.state.t + record_dt;
@@ -149,6 +209,8 @@ pub fn track_to_deposition<I: TimeIntegrator>(
                 samples,
                 steps: end.stats.steps,
                 rejected,
+                shape,
+                validity: monitor.validity(),
             })
         }
         Stop::EndTime => Err(SceneError::NotDeposited {

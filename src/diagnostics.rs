@@ -1,0 +1,183 @@
+//! Validity diagnostics of a run: how far a particle strays from the assumptions of the model.
+//!
+//! # What the model assumes (paper §2–§4)
+//! The pseudo-rigid particle sees the carrier flow through u and ∇u at its barycentre and the
+//! Jeffery–Roscoe traction and Brenner's drag (eqs. 12, 14), which are Stokes-flow solutions for
+//! an ellipsoid alone in an unbounded linear flow. That requires
+//! - creeping flow at the particle scale: the shear Reynolds number Re_γ = γ̇ d²/ν and the slip
+//!   Reynolds number Re_s = |u − v| d/ν small (d = d_eq, γ̇ = √(2 d:d) of the flow);
+//! - a particle small against the distance to the nearest wall (no wall interaction);
+//! - a particle small against the length over which the flow changes (u linear across it).
+//!
+//! # Thresholds ([`Thresholds::default`]) and their argument
+//! - Re_s ≤ 0.1: Oseen's first inertial correction of the drag is (3/16) Re_s, 2 % at 0.1.
+//! - Re_γ ≤ 0.1: the inertial drift of Jeffery orbits and the Saffman lift grow as Re_γ and
+//!   Re_γ^{1/2} (Einarsson et al. 2015; Saffman 1965); at 0.1 the orbit drift per period is a few
+//!   per cent of the Jeffery dynamics.
+//! - r₁/ℓ_w ≤ 0.1, ℓ_w the barycentre's distance to the nearest boundary: the wall correction of
+//!   the drag of a sphere of radius a at distance ℓ is (9/16) a/ℓ (Lorentz/Faxén), 5.6 % at 0.1.
+//! - r₁/ℓ_u ≤ 0.1, ℓ_u = |u|/|∇u| (Frobenius norm): the velocity changes across the particle by
+//!   r₁|∇u| against |u|. This is a crude scale: at a stagnation point or vortex centre |u| → 0
+//!   and the ratio diverges although ∇u may be uniform; the flag says "look", not "wrong".
+//!
+//! Every quantity is a maximum over the states observed (the driver's accepted steps).
+
+use crate::contact::{Boundary, Extent};
+use crate::ellipsoid::PrincipalFrame;
+use crate::flow::FlowField;
+use crate::hydro::DragModel;
+use crate::material::Response;
+use crate::particle::{Particle, State};
+use crate::tensor::sym;
+use serde::Serialize;
+
+/// Limits beyond which a [`Validity`] quantity is flagged (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Thresholds {
+    /// Largest shear Reynolds number γ̇ d²/ν.
+    pub re_shear: f64,
+    /// Largest slip Reynolds number |u − v| d/ν.
+    pub re_slip: f64,
+    /// Largest r₁ over the barycentre's distance to the nearest boundary.
+    pub r1_over_wall_distance: f64,
+    /// Largest r₁ over the flow length scale |u|/|∇u|.
+    pub r1_over_flow_scale: f64,
+}
+
+impl Default for Thresholds {
+    fn default() -> Self {
+        Self {
+            re_shear: 0.1,
+            re_slip: 0.1,
+            r1_over_wall_distance: 0.1,
+            r1_over_flow_scale: 0.1,
+        }
+    }
+}
+
+/// Maxima over a run (0 before any state is observed).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Validity {
+    /// max γ̇ d_eq²/ν.
+    pub max_re_shear: f64,
+    /// max |u − v| d_eq/ν.
+    pub max_re_slip: f64,
+    /// max r₁ (units of the run).
+    pub max_r1: f64,
+    /// max r₁/ℓ_w (ℓ_w: barycentre distance to the nearest boundary; ∞ on or beyond it).
+    pub max_r1_over_wall_distance: f64,
+    /// max r₁|∇u|/|u| (∞ where u = 0 and ∇u ≠ 0).
+    pub max_r1_over_flow_scale: f64,
+    /// States observed.
+    pub states: u64,
+    /// States at which the flow could not be sampled (left out of the maxima).
+    pub unsampled: u64,
+}
+
+impl Validity {
+    /// Names of the thresholds crossed, in the order of [`Thresholds`]' fields.
+    pub fn flags(&self, limits: &Thresholds) -> Vec<&'static str> {
+        [
+            ("re_shear", self.max_re_shear > limits.re_shear),
+            ("re_slip", self.max_re_slip > limits.re_slip),
+            (
+                "r1_over_wall_distance",
+                self.max_r1_over_wall_distance > limits.r1_over_wall_distance,
+            ),
+            (
+                "r1_over_flow_scale",
+                self.max_r1_over_flow_scale > limits.r1_over_flow_scale,
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(name, crossed)| crossed.then_some(name))
+        .collect()
+    }
+
+    /// [`Self::flags`] joined by `;` (empty if none), for a CSV cell.
+    pub fn flag_text(&self, limits: &Thresholds) -> String {
+        self.flags(limits).join(";")
+    }
+
+    /// CSV header of [`Self::cells`].
+    pub const COLUMNS: [&'static str; 6] = [
+        "max_re_shear",
+        "max_re_slip",
+        "max_r1",
+        "max_r1_over_wall_distance",
+        "max_r1_over_flow_scale",
+        "validity_flags",
+    ];
+
+    /// The maxima and the flags as CSV cells in [`Self::COLUMNS`] order (4 significant digits).
+    pub fn cells(&self, limits: &Thresholds) -> Vec<String> {
+        let g = |v: f64| format!("{v:.4e}");
+        vec![
+            g(self.max_re_shear),
+            g(self.max_re_slip),
+            g(self.max_r1),
+            g(self.max_r1_over_wall_distance),
+            g(self.max_r1_over_flow_scale),
+            self.flag_text(limits),
+        ]
+    }
+}
+
+/// Watches one particle in one flow and boundary; feed it from the driver's `on_step`.
+pub struct Monitor<'a, M, D, F: ?Sized, B: ?Sized> {
+    particle: &'a Particle<M, D>,
+    flow: &'a F,
+    boundary: &'a B,
+    d_eq: f64,
+    nu: f64,
+    validity: Validity,
+}
+
+impl<'a, M, D, F, B> Monitor<'a, M, D, F, B>
+where
+    M: Response,
+    D: DragModel,
+    F: FlowField + ?Sized,
+    B: Boundary + ?Sized,
+{
+    /// A monitor with nothing observed yet; d_eq from the rest shape, ν = μ_f/ρ_f.
+    pub fn new(particle: &'a Particle<M, D>, flow: &'a F, boundary: &'a B) -> Self {
+        let fluid = particle.fluid();
+        Self {
+            particle,
+            flow,
+            boundary,
+            d_eq: 2.0 * particle.shape().semi_axes().product().cbrt(),
+            nu: fluid.mu / fluid.rho,
+            validity: Validity::default(),
+        }
+    }
+
+    /// Take `state` into the maxima.
+    pub fn observe(&mut self, state: &State) {
+        let v = &mut self.validity;
+        v.states += 1;
+        let Ok(sample) = self.flow.sample(&state.x, state.t) else {
+            v.unsampled += 1;
+            return;
+        };
+        let r1 = PrincipalFrame::from_total_distortion(&self.particle.total_distortion(&state.f)).r[0];
+        let d = sym(&sample.grad_u);
+        let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
+        let wall = self.boundary.nearest(&state.x, &Extent::Point { radius: 0.0 }).gap;
+        let ratio = |num: f64, den: f64| if den > 0.0 { num / den } else { f64::INFINITY };
+        v.max_re_shear = v.max_re_shear.max(shear_rate * self.d_eq * self.d_eq / self.nu);
+        v.max_re_slip = v.max_re_slip.max((sample.u - state.v).norm() * self.d_eq / self.nu);
+        v.max_r1 = v.max_r1.max(r1);
+        v.max_r1_over_wall_distance = v.max_r1_over_wall_distance.max(ratio(r1, wall));
+        let grad = sample.grad_u.norm();
+        if grad > 0.0 {
+            v.max_r1_over_flow_scale = v.max_r1_over_flow_scale.max(ratio(r1 * grad, sample.u.norm()));
+        }
+    }
+
+    /// The maxima so far.
+    pub fn validity(&self) -> Validity {
+        self.validity
+    }
+}

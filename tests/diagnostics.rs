@@ -1,0 +1,53 @@
+//! Validity diagnostics (src/diagnostics) against hand-computed values in a simple shear.
+
+use pseudorigid::contact::{PatchRule, Plane, Planes};
+use pseudorigid::diagnostics::{Monitor, Thresholds, Validity};
+use pseudorigid::prelude::*;
+
+/// A 2:1:1 prolate (d_eq = 2 mm) in water-like fluid (μ = 1e-3 Pa s, ρ = 1000 kg/m³,
+/// ν = 1e-6 m²/s) in u = γ̇ y e_x, γ̇ = 0.1 s⁻¹, at y = 5 cm, moving 1 mm/s slower than the
+/// fluid, 2 cm below a wall z = 2 cm.
+///
+/// Re_γ = γ̇ d²/ν = 0.1 · 4e-6/1e-6 = 0.4; Re_s = 1e-3 · 2e-3/1e-6 = 2; r₁ = 2^{2/3} mm;
+/// r₁/ℓ_w = r₁/2 cm; r₁|∇u|/|u| = r₁/y. Every value is one or two roundings from the formula.
+#[test]
+fn monitor_reports_hand_computed_maxima_and_flags() {
+    let shape = Ellipsoid::with_volume_diameter([2.0, 1.0, 1.0], 2e-3, Mat3::identity()).unwrap();
+    let p = Particle::new(
+        shape,
+        NeoHooke::new(1.0, 1e3).unwrap(),
+        Fluid::new(1e-3, 1e3).unwrap(),
+        1e3,
+    )
+    .unwrap();
+    let flow = LinearFlow::simple_shear(0.1).unwrap();
+    let wall = Planes::new(vec![Plane {
+        name: "top".into(),
+        point: Vec3::new(0.0, 0.0, 0.02),
+        normal: Vec3::z(),
+        rule: PatchRule::Stick,
+    }])
+    .unwrap();
+    let mut monitor = Monitor::new(&p, &flow, &wall);
+    assert_eq!(monitor.validity(), Validity::default());
+    let mut state = State::at_rest(Vec3::new(0.0, 0.05, 0.0));
+    state.v = Vec3::new(0.005 - 1e-3, 0.0, 0.0);
+    monitor.observe(&state);
+    let v = monitor.validity();
+    let r1 = 1e-3 * 4f64.cbrt();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-14 * b.abs();
+    assert!(close(v.max_re_shear, 0.4), "{}", v.max_re_shear);
+    assert!(close(v.max_re_slip, 2.0), "{}", v.max_re_slip);
+    assert!(close(v.max_r1, r1), "{}", v.max_r1);
+    assert!(close(v.max_r1_over_wall_distance, r1 / 0.02));
+    assert!(close(v.max_r1_over_flow_scale, r1 / 0.05));
+    assert_eq!((v.states, v.unsampled), (1, 0));
+    // 0.4 and 2 cross 0.1; r₁/ℓ_w = 0.079 and r₁/ℓ_u = 0.032 do not.
+    assert_eq!(v.flags(&Thresholds::default()), vec!["re_shear", "re_slip"]);
+    assert_eq!(v.cells(&Thresholds::default()).len(), Validity::COLUMNS.len());
+    // A later, calmer state does not lower a maximum.
+    state.v = flow.sample(&state.x, 0.0).unwrap().u;
+    monitor.observe(&state);
+    assert_eq!(monitor.validity().max_re_slip, v.max_re_slip);
+    assert_eq!(monitor.validity().states, 2);
+}
