@@ -9,7 +9,7 @@
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::Figure;
 use pseudorigid::scenes::cavity::{
-    Cavity, Contact, Release, Shape, ShapeModel, outcome_table, trajectory_panel, trajectory_table,
+    Cavity, Contact, Shape, ShapeModel, fig15_fig16_releases, outcome_table, trajectory_panel, trajectory_table,
 };
 use rayon::prelude::*;
 use std::time::Instant;
@@ -24,19 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ShapeModel::Inertial
     };
     let cavity = Cavity::new(&flow)?.with_shape_model(model);
-    let shapes = [
-        Shape::Prolate(1.0),
-        Shape::Prolate(2.0),
-        Shape::Prolate(5.0),
-        Shape::Prolate(8.0),
-        Shape::Oblate(2.0),
-        Shape::Oblate(5.0),
-        Shape::Oblate(8.0),
-    ];
-    let releases: Vec<Release> = shapes
-        .iter()
-        .flat_map(|&shape| [0.001, 0.25, 0.5, 0.75].map(|ca| Release { shape, ca: Some(ca) }))
-        .collect();
+    let releases = fig15_fig16_releases();
     let runs = releases
         .par_iter()
         .map(|r| cavity.track(*r, Contact::Barycentre, 100.0, 1e-6, 0.1))
@@ -56,6 +44,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     trajectory_table(&runs)?.write("paper-figures/fig15_fig16/trajectories.csv")?;
     outcome_table(&runs)?.write("paper-figures/fig15_fig16/outcomes.csv")?;
+    // One panel per initial shape, in the order of the releases.
+    let mut shapes: Vec<Shape> = Vec::new();
+    for r in &releases {
+        if !shapes.contains(&r.shape) {
+            shapes.push(r.shape);
+        }
+    }
     let panels = shapes
         .iter()
         .map(|s| {

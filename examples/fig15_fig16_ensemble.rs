@@ -11,7 +11,7 @@
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::scenes::cavity::{
-    Release, Shape, ShapeModel, Variant, ensemble, member_table, outcome_fraction_table,
+    ShapeModel, Variant, ensemble, fig15_fig16_releases, member_table, outcome_fraction_table,
 };
 use std::time::Instant;
 
@@ -28,19 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scales: Vec<f64> = args.map(|a| a.parse()).collect::<Result<_, _>>()?;
     let scales = if scales.is_empty() { vec![0.98, 1.02] } else { scales };
     let flow = MeshedFlow::load("reference-data/cavity_re470.prf")?;
-    let shapes = [
-        Shape::Prolate(1.0),
-        Shape::Prolate(2.0),
-        Shape::Prolate(5.0),
-        Shape::Prolate(8.0),
-        Shape::Oblate(2.0),
-        Shape::Oblate(5.0),
-        Shape::Oblate(8.0),
-    ];
-    let releases: Vec<Release> = shapes
-        .iter()
-        .flat_map(|&shape| [0.001, 0.25, 0.5, 0.75].map(|ca| Release { shape, ca: Some(ca) }))
-        .collect();
+    let releases = fig15_fig16_releases();
     let variants: Vec<Variant> = [false, true]
         .into_iter()
         .flat_map(|mirrored| scales.iter().map(move |&scale| Variant { mirrored, scale }))

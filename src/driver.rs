@@ -409,20 +409,7 @@ where
     D: DragModel,
     F: FlowField + ?Sized,
 {
-    let plan = Plan::new(t_end, dt)?;
-    let mut memory = I::Memory::default();
-    let out = integrate(
-        integrator,
-        particle,
-        flow,
-        state,
-        &mut memory,
-        &plan,
-        &[],
-        |_| {},
-        |_| {},
-    )?;
-    Ok((out.state, out.stats))
+    run(integrator, particle, state, flow, dt, &[t_end], |_| {}, |_, _| {})
 }
 
 /// Evenly spaced output times n·Δ for n = 1..=N with NΔ = t_end.

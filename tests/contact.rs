@@ -1,11 +1,11 @@
 //! Boundaries and wall contact (src/contact) and event location in the driver.
 
 use approx::assert_relative_eq;
-use pseudorigid::contact::{Boundary, ContactEvent, ContactModel, Extent, PatchRule, PipeWall, Planes};
+use pseudorigid::contact::{Boundary, Extent, PatchRule, PipeWall, Planes};
 use pseudorigid::driver::{Event, Plan, Stop, integrate};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::ellipsoid::frame::support_distance;
-use pseudorigid::integrator::{ImexPaper, Stokesian, TimeIntegrator};
+use pseudorigid::integrator::ImexPaper;
 use pseudorigid::prelude::*;
 
 fn rotation_about_y(angle: f64) -> Mat3 {
@@ -85,81 +85,8 @@ fn pipe_wall_gap_of_point_and_ellipsoid() {
     assert!(PipeWall::new(f64::NAN).is_err());
 }
 
-/// A sphere settling at the Stokes velocity onto a floor: the contact time is known in closed
-/// form, t* = (h₀ − a)/v_s, so the located event can be checked against it.
-fn settling_sphere() -> (Particle<NeoHooke>, Vec3, f64) {
-    let a = 0.5;
-    let shape = pseudorigid::ellipsoid::Ellipsoid::new([a, a, a], Mat3::identity()).unwrap();
-    let g = Vec3::new(0.0, 0.0, -1.0);
-    let p = Particle::new(
-        shape,
-        NeoHooke::new(1.0, 1e3).unwrap(),
-        Fluid::new(1.0, 1.0).unwrap(),
-        2.0,
-    )
-    .unwrap()
-    .with_gravity(g)
-    .unwrap();
-    // v_s = (2/9)(ρ_s − ρ_f) g a²/μ (Stokes).
-    let v_s = 2.0 / 9.0 * (2.0 - 1.0) * 1.0 * a * a / 1.0;
-    (p, Vec3::new(0.0, 0.0, -v_s), a)
-}
-
-struct Floor;
-
-impl Boundary for Floor {
-    fn nearest(&self, x: &Vec3, extent: &Extent) -> pseudorigid::contact::Gap {
-        pseudorigid::contact::Gap {
-            patch: 0,
-            gap: x[2] - extent.support(&-Vec3::z()),
-            normal: -Vec3::z(),
-        }
-    }
-    fn patch_name(&self, _: usize) -> &str {
-        "floor"
-    }
-    fn rule(&self, _: usize) -> PatchRule {
-        PatchRule::Stick
-    }
-}
-
-fn locate_floor_contact<I: TimeIntegrator>(integ: &I, dt: f64) -> (f64, f64) {
-    let (p, v_s, a) = settling_sphere();
-    let h0 = 3.0;
-    let mut s0 = State::at_rest(Vec3::new(0.0, 0.0, h0));
-    s0.v = v_s; // already at terminal velocity: x(t) = x₀ + v_s t exactly.
-    let contact = ContactEvent::new(&Floor, &p, &Quiescent, ContactModel::Extent);
-    let mut memory = I::Memory::default();
-    let out = integrate(
-        integ,
-        &p,
-        &Quiescent,
-        s0,
-        &mut memory,
-        &Plan::new(100.0, dt).unwrap(),
-        &[&contact],
-        |_| {},
-        |_| {},
-    )
-    .unwrap();
-    assert_eq!(out.stop, Stop::Event { index: 0 });
-    let t_star = (h0 - a) / v_s.norm();
-    (out.state.t, t_star)
-}
-
-/// The event time matches the analytic crossing. The motion is exactly linear in t, which the
-/// cubic Hermite interpolant reproduces exactly, so what remains is the location tolerance
-/// |g| ≤ 1e-9 d_eq over the speed v_s = 1/18: |Δt| ≤ 1e-9/(1/18) ≈ 2e-8, plus the integrator's
-/// own error on a uniform motion (round-off).
-#[test]
-fn contact_event_located_at_the_analytic_crossing_time() {
-    for (name, (t, t_star)) in [
-        ("imex", locate_floor_contact(&ImexPaper::default(), 0.05)),
-        ("stokesian", locate_floor_contact(&Stokesian::new(1e-8).unwrap(), 0.05)),
-    ] {
-        assert!((t - t_star).abs() <= 2e-8, "{name}: t = {t}, t* = {t_star}");
-    }
-}
+// The located contact event of every integrator against its analytic time is in
+// `tests/integrators.rs` (the shared harness).
 
 /// An event whose gap is a fixed function of time only: located on the interpolant to its
 /// tolerance, whatever the step.
@@ -171,7 +98,14 @@ fn time_event_is_located_within_one_large_step() {
             self.0 - s.t
         }
     }
-    let (p, _, _) = settling_sphere();
+    let shape = pseudorigid::ellipsoid::Ellipsoid::new([0.5, 0.5, 0.5], Mat3::identity()).unwrap();
+    let p = Particle::new(
+        shape,
+        NeoHooke::new(1.0, 1e3).unwrap(),
+        Fluid::new(1.0, 1.0).unwrap(),
+        2.0,
+    )
+    .unwrap();
     let mut memory = Default::default();
     let out = integrate(
         &ImexPaper::default(),

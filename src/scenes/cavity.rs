@@ -112,6 +112,24 @@ impl Shape {
     }
 }
 
+/// The 28 soft releases of Figs 15/16: prolates λ₁ = 1, 2, 5, 8 and oblates λ₁ = 2, 5, 8 at
+/// Ca = 0.001, 0.25, 0.5, 0.75.
+pub fn fig15_fig16_releases() -> Vec<Release> {
+    let shapes = [
+        Shape::Prolate(1.0),
+        Shape::Prolate(2.0),
+        Shape::Prolate(5.0),
+        Shape::Prolate(8.0),
+        Shape::Oblate(2.0),
+        Shape::Oblate(5.0),
+        Shape::Oblate(8.0),
+    ];
+    shapes
+        .iter()
+        .flat_map(|&shape| [0.001, 0.25, 0.5, 0.75].map(|ca| Release { shape, ca: Some(ca) }))
+        .collect()
+}
+
 /// What touches a wall.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum Contact {
