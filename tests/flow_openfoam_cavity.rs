@@ -7,8 +7,10 @@
 //! here in blockMesh's cell order (i fastest, then j, then k) and checked by
 //! [`PolyMesh::new`] like a read mesh. The field file names the patches `lid` and `fixedWalls`.
 
+mod common;
+
 use pseudorigid::flow::openfoam::{FoamFlow, Patch, PolyMesh, read_vol_field};
-use pseudorigid::scenes::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
+use pseudorigid::scenes::cavity_benchmark::CavityCase;
 use pseudorigid::tensor::Vec3;
 
 const CASE: CavityCase = CavityCase {
@@ -107,28 +109,7 @@ fn re1000_extrema_through_the_openfoam_reader() {
     let dir = std::path::Path::new(root).join("reference-data/cavity-re1000-foam");
     let u = read_vol_field(&dir, "U", &mesh, 3).unwrap();
     let flow = FoamFlow::new(mesh, vec![(0.0, u)]).unwrap();
-    let table =
-        ReferenceTable::read_csv(format!("{root}/reference-data/cavity_re1000_albensoeder_kuhlmann.csv").as_ref())
-            .unwrap();
-    let rows = compare_extrema(&CASE, &flow, &table).unwrap();
-    assert_eq!(rows.len(), 3);
-    let mut text = String::from("extremum,simulated,position,reference,error_percent\n");
-    for r in &rows {
-        assert!(
-            r.relative_error().abs() <= 0.05,
-            "{}: {:+.2} %",
-            r.which.name(),
-            100.0 * r.relative_error()
-        );
-        text.push_str(&format!(
-            "{},{:.3},{:.3},{:.3},{:.1}\n",
-            r.which.name(),
-            r.simulated.value,
-            r.simulated.position,
-            r.reference.value,
-            100.0 * r.relative_error()
-        ));
-    }
+    let text = common::cavity_re1000_extrema(&flow);
     // Rounded to 3 decimals (the shipped U has 6 significant digits).
     insta::assert_snapshot!(text);
 }
