@@ -269,6 +269,7 @@ pub(crate) fn shape_update<M: Response, D: DragModel, F: FlowField + ?Sized>(
         Some((f_key, a_prev, dt_prev)) if f_key == state.f => anchor + (state.a - a_prev) * (dt * dt / dt_prev),
         _ => anchor,
     };
+    let theta_inv_norm = theta_inv.amax();
     // vec(X Θ⁻¹) = (Θ⁻ᵀ ⊗ 1) vec(X)
     let right_theta: Mat9 = theta_inv.transpose().kronecker(&Mat3::identity());
     let t_new = state.t + dt;
@@ -283,12 +284,11 @@ pub(crate) fn shape_update<M: Response, D: DragModel, F: FlowField + ?Sized>(
         |x| {
             let f = mat3(x);
             crate::particle::dynamics::check_orientation(&f, t_new)?;
-            let (load, stress) = (
-                traction_load(&f, sigma_star) * theta_inv * c,
-                material.piola(&f) * theta_inv * c,
-            );
-            let floor = f64::EPSILON * f.amax().max(anchor.amax()).max(load.amax()).max(stress.amax());
-            Ok((vec9(&(f - anchor - (load - stress))), floor))
+            let (load, stress) = (traction_load(&f, sigma_star), material.piola(&f));
+            // Round-off of R: ε times its largest term (|X Θ⁻¹|∞ ≤ 3|X|∞|Θ⁻¹|∞ bounds the products).
+            let scaled = 3.0 * c * theta_inv_norm * load.amax().max(stress.amax());
+            let floor = f64::EPSILON * f.amax().max(anchor.amax()).max(scaled);
+            Ok((vec9(&(f - anchor - (load - stress) * theta_inv * c)), floor))
         },
         |x| {
             model.count_jacobian();

@@ -72,12 +72,24 @@ pub struct JacobianCache {
     matrix: Option<Mat9>,
     #[serde(skip)]
     lu: Option<LU<f64, Const<9>, Const<9>>>,
+    /// |J|∞ of the kept matrix, for the round-off floor (a cache of `matrix`).
+    #[serde(skip)]
+    norm: Option<f64>,
 }
 
 impl JacobianCache {
     fn set(&mut self, j: Mat9) {
         self.lu = Some(j.lu());
+        self.norm = Some(j.amax());
         self.matrix = Some(j);
+    }
+
+    /// |J|∞ of the kept matrix (0 when there is none).
+    fn norm(&mut self) -> f64 {
+        if self.norm.is_none() {
+            self.norm = self.matrix.as_ref().map(|m| m.amax());
+        }
+        self.norm.unwrap_or(0.0)
     }
 
     fn lu(&mut self) -> Option<&LU<f64, Const<9>, Const<9>>> {
@@ -126,7 +138,7 @@ pub fn solve_cached(
         let res = r.amax();
         // Round-off floor of the iteration itself: a Newton update solved with J is exact only
         // to ~ε‖J‖‖x‖ in the residual (‖J‖ reaches 1e5 for a stiff law at large Δt).
-        let conditioning = cache.matrix.map_or(0.0, |j| f64::EPSILON * j.amax() * x.amax());
+        let conditioning = f64::EPSILON * cache.norm() * x.amax();
         let tol = opts.tol.max(64.0 * floor).max(8.0 * conditioning);
         if res <= tol {
             return Ok(NewtonResult {
