@@ -6,11 +6,7 @@
 set -eu
 repo=$(cd "$(dirname "$0")/.." && pwd)
 
-if ! command -v simpleFoam >/dev/null 2>&1; then
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq
-    apt-get install -y -qq openfoam >/dev/null
-fi
+. "$repo/cases/install-openfoam.sh"
 
 "$repo/cases/cavity-ci/Allrun"
 

@@ -7,12 +7,7 @@
 set -eu
 repo=$(cd "$(dirname "$0")/.." && pwd)
 
-if ! command -v simpleFoam >/dev/null 2>&1; then
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq
-    apt-get install -y -qq openfoam >/dev/null
-fi
-export WM_PROJECT_DIR="${WM_PROJECT_DIR:-/usr/share/openfoam}"
+. "$repo/cases/install-openfoam.sh"
 
 work="$repo/cases/snappy-test/ci"
 "$repo/cases/snappy-test/Allmesh" 10 "$work"

@@ -76,6 +76,19 @@ where
     Ok(run)
 }
 
+/// `n` accepted steps of the rotation problem from y = (1, 0), first step 1e-3, rtol 1e-6:
+/// (t, y, proposed h) after them, with `mem` warm.
+fn rotation_steps(mem: &mut RadauMemory<2>, n: usize) -> (f64, SVector<f64, 2>, f64) {
+    let (mut t, mut y, mut h) = (0.0, SVector::<f64, 2>::new(1.0, 0.0), 1e-3);
+    for _ in 0..n {
+        let acc = step(t, &y, h, tol(1e-6, 1e-6), mem, rotation, rotation_jac).unwrap();
+        t += acc.h;
+        y = acc.y;
+        h = acc.h_next;
+    }
+    (t, y, h)
+}
+
 fn tol(rtol: f64, atol: f64) -> Tolerances {
     Tolerances::new(rtol, atol, 1e-14).unwrap()
 }
@@ -389,13 +402,7 @@ fn jacobian_is_reused_when_newton_contracts_fast() {
 #[test]
 fn memory_round_trips_through_serde() {
     let mut mem = RadauMemory::default();
-    let (mut t, mut y, mut h) = (0.0, SVector::<f64, 2>::new(1.0, 0.0), 1e-3);
-    for _ in 0..5 {
-        let acc = step(t, &y, h, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap();
-        t += acc.h;
-        y = acc.y;
-        h = acc.h_next;
-    }
+    let (mut t, mut y, mut h) = rotation_steps(&mut mem, 5);
     let json = serde_json::to_string(&(t, y, h, &mem)).unwrap();
     type Checkpoint = (f64, SVector<f64, 2>, f64, RadauMemory<2>);
     let (t_r, y_r, h_r, mut mem_r): Checkpoint = serde_json::from_str(&json).unwrap();
@@ -609,13 +616,7 @@ fn work_counts_snapshot() {
 #[test]
 fn resuming_after_a_clipped_step_needs_no_rejection() {
     let mut mem = RadauMemory::default();
-    let (mut t, mut y, mut h) = (0.0, SVector::<f64, 2>::new(1.0, 0.0), 1e-3);
-    for _ in 0..10 {
-        let acc = step(t, &y, h, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap();
-        t += acc.h;
-        y = acc.y;
-        h = acc.h_next;
-    }
+    let (mut t, mut y, mut h) = rotation_steps(&mut mem, 10);
     let clipped = step(t, &y, h * 1e-10, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap();
     t += clipped.h;
     y = clipped.y;
