@@ -192,7 +192,10 @@ fn volume_floor_separates_growth_from_decay() {
         s0.f *= 1.001;
         let floor = volume_mode_floor(&p, &s0).unwrap();
         let limit = stability_limit(&p, &s0).unwrap();
-        assert!(1.25 * floor < 0.9 * limit, "{ratios:?}: window ({floor}, {limit}) too narrow for the test");
+        assert!(
+            1.25 * floor < 0.9 * limit,
+            "{ratios:?}: window ({floor}, {limit}) too narrow for the test"
+        );
         let growth = |dt: f64| {
             let mut s = s0;
             let mut memory = Default::default();
@@ -206,8 +209,14 @@ fn volume_floor_separates_growth_from_decay() {
             (s.f.determinant() - 1.0).abs() / (s0.f.determinant() - 1.0).abs()
         };
         let (below, above) = (growth(0.8 * floor), growth(1.25 * floor));
-        assert!(below > 10.0, "{ratios:?}: dilation at Δt = 0.8 floor changed by {below}");
-        assert!(above < 0.1, "{ratios:?}: dilation at Δt = 1.25 floor changed by {above}");
+        assert!(
+            below > 10.0,
+            "{ratios:?}: dilation at Δt = 0.8 floor changed by {below}"
+        );
+        assert!(
+            above < 0.1,
+            "{ratios:?}: dilation at Δt = 1.25 floor changed by {above}"
+        );
     }
 }
 

@@ -215,7 +215,10 @@ impl StepWindow {
 /// refuse to go below the floor.
 ///
 /// [`VolumetricTraction::Paper`]: crate::hydro::VolumetricTraction::Paper
-pub fn volume_mode_floor<M: Response, D: DragModel>(particle: &Particle<M, D>, state: &State) -> Result<f64, StepError> {
+pub fn volume_mode_floor<M: Response, D: DragModel>(
+    particle: &Particle<M, D>,
+    state: &State,
+) -> Result<f64, StepError> {
     volume_floor_at(particle, &state.f, &particle.geometry(&state.f), state.t)
 }
 
@@ -236,18 +239,23 @@ fn volume_floor_at<M: Response, D: DragModel>(
     let theta_inv = particle.theta_inv();
     let vol0 = particle.volume0();
     let a = (f.determinant() * vol0 * sigma * inv_transpose(f) * theta_inv).dot(f);
-    if !(a > 0.0) {
-        return if a.is_nan() {
-            Err(StepError::NonFinite {
-                what: "volume-mode damping",
-                t,
-            })
-        } else {
-            Ok(0.0)
-        };
+    if a.is_nan() {
+        return Err(StepError::NonFinite {
+            what: "volume-mode damping",
+            t,
+        });
+    }
+    if a <= 0.0 {
+        return Ok(0.0);
     }
     let stiffness = (mat3(&(law.tangent(f) * vec9(f))) * theta_inv * vol0).dot(f);
-    if !(stiffness > 0.0) {
+    if stiffness.is_nan() {
+        return Err(StepError::NonFinite {
+            what: "volume-mode stiffness",
+            t,
+        });
+    }
+    if stiffness <= 0.0 {
         // No elastic restoring force along dilation: nothing can out-damp the mode.
         return Ok(f64::INFINITY);
     }

@@ -21,6 +21,7 @@
 
 pub mod cavity;
 pub mod cavity_benchmark;
+pub mod particles;
 pub mod phase_boundary;
 pub mod phase_map;
 pub mod pipe;
