@@ -260,3 +260,30 @@ fn a_user_drag_model_runs_through_the_cavity() {
         "drag models differ by {gap} m, integration error {error} m"
     );
 }
+
+/// A reduced ensemble, snapshotted: the rigid sphere and the soft prolate 2 (Ca 0.25) in 3
+/// orientations, both lid directions, nominal field scale, inertialess shapes, 100 s. It guards
+/// the ensemble machinery (orientations, variants, fractions, late-event flags, wall counts);
+/// their events fall long before the 100 s horizon (late_events = 0) and the nominal releases
+/// keep their class at a 10× tighter tolerance (dataset notes of Figs 15/16), so the snapshot
+/// should change only with the model or the scene.
+#[test]
+fn reduced_ensemble_fractions_snapshot() {
+    use pseudorigid::scenes::cavity::{ShapeModel, Variant, ensemble, outcome_fraction_table};
+    let flow = flow();
+    let releases = [
+        Release {
+            shape: Shape::Prolate(1.0),
+            softness: Softness::Rigid,
+        },
+        Release {
+            shape: Shape::Prolate(2.0),
+            softness: Softness::Elastic { ca: 0.25 },
+        },
+    ];
+    let variants = [false, true].map(|mirrored| Variant { mirrored, scale: 1.0 });
+    let members = ensemble(&flow, ShapeModel::Inertialess, &releases, &variants, 3, 100.0, 1e-6).unwrap();
+    assert_eq!(members.len(), 2 * 2 * 3);
+    assert!(members.iter().all(|m| m.run.is_ok()), "a member failed");
+    insta::assert_snapshot!(outcome_fraction_table(&members).unwrap().to_text());
+}
