@@ -42,7 +42,7 @@ pub fn jeffery_averaged_settling_mobility(r: f64, k_axial: f64, k_transverse: f6
 /// Hagen–Poiseuille flow u = 2Ū(1 − y²/R²) e_x of radius R and mean velocity Ū, crossed by a
 /// particle settling along the radius from |y| = `from` to `to` at a speed V(|y|) while it moves
 /// with the flow: the streamwise distance it travels is
-/// $D = \int_{y_0}^{y_1} \frac{u(y)}{V(y)}\,dy$
+/// $D = \int_{y_0}^{y_1} \frac{u(y)}{V(y)}\\,dy$
 /// (dx/dt = u, d|y|/dt = V; the settling drift along the flow averages out over an orbit,
 /// [`jeffery_averaged_settling_mobility`]). Composite 3-point Gauss–Legendre on `panels`
 /// equal panels: exact for a constant V (u is quadratic), error O(panels⁻⁶) for smooth V.

@@ -3,7 +3,7 @@
 //! # Physics
 //! A particle is an ellipsoid with barycentre x_c, semi-axes r_a and rotation Q (rows n_a). Its
 //! extent along a unit vector n is the support distance
-//! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2} = \sqrt{n·\bar b\,n}$ with $\bar b = \bar F\bar F^T$
+//! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2} = \sqrt{n·\bar b\\,n}$ with $\bar b = \bar F\bar F^T$
 //! ([`crate::ellipsoid::frame::support_distance`]); a point particle of contact radius δ has
 //! h(n) = δ. It touches a boundary patch with outward normal n at distance d from x_c when the
 //! gap g = d − h(n) ≤ 0. Each patch carries a rule: the particle deposits ([`PatchRule::Stick`])
@@ -15,7 +15,7 @@
 //! diameter. It caps every step so that the gap to the nearest patch can close by at most
 //! g + δ_s, with δ_s half the particle's smallest rest semi-axis, at the current rates: the
 //! barycentre approaches at |v·n| and a tip at distance ≤ r₁ sweeps at ≤ r₁|∇u| (rotation and
-//! stretching by the flow), so $(|v·n| + r_1 |\nabla u|)\,\Delta t \le g + \delta_s$. A tumbling tip
+//! stretching by the flow), so $(|v·n| + r_1 |\nabla u|)\\,\Delta t \le g + \delta_s$. A tumbling tip
 //! then cannot touch and leave the wall within one step. Only the nearest patch is watched: in
 //! a corner, where two patches are about equally near, a scene should also cap the step by its
 //! flow speed ([`crate::driver::Plan::with_dt_max`]), as the cavity does.

@@ -4,7 +4,7 @@
 //! The current ellipsoid has semi-axes r_a along the principal directions n_a (rows of Q,
 //! [`crate::ellipsoid::PrincipalFrame`]). Its extent from the barycentre along a unit vector n is
 //! the support distance
-//! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2} = \sqrt{n·\bar b\, n}$, $\bar b = \bar F \bar F^T$.
+//! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2} = \sqrt{n·\bar b\\, n}$, $\bar b = \bar F \bar F^T$.
 //! For a pipe of radius R along e₁, the outward wall normal at the particle is the radial
 //! direction n = x_⊥/|x_⊥| (x_⊥ the part of x_c normal to the axis), and the particle touches the
 //! wall when the gap

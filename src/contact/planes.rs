@@ -1,7 +1,7 @@
 //! A convex domain bounded by planar walls (the lid-driven cavity of paper §6.3).
 //!
 //! # Physics
-//! The domain is the intersection of half-spaces $\{x : (x − p_w)·n_w ≤ 0\}$, one per wall w
+//! The domain is the intersection of half-spaces $\\{x : (x − p_w)·n_w ≤ 0\\}$, one per wall w
 //! with outward unit normal $n_w$. The gap of a particle centred at x_c with support function h
 //! is $g_w = (p_w − x_c)·n_w − h(n_w)$ ([`super`]).
 

@@ -2,7 +2,7 @@
 //!
 //! # Physics (paper §5, corrected)
 //! With F̄ = F·S the left Cauchy–Green tensor of the total distortion is
-//! $\bar b = \bar F \bar F^T = \sum_a r_a^2\, n_a \otimes n_a$, so the current semi-axes are
+//! $\bar b = \bar F \bar F^T = \sum_a r_a^2\\, n_a \otimes n_a$, so the current semi-axes are
 //! **r_a = sqrt(eig b̄)** (the paper's "r_a = λ_a" is a typo) and the rotation has rows n_a:
 //! Q[a, B] = n_a · E_B. Principal components are X' = Q X Qᵀ, global ones X = Qᵀ X' Q (eq. A.2).
 //!
@@ -66,7 +66,7 @@ impl PrincipalFrame {
     }
 }
 
-/// Support distance $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2} = \sqrt{n·\bar b\,n}$ of an ellipsoid
+/// Support distance $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2} = \sqrt{n·\bar b\\,n}$ of an ellipsoid
 /// with semi-axes `semi_axes` and rotation `q` (rows n_a) along the unit vector `n`: the
 /// distance from its centre to its tangent plane with normal n (wall contact, deposition).
 pub fn support_distance(semi_axes: &Vec3, q: &Mat3, n: &Vec3) -> f64 {

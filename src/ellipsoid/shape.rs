@@ -1,7 +1,7 @@
 //! Stress-free ellipsoid B₀ and its shape tensor.
 //!
 //! # Physics (paper §2.1, eqs. 4, 8)
-//! $S = \sum_a R_a\, E'_a \otimes \bar E_a$ maps the unit reference sphere onto B₀; R_a are the
+//! $S = \sum_a R_a\\, E_a^{\prime} \otimes \bar E_a$ maps the unit reference sphere onto B₀; R_a are the
 //! semi-axes and E'_a the initial axes in global coordinates. Hence
 //! vol(B₀) = det S · 4π/3 and, for a homogeneous solid ellipsoid of mass m,
 //! the Euler tensor is Θ = (m/5) S Sᵀ.

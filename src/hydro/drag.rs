@@ -2,7 +2,7 @@
 //!
 //! # Physics (Brenner 1963 / Oberbeck)
 //! For an ellipsoid with principal frame (r, Q) and integrals χ₀, α_i:
-//! $\hat K = 16\pi\, Q^T \mathrm{diag}\big(1/(\chi_0 + x_i\alpha_i)\big) Q$, i.e. the paper's
+//! $\hat K = 16\pi\\, Q^T \mathrm{diag}\big(1/(\chi_0 + x_i\alpha_i)\big) Q$, i.e. the paper's
 //! $k_i = 16 / (r_{min}(\chi_0 + x_i\alpha_i))$. A sphere has k = 6 (f = 6πμa u); prolate values
 //! are tabulated by Brenner (1963) and tested.
 

@@ -6,13 +6,20 @@
 //! with g = l_f − l_s, d = dev sym g, w = skw g, d_s = sym l_s and
 //! Σ'' = α''₁α''₂ + α''₂α''₃ + α''₃α''₁:
 //!
-//! $\tilde\sigma = -\bar p\,\mathbf 1 + \mu_f\,[\,s(d, w) + 2 d_s\,]$
-//!
-//! - off-diagonal (i ≠ j, either order, k the third index):
-//!   $s_{ij} = \frac{4}{abc}\Big\{\frac{d_{ij}}{\alpha'_k (x_i+x_j)}
-//!   + \frac{x_j[(x_i+x_j) w_{ij} - (x_i-x_j) d_{ij}]}{(x_i+x_j)(x_i\alpha_i + x_j\alpha_j)}\Big\}$
-//! - diagonal: $s_{ii} = \frac{4}{3abc}\,\frac{2\alpha''_i d_{ii} - \alpha''_j d_{jj} - \alpha''_k d_{kk}}{\Sigma''}$
-//! - mean normal stress: $\bar p = \frac{2\mu_f}{3\Sigma''}\sum_i \alpha''_i(2\alpha_i-\alpha_j-\alpha_k) d_{ii}$
+//! ```math
+//! \tilde\sigma = -\bar p\,\mathbf 1 + \mu_f\,\big[\,s(d, w) + 2 d_s\,\big]
+//! ```
+//! with, off the diagonal (i ≠ j, either order, k the third index),
+//! ```math
+//! s_{ij} = \frac{4}{abc}\Big\{\frac{d_{ij}}{\alpha'_k (x_i+x_j)}
+//!   + \frac{x_j[(x_i+x_j) w_{ij} - (x_i-x_j) d_{ij}]}{(x_i+x_j)(x_i\alpha_i + x_j\alpha_j)}\Big\},
+//! ```
+//! on the diagonal and for the mean normal stress
+//! ```math
+//! s_{ii} = \frac{4}{3abc}\,\frac{2\alpha''_i d_{ii} - \alpha''_j d_{jj} - \alpha''_k d_{kk}}{\Sigma''},
+//! \qquad
+//! \bar p = \frac{2\mu_f}{3\Sigma''}\sum_i \alpha''_i(2\alpha_i-\alpha_j-\alpha_k)\, d_{ii}.
+//! ```
 //!
 //! Global components σ̃ = Qᵀ σ̃' Q. Checked limits (tests): the sphere gives
 //! σ̃ = 2μd_s + 5μd + 3μw; a torque-free ellipsoid spins at Jeffery's rate.
@@ -210,7 +217,7 @@ const TRACE_ROW: usize = 8;
 
 /// Jeffery's (1922) torque-free spin of a rigid ellipsoid in the flow gradient `l_f`: the skew
 /// l_s with skw σ̃ = 0 and d_s = 0. In the principal frame
-/// $w_{s,ij} = w_{f,ij} - \frac{x_i - x_j}{x_i + x_j}\, d_{f,ij}$ with x_i = r_i².
+/// $w_{s,ij} = w_{f,ij} - \frac{x_i - x_j}{x_i + x_j}\\, d_{f,ij}$ with x_i = r_i².
 pub fn jeffery_spin(frame: &PrincipalFrame, l_f: &Mat3) -> Mat3 {
     let lf = frame.to_principal(l_f);
     let x = frame.r.component_mul(&frame.r);

@@ -4,7 +4,7 @@
 //! 1. (r, Q)ⁿ from F̄ⁿ F̄ⁿᵀ; l_sⁿ = Aⁿ(Fⁿ)⁻¹; σ̃* = σ̃(rⁿ, Qⁿ; l_sⁿ, l_f^{n+1}) — **explicit** and
 //!    frozen during the Newton iterations.
 //! 2. Newton for F^{n+1} (from an extrapolated start, see below) on
-//!    $R(F) = F - F^n - \Delta t A^n - \Delta t^2 \mathrm{vol}(B_0)\,[J\tilde\sigma^* F^{-T} - P(F)]\,\Theta^{-1} = 0$
+//!    $R(F) = F - F^n - \Delta t A^n - \Delta t^2 \mathrm{vol}(B_0)\\,[J\tilde\sigma^* F^{-T} - P(F)]\\,\Theta^{-1} = 0$
 //!    (eq. 18 discretised). The Jacobian is assembled from ∂(Jσ̃*F⁻ᵀ)/∂F by num-dual AD and
 //!    the material tangent ∂P/∂F (AD of W, or a closed form checked against AD).
 //! 3. A^{n+1} = (F^{n+1} − Fⁿ)/Δt.

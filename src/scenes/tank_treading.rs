@@ -7,7 +7,7 @@
 //! axis, so l_s = ḞF⁻¹ = V Ω V⁻¹ with Ω = ṘRᵀ skew. In the body frame
 //! (n₁ the in-plane long axis at angle θ from the flow, n₂ in-plane short, n₃ = e_z):
 //!
-//! $l'_{s,12} = -\nu\,\lambda_1/\lambda_2,\quad l'_{s,21} = \nu\,\lambda_2/\lambda_1$, all other
+//! $l_{s,12}^{\prime} = -\nu\\,\lambda_1/\lambda_2,\quad l_{s,21}^{\prime} = \nu\\,\lambda_2/\lambda_1$, all other
 //! components 0 (a pure tank-treading rotation; the shape b̄ = R₀²V² is stationary),
 //!
 //! and FFᵀ = V² makes the elastic stress σ_el = μ_s(V² − 1) + p1 constant (J = 1).
@@ -16,11 +16,11 @@
 //! x_i = r_i² = R₀²λ_i², the steady inertialess balance dev σ̃ = dev σ_el of the
 //! Jeffery–Roscoe traction ([`crate::hydro::traction`]) reduces to four algebraic equations:
 //!
-//! 1. torque-free (Jeffery): $w_{12} = e\,d_{12}$, $e = (x_1 - x_2)/(x_1 + x_2)$;
-//! 2. no in-plane shear stress: $2 d_{s,12} + K d_{12} = 0$, $K = 4/(abc\,\alpha'_3 (x_1+x_2))$;
+//! 1. torque-free (Jeffery): $w_{12} = e\\,d_{12}$, $e = (x_1 - x_2)/(x_1 + x_2)$;
+//! 2. no in-plane shear stress: $2 d_{s,12} + K d_{12} = 0$, $K = 4/(abc\\,\alpha_3^{\prime} (x_1+x_2))$;
 //! 3. first normal-stress balance (Roscoe's I):
-//!    $\frac{2}{abc\,\Sigma''}(\alpha''_1 + \alpha''_2)\sin 2\theta = (\lambda_1^2 - \lambda_2^2)/Ca$;
-//! 4. second one (Roscoe's J): $\frac{2}{abc\,\Sigma''}\alpha''_1 \sin 2\theta = (\lambda_1^2 - \lambda_3^2)/Ca$,
+//!    $\frac{2}{abc\\,\Sigma^{\prime\prime}}(\alpha_1^{\prime\prime} + \alpha_2^{\prime\prime})\sin 2\theta = (\lambda_1^2 - \lambda_2^2)/Ca$;
+//! 4. second one (Roscoe's J): $\frac{2}{abc\\,\Sigma^{\prime\prime}}\alpha_1^{\prime\prime} \sin 2\theta = (\lambda_1^2 - \lambda_3^2)/Ca$,
 //!
 //! with λ₃ = 1/(λ₁λ₂). Here d₁₂ = ½cos 2θ − ½ν(λ₂/λ₁ − λ₁/λ₂),
 //! w₁₂ = ½ + ½ν(λ₁/λ₂ + λ₂/λ₁) and d_s,12 = ½ν(λ₂/λ₁ − λ₁/λ₂). For a given shape (λ₁, λ₂),

@@ -8,7 +8,7 @@
 //! outward unit normal $n_f$ the gap is $g = (x_f − x_c)·n_f − h(n_f)$; g ≤ 0 is contact.
 //! The face that counts is the one the particle's extreme point faces: among the
 //! [`NEAREST_FACES`] faces whose centres are nearest to $x_c$, those for which the support
-//! point $s = x_c + b\,n_f / h(n_f)$ ($b = Q^T \mathrm{diag}(r_a^2)\,Q$, the point of the
+//! point $s = x_c + b\\,n_f / h(n_f)$ ($b = Q^T \mathrm{diag}(r_a^2)\\,Q$, the point of the
 //! ellipsoid farthest along $n_f$) projects into the face polygon; the smallest of their gaps
 //! is the gap. (Taking the smallest plane gap over all nearby faces would be wrong at convex
 //! walls, where the planes of neighbouring faces cut into the fluid.) If the support point

@@ -1,7 +1,7 @@
 //! Cellwise linear reconstruction of a cell-centred field: u and ∇u anywhere in a cell.
 //!
 //! # Scheme
-//! In cell c the field is $u(x) = u_c + G_c\,(x − x_c)$, with $G_c$ the weighted
+//! In cell c the field is $u(x) = u_c + G_c\\,(x − x_c)$, with $G_c$ the weighted
 //! least-squares gradient over the cell's faces: across an internal face the data point is the
 //! neighbour's centre and value, on a boundary face it is the face centre and the patch value
 //! (the no-slip zero, the inlet profile, ...). With $d_j = x_j − x_c$ and $w_j = |d_j|^{-2}$,

@@ -3,7 +3,7 @@
 //! # Scheme
 //! Reference coordinates ξ ∈ [0, 1]³, vertices in VTK order (type 12): the bottom face
 //! ξ₃ = 0 is 0‑1‑2‑3 counter-clockwise seen from above, the top face 4‑5‑6‑7 lies above it.
-//! The map $x(ξ) = \sum_k N_k(ξ)\,p_k$ with $N_k = \prod_d ℓ_{k,d}(ξ_d)$, $ℓ = ξ$ or $1 − ξ$,
+//! The map $x(ξ) = \sum_k N_k(ξ)\\,p_k$ with $N_k = \prod_d ℓ_{k,d}(ξ_d)$, $ℓ = ξ$ or $1 − ξ$,
 //! is inverted by Newton's method; for a parallelepiped (a uniform blockMesh cell) the map is
 //! affine and one step is exact. A point is in the cell iff its ξ lies in [0, 1]³ up to
 //! [`XI_TOL`]: this is the exact membership test of the trilinear solid, and it agrees with the

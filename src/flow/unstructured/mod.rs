@@ -7,7 +7,7 @@
 //! velocity hold exactly on the walls). At a query x the containing hexahedron and the reference
 //! coordinates ξ are found by [`locate`] (nearest centre, then a face walk with the exact
 //! trilinear point-in-cell test), and u and ∇u are interpolated with the same trilinear shape
-//! functions: $u(x) = \sum_k N_k(ξ)\,u_k$, $∇u(x) = \sum_k N_k(ξ)\,(∇u)_k$.
+//! functions: $u(x) = \sum_k N_k(ξ)\\,u_k$, $∇u(x) = \sum_k N_k(ξ)\\,(∇u)_k$.
 //!
 //! Order: trilinear interpolation is exact for fields linear in x on any trilinear cell, so
 //! the interpolation error is O(h²) in u and in ∇u (relative to the point values); the

@@ -3,7 +3,7 @@
 //!
 //! # Physics
 //! Hagen–Poiseuille air flow along e₁ in a pipe of radius R = D/2,
-//! $u = 2\bar U (1 − r^2/R^2)\, e_1$. The particle is released at x₀ = (0, x₂⁰, 0) with its long
+//! $u = 2\bar U (1 − r^2/R^2)\\, e_1$. The particle is released at x₀ = (0, x₂⁰, 0) with its long
 //! axis along e₁ (Fig. 9), moving with the local fluid velocity (§6.2). The shear rate there,
 //! $\dot\gamma_0 = 4\bar U |x_2^0|/R^2 = 725.85\ \mathrm{s^{-1}}$ for Tian/Cui, sets the capillary number
 //! Ca = μ_f γ̇₀/μ_s (eq. 23); the paper quotes ω_f = 726.95 s⁻¹ (0.15 % more).
