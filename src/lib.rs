@@ -27,6 +27,7 @@ pub mod hydro;
 pub mod integrator;
 pub mod material;
 pub mod output;
+mod parallel;
 pub mod particle;
 pub mod reference;
 pub mod scenes;

@@ -34,6 +34,7 @@ pub enum OutputError {
         got: usize,
     },
     /// The plotting backend failed.
+    #[cfg(feature = "plot")]
     #[error("plotting failed: {0}")]
     Plot(String),
 }
