@@ -29,6 +29,8 @@ pub mod material;
 pub mod output;
 mod parallel;
 pub mod particle;
+#[cfg(feature = "parallel")]
+pub mod population;
 pub mod reference;
 pub mod scenes;
 pub mod tensor;
