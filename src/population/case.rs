@@ -22,6 +22,7 @@ pub struct Case<'a, I, F: ?Sized, B: ?Sized, J> {
     injector: &'a J,
     contact: ContactModel,
     plan: Plan,
+    samples: bool,
 }
 
 impl<'a, I, F, B, J> Case<'a, I, F, B, J>
@@ -41,7 +42,15 @@ where
             injector,
             contact: ContactModel::Extent,
             plan,
+            samples: false,
         }
+    }
+
+    /// Keep each particle's states at the start, the plan's output times and its event in its
+    /// record ([`ParticleRecord::samples`]): trajectories and time series for output files.
+    pub fn with_samples(mut self) -> Self {
+        self.samples = true;
+        self
     }
 
     /// Use `contact` instead of the particle's extent.
@@ -75,6 +84,7 @@ where
                     fate: Fate::Failed { error: e.to_string() },
                     end: None,
                     stats: RunStats::default(),
+                    samples: Vec::new(),
                 };
             }
         };
@@ -88,6 +98,7 @@ where
                     fate: Fate::Failed { error: e.to_string() },
                     end: Some(start),
                     stats: RunStats::default(),
+                    samples: Vec::new(),
                 };
             }
         };
@@ -95,6 +106,7 @@ where
         let mut memory = I::Memory::default();
         let mut stats = RunStats::default();
         let mut last = start;
+        let mut samples = Vec::new();
         let result = integrate(
             self.integrator,
             &particle,
@@ -103,7 +115,11 @@ where
             &mut memory,
             &self.plan,
             &[&contact],
-            |_| {},
+            |s| {
+                if self.samples {
+                    samples.push(*s);
+                }
+            },
             |step| {
                 stats.steps += 1;
                 stats.rejected += u64::from(step.info.rejected);
@@ -143,6 +159,7 @@ where
             fate,
             end: Some(end),
             stats,
+            samples,
         }
     }
 
@@ -166,6 +183,10 @@ where
         ] {
             h.write(&(part.len() as u64).to_le_bytes());
             h.write(part.as_bytes());
+        }
+        // Records with and without samples differ; the hash of a run without them is unchanged.
+        if self.samples {
+            h.write(b"samples");
         }
         format!("{:016x}", h.finish())
     }

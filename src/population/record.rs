@@ -68,6 +68,10 @@ pub struct ParticleRecord<L> {
     pub end: Option<State>,
     /// Work of its run.
     pub stats: RunStats,
+    /// Its states at the start, at the plan's output times and at its event, when the case
+    /// keeps them ([`super::Case::with_samples`]); empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub samples: Vec<State>,
 }
 
 /// How many particles met each fate.
