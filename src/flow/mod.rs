@@ -3,7 +3,9 @@
 //! Analytic fields live in [`analytic`]; meshed CFD fields implement the same trait.
 
 pub mod analytic;
+#[cfg(feature = "mesh")]
 pub mod openfoam;
+#[cfg(feature = "mesh")]
 pub mod unstructured;
 
 use crate::error::FlowError;

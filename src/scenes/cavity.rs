@@ -770,7 +770,6 @@ pub fn ensemble(
     t_max: f64,
     tol: f64,
 ) -> Result<Vec<Member>, SceneError> {
-    use rayon::prelude::*;
     let cavities = variants
         .iter()
         .map(|v| Ok((*v, Cavity::new(flow)?.with_shape_model(shape_model).with_variant(*v)?)))
@@ -787,17 +786,14 @@ pub fn ensemble(
             })
         })
         .collect();
-    Ok(jobs
-        .par_iter()
-        .map(|(c, release, k, turn)| {
-            let (variant, cavity) = &cavities[*c];
-            Member {
-                variant: *variant,
-                orientation: *k,
-                run: cavity
-                    .track_oriented(*release, Contact::Barycentre, turn, t_max, tol, t_max)
-                    .map_err(|e| e.to_string()),
-            }
-        })
-        .collect())
+    Ok(crate::parallel::map(&jobs, |(c, release, k, turn)| {
+        let (variant, cavity) = &cavities[*c];
+        Member {
+            variant: *variant,
+            orientation: *k,
+            run: cavity
+                .track_oriented(*release, Contact::Barycentre, turn, t_max, tol, t_max)
+                .map_err(|e| e.to_string()),
+        }
+    }))
 }
