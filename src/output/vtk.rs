@@ -108,7 +108,11 @@ fn plain(name: &str) -> Result<&str, VtkError> {
         && name
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '/'));
-    if ok { Ok(name) } else { Err(VtkError::Name(name.to_string())) }
+    if ok {
+        Ok(name)
+    } else {
+        Err(VtkError::Name(name.to_string()))
+    }
 }
 
 fn check_finite(name: &str, values: &[f64]) -> Result<(), VtkError> {
@@ -296,7 +300,10 @@ pub fn stretch(f_bar: &Mat3) -> (Mat3, Vec3) {
 
 /// Particles as vertices with the arrays `id`, `V` (active tensors), `r1`, `r2`, `r3`, `flag`.
 pub fn particle_cloud(points: &[CloudPoint]) -> Result<PolyData, VtkError> {
-    let (mut v, mut r) = (Vec::with_capacity(9 * points.len()), [(); 3].map(|_| Vec::with_capacity(points.len())));
+    let (mut v, mut r) = (
+        Vec::with_capacity(9 * points.len()),
+        [(); 3].map(|_| Vec::with_capacity(points.len())),
+    );
     for p in points {
         let (stretch, semi_axes) = stretch(&p.f_bar);
         v.extend(stretch.transpose().iter().copied()); // row-major (symmetric anyway)

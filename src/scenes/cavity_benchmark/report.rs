@@ -5,8 +5,6 @@ use crate::error::FlowError;
 use crate::flow::FlowField;
 use crate::flow::unstructured::MeshError;
 use crate::output::write_atomic;
-#[cfg(feature = "plot")]
-use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -22,15 +20,9 @@ pub enum ReportError {
     /// Writing a file failed.
     #[error(transparent)]
     Mesh(#[from] MeshError),
-    /// The plotting backend failed.
-    #[cfg(feature = "plot")]
-    #[error("plot {path}: {reason}")]
-    Plot {
-        /// Output file.
-        path: String,
-        /// Backend message.
-        reason: String,
-    },
+    /// Drawing or writing the plot failed.
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
 }
 
 /// Atomic write (see [`crate::output::atomic`]): an interrupted report leaves the previous
@@ -94,7 +86,7 @@ pub fn write_extrema_csv(path: &Path, rows: &[ExtremumComparison]) -> Result<(),
 }
 
 /// Two panels (u on the vertical centreline, w on the horizontal one): simulated curve and
-/// reference markers.
+/// reference markers, drawn through [`crate::output::Figure`].
 #[cfg(feature = "plot")]
 pub fn plot_centrelines_svg(
     path: &Path,
@@ -104,63 +96,27 @@ pub fn plot_centrelines_svg(
     flow: &impl FlowField,
     reference: &ReferenceTable,
 ) -> Result<(), ReportError> {
-    let plot_err = |e: &dyn std::fmt::Display| ReportError::Plot {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    };
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (1000, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| plot_err(&e))?;
-        let root = root.titled(title, ("sans-serif", 20)).map_err(|e| plot_err(&e))?;
-        let panels = root.split_evenly((1, 2));
-        for (panel, line) in panels.iter().zip(Centreline::ALL) {
-            let simulated = case.profile(flow, line, PROFILE_SAMPLES)?;
-            // Vertical line: height on the ordinate, as in the benchmark papers.
-            let (xs, ys, x_label, y_label) = match line {
-                Centreline::Vertical => (-0.4..1.05, 0.0..1.0, "u_x / U", "z / L  (x = y = L/2)"),
-                Centreline::Horizontal => (0.0..1.0, -0.5..0.3, "x / L  (y = z = L/2)", "u_z / U"),
-            };
-            let xy = |p: &LinePoint| match line {
-                Centreline::Vertical => (p.value, p.position),
-                Centreline::Horizontal => (p.position, p.value),
-            };
-            let mut chart = ChartBuilder::on(panel)
-                .margin(15)
-                .x_label_area_size(40)
-                .y_label_area_size(55)
-                .build_cartesian_2d(xs, ys)
-                .map_err(|e| plot_err(&e))?;
-            chart
-                .configure_mesh()
-                .x_desc(x_label)
-                .y_desc(y_label)
-                .draw()
-                .map_err(|e| plot_err(&e))?;
-            chart
-                .draw_series(LineSeries::new(simulated.iter().map(xy), BLUE.stroke_width(2)))
-                .map_err(|e| plot_err(&e))?
-                .label(simulated_label)
-                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE.stroke_width(2)));
-            chart
-                .draw_series(
-                    reference
-                        .profile(line)
-                        .iter()
-                        .map(|p| Circle::new(xy(p), 4, RED.filled())),
-                )
-                .map_err(|e| plot_err(&e))?
-                .label("Albensoeder & Kuhlmann 2005")
-                .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
-            chart
-                .configure_series_labels()
-                .border_style(BLACK)
-                .background_style(WHITE.mix(0.8))
-                .draw()
-                .map_err(|e| plot_err(&e))?;
-        }
-        root.present().map_err(|e| plot_err(&e))?;
+    use crate::output::{Figure, Panel, Series};
+    let mut panels = Vec::new();
+    for line in Centreline::ALL {
+        // Vertical line: height on the ordinate, as in the benchmark papers.
+        let (xs, ys, x_label, y_label) = match line {
+            Centreline::Vertical => ((-0.4, 1.05), (0.0, 1.0), "u_x / U", "z / L  (x = y = L/2)"),
+            Centreline::Horizontal => ((0.0, 1.0), (-0.5, 0.3), "x / L  (y = z = L/2)", "u_z / U"),
+        };
+        let xy = |p: &LinePoint| match line {
+            Centreline::Vertical => (p.value, p.position),
+            Centreline::Horizontal => (p.position, p.value),
+        };
+        let simulated = case.profile(flow, line, PROFILE_SAMPLES)?.iter().map(xy).collect();
+        let markers = reference.profile(line).iter().map(xy).collect();
+        panels.push(
+            Panel::new(format!("{title}: {} centreline", line.name()), x_label, y_label)
+                .with_ranges(xs, ys)
+                .with(Series::line(simulated_label, simulated, 0))
+                .with(Series::points("Albensoeder & Kuhlmann 2005", markers, 1)),
+        );
     }
-    write(path, &svg)?;
+    Figure::grid(panels, 2, (500, 480)).write(path)?;
     Ok(())
 }
