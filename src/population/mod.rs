@@ -21,6 +21,7 @@
 //!   velocity), the [`Injector`] trait, [`ParticleTemplate`], per-particle generators
 //!   [`particle_rng`];
 //! - [`sampling`]: uniform points on a disc, uniform rotations;
+//! - [`settling_pipe`]: a cheap population with a closed-form answer (tests, benches);
 //! - [`case`]: [`Case`] (integrator, flow, boundary, injector, plan, contact model),
 //!   [`Case::run_particle`], [`RunConfig`] and the configuration hash;
 //! - [`record`]: [`Fate`] (deposited, escaped, suspended, failed), [`ParticleRecord`];
@@ -41,6 +42,7 @@ pub mod progress;
 pub mod record;
 pub mod runner;
 pub mod sampling;
+pub mod settling_pipe;
 pub mod shard;
 pub mod spec;
 

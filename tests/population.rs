@@ -1,0 +1,286 @@
+//! The population runner: closed-form deposition, identical results for every layout (serial,
+//! 1–3 threads, shards, checkpoints and resumes), exact file round trips, typed errors.
+
+mod population_common;
+
+use population_common::{Faulty, config, integrator, pipe, plan, soft_pipe};
+use pseudorigid::integrator::Stokesian;
+use pseudorigid::material::NeoHooke;
+use pseudorigid::population::settling_pipe::sphere_deposition;
+use pseudorigid::population::{
+    Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng, run,
+};
+use std::time::Duration;
+
+fn thread_pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap()
+}
+
+/// A fresh empty folder under the target directory.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("population-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Rigid spheres with an overdamped barycentre deposit where the closed form says
+/// ([`sphere_deposition`]), and escape exactly when the closed form's landing point lies beyond
+/// the outlet.
+#[test]
+fn rigid_spheres_deposit_at_the_closed_form_point() {
+    let case_pipe = pipe();
+    let tol = 1e-9;
+    let stokes = Stokesian::overdamped(tol).unwrap();
+    let plan = pseudorigid::driver::Plan::new(1e4, 0.1).unwrap();
+    let case = Case::new(&stokes, case_pipe.flow(), case_pipe.boundary(), &case_pipe, plan);
+    let config = RunConfig {
+        seed: 7,
+        particles: 48,
+        fingerprint: case_pipe.fingerprint(),
+    };
+    let out = run(&case, &config, Shard::ALL, &RunOptions::default().quiet()).unwrap();
+    let counts = out.counts();
+    assert_eq!(counts.total(), 48);
+    assert!(counts.deposited >= 5 && counts.escaped >= 5, "{counts:?}");
+    assert_eq!(counts.suspended + counts.failed, 0, "{counts:?}");
+    assert_eq!(out.patches, ["outlet", "wall"]);
+    for r in &out.records {
+        let x0 = r.spec.as_ref().unwrap().position;
+        let [x1, y, z, t] = sphere_deposition(20.0, 1.0, 0.1, 0.5, x0[1], x0[2]).unwrap();
+        match &r.fate {
+            Fate::Deposited { patch, position, time } => {
+                assert_eq!(*patch, 1);
+                // The controller keeps each step's local error below tol·(1 + |y|) per
+                // component (|y| ≤ L = 200), and local errors add at most linearly over the
+                // accepted steps; the contact itself is located to |g| ≤ 1e-9 d_eq, which moves
+                // the landing point by less than that times the slope u₁/v_s ≤ 20 near the wall.
+                let bound = (r.stats.steps as f64 + 1.0) * tol * 201.0 + 20.0 * 1e-9;
+                let err = (position - nalgebra::Vector3::new(x1, y, z)).amax();
+                assert!(err <= bound, "particle {}: error {err:e} > {bound:e}", r.index);
+                // t = (y₀ − y)/v_s: the same bound divided by v_s.
+                assert!((time - t).abs() <= bound / 0.1, "particle {}: t {time} vs {t}", r.index);
+                assert!(x1 < 200.0);
+            }
+            Fate::Escaped { patch, .. } => {
+                assert_eq!(*patch, 0);
+                assert!(x1 > 200.0, "particle {} escaped but lands at x1 = {x1}", r.index);
+            }
+            other => panic!("particle {}: {other:?}", r.index),
+        }
+    }
+}
+
+/// Serial, and 1, 2 and 3 threads give the same bytes; the population holds every fate.
+#[test]
+fn same_results_serial_and_on_any_number_of_threads() {
+    let (stokes, pipe) = (integrator(), soft_pipe());
+    let faulty = Faulty {
+        inner: pipe.clone(),
+        delay: None,
+    };
+    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let config = config(40);
+    let serial = run(&case, &config, Shard::ALL, &RunOptions::default().serial().quiet()).unwrap();
+    let counts = serial.counts();
+    assert!(
+        counts.deposited > 0 && counts.escaped > 0 && counts.suspended > 0 && counts.failed > 0,
+        "{counts:?}"
+    );
+    let bytes = serial.to_json().unwrap();
+    for threads in [1, 2, 3] {
+        let out = thread_pool(threads).install(|| run(&case, &config, Shard::ALL, &RunOptions::default().quiet()));
+        assert!(
+            out.unwrap().to_json().unwrap() == bytes,
+            "{threads} threads differ from serial"
+        );
+    }
+}
+
+/// Shards 0/3, 1/3, 2/3 (from text and from Slurm variables) merge to the unsharded run, byte
+/// for byte; merges of the wrong parts are typed errors.
+#[test]
+fn merged_shards_equal_the_whole_run() {
+    let (stokes, pipe) = (integrator(), soft_pipe());
+    let faulty = Faulty {
+        inner: pipe.clone(),
+        delay: None,
+    };
+    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let config = config(31);
+    let opts = RunOptions::default().quiet();
+    let whole = run(&case, &config, Shard::ALL, &opts).unwrap();
+    let dir = scratch("shards");
+    let mut paths = Vec::new();
+    for k in 0..3u64 {
+        let vars = |name: &str| match name {
+            "SLURM_ARRAY_TASK_ID" => Some((k + 4).to_string()),
+            "SLURM_ARRAY_TASK_MIN" => Some("4".to_string()),
+            "SLURM_ARRAY_TASK_COUNT" => Some("3".to_string()),
+            _ => None,
+        };
+        let shard = Shard::from_vars(vars).unwrap().unwrap();
+        assert_eq!(shard, format!("{k}/3").parse().unwrap());
+        let out = run(&case, &config, shard, &opts).unwrap();
+        assert_eq!(out.records.len() as u64, shard.len(31));
+        let path = dir.join(format!("shard-{k}.json"));
+        out.write_json(&path).unwrap();
+        paths.push(path);
+    }
+    // Merge order does not matter.
+    paths.reverse();
+    let merged = RunOutput::<NeoHooke>::merge_files(&paths).unwrap();
+    assert!(merged.to_json().unwrap() == whole.to_json().unwrap());
+    assert_eq!(merged.table().unwrap().to_text(), whole.table().unwrap().to_text());
+
+    let parts = || {
+        paths
+            .iter()
+            .map(RunOutput::<NeoHooke>::read_json)
+            .collect::<Result<Vec<_>, _>>()
+            .unwrap()
+    };
+    let mut missing = parts();
+    missing.pop();
+    assert!(matches!(
+        RunOutput::merge(missing),
+        Err(PopulationError::MissingShards { count: 3, ref missing }) if missing.len() == 1
+    ));
+    let mut repeated = parts();
+    repeated[0] = repeated[1].clone();
+    assert!(matches!(
+        RunOutput::merge(repeated),
+        Err(PopulationError::RepeatedShard { .. })
+    ));
+    let mut foreign = parts();
+    foreign[2].config_hash = "0000000000000000".to_string();
+    assert!(matches!(
+        RunOutput::merge(foreign),
+        Err(PopulationError::ConfigMismatch { .. })
+    ));
+    let mut short = parts();
+    let _ = short[1].records.pop();
+    assert!(matches!(
+        RunOutput::merge(short),
+        Err(PopulationError::IncompleteShard { .. })
+    ));
+    let mut unsharded_too = parts();
+    unsharded_too.push(whole);
+    assert!(matches!(
+        RunOutput::merge(unsharded_too),
+        Err(PopulationError::ShardMismatch { .. })
+    ));
+}
+
+/// In-process checkpoints: a finished checkpoint resumes to the same bytes without work, a
+/// new run refuses an existing checkpoint, and a different run refuses it with its hash.
+#[test]
+fn checkpoint_guards_and_resume_of_a_finished_run() {
+    let (stokes, pipe) = (integrator(), soft_pipe());
+    let faulty = Faulty {
+        inner: pipe.clone(),
+        delay: None,
+    };
+    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let config = config(12);
+    let dir = scratch("checkpoint");
+    let opts = RunOptions::default().quiet().with_checkpoints(&dir, Duration::ZERO);
+    let first = run(&case, &config, Shard::ALL, &opts).unwrap();
+    let again = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap();
+    assert!(first.to_json().unwrap() == again.to_json().unwrap());
+    // Every record was flushed (interval 0: a chunk per received batch), and resuming a
+    // finished run added no chunk.
+    let chunks = std::fs::read_dir(&dir).unwrap().count();
+    assert!((1..=12).contains(&chunks), "{chunks} chunks");
+    assert!(matches!(
+        run(&case, &config, Shard::ALL, &opts),
+        Err(PopulationError::CheckpointExists { chunks: c, .. }) if c == chunks
+    ));
+    let other = RunConfig {
+        seed: config.seed + 1,
+        ..config.clone()
+    };
+    let err = run(&case, &other, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
+    assert!(
+        matches!(&err, PopulationError::ConfigMismatch { expected, found, .. }
+            if *expected == case.config_hash(&other) && *found == case.config_hash(&config)),
+        "{err}"
+    );
+    let err = run(&case, &config, Shard::new(1, 2).unwrap(), &opts.clone().resume(true)).unwrap_err();
+    assert!(matches!(err, PopulationError::ShardMismatch { .. }), "{err}");
+}
+
+/// Records are written and read back bit for bit, including subnormal, huge and negative-zero
+/// components, and particle k draws the same numbers whatever else has been drawn.
+#[test]
+fn records_round_trip_exactly() {
+    let (stokes, pipe) = (integrator(), soft_pipe());
+    let faulty = Faulty {
+        inner: pipe.clone(),
+        delay: None,
+    };
+    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let mut out = run(&case, &config(6), Shard::ALL, &RunOptions::default().quiet()).unwrap();
+    let end = out.records[0].end.as_mut().unwrap();
+    end.x = nalgebra::Vector3::new(5e-324, -0.0, 1.7976931348623157e308);
+    end.t = 0.1 + 0.2;
+    let path = scratch("roundtrip").join("out.json");
+    out.write_json(&path).unwrap();
+    let back = RunOutput::<NeoHooke>::read_json(&path).unwrap();
+    let bits = |o: &RunOutput<NeoHooke>| {
+        o.records
+            .iter()
+            .flat_map(|r| {
+                r.end
+                    .iter()
+                    .flat_map(|s| s.x.iter().chain(s.f.iter()).chain([&s.t]).map(|v| v.to_bits()))
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&back), bits(&out));
+    assert_eq!(back, out);
+
+    use rand::RngExt;
+    let mut a = particle_rng(3, 17);
+    let mut b = particle_rng(3, 17);
+    let _: f64 = particle_rng(3, 16).random();
+    assert_eq!(a.random::<u64>(), b.random::<u64>());
+    assert_ne!(particle_rng(3, 17).random::<u64>(), particle_rng(3, 18).random::<u64>());
+    assert_ne!(particle_rng(3, 17).random::<u64>(), particle_rng(4, 17).random::<u64>());
+}
+
+/// Shards from text and the environment, and their errors.
+#[test]
+fn shard_specifications() {
+    let s: Shard = "3/16".parse().unwrap();
+    assert_eq!((s.index(), s.count(), s.to_string()), (3, 16, "3/16".to_string()));
+    assert_eq!(s.indices(40).collect::<Vec<_>>(), [3, 19, 35]);
+    assert_eq!(s.len(40), 3);
+    assert_eq!(Shard::new(2, 3).unwrap().len(2), 0);
+    for bad in ["3", "a/2", "1/", "-1/2"] {
+        assert!(
+            matches!(bad.parse::<Shard>(), Err(PopulationError::BadShard { .. })),
+            "{bad}"
+        );
+    }
+    for (k, n) in [(2, 2), (0, 0)] {
+        assert!(matches!(Shard::new(k, n), Err(PopulationError::ShardOutOfRange { .. })));
+    }
+    assert_eq!(Shard::from_vars(|_| None).unwrap(), None);
+    let env = |id: &'static str| {
+        move |name: &str| match name {
+            "SLURM_ARRAY_TASK_ID" => Some(id.to_string()),
+            "SLURM_ARRAY_TASK_COUNT" => Some("4".to_string()),
+            _ => None,
+        }
+    };
+    assert_eq!(Shard::from_vars(env("3")).unwrap(), Some(Shard::new(3, 4).unwrap()));
+    assert!(matches!(
+        Shard::from_vars(env("4")),
+        Err(PopulationError::ShardOutOfRange { index: 4, count: 4 })
+    ));
+    assert!(matches!(
+        Shard::from_vars(env("x")),
+        Err(PopulationError::BadEnvironment { .. })
+    ));
+}
