@@ -284,3 +284,21 @@ fn shard_specifications() {
         Err(PopulationError::BadEnvironment { .. })
     ));
 }
+
+/// The log line of a run off a terminal: count, percentage, the rate of this process's
+/// particles (not those resumed from a checkpoint) and the ETA from that rate.
+#[test]
+fn progress_log_lines() {
+    use pseudorigid::population::progress::progress_line;
+    // 250 of 1000 done, 200 of them in 100 s here: 2 particles/s, 750 left: 375 s = 6m15s.
+    assert_eq!(
+        progress_line("run", 250, 1000, 200, Duration::from_secs(100)),
+        "run: 250/1000 particles (25.0 %), 2.0 particles/s, ETA 6m15s"
+    );
+    assert_eq!(
+        progress_line("run", 10, 100_000, 10, Duration::from_secs(1)),
+        "run: 10/100000 particles (0.0 %), 10.0 particles/s, ETA 2h46m39s"
+    );
+    assert!(progress_line("run", 0, 10, 0, Duration::ZERO).ends_with("ETA unknown"));
+    assert!(progress_line("run", 0, 0, 0, Duration::ZERO).contains("(100.0 %)"));
+}
