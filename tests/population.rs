@@ -8,7 +8,7 @@ use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
 use pseudorigid::population::settling_pipe::sphere_deposition;
 use pseudorigid::population::{
-    Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng, run,
+    Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng, result_path, run,
 };
 use std::time::Duration;
 
@@ -69,6 +69,20 @@ fn rigid_spheres_deposit_at_the_closed_form_point() {
             other => panic!("particle {}: {other:?}", r.index),
         }
     }
+    // The table: one row per particle; a deposited rigid sphere is still a sphere of radius
+    // 1/2 (F stays a rotation, projected onto SO(3) every step: round-off only).
+    let text = out.table().unwrap().to_text();
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 48);
+    for (row, r) in rows.iter().zip(&out.records) {
+        assert_eq!(row[0], r.index.to_string());
+        assert_eq!(row[1], r.fate.label());
+        assert_eq!(row[3], if row[1] == "deposited" { "wall" } else { "outlet" });
+        for c in &row[8..11] {
+            assert!((c.parse::<f64>().unwrap() - 0.5).abs() <= 1e-12, "{row:?}");
+        }
+        assert_eq!(row[17], "", "rigid: no shear modulus");
+    }
 }
 
 /// Serial, and 1, 2 and 3 threads give the same bytes; the population holds every fate.
@@ -123,7 +137,7 @@ fn merged_shards_equal_the_whole_run() {
         assert_eq!(shard, format!("{k}/3").parse().unwrap());
         let out = run(&case, &config, shard, &opts).unwrap();
         assert_eq!(out.records.len() as u64, shard.len(31));
-        let path = dir.join(format!("shard-{k}.json"));
+        let path = result_path(&dir, shard);
         out.write_json(&path).unwrap();
         paths.push(path);
     }
@@ -132,6 +146,7 @@ fn merged_shards_equal_the_whole_run() {
     let merged = RunOutput::<NeoHooke>::merge_files(&paths).unwrap();
     assert!(merged.to_json().unwrap() == whole.to_json().unwrap());
     assert_eq!(merged.table().unwrap().to_text(), whole.table().unwrap().to_text());
+    assert_eq!(RunOutput::<NeoHooke>::merge_dir(&dir).unwrap(), merged);
 
     let parts = || {
         paths

@@ -47,7 +47,7 @@ pub mod shard;
 pub mod spec;
 
 pub use case::{Case, RunConfig};
-pub use output::RunOutput;
+pub use output::{RunOutput, checkpoint_dir, result_path};
 pub use progress::Progress;
 pub use record::{Fate, FateCounts, ParticleRecord};
 pub use runner::{CHECKPOINT_INTERVAL, RunOptions, run};
