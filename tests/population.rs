@@ -317,3 +317,85 @@ fn progress_log_lines() {
     assert!(progress_line("run", 0, 10, 0, Duration::ZERO).ends_with("ETA unknown"));
     assert!(progress_line("run", 0, 0, 0, Duration::ZERO).contains("(100.0 %)"));
 }
+
+/// The injection draws: disc points lie on the disc with ρ²/R² uniform on [0, 1) and no
+/// preferred direction; rotations are rotations with the moments of the Haar measure (each
+/// entry Q_ij is a coordinate of a uniform unit vector: mean 0, E[Q_ij²] = 1/3, E[Q_ij⁴] = 1/5).
+/// Each mean is checked to 5 standard errors of its estimate (the seeds are fixed, so the
+/// test is deterministic; 5σ leaves room for any seed).
+#[test]
+fn disc_and_rotation_draws_have_the_right_moments() {
+    use pseudorigid::population::sampling::{haar_rotation, uniform_disc};
+    use pseudorigid::tensor::{Mat3, Vec3};
+    let n = 20_000;
+    let (centre, normal, radius) = (Vec3::new(1.0, -2.0, 0.5), Vec3::new(1.0, 1.0, 0.0), 2.0);
+    let unit = normal.normalize();
+    let (mut rho2, mut offset) = (0.0, Vec3::zeros());
+    for k in 0..n {
+        let p = uniform_disc(&mut particle_rng(11, k), &centre, &normal, radius).unwrap();
+        let d = p - centre;
+        // In the plane and inside the disc, to round-off of |d| ≤ R.
+        assert!(d.dot(&unit).abs() <= 1e-14 * radius && d.norm() <= radius * (1.0 + 1e-15));
+        rho2 += d.norm_squared() / (radius * radius);
+        offset += d;
+    }
+    let n_f = n as f64;
+    // ρ²/R² uniform: mean 1/2, variance 1/12.
+    assert!((rho2 / n_f - 0.5).abs() <= 5.0 * (1.0 / 12.0 / n_f).sqrt());
+    // Each in-plane coordinate has variance R²/4 (in-plane directions), 0 along the normal.
+    assert!((offset / n_f).amax() <= 5.0 * radius / 2.0 / n_f.sqrt());
+    assert!(uniform_disc(&mut particle_rng(1, 1), &centre, &Vec3::zeros(), 1.0).is_err());
+    assert!(uniform_disc(&mut particle_rng(1, 1), &centre, &normal, -1.0).is_err());
+
+    let (mut m1, mut m2) = (Mat3::zeros(), Mat3::zeros());
+    for k in 0..n {
+        let q = haar_rotation(&mut particle_rng(12, k));
+        // Orthonormal with det 1 to round-off of a 3×3 product.
+        assert!((q.transpose() * q - Mat3::identity()).amax() <= 1e-14 && (q.determinant() - 1.0).abs() <= 1e-14);
+        m1 += q;
+        m2 += q.component_mul(&q);
+    }
+    assert!((m1 / n_f).amax() <= 5.0 * (1.0 / 3.0 / n_f).sqrt());
+    assert!((m2 / n_f).add_scalar(-1.0 / 3.0).amax() <= 5.0 * (4.0 / 45.0 / n_f).sqrt());
+}
+
+/// The composite boundary: planes first (indices 0..P), then the other boundary's patches
+/// shifted by P; the nearer decides, a tie goes to the plane, a NaN gap is passed on.
+#[test]
+fn composite_boundary_indices_rules_and_ties() {
+    use pseudorigid::contact::{Boundary, Composite, Extent, PatchRule, PipeWall, Plane, Planes};
+    use pseudorigid::tensor::Vec3;
+    let plane = |name: &str, x: f64, sign: f64, rule| Plane {
+        name: name.to_string(),
+        point: Vec3::new(x, 0.0, 0.0),
+        normal: Vec3::x() * sign,
+        rule,
+    };
+    let planes = Planes::new(vec![
+        plane("inlet", 0.0, -1.0, PatchRule::Stick),
+        plane("outlet", 10.0, 1.0, PatchRule::Exit),
+    ])
+    .unwrap();
+    let b = Composite::new(planes, PipeWall::new(2.0).unwrap());
+    let point = Extent::Point { radius: 0.5 };
+    let names: Vec<_> = (0..3).map(|p| (b.patch_name(p), b.rule(p))).collect();
+    assert_eq!(
+        names,
+        [
+            ("inlet", PatchRule::Stick),
+            ("outlet", PatchRule::Exit),
+            ("wall", PatchRule::Stick)
+        ]
+    );
+    // Near the outlet: gap 10 − 9.8 − 0.5 = −0.3 to the outlet, 2 − 0 − 0.5 = 1.5 to the wall.
+    let g = b.nearest(&Vec3::new(9.8, 0.0, 0.0), &point);
+    assert_eq!(g.patch, 1);
+    assert!((g.gap + 0.3).abs() <= 1e-15 * 10.0);
+    // Near the wall mid-pipe: the wall's patch 0 becomes 2.
+    let g = b.nearest(&Vec3::new(5.0, 1.2, 0.0), &point);
+    assert_eq!((g.patch, g.normal), (2, Vec3::y()));
+    // Equal gaps 1.5 to the inlet (x = 2) and to the wall: the plane wins.
+    assert_eq!(b.nearest(&Vec3::new(2.0, 0.0, 0.0), &point).patch, 0);
+    assert!(b.nearest(&Vec3::new(f64::NAN, 0.0, 0.0), &point).gap.is_nan());
+    assert!(b.nearest(&Vec3::new(5.0, f64::NAN, 0.0), &point).gap.is_nan());
+}
