@@ -8,7 +8,7 @@ use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
 use pseudorigid::population::settling_pipe::sphere_deposition;
 use pseudorigid::population::{
-    Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng, result_path, run,
+    Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng, result_path, run, run_in_dir,
 };
 use std::time::Duration;
 
@@ -109,6 +109,24 @@ fn same_results_serial_and_on_any_number_of_threads() {
             "{threads} threads differ from serial"
         );
     }
+    // Particles that run out of their step budget fail with a text that does not depend on
+    // the wall time they took.
+    let tight = pseudorigid::driver::Plan::new(150.0, 0.1)
+        .unwrap()
+        .with_budget(pseudorigid::driver::Budget {
+            max_steps: 30,
+            wall_time: None,
+        });
+    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, tight);
+    let serial = run(&case, &config, Shard::ALL, &RunOptions::default().serial().quiet()).unwrap();
+    let budget_failures = serial
+        .records
+        .iter()
+        .filter(|r| matches!(&r.fate, Fate::Failed { error } if error.starts_with("step budget exceeded after 30 steps at t = ")))
+        .count();
+    assert!(budget_failures > 0, "{:?}", serial.counts());
+    let parallel = thread_pool(2).install(|| run(&case, &config, Shard::ALL, &RunOptions::default().quiet()));
+    assert!(parallel.unwrap().to_json().unwrap() == serial.to_json().unwrap());
 }
 
 /// Shards 0/3, 1/3, 2/3 (from text and from Slurm variables) merge to the unsharded run, byte
@@ -135,18 +153,21 @@ fn merged_shards_equal_the_whole_run() {
         };
         let shard = Shard::from_vars(vars).unwrap().unwrap();
         assert_eq!(shard, format!("{k}/3").parse().unwrap());
-        let out = run(&case, &config, shard, &opts).unwrap();
+        let out = run_in_dir(&case, &config, shard, &dir, &opts).unwrap();
         assert_eq!(out.records.len() as u64, shard.len(31));
-        let path = result_path(&dir, shard);
-        out.write_json(&path).unwrap();
-        paths.push(path);
+        paths.push(result_path(&dir, shard));
     }
     // Merge order does not matter.
     paths.reverse();
     let merged = RunOutput::<NeoHooke>::merge_files(&paths).unwrap();
     assert!(merged.to_json().unwrap() == whole.to_json().unwrap());
     assert_eq!(merged.table().unwrap().to_text(), whole.table().unwrap().to_text());
-    assert_eq!(RunOutput::<NeoHooke>::merge_dir(&dir).unwrap(), merged);
+    assert_eq!(RunOutput::<NeoHooke>::merge_in_dir(&dir).unwrap(), merged);
+    assert!(std::fs::read(dir.join("results.json")).unwrap() == whole.to_json().unwrap());
+    assert_eq!(
+        std::fs::read_to_string(dir.join("results.csv")).unwrap(),
+        whole.table().unwrap().to_text()
+    );
 
     let parts = || {
         paths

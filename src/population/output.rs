@@ -174,6 +174,18 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
         Self::merge_files(&paths)
     }
 
+    /// [`RunOutput::merge_dir`], written to `dir/results.json` and `dir/results.csv`.
+    pub fn merge_in_dir(dir: impl AsRef<Path>) -> Result<Self, PopulationError>
+    where
+        L: Hyperelastic,
+    {
+        let dir = dir.as_ref();
+        let merged = Self::merge_dir(dir)?;
+        merged.write_json(dir.join("results.json"))?;
+        merged.table()?.write(dir.join("results.csv"))?;
+        Ok(merged)
+    }
+
     /// [`RunOutput::merge`] of the JSON files at `paths`.
     pub fn merge_files<P: AsRef<Path>>(paths: &[P]) -> Result<Self, PopulationError> {
         Self::merge(paths.iter().map(Self::read_json).collect::<Result<_, _>>()?)
