@@ -244,6 +244,30 @@ fn checkpoint_guards_and_resume_of_a_finished_run() {
     );
     let err = run(&case, &config, Shard::new(1, 2).unwrap(), &opts.clone().resume(true)).unwrap_err();
     assert!(matches!(err, PopulationError::ShardMismatch { .. }), "{err}");
+
+    // A chunk that is not ours: cut short (not something write_atomic leaves, but a copy
+    // gone wrong), or holding a particle of another shard.
+    let chunk = std::fs::read_dir(&dir).unwrap().next().unwrap().unwrap().path();
+    let text = std::fs::read_to_string(&chunk).unwrap();
+    std::fs::write(dir.join("chunk-90000000.json"), &text[..text.len() / 2]).unwrap();
+    let err = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
+    assert!(
+        matches!(&err, PopulationError::Json { path: Some(p), .. } if p.ends_with("chunk-90000000.json")),
+        "{err}"
+    );
+    let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    value["records"][0]["index"] = serde_json::json!(12);
+    std::fs::write(dir.join("chunk-90000000.json"), value.to_string()).unwrap();
+    let err = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
+    assert!(matches!(err, PopulationError::ForeignRecord { index: 12, .. }), "{err}");
+    value["records"][0]["index"] = serde_json::json!(3);
+    value["records"][0]["stats"]["steps"] = serde_json::json!(123_456_789);
+    std::fs::write(dir.join("chunk-90000000.json"), value.to_string()).unwrap();
+    let err = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
+    assert!(
+        matches!(err, PopulationError::ConflictingRecords { index: 3, .. }),
+        "{err}"
+    );
 }
 
 /// Records are written and read back bit for bit, including subnormal, huge and negative-zero
