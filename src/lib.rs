@@ -34,6 +34,22 @@ pub mod reference;
 pub mod scenes;
 pub mod tensor;
 
+/// Derivations the code relies on, self-contained, with their literature sources: the closed
+/// forms the paper defers to its predecessor, how they are evaluated, the stability of the
+/// paper's time step, and the paper's misprints and inconsistencies.
+pub mod theory {
+    #[doc = include_str!("../docs/theory/traction.md")]
+    pub mod traction {}
+    #[doc = include_str!("../docs/theory/ellipsoid_integrals.md")]
+    pub mod ellipsoid_integrals {}
+    #[doc = include_str!("../docs/theory/drag.md")]
+    pub mod drag {}
+    #[doc = include_str!("../docs/theory/stability.md")]
+    pub mod stability {}
+    #[doc = include_str!("../docs/theory/paper_errata.md")]
+    pub mod paper_errata {}
+}
+
 /// The names most programs need.
 pub mod prelude {
     pub use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
