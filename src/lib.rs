@@ -34,6 +34,9 @@ pub mod reference;
 pub mod scenes;
 pub mod tensor;
 
+#[doc = include_str!("../docs/guide.md")]
+pub mod guide {}
+
 /// Derivations the code relies on, self-contained, with their literature sources: the closed
 /// forms the paper defers to its predecessor, how they are evaluated, the stability of the
 /// paper's time step, and the paper's misprints and inconsistencies.
