@@ -1,6 +1,6 @@
 //! Jeffery's ellipsoid integrals through Carlson's symmetric elliptic integrals.
 //!
-//! # Physics (Jeffery 1922; Carlson 1995)
+//! # Physics (Jeffery 1922; Carlson 1995; the coefficients of paper eqs. 12 and 14)
 //! With x_i = r_i², Δ(λ) = √((x₁+λ)(x₂+λ)(x₃+λ)) and λ ∈ [0, ∞):
 //! - $\chi_0 = \int d\lambda/\Delta = 2 R_F(x_1,x_2,x_3)$
 //! - $\alpha_i = \int d\lambda/((x_i+\lambda)\Delta) = \tfrac23 R_D(x_j,x_k,x_i)$
@@ -17,6 +17,7 @@
 //! and evaluate that derivative exactly with a dual number through Carlson's duplication
 //! algorithm. There is no cancellation at any separation, so the near-degenerate branch of
 //! a series expansion (O(δ²) error) is not needed; tests check 1e-12 against quadrature.
+//! The derivation, step by step: [`crate::theory::ellipsoid_integrals`].
 
 use crate::error::ParamError;
 use crate::tensor::{Scalar, Vec3, max_or_nan};

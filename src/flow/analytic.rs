@@ -1,6 +1,6 @@
 //! Analytic linear and pipe flows.
 //!
-//! # Physics
+//! # Physics (paper §6.1 simple shear, §6.2 Poiseuille pipe)
 //! - quiescent: u = 0;
 //! - simple shear: u = γ̇ x₂ e₁, so l_f = γ̇ e₁⊗e₂ and the vorticity is −γ̇ e₃;
 //! - planar extension: u = ε̇ (x₁, −x₂, 0);

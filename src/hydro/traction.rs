@@ -25,7 +25,8 @@
 //! σ̃ = 2μd_s + 5μd + 3μw; a torque-free ellipsoid spins at Jeffery's rate.
 //!
 //! The formula covers incompressible surface motion only. The volumetric part of the "2 d_s"
-//! term is a modelling choice ([`VolumetricTraction`]).
+//! term is a modelling choice ([`VolumetricTraction`]). Derivation, checks and the three
+//! volumetric readings: [`crate::theory::traction`].
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::tensor::{Mat3, Mat9, Vec9, dev, mat3, skw, sym, vec9};

@@ -1,5 +1,12 @@
 //! The paper's implicit–explicit integrator (§5), exactly as published.
 //!
+//! # Physics (paper eqs. 17–22)
+//! The step integrates the shape equation Ḟ = A, Ȧ = vol(B₀)[P̃ − P]Θ⁻¹ (eq. 18) and the
+//! barycentre equation (eq. 17, with 1/τ_D = π μ_f r_min/m) with the paper's splitting: the
+//! elastic stress P implicit (eq. 21), the fluid load P̃* explicit in the old solid velocity
+//! gradient (eq. 22), the barycentre by implicit Euler (eqs. 19, 20). First order in Δt. Its
+//! two stability conditions are derived in [`crate::theory::stability`].
+//!
 //! # Algorithm (paper §5)
 //! 1. (r, Q)ⁿ from F̄ⁿ F̄ⁿᵀ; l_sⁿ = Aⁿ(Fⁿ)⁻¹; σ̃* = σ̃(rⁿ, Qⁿ; l_sⁿ, l_f^{n+1}) — **explicit** and
 //!    frozen during the Newton iterations.

@@ -2,6 +2,10 @@
 //! Differential Equations II*, §IV.8, the RADAU5 algorithm), one accepted step per call, on a
 //! fixed-size state y' = f(t, y), y ∈ ℝᴺ, with a caller-supplied (possibly approximate) Jacobian.
 //!
+//! # Physics
+//! None of its own: a generic solver of y' = f(t, y). [`super::stokesian`] applies it to the
+//! inertialess shape equation (paper eq. 18 with Θ → 0) and the barycentre equation (eq. 17).
+//!
 //! # Scheme
 //! Collocation at c = ((4 − √6)/10, (4 + √6)/10, 1) with the Butcher matrix
 //! ```math
