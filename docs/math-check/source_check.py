@@ -17,7 +17,9 @@ root = pathlib.Path(sys.argv[1])
 verbose = "-v" in sys.argv
 punct = re.escape("!\"#$%&'()*+,-./:;<=>?@[]^_`{|}~")
 counts = collections.Counter()
-files = sorted(root.glob("src/**/*.rs")) + sorted(root.glob("docs/**/*.md"))
+files = sorted(root.glob("src/**/*.rs")) + sorted(
+    p for p in root.glob("docs/**/*.md") if "node_modules" not in p.parts
+)
 for path in files:
     markdown = path.suffix == ".md"
     fence = False

@@ -7,11 +7,11 @@
 //! - $\alpha_k^{\prime} = \int d\lambda/((x_i+\lambda)(x_j+\lambda)\Delta)$ for the pair (i, j), k the third index
 //! - $\alpha_k^{\prime\prime} = \int \lambda\\, d\lambda/((x_i+\lambda)(x_j+\lambda)\Delta) = \alpha_i - x_j \alpha_k^{\prime}$
 //!
-//! Checks: abc Σα_i = 2; a sphere of radius a has χ₀ = 2/a, α = 2/(3a³), α' = 2/(5a⁵),
-//! α'' = 4/(15a³).
+//! Checks: abc Σα_i = 2; a sphere of radius a has χ₀ = 2/a, α = 2/(3a³), α′ = 2/(5a⁵),
+//! α″ = 4/(15a³).
 //!
 //! # Degenerate pairs without a special branch
-//! The textbook route α'_k = (α_j − α_i)/(x_i − x_j) cancels catastrophically when x_i ≈ x_j
+//! The textbook route α′_k = (α_j − α_i)/(x_i − x_j) cancels catastrophically when x_i ≈ x_j
 //! (every sphere and spheroid). Instead we use ∂(1/Δ)/∂x_j = −1/(2(x_j+λ)Δ), which gives
 //! $\alpha_k^{\prime} = -2\\,\partial\alpha_i/\partial x_j = -\tfrac43\\,\partial_1 R_D(x_j,x_k,x_i)$,
 //! and evaluate that derivative exactly with a dual number through Carlson's duplication
@@ -170,9 +170,9 @@ pub struct EllipsoidIntegrals {
     pub chi0: f64,
     /// α_i.
     pub alpha: Vec3,
-    /// α'_k.
+    /// α′_k.
     pub alpha_p: Vec3,
-    /// α''_k.
+    /// α″_k.
     pub alpha_pp: Vec3,
 }
 

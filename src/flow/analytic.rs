@@ -103,7 +103,7 @@ impl LinearFlow {
         Self::new(Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(r, -0.5 * r, -0.5 * r)))
     }
 
-    /// The same flow seen in a frame rotated by `q` (x' = q x): u' = q u₀, L' = q L qᵀ.
+    /// The same flow seen in a frame rotated by `q` (x′ = q x): u′ = q u₀, L′ = q L qᵀ.
     pub fn rotated(&self, q: &Mat3) -> Self {
         Self {
             u0: q * self.u0,

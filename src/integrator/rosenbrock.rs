@@ -2,7 +2,7 @@
 //! Shampine & Reichelt 1997), on a fixed-size state with a caller-supplied Jacobian.
 //!
 //! # Physics
-//! None of its own: a generic solver of y' = f(t, y). [`super::stokesian`] applies it to the
+//! None of its own: a generic solver of y′ = f(t, y). [`super::stokesian`] applies it to the
 //! inertialess shape equation (paper eq. 18 with Θ → 0) and the barycentre equation (eq. 17).
 //!
 //! # Scheme
