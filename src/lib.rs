@@ -39,7 +39,7 @@
 //! | eqs. 21, 22, §5 | the IMEX shape step | [`integrator::ImexPaper`], stability: [`theory::stability`] |
 //! | §5 | r_a, Q from eig(F̄F̄ᵀ) (r_a = √λ_a) | [`ellipsoid::PrincipalFrame`], [`theory::paper_errata`] |
 //! | eqs. 23, 24 | capillary and shear Reynolds numbers | [`particle::ShearScaling`], [`diagnostics`] |
-//! | eqs. 25, 26 | Stokes number, particle time | [`scenes::cavity`] (the paper's values rechecked) |
+//! | eqs. 25, 26 | Stokes number, particle time | `scenes::cavity` (feature `mesh`; the paper's values rechecked there) |
 //! | eqs. A.1, A.2 | rotation Q, principal components X′ = QXQᵀ | [`ellipsoid::PrincipalFrame::to_principal`] |
 //!
 //! Jeffery's ellipsoid integrals behind eqs. 12 and 14: [`ellipsoid::integrals`],
