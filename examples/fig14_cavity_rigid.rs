@@ -6,6 +6,7 @@
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::Figure;
 use pseudorigid::scenes::cavity::{Cavity, Contact, Release, Shape, outcome_table, trajectory_panel, trajectory_table};
+use pseudorigid::scenes::particles::Softness;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -14,7 +15,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let flow = MeshedFlow::load("reference-data/cavity_re470.prf")?;
     let cavity = Cavity::new(&flow)?;
     println!("release shear rate γ̇₀ = {:.4} 1/s", cavity.release_shear_rate());
-    let releases = [Shape::Prolate(2.0), Shape::Prolate(5.0)].map(|shape| Release { shape, ca: None });
+    let releases = [Shape::Prolate(2.0), Shape::Prolate(5.0)].map(|shape| Release {
+        shape,
+        softness: Softness::Rigid,
+    });
     // Both contact models: the paper's point-particle reading and the particle's extent.
     let jobs: Vec<(Release, Contact)> = [Contact::Barycentre, Contact::Extent]
         .iter()

@@ -33,7 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!(
             "{:12} Ca {:5}: {:?} ({} steps)",
             run.release.shape.label(),
-            run.release.ca.unwrap_or(0.0),
+            run.release.softness.ca(),
             run.outcome,
             run.stats.steps
         );

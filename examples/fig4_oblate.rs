@@ -6,10 +6,11 @@
 //! in-plane axes are those of the ellipse cut by the shear plane z = 0 and r_out_of_plane is
 //! the half-chord along the vorticity axis (oblate convention of the paper, both ≥ 1 here).
 //!
-//! Writes `paper-figures/fig4/axes.csv` and `paper-figures/fig4/axes.svg`.
+//! Writes `paper-figures/fig4/axes.csv` and `paper-figures/fig4/axes.svg`, and the runs'
+//! validity diagnostics (shared with Figs 5, 6) to `paper-figures/fig4/validity.csv`.
 
 use pseudorigid::output::{Csv, Figure, Panel, Series, paper_figure_path};
-use pseudorigid::scenes::shear_run::oblate_fig4_run;
+use pseudorigid::scenes::shear_run::{oblate_fig4_run, validity_table};
 use std::error::Error;
 use std::time::Instant;
 
@@ -28,8 +29,10 @@ fn main() -> Result<(), Box<dyn Error>> {
         "l_c",
     ]);
     let mut panels = Vec::new();
+    let mut validity = Vec::new();
     for ca in [0.4, 0.5] {
-        let run = oblate_fig4_run(ca, &times)?;
+        let (run, checks) = oblate_fig4_run(ca, &times)?;
+        validity.push((ca, checks));
         for s in &run {
             let sec = s.section;
             csv.push_numbers(&[
@@ -66,6 +69,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         );
     }
     csv.write(paper_figure_path("fig4", "axes.csv"))?;
+    validity_table(&validity)?.write(paper_figure_path("fig4", "validity.csv"))?;
     Figure::grid(panels, 2, (560, 400)).write(paper_figure_path("fig4", "axes.svg"))?;
     println!("fig4_oblate: wall time {:.2?}", start.elapsed());
     Ok(())

@@ -50,7 +50,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let times: Vec<f64> = FIG5.iter().chain(&FIG6).copied().collect();
     let (mut fig5, mut fig6) = (Vec::new(), Vec::new());
     for ca in [0.4, 0.5] {
-        let run = oblate_fig4_run(ca, &times)?;
+        let (run, _) = oblate_fig4_run(ca, &times)?;
         for s in &run {
             csv.push_numbers(&[
                 ca,

@@ -21,10 +21,18 @@
 //!   and the ratio diverges although ∇u may be uniform; the flag says "look", not "wrong".
 //!
 //! Every quantity is a maximum over the states observed (the driver's accepted steps).
+//!
+//! # Unbounded linear flows
+//! In the shear scenes ([`Monitor::in_linear_flow`]) there is no wall and u is exactly linear
+//! across a particle of any size, so both length-scale ratios are 0 by construction; the
+//! Reynolds numbers are those of the particle's fluid (in the shear units μ_f = 1, ρ_f = ρ*,
+//! so Re_γ = ρ*: for inertialess runs ρ* is a placeholder of a model that assumes Re → 0, and
+//! the scenes report their inertialess runs with [`Validity::inertialess`]).
 
-use crate::contact::{Boundary, Extent};
+use crate::contact::{Boundary, Extent, Unbounded};
 use crate::ellipsoid::PrincipalFrame;
 use crate::flow::FlowField;
+use crate::flow::analytic::LinearFlow;
 use crate::hydro::DragModel;
 use crate::material::Response;
 use crate::particle::{Particle, State};
@@ -75,6 +83,16 @@ pub struct Validity {
 }
 
 impl Validity {
+    /// The same maxima for a run of the inertialess model, which assumes creeping flow: both
+    /// Reynolds numbers are 0 by the model's assumption, not by measurement.
+    pub fn inertialess(self) -> Self {
+        Self {
+            max_re_shear: 0.0,
+            max_re_slip: 0.0,
+            ..self
+        }
+    }
+
     /// Names of the thresholds crossed, in the order of [`Thresholds`]' fields.
     pub fn flags(&self, limits: &Thresholds) -> Vec<&'static str> {
         [
@@ -130,7 +148,23 @@ pub struct Monitor<'a, M, D, F: ?Sized, B: ?Sized> {
     boundary: &'a B,
     d_eq: f64,
     nu: f64,
+    /// The flow is homogeneous (linear in x): r₁/ℓ_u is 0 whatever the particle's size.
+    linear: bool,
     validity: Validity,
+}
+
+impl<'a, M, D> Monitor<'a, M, D, LinearFlow, Unbounded>
+where
+    M: Response,
+    D: DragModel,
+{
+    /// A monitor for an unbounded linear flow (see the module docs).
+    pub fn in_linear_flow(particle: &'a Particle<M, D>, flow: &'a LinearFlow) -> Self {
+        Self {
+            linear: true,
+            ..Monitor::new(particle, flow, &Unbounded)
+        }
+    }
 }
 
 impl<'a, M, D, F, B> Monitor<'a, M, D, F, B>
@@ -149,6 +183,7 @@ where
             boundary,
             d_eq: 2.0 * particle.shape().semi_axes().product().cbrt(),
             nu: fluid.mu / fluid.rho,
+            linear: false,
             validity: Validity::default(),
         }
     }
@@ -171,7 +206,7 @@ where
         v.max_r1 = v.max_r1.max(r1);
         v.max_r1_over_wall_distance = v.max_r1_over_wall_distance.max(ratio(r1, wall));
         let grad = sample.grad_u.norm();
-        if grad > 0.0 {
+        if grad > 0.0 && !self.linear {
             v.max_r1_over_flow_scale = v.max_r1_over_flow_scale.max(ratio(r1 * grad, sample.u.norm()));
         }
     }

@@ -153,6 +153,21 @@ pub enum StepError {
         /// Which term limits the step.
         reason: &'static str,
     },
+    /// An error-controlled IMEX step would go below the step at which the scheme damps the
+    /// anti-damped volume mode of the literal eq. 12 traction (see
+    /// `integrator::imex::volume_mode_floor`).
+    #[error(
+        "the error control asks for dt = {dt:.3e} at t = {t}, below the volume-mode floor {floor:.3e} under which \
+         the literal eq. 12 traction makes dilation grow; use VolumetricTraction::Source or Dev, or a looser tolerance"
+    )]
+    VolumeModeUnresolvable {
+        /// Step the error control asked for.
+        dt: f64,
+        /// Floor a/ω² of the volume mode.
+        floor: f64,
+        /// Time.
+        t: f64,
+    },
     /// The eigenvalues behind the explicit stability limit could not be computed (the bounded
     /// Schur iteration did not converge), so the step cannot be certified stable.
     #[error("stability limit unknown at t = {t}: the 9×9 eigenproblem did not converge")]

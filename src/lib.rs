@@ -67,7 +67,10 @@ pub mod hydro;
 pub mod integrator;
 pub mod material;
 pub mod output;
+mod parallel;
 pub mod particle;
+#[cfg(feature = "parallel")]
+pub mod population;
 pub mod reference;
 pub mod scenes;
 pub mod tensor;

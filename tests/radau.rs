@@ -402,7 +402,7 @@ fn jacobian_is_reused_when_newton_contracts_fast() {
 #[test]
 fn memory_round_trips_through_serde() {
     let mut mem = RadauMemory::default();
-    let (mut t, mut y, mut h) = rotation_steps(&mut mem, 5);
+    let (t, y, h) = rotation_steps(&mut mem, 5);
     let json = serde_json::to_string(&(t, y, h, &mem)).unwrap();
     type Checkpoint = (f64, SVector<f64, 2>, f64, RadauMemory<2>);
     let (t_r, y_r, h_r, mut mem_r): Checkpoint = serde_json::from_str(&json).unwrap();
@@ -616,7 +616,7 @@ fn work_counts_snapshot() {
 #[test]
 fn resuming_after_a_clipped_step_needs_no_rejection() {
     let mut mem = RadauMemory::default();
-    let (mut t, mut y, mut h) = rotation_steps(&mut mem, 10);
+    let (mut t, mut y, h) = rotation_steps(&mut mem, 10);
     let clipped = step(t, &y, h * 1e-10, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap();
     t += clipped.h;
     y = clipped.y;

@@ -23,6 +23,7 @@ fn oblate_run(ca: f64, times: &[f64]) -> Vec<ShearSample> {
         1e-3,
     )
     .unwrap()
+    .0
 }
 
 fn grid(from: f64, to: f64, step: f64) -> Vec<f64> {
@@ -417,4 +418,21 @@ fn phase_boundary_with_mooney_rivlin_needs_no_scene_edit() {
         .find(&shape)
         .unwrap();
     assert!(mr.ca_tr < neo.ca_tu || mr.ca_tu > neo.ca_tr, "{mr:?} vs {neo:?}");
+}
+
+/// The shear runs report validity diagnostics: no wall and an exactly linear flow give zero
+/// length-scale ratios, the inertialess model assumes Re = 0, and the largest semi-axis over the
+/// accepted steps bounds every sampled in-plane semi-axis from above (the ellipse cut through
+/// the centre has semi-axes ≤ r₁, and the samples are accepted-step states or dense points
+/// between them, which move by ≪ 1e-3 between steps at rtol 1e-8: margin 1e-3).
+#[test]
+fn shear_runs_report_validity() {
+    use pseudorigid::scenes::shear_run::oblate_fig4_run;
+    let times = grid(0.0, 30.0, 0.5);
+    let (run, v) = oblate_fig4_run(0.5, &times).unwrap();
+    assert_eq!((v.max_re_shear, v.max_re_slip), (0.0, 0.0));
+    assert_eq!((v.max_r1_over_wall_distance, v.max_r1_over_flow_scale), (0.0, 0.0));
+    let widest = run.iter().map(|s| s.section.r_long).fold(0.0, f64::max);
+    assert!(v.max_r1 >= widest - 1e-3, "max r1 {} < sampled {widest}", v.max_r1);
+    assert!(v.states > times.len() as u64 / 2);
 }

@@ -1,8 +1,9 @@
 //! The IMEX stability guard: it terminates on every input (the rotated-sphere hang of the
 //! reliability audit), and the default cached guard refuses every step the exact eigenvalue
 //! check refuses, on the hard-case set.
-use pseudorigid::integrator::imex::{StabilityGuard, stability_limit};
-use pseudorigid::integrator::{ImexPaper, TimeIntegrator};
+use pseudorigid::driver::advance;
+use pseudorigid::integrator::imex::{StabilityGuard, stability_limit, volume_mode_floor};
+use pseudorigid::integrator::{ImexAdaptive, ImexPaper, TimeIntegrator};
 use pseudorigid::prelude::*;
 use std::sync::mpsc;
 use std::time::Duration;
@@ -152,4 +153,92 @@ fn guard_limit_is_invariant_under_rotation_of_the_current_configuration() {
         // relative is far above round-off (1e-14) and far below the guard's 10 % safety margin.
         assert!((limit / base - 1.0).abs() < 1e-8, "rotation {i}: {limit} vs {base}");
     }
+}
+
+/// The volume-mode floor of the literal eq. 12 traction, for a sphere at rest, is the closed
+/// form 2μ_f/(3λ_s + 2μ_s) (the oscillator ε̈ = (5/ρR²)[2μ_f ε̇ − (3λ_s + 2μ_s) ε] of a uniform
+/// dilation F = (1 + ε)1); the `Dev` and `Source` tractions resist dilation and have none.
+#[test]
+fn volume_floor_of_a_sphere_is_the_closed_form() {
+    let (ca, bulk) = (0.5, 100.0);
+    let scaling = ShearScaling::new(ca, 1.0, bulk).unwrap();
+    let p = scaling.particle([1.0, 1.0, 1.0], Mat3::identity()).unwrap();
+    let s = State::at_rest(Vec3::zeros());
+    let (mu_s, lambda_s) = (p.fluid().mu / ca, bulk * p.fluid().mu / ca);
+    let expected = 2.0 * p.fluid().mu / (3.0 * lambda_s + 2.0 * mu_s);
+    let floor = volume_mode_floor(&p, &s).unwrap();
+    // Both sides are a few flops of O(1) numbers: round-off is 1e-15.
+    assert!((floor / expected - 1.0).abs() < 1e-12, "{floor} vs {expected}");
+    for vol in [VolumetricTraction::Dev, VolumetricTraction::Source] {
+        assert_eq!(volume_mode_floor(&p.clone().with_volumetric(vol), &s).unwrap(), 0.0);
+    }
+}
+
+/// The floor separates growth from decay of a dilation on non-spherical particles too, to
+/// within 25 %: a 0.1 % dilation of a particle at rest grows when stepped at 0.8 × the floor and
+/// decays at 1.25 × the floor. For the sphere a = 10μ_f/(ρ_s R²) = 40 here and aΔt_v = 0.13,
+/// so the per-step energy factor (1 + aΔt)/(1 + ω²Δt²) = (1 + aΔt)/(1 + aΔt·Δt/Δt_v) is ≈ 1.02
+/// at 0.8 Δt_v and ≈ 0.97 at 1.25 Δt_v: over 2 000 steps far beyond the 10× asserted either way.
+/// Both step sizes lie inside the explicit viscous limit, so only the volume mode can grow.
+#[test]
+fn volume_floor_separates_growth_from_decay() {
+    let flow = LinearFlow::simple_shear(0.0).unwrap();
+    for ratios in [[1.0, 1.0, 1.0], [5.0, 1.0, 1.0], [2.5, 2.5, 1.0], [3.0, 1.5, 1.0]] {
+        let p = ShearScaling::new(0.5, 1.0, 100.0)
+            .unwrap()
+            .particle(ratios, Mat3::identity())
+            .unwrap();
+        let mut s0 = State::at_rest(Vec3::zeros());
+        s0.f *= 1.001;
+        let floor = volume_mode_floor(&p, &s0).unwrap();
+        let limit = stability_limit(&p, &s0).unwrap();
+        assert!(
+            1.25 * floor < 0.9 * limit,
+            "{ratios:?}: window ({floor}, {limit}) too narrow for the test"
+        );
+        let growth = |dt: f64| {
+            let mut s = s0;
+            let mut memory = Default::default();
+            for _ in 0..2000 {
+                match ImexPaper::unguarded().step_with(&p, &s, &mut memory, &flow, dt) {
+                    Ok(step) => s = step.state,
+                    // A blown-up dilation (inverted or non-finite) is growth.
+                    Err(_) => return f64::INFINITY,
+                }
+            }
+            (s.f.determinant() - 1.0).abs() / (s0.f.determinant() - 1.0).abs()
+        };
+        let (below, above) = (growth(0.8 * floor), growth(1.25 * floor));
+        assert!(
+            below > 10.0,
+            "{ratios:?}: dilation at Δt = 0.8 floor changed by {below}"
+        );
+        assert!(
+            above < 0.1,
+            "{ratios:?}: dilation at Δt = 1.25 floor changed by {above}"
+        );
+    }
+}
+
+/// An error-controlled IMEX run with the literal eq. 12 traction at a tolerance that would
+/// resolve the anti-damped volume mode stops with a typed error instead of integrating the
+/// unphysical dilation; with the `Source` traction the same run finishes with |J − 1| at the
+/// elastic level (the shear stress over the bulk modulus: Ca/bulk = 5e-3).
+#[test]
+fn adaptive_imex_refuses_to_resolve_the_anti_damped_volume_mode() {
+    let flow = LinearFlow::simple_shear(1.0).unwrap();
+    let p = ShearScaling::new(0.5, 1.0, 100.0)
+        .unwrap()
+        .particle([2.0, 1.0, 1.0], Mat3::identity())
+        .unwrap();
+    let integ = ImexAdaptive::new(1e-9).unwrap();
+    let paper = advance(&integ, &p, State::at_rest(Vec3::zeros()), &flow, 1e-3, 5.0);
+    assert!(
+        matches!(paper, Err(StepError::VolumeModeUnresolvable { .. })),
+        "{paper:?}"
+    );
+    let source = p.with_volumetric(VolumetricTraction::Source);
+    let (end, _) = advance(&integ, &source, State::at_rest(Vec3::zeros()), &flow, 1e-3, 5.0).unwrap();
+    let j = end.f.determinant();
+    assert!((j - 1.0).abs() < 5e-3, "J = {j}");
 }

@@ -89,6 +89,29 @@ pub trait Boundary: Send + Sync {
     fn rule(&self, patch: usize) -> PatchRule;
 }
 
+/// No boundary at all: the unbounded linear flows of the shear scenes. Every gap is +∞, so a
+/// contact event never fires and a wall-distance ratio is 0.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Unbounded;
+
+impl Boundary for Unbounded {
+    fn nearest(&self, _x: &Vec3, _extent: &Extent) -> Gap {
+        Gap {
+            patch: 0,
+            gap: f64::INFINITY,
+            normal: Vec3::zeros(),
+        }
+    }
+
+    fn patch_name(&self, _patch: usize) -> &str {
+        "none"
+    }
+
+    fn rule(&self, _patch: usize) -> PatchRule {
+        PatchRule::Stick
+    }
+}
+
 /// Which extent a [`ContactEvent`] uses.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactModel {

@@ -9,7 +9,9 @@
 //! the length over which ∇u changes ([`crate::diagnostics`]).
 
 pub mod analytic;
+#[cfg(feature = "mesh")]
 pub mod openfoam;
+#[cfg(feature = "mesh")]
 pub mod unstructured;
 
 use crate::error::FlowError;

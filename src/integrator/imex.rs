@@ -109,9 +109,9 @@ pub struct ImexMemory {
     /// Geometry of the last accepted F, keyed by that F.
     #[serde(skip)]
     geometry: Option<(Mat3, Geometry)>,
-    /// Stability limit and the C = FᵀF it was computed at.
+    /// Step window and the C = FᵀF it was computed at.
     #[serde(skip)]
-    guard: Option<(Mat3, f64)>,
+    guard: Option<(Mat3, StepWindow)>,
     /// The Newton Jacobian kept across steps (not a cache: it changes the iterates at the
     /// Newton tolerance, so checkpoints keep it).
     newton: newton::JacobianCache,
@@ -134,19 +134,19 @@ impl ImexMemory {
         }
     }
 
-    /// The explicit stability limit at `f` under `guard`, re-computed only when needed:
-    /// `None` for [`StabilityGuard::Off`].
-    pub(crate) fn limit<M: Response, D: DragModel>(
+    /// The stable step window at `f` under `guard`, re-computed only when needed: `None` for
+    /// [`StabilityGuard::Off`]. The cached window's upper end carries the guard's safety factor.
+    pub(crate) fn window<M: Response, D: DragModel>(
         &mut self,
         guard: StabilityGuard,
         particle: &Particle<M, D>,
         f: &Mat3,
         geo: &Geometry,
         t: f64,
-    ) -> Result<Option<f64>, StepError> {
+    ) -> Result<Option<StepWindow>, StepError> {
         match guard {
             StabilityGuard::Off => Ok(None),
-            StabilityGuard::Exact => stability_limit_at(particle, f, geo, t).map(Some),
+            StabilityGuard::Exact => StepWindow::at(particle, f, geo, t).map(Some),
             StabilityGuard::Cached { rel_change, safety } => {
                 let c = f.transpose() * f;
                 let fresh = match &self.guard {
@@ -154,12 +154,119 @@ impl ImexMemory {
                     None => false,
                 };
                 if !fresh {
-                    self.guard = Some((c, stability_limit_at(particle, f, geo, t)?));
+                    self.guard = Some((c, StepWindow::at(particle, f, geo, t)?));
                 }
-                Ok(self.guard.map(|(_, limit)| safety * limit))
+                Ok(self.guard.map(|(_, w)| StepWindow {
+                    max: safety * w.max,
+                    min: w.min,
+                }))
             }
         }
     }
+}
+
+/// The step sizes for which the IMEX scheme is linearly stable at one configuration:
+/// min < Δt ≤ max.
+///
+/// * `max` is the explicit viscous limit ([`stability_limit`]).
+/// * `min` is [`volume_mode_floor`]: nonzero only for the literal eq. 12 traction
+///   ([`VolumetricTraction::Paper`]), whose volume mode is anti-damped.
+///
+/// Both depend on F only through C = FᵀF (objectivity), so the cached guard keys both on C.
+///
+/// [`VolumetricTraction::Paper`]: crate::hydro::VolumetricTraction::Paper
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct StepWindow {
+    pub(crate) max: f64,
+    pub(crate) min: f64,
+}
+
+impl StepWindow {
+    /// No restriction (the guard is off).
+    pub(crate) const UNBOUNDED: Self = Self {
+        max: f64::INFINITY,
+        min: 0.0,
+    };
+
+    fn at<M: Response, D: DragModel>(
+        particle: &Particle<M, D>,
+        f: &Mat3,
+        geo: &Geometry,
+        t: f64,
+    ) -> Result<Self, StepError> {
+        Ok(Self {
+            max: stability_limit_at(particle, f, geo, t)?,
+            min: volume_floor_at(particle, f, geo, t)?,
+        })
+    }
+}
+
+/// Smallest Δt at which the IMEX step keeps the volume mode from growing: 0 unless the
+/// traction anti-damps dilation (the literal eq. 12, [`VolumetricTraction::Paper`]).
+///
+/// Along the dilation of the current configuration, δF = F (l_s = 1), Jeffery–Roscoe's
+/// deviatoric traction vanishes and only the volumetric term acts: σ̃(l_s = 1) = 2μ_f·1 for
+/// the literal eq. 12 (anti-damping), 0 for `Dev`, −4μ_f·1 for `Source`. Projected on δF,
+/// eq. 18 is the oscillator ẍ = a ẋ − ω² x with the Rayleigh quotients
+/// $a = \langle F, \mathrm{vol}(B_0) J \tilde\sigma(1) F^{-T}\Theta^{-1}\rangle / |F|^2$ and
+/// $\omega^2 = \langle F, \mathrm{vol}(B_0)\,(\partial P/\partial F : F)\,\Theta^{-1}\rangle / |F|^2$.
+/// The IMEX step (a explicit, ω² implicit) multiplies the mode's energy by
+/// (1 + aΔt)/(1 + ω²Δt²) per step, so it is stable iff Δt > a/ω², the value returned. For a
+/// sphere at rest this is the exact 2μ_f/(3λ_s + 2μ_s); for deformed shapes dilation is not
+/// exactly an eigenmode, and `tests/stability_guard.rs` checks growth below and decay above
+/// the floor on stretched shapes. For a rigid particle the floor is 0 (no shape dynamics).
+///
+/// Note that the continuous model itself is anti-damped along dilation with the literal
+/// eq. 12: only the scheme's numerical damping at Δt > a/ω² hides it, so an error-controlled
+/// integrator that resolves the mode ([`super::ImexAdaptive`] at a tight tolerance) must
+/// refuse to go below the floor.
+///
+/// [`VolumetricTraction::Paper`]: crate::hydro::VolumetricTraction::Paper
+pub fn volume_mode_floor<M: Response, D: DragModel>(
+    particle: &Particle<M, D>,
+    state: &State,
+) -> Result<f64, StepError> {
+    volume_floor_at(particle, &state.f, &particle.geometry(&state.f), state.t)
+}
+
+fn volume_floor_at<M: Response, D: DragModel>(
+    particle: &Particle<M, D>,
+    f: &Mat3,
+    geo: &Geometry,
+    t: f64,
+) -> Result<f64, StepError> {
+    let Some(law) = particle.elastic() else {
+        return Ok(0.0);
+    };
+    // σ̃(l_s = 1) is isotropic for every variant, so the principal frame needs no rotation.
+    let sigma = geo
+        .traction
+        .sigma_principal(&Mat3::zeros(), &Mat3::identity(), particle.volumetric())
+        * particle.fluid().mu;
+    let theta_inv = particle.theta_inv();
+    let vol0 = particle.volume0();
+    let a = (f.determinant() * vol0 * sigma * inv_transpose(f) * theta_inv).dot(f);
+    if a.is_nan() {
+        return Err(StepError::NonFinite {
+            what: "volume-mode damping",
+            t,
+        });
+    }
+    if a <= 0.0 {
+        return Ok(0.0);
+    }
+    let stiffness = (mat3(&(law.tangent(f) * vec9(f))) * theta_inv * vol0).dot(f);
+    if stiffness.is_nan() {
+        return Err(StepError::NonFinite {
+            what: "volume-mode stiffness",
+            t,
+        });
+    }
+    if stiffness <= 0.0 {
+        // No elastic restoring force along dilation: nothing can out-damp the mode.
+        return Ok(f64::INFINITY);
+    }
+    Ok(a / stiffness)
 }
 
 /// Largest Δt for which the explicit viscous term of the IMEX scheme is stable at `state`.
@@ -384,12 +491,12 @@ impl TimeIntegrator for ImexPaper {
         super::check_step(state, dt)?;
         let model = Model::new(particle, flow);
         let geo = memory.geometry(&model, &state.f, state.t)?;
-        if let Some(limit) = memory.limit(self.guard, particle, &state.f, &geo, state.t)?
-            && dt > limit
+        if let Some(window) = memory.window(self.guard, particle, &state.f, &geo, state.t)?
+            && dt > window.max
         {
             return Err(StepError::Unstable {
                 dt,
-                limit,
+                limit: window.max,
                 reason: "explicit viscous traction",
             });
         }

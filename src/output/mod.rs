@@ -1,4 +1,5 @@
-//! Output helpers shared by the examples: atomic file writes, CSV tables and SVG figures.
+//! Output helpers shared by the examples: atomic file writes, CSV tables, SVG figures and
+//! ParaView files.
 //!
 //! Every file is written atomically (temporary file in the same folder, then `rename`), so a
 //! reader never sees a half-written dataset and an interrupted run leaves the old one intact.
@@ -6,10 +7,12 @@
 pub mod atomic;
 pub mod csv;
 pub mod plot;
+pub mod vtk;
 
 pub use atomic::write_atomic;
 pub use csv::Csv;
 pub use plot::{Figure, Panel, Series, SeriesStyle};
+pub use vtk::{PolyData, VtkError, write_pvd};
 
 use std::path::PathBuf;
 use thiserror::Error;
@@ -33,7 +36,11 @@ pub enum OutputError {
         /// Row length.
         got: usize,
     },
+    /// The data cannot be written as a VTK file.
+    #[error(transparent)]
+    Vtk(#[from] VtkError),
     /// The plotting backend failed.
+    #[cfg(feature = "plot")]
     #[error("plotting failed: {0}")]
     Plot(String),
 }

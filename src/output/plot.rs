@@ -2,9 +2,13 @@
 //!
 //! A [`Figure`] is a grid of [`Panel`]s; a panel holds [`Series`] drawn as lines or points.
 //! Ranges default to the data range plus 5 %; set them explicitly for equal-aspect outlines.
+//! The figure descriptions are always available; rendering them needs the `plot` feature.
 
+#[cfg(feature = "plot")]
 use super::{OutputError, write_atomic};
+#[cfg(feature = "plot")]
 use plotters::prelude::*;
+#[cfg(feature = "plot")]
 use std::path::Path;
 
 /// How a series is drawn.
@@ -16,6 +20,7 @@ pub enum SeriesStyle {
     Points,
 }
 
+#[cfg(feature = "plot")]
 /// Colours by index: black, red, green, blue, orange, purple, grey.
 const PALETTE: [RGBColor; 7] = [
     RGBColor(0, 0, 0),
@@ -101,6 +106,7 @@ impl Panel {
         self
     }
 
+    #[cfg(feature = "plot")]
     fn data_range(&self, pick: impl Fn(&(f64, f64)) -> f64) -> (f64, f64) {
         let (lo, hi) = self
             .series
@@ -143,6 +149,7 @@ impl Figure {
     }
 
     /// Render to SVG text.
+    #[cfg(feature = "plot")]
     pub fn to_svg(&self) -> Result<String, OutputError> {
         let plot_err = |e: &dyn std::fmt::Display| OutputError::Plot(e.to_string());
         let rows = self.panels.len().div_ceil(self.columns).max(1);
@@ -161,13 +168,16 @@ impl Figure {
     }
 
     /// Render and write atomically to `path`.
+    #[cfg(feature = "plot")]
     pub fn write(&self, path: impl AsRef<Path>) -> Result<(), OutputError> {
         write_atomic(path, self.to_svg()?.as_bytes())
     }
 }
 
+#[cfg(feature = "plot")]
 type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
 
+#[cfg(feature = "plot")]
 fn draw_panel(area: &Area<'_>, panel: &Panel) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
     let (x0, x1) = panel.x_range.unwrap_or_else(|| panel.data_range(|p| p.0));
     let (y0, y1) = panel.y_range.unwrap_or_else(|| panel.data_range(|p| p.1));

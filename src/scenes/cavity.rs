@@ -53,9 +53,12 @@ use crate::ellipsoid::Ellipsoid;
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::flow::unstructured::MeshedFlow;
+use crate::hydro::VolumetricTraction;
+use crate::hydro::{Brenner, DragModel};
 use crate::integrator::{BarycentreModel, ImexAdaptive, Stokesian, TimeIntegrator};
-use crate::material::{NeoHooke, Softness};
+use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::{Fluid, Particle, State};
+use crate::scenes::particles::{ParticleModel, Response, Softness};
 use crate::tensor::{Mat3, Vec3, sym};
 use serde::Serialize;
 
@@ -126,7 +129,12 @@ pub fn fig15_fig16_releases() -> Vec<Release> {
     ];
     shapes
         .iter()
-        .flat_map(|&shape| [0.001, 0.25, 0.5, 0.75].map(|ca| Release { shape, ca: Some(ca) }))
+        .flat_map(|&shape| {
+            [0.001, 0.25, 0.5, 0.75].map(|ca| Release {
+                shape,
+                softness: Softness::Elastic { ca },
+            })
+        })
         .collect()
 }
 
@@ -152,13 +160,23 @@ impl Contact {
     }
 }
 
-/// One release: shape and softness (`None`: rigid limit Ca → 0).
+/// One release: shape and softness (Ca at the release shear rate γ̇₀).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Release {
     /// Initial shape.
     pub shape: Shape,
+    /// Softness.
+    pub softness: Softness,
+}
+
+impl Release {
     /// Capillary number, or `None` for the rigid limit.
-    pub ca: Option<f64>,
+    pub fn ca(&self) -> Option<f64> {
+        match self.softness {
+            Softness::Rigid => None,
+            Softness::Elastic { ca } => Some(ca),
+        }
+    }
 }
 
 /// How a run ended.
@@ -260,17 +278,19 @@ impl FlowField for VariantFlow<'_> {
     }
 }
 
-/// The cavity experiment: flow field, walls and fluid.
-pub struct Cavity<'a> {
+/// The cavity experiment: flow field, walls, fluid and the particle model (law family and drag;
+/// the paper's Neo-Hooke and Brenner by default).
+pub struct Cavity<'a, L = NeoHookeLaw, D = Brenner> {
     flow: VariantFlow<'a>,
     boundary: Planes,
     fluid: Fluid,
     shear_rate: f64,
     shape_model: ShapeModel,
+    model: ParticleModel<L, D>,
 }
 
 impl<'a> Cavity<'a> {
-    /// Experiment on a loaded Re = 470 field, inertialess shapes.
+    /// Experiment on a loaded Re = 470 field, inertialess shapes, the paper's particle model.
     pub fn new(flow: &'a MeshedFlow) -> Result<Self, SceneError> {
         let d = sym(&flow.sample(&release_point(), 0.0).map_err(StepError::from)?.grad_u);
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
@@ -283,7 +303,22 @@ impl<'a> Cavity<'a> {
             fluid: Fluid::new(rho_fluid() * NU, rho_fluid())?,
             shear_rate,
             shape_model: ShapeModel::Inertialess,
+            model: ParticleModel::default(),
         })
+    }
+}
+
+impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
+    /// The same experiment with another particle model (law family, drag, bulk ratio).
+    pub fn with_model<L2: LawFactory, D2: DragModel + Clone>(self, model: ParticleModel<L2, D2>) -> Cavity<'a, L2, D2> {
+        Cavity {
+            flow: self.flow,
+            boundary: self.boundary,
+            fluid: self.fluid,
+            shear_rate: self.shear_rate,
+            shape_model: self.shape_model,
+            model,
+        }
     }
 
     /// The same experiment with another shape model.
@@ -319,17 +354,24 @@ impl<'a> Cavity<'a> {
         self.shear_rate
     }
 
-    fn particle(&self, release: &Release) -> Result<Particle<Softness<NeoHooke>>, SceneError> {
-        // The rigid limit (Ca → 0) is a rigid particle: Jeffery rotation, no elasticity.
-        let response = match release.ca {
-            None => Softness::Rigid,
-            Some(ca) => {
-                let mu_s = self.fluid.mu * self.shear_rate / ca;
-                Softness::Elastic(NeoHooke::new(mu_s, 1e3 * mu_s)?)
-            }
-        };
+    fn particle(&self, release: &Release) -> Result<Particle<Response<L>, D>, SceneError> {
         let shape = Ellipsoid::with_volume_diameter(release.shape.ratios(), D_EQ, Mat3::identity())?;
-        Ok(Particle::new(shape, response, self.fluid, RHO_PARTICLE)?.with_gravity(Vec3::new(0.0, 0.0, -9.81))?)
+        // The inertial runs are error-controlled, so they resolve what the traction does to the
+        // volume mode: the literal eq. 12 anti-damps dilation (see
+        // `integrator::imex::volume_mode_floor`; at tol 1e-7 J − 1 grew from 3e-5 to 1.6), the
+        // source-flow term resists it as a fluid does. Shapes are unaffected (|J − 1| ≈ 1e-4
+        // at λ_s/μ_s = 1e3); the inertialess model keeps tr l_s = 0 and ignores the choice.
+        // The rigid limit (Ca → 0) is a rigid particle: Jeffery rotation, no elasticity.
+        let particle = self.model.particle(
+            shape,
+            release.softness,
+            self.fluid.mu * self.shear_rate,
+            self.fluid,
+            RHO_PARTICLE,
+        )?;
+        Ok(particle
+            .with_gravity(Vec3::new(0.0, 0.0, -9.81))?
+            .with_volumetric(VolumetricTraction::Source))
     }
 
     /// Track `release` for `t_max` seconds with tolerance `tol`, sampling every `dt_out`;
@@ -356,8 +398,8 @@ impl<'a> Cavity<'a> {
         tol: f64,
         dt_out: f64,
     ) -> Result<CavityRun, SceneError> {
-        let model = match (self.shape_model, release.ca) {
-            (ShapeModel::Inertial, Some(_)) => ShapeModel::Inertial,
+        let model = match (self.shape_model, release.softness) {
+            (ShapeModel::Inertial, Softness::Elastic { .. }) => ShapeModel::Inertial,
             _ => ShapeModel::Inertialess,
         };
         match model {
@@ -472,7 +514,7 @@ pub fn trajectory_table(runs: &[CavityRun]) -> Result<crate::output::Csv, crate:
             csv.push(vec![
                 run.contact.label().into(),
                 run.release.shape.label(),
-                run.release.ca.map(|c| c.to_string()).unwrap_or_default(),
+                run.release.ca().map(|c| c.to_string()).unwrap_or_default(),
                 format!("{t:.4}"),
                 format!("{:.5}", x[0] / EDGE),
                 format!("{:.5}", x[1] / EDGE),
@@ -523,7 +565,7 @@ fn outcome_cells(run: &CavityRun, limits: &Thresholds) -> Vec<String> {
     let mut cells = vec![
         run.contact.label().into(),
         run.release.shape.label(),
-        run.release.ca.map(|c| c.to_string()).unwrap_or_default(),
+        run.release.ca().map(|c| c.to_string()).unwrap_or_default(),
         kind.into(),
         wall,
         format!("{t:.3}"),
@@ -541,7 +583,7 @@ fn outcome_cells(run: &CavityRun, limits: &Thresholds) -> Vec<String> {
 pub fn trajectory_panel(runs: &[CavityRun], title: &str) -> crate::output::Panel {
     let mut panel = crate::output::Panel::new(title, "x/L", "z/L").with_ranges((0.0, 1.0), (0.0, 1.0));
     for (i, run) in runs.iter().enumerate() {
-        let label = match run.release.ca {
+        let label = match run.release.ca() {
             Some(ca) => format!("{} Ca={ca}", run.release.shape.label()),
             None => format!("{} Ca→0", run.release.shape.label()),
         };
@@ -616,7 +658,7 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
     ]);
     let mut keys: Vec<(String, Option<f64>)> = Vec::new();
     let key = |m: &Member| -> Option<(String, Option<f64>)> {
-        m.run.as_ref().ok().map(|r| (r.release.shape.label(), r.release.ca))
+        m.run.as_ref().ok().map(|r| (r.release.shape.label(), r.release.ca()))
     };
     for m in members {
         if let Some(k) = key(m)
@@ -728,7 +770,6 @@ pub fn ensemble(
     t_max: f64,
     tol: f64,
 ) -> Result<Vec<Member>, SceneError> {
-    use rayon::prelude::*;
     let cavities = variants
         .iter()
         .map(|v| Ok((*v, Cavity::new(flow)?.with_shape_model(shape_model).with_variant(*v)?)))
@@ -745,17 +786,14 @@ pub fn ensemble(
             })
         })
         .collect();
-    Ok(jobs
-        .par_iter()
-        .map(|(c, release, k, turn)| {
-            let (variant, cavity) = &cavities[*c];
-            Member {
-                variant: *variant,
-                orientation: *k,
-                run: cavity
-                    .track_oriented(*release, Contact::Barycentre, turn, t_max, tol, t_max)
-                    .map_err(|e| e.to_string()),
-            }
-        })
-        .collect())
+    Ok(crate::parallel::map(&jobs, |(c, release, k, turn)| {
+        let (variant, cavity) = &cavities[*c];
+        Member {
+            variant: *variant,
+            orientation: *k,
+            run: cavity
+                .track_oriented(*release, Contact::Barycentre, turn, t_max, tol, t_max)
+                .map_err(|e| e.to_string()),
+        }
+    }))
 }

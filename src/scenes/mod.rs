@@ -19,8 +19,11 @@
 //! - [`cavity`]: soft and quasi-rigid ellipsoids in the lid-driven cavity (§6.3);
 //! - [`cavity_benchmark`]: the cavity flow field against Albensoeder & Kuhlmann (2005).
 
+#[cfg(feature = "mesh")]
 pub mod cavity;
+#[cfg(feature = "mesh")]
 pub mod cavity_benchmark;
+pub mod particles;
 pub mod phase_boundary;
 pub mod phase_map;
 pub mod pipe;

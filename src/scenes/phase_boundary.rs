@@ -15,7 +15,6 @@ use super::shear_shape::ShearShape;
 use crate::integrator::TimeIntegrator;
 use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::ShearScaling;
-use rayon::prelude::*;
 
 /// Bracket search settings.
 #[derive(Debug, Clone, Copy)]
@@ -125,7 +124,7 @@ impl<I: TimeIntegrator, L: LawFactory> BoundarySearch<I, L> {
     where
         I: Sync,
     {
-        shapes.par_iter().map(|s| self.find(s)).collect()
+        crate::parallel::map(shapes, |s| self.find(s))
     }
 
     fn no_bracket(&self, at_min: Regime, at_max: Regime, lo: f64, hi: f64) -> SceneError {

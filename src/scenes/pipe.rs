@@ -13,6 +13,7 @@ pub mod setup;
 pub mod study;
 pub mod tracking;
 
-pub use setup::{PipeFlowData, PipeParticleData, PipeScene, Softness};
+pub use crate::scenes::particles::Softness;
+pub use setup::{PipeFlowData, PipeParticleData, PipeScene};
 pub use study::{PipeCase, deposition_study, orientation_study};
 pub use tracking::{Deposition, PipeSample, ShapeStats, sample_orientation, track_to_deposition};

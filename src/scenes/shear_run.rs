@@ -8,6 +8,7 @@
 use super::SceneError;
 use super::section::ShearPlaneSection;
 use super::shear_shape::ShearShape;
+use crate::diagnostics::{Monitor, Validity};
 use crate::driver::run;
 use crate::flow::analytic::LinearFlow;
 use crate::integrator::{Stokesian, TimeIntegrator};
@@ -52,22 +53,27 @@ pub fn stokesian_scaling(ca: f64) -> Result<ShearScaling, SceneError> {
 }
 
 /// Run `shape` at the groups `scaling` from rest in unit shear and sample it at `times`
-/// (ascending; 0 allowed), starting with step `dt0`.
+/// (ascending; 0 allowed), starting with step `dt0`; with the run's validity diagnostics over
+/// every accepted step (as measured: the caller marks inertialess runs).
 pub fn sample<I: TimeIntegrator>(
     integrator: &I,
     shape: &ShearShape,
     scaling: &ShearScaling,
     times: &[f64],
     dt0: f64,
-) -> Result<Vec<ShearSample>, SceneError> {
+) -> Result<(Vec<ShearSample>, Validity), SceneError> {
     let particle = shape.particle(scaling)?;
     let (a, c) = shape.in_plane_axes();
     let mut out = Vec::with_capacity(times.len());
+    let flow = unit_shear();
+    let start = State::at_rest(Vec3::zeros());
+    let mut monitor = Monitor::in_linear_flow(&particle, &flow);
+    monitor.observe(&start);
     run(
         integrator,
         &particle,
-        State::at_rest(Vec3::zeros()),
-        &unit_shear(),
+        start,
+        &flow,
         dt0,
         times,
         |s| {
@@ -78,19 +84,35 @@ pub fn sample<I: TimeIntegrator>(
                 xi_c: material_line(particle.shape(), &s.f, c),
             })
         },
-        |_, _| {},
+        |s, _| monitor.observe(s),
     )?;
-    Ok(out)
+    Ok((out, monitor.validity()))
 }
 
 /// The paper's §6.1.1 run (Figs 4–6): oblate ω₁ = ω₂ = 2.5 at `ca`, inertialess at rtol 1e-8,
-/// sampled at `times`.
-pub fn oblate_fig4_run(ca: f64, times: &[f64]) -> Result<Vec<ShearSample>, SceneError> {
-    sample(
+/// sampled at `times`, with its validity diagnostics (r₁ in d_eq).
+pub fn oblate_fig4_run(ca: f64, times: &[f64]) -> Result<(Vec<ShearSample>, Validity), SceneError> {
+    let (samples, validity) = sample(
         &Stokesian::overdamped(1e-8)?,
         &ShearShape::oblate(2.5),
         &stokesian_scaling(ca)?,
         times,
         1e-3,
-    )
+    )?;
+    Ok((samples, validity.inertialess()))
+}
+
+/// Validity diagnostics of shear runs as CSV: `ca`, then [`Validity::COLUMNS`] under the
+/// default thresholds (r₁ in d_eq).
+pub fn validity_table(runs: &[(f64, Validity)]) -> Result<crate::output::Csv, crate::output::OutputError> {
+    let mut header = vec!["ca"];
+    header.extend(Validity::COLUMNS);
+    let mut csv = crate::output::Csv::new(&header);
+    let limits = crate::diagnostics::Thresholds::default();
+    for (ca, validity) in runs {
+        let mut cells = vec![ca.to_string()];
+        cells.extend(validity.cells(&limits));
+        csv.push(cells)?;
+    }
+    Ok(csv)
 }

@@ -22,6 +22,7 @@ pub fn sig(x: f64, digits: i32) -> String {
 /// Kuhlmann (2005), each within 5 % (a uniform 60³ finite-volume grid is expected 2–5 % shallow:
 /// Ben Beya & Lili, 1–2 % at 48³–64³ with a finer scheme, 5 % at 32³), as a table rounded to 3
 /// decimals for a snapshot.
+#[cfg(feature = "mesh")]
 pub fn cavity_re1000_extrema(flow: &impl pseudorigid::flow::FlowField) -> String {
     use pseudorigid::scenes::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
     let case = CavityCase {

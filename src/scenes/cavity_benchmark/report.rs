@@ -5,6 +5,7 @@ use crate::error::FlowError;
 use crate::flow::FlowField;
 use crate::flow::unstructured::MeshError;
 use crate::output::write_atomic;
+#[cfg(feature = "plot")]
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -22,6 +23,7 @@ pub enum ReportError {
     #[error(transparent)]
     Mesh(#[from] MeshError),
     /// The plotting backend failed.
+    #[cfg(feature = "plot")]
     #[error("plot {path}: {reason}")]
     Plot {
         /// Output file.
@@ -93,6 +95,7 @@ pub fn write_extrema_csv(path: &Path, rows: &[ExtremumComparison]) -> Result<(),
 
 /// Two panels (u on the vertical centreline, w on the horizontal one): simulated curve and
 /// reference markers.
+#[cfg(feature = "plot")]
 pub fn plot_centrelines_svg(
     path: &Path,
     title: &str,

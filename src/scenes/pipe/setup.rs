@@ -24,16 +24,14 @@ use crate::error::{FlowError, ParamError, finite, positive};
 use crate::flow::FlowField;
 use crate::flow::analytic::Poiseuille;
 use crate::hydro::gravity::reduced_gravity;
+use crate::hydro::{Brenner, DragModel};
 use crate::integrator::{BarycentreModel, Stokesian};
-use crate::material::{self, NeoHooke};
+use crate::material::{self, Hyperelastic, LawFactory, NeoHooke};
 use crate::particle::{Fluid, Particle, State};
+use crate::scenes::particles::{ParticleModel, Softness};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
-
-/// λ_s/μ_s of the elastic particles. The inertialess model keeps tr l_s = 0, so J = 1 and the
-/// bulk term (∝ ln J) never acts; the value only has to be positive.
-const BULK_RATIO: f64 = 1e3;
 
 /// The carrier flow and release point in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -115,51 +113,18 @@ impl PipeParticleData {
     }
 }
 
-/// The shape response of the pipe's particles.
+/// The shape response of the pipe's particles under the paper's Neo-Hooke law.
 pub type PipeMaterial = material::Softness<NeoHooke>;
-
-/// Softness of the particle.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub enum Softness {
-    /// The rigid limit Ca → 0: Jeffery spin and Brenner drag, no elasticity.
-    Rigid,
-    /// Inertialess Neo-Hooke solid with Ca = μ_f γ̇₀/μ_s.
-    Elastic {
-        /// Capillary number at the release point.
-        ca: f64,
-    },
-}
-
-impl Softness {
-    /// Ca, with 0 for the rigid limit (how datasets label it).
-    pub fn ca(&self) -> f64 {
-        match self {
-            Softness::Rigid => 0.0,
-            Softness::Elastic { ca } => *ca,
-        }
-    }
-
-    /// Rigid for Ca = 0, elastic otherwise.
-    pub fn from_ca(ca: f64) -> Result<Self, ParamError> {
-        if ca == 0.0 {
-            Ok(Softness::Rigid)
-        } else {
-            Ok(Softness::Elastic {
-                ca: positive("Ca", ca)?,
-            })
-        }
-    }
-}
 
 /// The nondimensional problem: flow, particle, release state and unit conversions.
 #[derive(Debug, Clone)]
-pub struct PipeScene {
+pub struct PipeScene<M = NeoHooke, D = Brenner> {
     /// Poiseuille flow in units of d_eq and 1/γ̇₀.
     pub flow: Poiseuille,
     /// The pipe wall (radius R/d_eq).
     pub wall: PipeWall,
-    /// The particle: elastic Neo-Hooke, or rigid for [`Softness::Rigid`].
-    pub particle: Particle<PipeMaterial>,
+    /// The particle: elastic, or rigid for [`Softness::Rigid`].
+    pub particle: Particle<material::Softness<M>, D>,
     /// Physical flow data it was scaled from.
     pub flow_data: PipeFlowData,
     /// Physical particle data it was scaled from.
@@ -175,8 +140,34 @@ pub struct PipeScene {
 }
 
 impl PipeScene {
-    /// Scale the physical set-up; the long axis r₁ starts along e₁, r₂ along e₂, r₃ along e₃.
+    /// Scale the physical set-up with the paper's particle model (Neo-Hooke, Brenner drag); the
+    /// long axis r₁ starts along e₁, r₂ along e₂, r₃ along e₃.
     pub fn new(flow: PipeFlowData, particle: PipeParticleData, softness: Softness) -> Result<Self, ParamError> {
+        Self::with_model(flow, particle, softness, &ParticleModel::default())
+    }
+
+    /// The Tian/Cui set-up with a prolate particle of aspect ratio `lambda1` and softness `ca`
+    /// (0: rigid).
+    pub fn tian_cui(lambda1: f64, ca: f64) -> Result<Self, ParamError> {
+        Self::new(
+            PipeFlowData::tian_cui(),
+            PipeParticleData::prolate(lambda1),
+            Softness::from_ca(ca)?,
+        )
+    }
+}
+
+impl<M: Hyperelastic, D: DragModel> PipeScene<M, D> {
+    /// [`PipeScene::new`] with another law family and drag model.
+    pub fn with_model<L: LawFactory<Law = M>>(
+        flow: PipeFlowData,
+        particle: PipeParticleData,
+        softness: Softness,
+        model: &ParticleModel<L, D>,
+    ) -> Result<Self, ParamError>
+    where
+        D: Clone,
+    {
         for (name, v) in [
             ("pipe diameter", flow.diameter),
             ("nu_f", flow.nu_f),
@@ -195,18 +186,18 @@ impl PipeScene {
         let (l, t) = (d_eq, 1.0 / shear_rate);
         let mu_f = flow.mu_f();
         let density = |rho: f64| rho * shear_rate * d_eq * d_eq / mu_f;
-        let law = match softness {
-            Softness::Rigid => material::Softness::Rigid,
-            Softness::Elastic { ca } => material::Softness::Elastic(NeoHooke::from_capillary(ca, BULK_RATIO)?),
-        };
         let shape = Ellipsoid::with_volume_diameter([particle.lambda1, particle.lambda2, 1.0], 1.0, Mat3::identity())?;
-        let model = Particle::new(
-            shape,
-            law,
-            Fluid::new(1.0, density(flow.rho_f))?,
-            density(particle.rho_p),
-        )?
-        .with_gravity(Vec3::new(0.0, -flow.gravity * t * t / l, 0.0))?;
+        // Stresses in units of μ_f γ̇₀, so μ_s = 1/Ca. The inertialess model keeps tr l_s = 0,
+        // so J = 1 and the bulk ratio never acts.
+        let model = model
+            .particle(
+                shape,
+                softness,
+                1.0,
+                Fluid::new(1.0, density(flow.rho_f))?,
+                density(particle.rho_p),
+            )?
+            .with_gravity(Vec3::new(0.0, -flow.gravity * t * t / l, 0.0))?;
         Ok(Self {
             flow: Poiseuille::new(0.5 * flow.diameter / l, flow.mean_velocity * t / l)?,
             wall: PipeWall::new(0.5 * flow.diameter / l)?,
@@ -218,16 +209,6 @@ impl PipeScene {
             length_unit: l,
             time_unit: t,
         })
-    }
-
-    /// The Tian/Cui set-up with a prolate particle of aspect ratio `lambda1` and softness `ca`
-    /// (0: rigid).
-    pub fn tian_cui(lambda1: f64, ca: f64) -> Result<Self, ParamError> {
-        Self::new(
-            PipeFlowData::tian_cui(),
-            PipeParticleData::prolate(lambda1),
-            Softness::from_ca(ca)?,
-        )
     }
 
     /// Terminal settling time of the volume-equivalent sphere from the release point to the

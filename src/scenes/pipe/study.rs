@@ -6,7 +6,6 @@ use super::setup::PipeScene;
 use super::tracking::{Deposition, PipeSample, sample_orientation, track_to_deposition};
 use crate::driver::output_times;
 use crate::scenes::SceneError;
-use rayon::prelude::*;
 
 /// First trial step (1/γ̇₀); the adaptive integrators correct it within a few steps.
 const DT0: f64 = 1e-3;
@@ -46,15 +45,14 @@ pub fn orientation_study(
     count: usize,
     tol: f64,
 ) -> Result<Vec<(PipeScene, Vec<PipeSample>)>, SceneError> {
-    cases
-        .par_iter()
-        .map(|case| {
-            let scene = case.scene()?;
-            let times = output_times(t_end_seconds / scene.time_unit, count);
-            let samples = sample_orientation(&scene, &scene.integrator(tol)?, &times, DT0)?;
-            Ok((scene, samples))
-        })
-        .collect()
+    crate::parallel::map(cases, |case| {
+        let scene = case.scene()?;
+        let times = output_times(t_end_seconds / scene.time_unit, count);
+        let samples = sample_orientation(&scene, &scene.integrator(tol)?, &times, DT0)?;
+        Ok((scene, samples))
+    })
+    .into_iter()
+    .collect()
 }
 
 /// Deposition runs at rtol = atol = `tol`, recording `per_orbit` samples per Jeffery period
@@ -64,14 +62,13 @@ pub fn deposition_study(
     tol: f64,
     per_orbit: f64,
 ) -> Result<Vec<(PipeScene, Deposition)>, SceneError> {
-    cases
-        .par_iter()
-        .map(|case| {
-            let scene = case.scene()?;
-            let t_max = SETTLING_TIMES * scene.sphere_settling_time();
-            let record_dt = jeffery_period(case.lambda1, 1.0) / per_orbit;
-            let run = track_to_deposition(&scene, &scene.integrator(tol)?, DT0, t_max, record_dt)?;
-            Ok((scene, run))
-        })
-        .collect()
+    crate::parallel::map(cases, |case| {
+        let scene = case.scene()?;
+        let t_max = SETTLING_TIMES * scene.sphere_settling_time();
+        let record_dt = jeffery_period(case.lambda1, 1.0) / per_orbit;
+        let run = track_to_deposition(&scene, &scene.integrator(tol)?, DT0, t_max, record_dt)?;
+        Ok((scene, run))
+    })
+    .into_iter()
+    .collect()
 }

@@ -7,12 +7,14 @@
 //! step's dense output to |g| ≤ 10⁻⁹ d_eq, and the event caps each step so that a tumbling tip
 //! cannot touch and leave the wall unseen ([`crate::contact`]).
 
-use super::setup::{PipeMaterial, PipeScene};
+use super::setup::PipeScene;
 use crate::contact::{ContactEvent, ContactModel, PipeWall};
 use crate::diagnostics::{Monitor, Validity};
 use crate::driver::{Event, Plan, Stop, integrate, run};
 use crate::ellipsoid::PrincipalFrame;
+use crate::hydro::DragModel;
 use crate::integrator::TimeIntegrator;
+use crate::material::{Hyperelastic, Softness};
 use crate::particle::State;
 use crate::particle::lines::material_line;
 use crate::scenes::SceneError;
@@ -38,11 +40,9 @@ impl PipeSample {
     }
 }
 
-impl PipeScene {
+impl<M: Hyperelastic, D: DragModel> PipeScene<M, D> {
     /// Contact of the particle's extent with the pipe wall.
-    pub fn contact(
-        &self,
-    ) -> ContactEvent<'_, PipeWall, PipeMaterial, crate::hydro::Brenner, crate::flow::analytic::Poiseuille> {
+    pub fn contact(&self) -> ContactEvent<'_, PipeWall, Softness<M>, D, crate::flow::analytic::Poiseuille> {
         ContactEvent::new(&self.wall, &self.particle, &self.flow, ContactModel::Extent)
     }
 
@@ -59,8 +59,8 @@ impl PipeScene {
 
 /// Run from the release state and sample at `times` (ascending, > 0) with the driver; the first
 /// sample is the release state.
-pub fn sample_orientation<I: TimeIntegrator>(
-    scene: &PipeScene,
+pub fn sample_orientation<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
+    scene: &PipeScene<M, D>,
     integrator: &I,
     times: &[f64],
     dt0: f64,
@@ -160,8 +160,8 @@ impl Deposition {
 /// Track the released particle until it touches the wall, starting with step `dt0` and
 /// recording a sample about every `record_dt` (∞: release and contact only); fail with
 /// [`SceneError::NotDeposited`] if it is still free at `t_max` (units 1/γ̇₀).
-pub fn track_to_deposition<I: TimeIntegrator>(
-    scene: &PipeScene,
+pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
+    scene: &PipeScene<M, D>,
     integrator: &I,
     dt0: f64,
     t_max: f64,
