@@ -209,7 +209,7 @@ impl StepWindow {
 /// the literal eq. 12 (anti-damping), 0 for `Dev`, −4μ_f·1 for `Source`. Projected on δF,
 /// eq. 18 is the oscillator ẍ = a ẋ − ω² x with the Rayleigh quotients
 /// $a = \langle F, \mathrm{vol}(B_0) J \tilde\sigma(1) F^{-T}\Theta^{-1}\rangle / |F|^2$ and
-/// $\omega^2 = \langle F, \mathrm{vol}(B_0)\,(\partial P/\partial F : F)\,\Theta^{-1}\rangle / |F|^2$.
+/// $\omega^2 = \langle F, \mathrm{vol}(B_0)\\,(\partial P/\partial F : F)\\,\Theta^{-1}\rangle / |F|^2$.
 /// The IMEX step (a explicit, ω² implicit) multiplies the mode's energy by
 /// (1 + aΔt)/(1 + ω²Δt²) per step, so it is stable iff Δt > a/ω², the value returned. For a
 /// sphere at rest this is the exact 2μ_f/(3λ_s + 2μ_s); for deformed shapes dilation is not
