@@ -45,6 +45,7 @@ fn assert_typed(e: &StepError, what: &str) {
                 | StepError::NewtonNotConverged { .. }
                 | StepError::Inverted { .. }
                 | StepError::StepSizeUnderflow { .. }
+                | StepError::VolumeModeUnresolvable { .. }
         ),
         "{what}: unexpected {e}"
     );
@@ -146,7 +147,8 @@ fn bulk_ratios_from_10_to_1e6() {
 /// limit. With the `source` volumetric traction it must succeed everywhere. With the literal
 /// `paper` traction the volume mode is anti-damped unless λ_s Δt ≳ μ_f (the explicit stability analysis of `integrator::imex`,
 /// condition 2); both limits together need λ_s ρ* R² ≳ 5 μ_f², violated at ρ* = 1e-4 with
-/// λ_s/μ_s = 1e4 (λ_s ρ* R² ≈ 0.6): there the run must stop with a typed error, not NaN.
+/// λ_s/μ_s = 1e4 (λ_s ρ* R² ≈ 0.6): there the run must stop with a typed error, not NaN
+/// (the error control then asks for steps below the volume-mode floor).
 /// The fixed-step scheme with Δt = 1e-3 must refuse ρ* < 0.037 as `Unstable`.
 #[test]
 fn densities_from_1e_minus_4_to_10() {

@@ -58,6 +58,7 @@ use crate::hydro::{Brenner, DragModel};
 use crate::integrator::{BarycentreModel, ImexAdaptive, Stokesian, TimeIntegrator};
 use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::{Fluid, Particle, State};
+pub use crate::scenes::particles::Shape;
 use crate::scenes::particles::{ParticleModel, Response, Softness};
 use crate::tensor::{Mat3, Vec3, sym};
 use serde::Serialize;
@@ -88,31 +89,6 @@ pub fn rho_fluid() -> f64 {
 /// Release point (0.467 L, 0.4 L, 0.983 L).
 pub fn release_point() -> Vec3 {
     Vec3::new(0.467, 0.4, 0.983) * EDGE
-}
-
-/// Initial shape family.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub enum Shape {
-    /// Semi-axes λ₁ : 1 : 1.
-    Prolate(f64),
-    /// Semi-axes λ₁ : λ₁ : 1.
-    Oblate(f64),
-}
-
-impl Shape {
-    fn ratios(self) -> [f64; 3] {
-        match self {
-            Shape::Prolate(l) => [l, 1.0, 1.0],
-            Shape::Oblate(l) => [l, l, 1.0],
-        }
-    }
-    /// Label for datasets, e.g. `prolate_5`.
-    pub fn label(self) -> String {
-        match self {
-            Shape::Prolate(l) => format!("prolate_{l}"),
-            Shape::Oblate(l) => format!("oblate_{l}"),
-        }
-    }
 }
 
 /// The 28 soft releases of Figs 15/16: prolates λ₁ = 1, 2, 5, 8 and oblates λ₁ = 2, 5, 8 at

@@ -20,6 +20,33 @@ use serde::{Deserialize, Serialize};
 /// boundary moves by < 10⁻⁴ in Ca between 10³ and 10⁵).
 pub const DEFAULT_BULK_RATIO: f64 = 1e3;
 
+/// Spheroidal shape families of the real-flow scenes, by their semi-axis ratios with the
+/// symmetry axis first for prolates and last for oblates.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum Shape {
+    /// Semi-axes λ₁ : 1 : 1.
+    Prolate(f64),
+    /// Semi-axes λ₁ : λ₁ : 1.
+    Oblate(f64),
+}
+
+impl Shape {
+    /// Semi-axis ratios: prolate (λ₁, 1, 1), oblate (λ₁, λ₁, 1).
+    pub fn ratios(self) -> [f64; 3] {
+        match self {
+            Shape::Prolate(l) => [l, 1.0, 1.0],
+            Shape::Oblate(l) => [l, l, 1.0],
+        }
+    }
+    /// Label for datasets, e.g. `prolate_5`.
+    pub fn label(self) -> String {
+        match self {
+            Shape::Prolate(l) => format!("prolate_{l}"),
+            Shape::Oblate(l) => format!("oblate_{l}"),
+        }
+    }
+}
+
 /// Softness of one release.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum Softness {
