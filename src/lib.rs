@@ -16,6 +16,44 @@
 //!
 //! Units are the caller's: any consistent set works. [`particle::ShearScaling`] builds the
 //! paper's nondimensional shear-flow particles (lengths d_eq, times 1/γ̇, stresses μ_f γ̇).
+//!
+//! # Equation map
+//! Where each equation of Wedel et al. lives (numbers as in the paper):
+//!
+//! | paper | what | item |
+//! |---|---|---|
+//! | eqs. 1–3 | affine motion x = x_c + F·Ξ, A = Ḟ | [`particle::State`] |
+//! | eq. 4 | shape tensor S = Σ R_a E′_a ⊗ Ē_a | [`ellipsoid::Ellipsoid::shape_tensor`] |
+//! | eq. 5 | total distortion F̄ = F·S | [`particle::Particle::total_distortion`] |
+//! | eqs. 6, 7 | barycentre and shape balance | [`particle::dynamics`] |
+//! | eq. 8 | mass m, Euler tensor Θ = (m/5)SSᵀ | [`particle::Particle::mass`], [`ellipsoid::Ellipsoid::euler_tensor`] |
+//! | eq. 9 | Neo-Hooke Piola stress | [`material::NeoHooke`] (any law: [`material::Hyperelastic`]) |
+//! | eqs. 10, 11, 15 | traction split; σ̃ as first moment of the traction | [`theory::traction`] |
+//! | eq. 12 | Jeffery–Roscoe traction stress σ̃ | [`hydro::JefferyRoscoe::sigma_tilde`], [`theory::traction`] |
+//! | eq. 13 | gravity reduced by buoyancy | [`hydro::gravity::reduced_gravity`] |
+//! | eq. 14 | Brenner's drag | [`hydro::Brenner`], [`theory::drag`] |
+//! | eq. 16 | fluid load P̃ = Jσ̃F⁻ᵀ | [`particle::dynamics::traction_load`] |
+//! | eq. 17 | barycentre ODE (β_t, 1/τ_D = πμ_f r_min/m) | [`particle::Model::forcing`], [`particle::Forcing`] |
+//! | eq. 18 | shape ODE Ȧ = vol(B₀)[P̃ − P]Θ⁻¹ | [`integrator::imex`]; Θ → 0: [`particle::Model::inertialess_rate`], [`integrator::stokesian`] |
+//! | eqs. 19, 20 | implicit Euler for the barycentre | [`integrator::imex`] |
+//! | eqs. 21, 22, §5 | the IMEX shape step | [`integrator::ImexPaper`], stability: [`theory::stability`] |
+//! | §5 | r_a, Q from eig(F̄F̄ᵀ) (r_a = √λ_a) | [`ellipsoid::PrincipalFrame`], [`theory::paper_errata`] |
+//! | eqs. 23, 24 | capillary and shear Reynolds numbers | [`particle::ShearScaling`], [`diagnostics`] |
+//! | eqs. 25, 26 | Stokes number, particle time | `scenes::cavity` (feature `mesh`; the paper's values rechecked there) |
+//! | eqs. A.1, A.2 | rotation Q, principal components X′ = QXQᵀ | [`ellipsoid::PrincipalFrame::to_principal`] |
+//!
+//! Jeffery's ellipsoid integrals behind eqs. 12 and 14: [`ellipsoid::integrals`],
+//! [`theory::ellipsoid_integrals`].
+//!
+//! # Further reading
+//! - [`theory`]: the derivations the code relies on, in closed form with their sources, and
+//!   the paper's misprints and inconsistencies ([`theory::paper_errata`]).
+//! - [`guide`]: add your own material law, drag model, flow reader, boundary or integrator.
+//! - Every model module opens with a *Physics* section: the equations, the paper's equation
+//!   numbers, and the limits they are tested in.
+//!
+//! The formulas render with KaTeX on docs.rs; locally build with
+//! `RUSTDOCFLAGS="--html-in-header docs/katex-header.html" cargo doc --no-deps`.
 
 #![warn(missing_docs)]
 
@@ -36,6 +74,25 @@ pub mod population;
 pub mod reference;
 pub mod scenes;
 pub mod tensor;
+
+#[doc = include_str!("../docs/guide.md")]
+pub mod guide {}
+
+/// Derivations the code relies on, self-contained, with their literature sources: the closed
+/// forms the paper defers to its predecessor, how they are evaluated, the stability of the
+/// paper's time step, and the paper's misprints and inconsistencies.
+pub mod theory {
+    #[doc = include_str!("../docs/theory/traction.md")]
+    pub mod traction {}
+    #[doc = include_str!("../docs/theory/ellipsoid_integrals.md")]
+    pub mod ellipsoid_integrals {}
+    #[doc = include_str!("../docs/theory/drag.md")]
+    pub mod drag {}
+    #[doc = include_str!("../docs/theory/stability.md")]
+    pub mod stability {}
+    #[doc = include_str!("../docs/theory/paper_errata.md")]
+    pub mod paper_errata {}
+}
 
 /// The names most programs need.
 pub mod prelude {

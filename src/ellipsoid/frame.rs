@@ -1,10 +1,11 @@
 //! Current principal frame of the deformed ellipsoid.
 //!
-//! # Physics (paper §5, corrected)
+//! # Physics (paper §5 and eq. 20, corrected; eqs. A.1, A.2)
 //! With F̄ = F·S the left Cauchy–Green tensor of the total distortion is
 //! $\bar b = \bar F \bar F^T = \sum_a r_a^2\\, n_a \otimes n_a$, so the current semi-axes are
 //! **r_a = sqrt(eig b̄)** (the paper's "r_a = λ_a" is a typo) and the rotation has rows n_a:
-//! Q[a, B] = n_a · E_B. Principal components are X' = Q X Qᵀ, global ones X = Qᵀ X' Q (eq. A.2).
+//! Q[a, B] = n_a · E_B. Principal components are X′ = Q X Qᵀ, global ones X = Qᵀ X′ Q (eq. A.2).
+//! The misprint and its evidence: [`crate::theory::paper_errata`].
 //!
 //! Eigenvector sign, order and the choice inside a degenerate eigenspace do not matter for
 //! σ̃ or k (tested); r is returned sorted descending only for the convenience of diagnostics.
@@ -17,7 +18,7 @@ use nalgebra::SymmetricEigen;
 pub struct PrincipalFrame {
     /// Current semi-axes r₁ ≥ r₂ ≥ r₃.
     pub r: Vec3,
-    /// Rotation with rows n_a: X' = Q X Qᵀ.
+    /// Rotation with rows n_a: X′ = Q X Qᵀ.
     pub q: Mat3,
 }
 
@@ -40,12 +41,12 @@ impl PrincipalFrame {
         Self { r, q }
     }
 
-    /// Principal components X' = Q X Qᵀ of a global tensor.
+    /// Principal components X′ = Q X Qᵀ of a global tensor.
     pub fn to_principal(&self, x: &Mat3) -> Mat3 {
         self.q * x * self.q.transpose()
     }
 
-    /// Global components X = Qᵀ X' Q of a principal-frame tensor.
+    /// Global components X = Qᵀ X′ Q of a principal-frame tensor.
     pub fn to_global(&self, xp: &Mat3) -> Mat3 {
         self.q.transpose() * xp * self.q
     }

@@ -1,22 +1,23 @@
 //! Jeffery's ellipsoid integrals through Carlson's symmetric elliptic integrals.
 //!
-//! # Physics (Jeffery 1922; Carlson 1995)
+//! # Physics (Jeffery 1922; Carlson 1995; the coefficients of paper eqs. 12 and 14)
 //! With x_i = r_i², Δ(λ) = √((x₁+λ)(x₂+λ)(x₃+λ)) and λ ∈ [0, ∞):
 //! - $\chi_0 = \int d\lambda/\Delta = 2 R_F(x_1,x_2,x_3)$
 //! - $\alpha_i = \int d\lambda/((x_i+\lambda)\Delta) = \tfrac23 R_D(x_j,x_k,x_i)$
 //! - $\alpha_k^{\prime} = \int d\lambda/((x_i+\lambda)(x_j+\lambda)\Delta)$ for the pair (i, j), k the third index
 //! - $\alpha_k^{\prime\prime} = \int \lambda\\, d\lambda/((x_i+\lambda)(x_j+\lambda)\Delta) = \alpha_i - x_j \alpha_k^{\prime}$
 //!
-//! Checks: abc Σα_i = 2; a sphere of radius a has χ₀ = 2/a, α = 2/(3a³), α' = 2/(5a⁵),
-//! α'' = 4/(15a³).
+//! Checks: abc Σα_i = 2; a sphere of radius a has χ₀ = 2/a, α = 2/(3a³), α′ = 2/(5a⁵),
+//! α″ = 4/(15a³).
 //!
 //! # Degenerate pairs without a special branch
-//! The textbook route α'_k = (α_j − α_i)/(x_i − x_j) cancels catastrophically when x_i ≈ x_j
+//! The textbook route α′_k = (α_j − α_i)/(x_i − x_j) cancels catastrophically when x_i ≈ x_j
 //! (every sphere and spheroid). Instead we use ∂(1/Δ)/∂x_j = −1/(2(x_j+λ)Δ), which gives
 //! $\alpha_k^{\prime} = -2\\,\partial\alpha_i/\partial x_j = -\tfrac43\\,\partial_1 R_D(x_j,x_k,x_i)$,
 //! and evaluate that derivative exactly with a dual number through Carlson's duplication
 //! algorithm. There is no cancellation at any separation, so the near-degenerate branch of
 //! a series expansion (O(δ²) error) is not needed; tests check 1e-12 against quadrature.
+//! The derivation, step by step: [`crate::theory::ellipsoid_integrals`].
 
 use crate::error::ParamError;
 use crate::tensor::{Scalar, Vec3, max_or_nan};
@@ -169,9 +170,9 @@ pub struct EllipsoidIntegrals {
     pub chi0: f64,
     /// α_i.
     pub alpha: Vec3,
-    /// α'_k.
+    /// α′_k.
     pub alpha_p: Vec3,
-    /// α''_k.
+    /// α″_k.
     pub alpha_pp: Vec3,
 }
 

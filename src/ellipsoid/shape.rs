@@ -2,7 +2,7 @@
 //!
 //! # Physics (paper §2.1, eqs. 4, 8)
 //! $S = \sum_a R_a\\, E_a^{\prime} \otimes \bar E_a$ maps the unit reference sphere onto B₀; R_a are the
-//! semi-axes and E'_a the initial axes in global coordinates. Hence
+//! semi-axes and E′_a the initial axes in global coordinates. Hence
 //! vol(B₀) = det S · 4π/3 and, for a homogeneous solid ellipsoid of mass m,
 //! the Euler tensor is Θ = (m/5) S Sᵀ.
 
@@ -11,7 +11,7 @@ use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// A stress-free ellipsoid: semi-axes R_a along the orthonormal initial axes E'_a.
+/// A stress-free ellipsoid: semi-axes R_a along the orthonormal initial axes E′_a.
 ///
 /// Deserialisation goes through [`Ellipsoid::new`], so a file cannot bypass its checks.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -45,7 +45,7 @@ impl From<Ellipsoid> for EllipsoidRaw {
 }
 
 impl Ellipsoid {
-    /// Ellipsoid with semi-axes `semi_axes[a]` along column `a` of `axes` (E'_a).
+    /// Ellipsoid with semi-axes `semi_axes[a]` along column `a` of `axes` (E′_a).
     ///
     /// `axes` must be a rotation (orthonormal, det = +1) to 1e-10. The squares R_a² (they
     /// enter S Sᵀ, Θ and Jeffery's integrals) and the volume must be finite and > 0.
@@ -91,12 +91,12 @@ impl Ellipsoid {
         self.semi_axes
     }
 
-    /// Initial axes E'_a as columns.
+    /// Initial axes E′_a as columns.
     pub fn axes(&self) -> Mat3 {
         self.axes
     }
 
-    /// Shape and orientation tensor S = Σ_a R_a E'_a ⊗ Ē_a (eq. 4).
+    /// Shape and orientation tensor S = Σ_a R_a E′_a ⊗ Ē_a (eq. 4).
     pub fn shape_tensor(&self) -> Mat3 {
         self.axes * Mat3::from_diagonal(&self.semi_axes)
     }
@@ -117,7 +117,7 @@ impl Ellipsoid {
         s * s.transpose() * (mass / 5.0)
     }
 
-    /// Θ⁻¹ = (5/m) S⁻ᵀ S⁻¹ = E' diag(5/(m R_a²)) E'ᵀ in closed form (no matrix inversion), or
+    /// Θ⁻¹ = (5/m) S⁻ᵀ S⁻¹ = E′ diag(5/(m R_a²)) E′ᵀ in closed form (no matrix inversion), or
     /// an error when one of its principal values is not finite and > 0.
     pub fn euler_tensor_inverse(&self, mass: f64) -> Result<Mat3, ParamError> {
         let mut principal = Vec3::zeros();
@@ -128,7 +128,7 @@ impl Ellipsoid {
         Ok(self.axes * Mat3::from_diagonal(&principal) * self.axes.transpose())
     }
 
-    /// Material position Ξ = R_a E'_a of the surface point on initial semi-axis `a`
+    /// Material position Ξ = R_a E′_a of the surface point on initial semi-axis `a`
     /// (the points A, B, C of paper Fig. 3).
     pub fn axis_point(&self, a: usize) -> Vec3 {
         self.axes.column(a) * self.semi_axes[a]

@@ -1,6 +1,6 @@
 //! Analytic linear and pipe flows.
 //!
-//! # Physics
+//! # Physics (paper §6.1 simple shear, §6.2 Poiseuille pipe)
 //! - quiescent: u = 0;
 //! - simple shear: u = γ̇ x₂ e₁, so l_f = γ̇ e₁⊗e₂ and the vorticity is −γ̇ e₃;
 //! - planar extension: u = ε̇ (x₁, −x₂, 0);
@@ -103,7 +103,7 @@ impl LinearFlow {
         Self::new(Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(r, -0.5 * r, -0.5 * r)))
     }
 
-    /// The same flow seen in a frame rotated by `q` (x' = q x): u' = q u₀, L' = q L qᵀ.
+    /// The same flow seen in a frame rotated by `q` (x′ = q x): u′ = q u₀, L′ = q L qᵀ.
     pub fn rotated(&self, q: &Mat3) -> Self {
         Self {
             u0: q * self.u0,

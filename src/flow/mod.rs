@@ -1,6 +1,12 @@
 //! Carrier flows. The particle needs the undisturbed fluid velocity u and its gradient
 //! l_f = ∇u (`(l_f)_ij = ∂u_i/∂x_j`) at its barycentre (paper Fig. 1, one-way coupling).
 //! Analytic fields live in [`analytic`]; meshed CFD fields implement the same trait.
+//!
+//! # Physics (paper §1.2, Fig. 1, eqs. 17, 22)
+//! One-way coupling: the flow is computed without the particles (the macro-scale problem of
+//! Fig. 1) and each particle reads u and l_f = ∇u of the undisturbed flow at its barycentre,
+//! for the drag (u, eq. 17) and the traction (l_f, eq. 22). The particle must be small against
+//! the length over which ∇u changes ([`crate::diagnostics`]).
 
 pub mod analytic;
 #[cfg(feature = "mesh")]

@@ -1,10 +1,11 @@
 //! Translational drag f_D = μ_f K̂ · (u − v_c) (paper eq. 14 writes K̂ = π r_min k).
 //!
-//! # Physics (Brenner 1963 / Oberbeck)
+//! # Physics (paper eq. 14; Brenner 1963, Oberbeck 1876)
 //! For an ellipsoid with principal frame (r, Q) and integrals χ₀, α_i:
 //! $\hat K = 16\pi\\, Q^T \mathrm{diag}\big(1/(\chi_0 + x_i\alpha_i)\big) Q$, i.e. the paper's
 //! $k_i = 16 / (r_{min}(\chi_0 + x_i\alpha_i))$. A sphere has k = 6 (f = 6πμa u); prolate values
-//! are tabulated by Brenner (1963) and tested.
+//! are tabulated by Brenner (1963) and tested. Derivation and the spheroid closed forms:
+//! [`crate::theory::drag`].
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::tensor::{Mat3, Vec3};

@@ -1,6 +1,6 @@
 //! Gravity reduced by buoyancy (paper eqs. 13, 17).
 //!
-//! # Physics
+//! # Physics (paper eqs. 13, 17)
 //! a_G = β_t g with β_t = (ρ_t − ρ_f)/ρ_t and ρ_t = ρ₀/J: the mass m = ρ₀ vol(B₀) is constant
 //! while the displaced volume vol(B_t) = J vol(B₀) follows the deformation.
 

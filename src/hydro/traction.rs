@@ -4,7 +4,7 @@
 //! σ̃ := (1/vol B_t) ∫ t ⊗ ξ da is the first moment of the fluid traction on an ellipsoid whose
 //! surface moves affinely with l_s in the undisturbed linear flow l_f. In the principal frame,
 //! with g = l_f − l_s, d = dev sym g, w = skw g, d_s = sym l_s and
-//! Σ'' = α''₁α''₂ + α''₂α''₃ + α''₃α''₁:
+//! Σ″ = α″₁α″₂ + α″₂α″₃ + α″₃α″₁:
 //!
 //! ```math
 //! \tilde\sigma = -\bar p\,\mathbf 1 + \mu_f\,\big[\,s(d, w) + 2 d_s\,\big]
@@ -21,11 +21,12 @@
 //! \bar p = \frac{2\mu_f}{3\Sigma''}\sum_i \alpha''_i(2\alpha_i-\alpha_j-\alpha_k)\, d_{ii}.
 //! ```
 //!
-//! Global components σ̃ = Qᵀ σ̃' Q. Checked limits (tests): the sphere gives
+//! Global components σ̃ = Qᵀ σ̃′ Q. Checked limits (tests): the sphere gives
 //! σ̃ = 2μd_s + 5μd + 3μw; a torque-free ellipsoid spins at Jeffery's rate.
 //!
 //! The formula covers incompressible surface motion only. The volumetric part of the "2 d_s"
-//! term is a modelling choice ([`VolumetricTraction`]).
+//! term is a modelling choice ([`VolumetricTraction`]). Derivation, checks and the three
+//! volumetric readings: [`crate::theory::traction`].
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::tensor::{Mat3, Mat9, Vec9, dev, mat3, skw, sym, vec9};
@@ -115,7 +116,7 @@ impl JefferyRoscoe {
         &self.frame
     }
 
-    /// σ̃'/μ_f in the principal frame for principal components `lf` of l_f and `ls` of l_s.
+    /// σ̃′/μ_f in the principal frame for principal components `lf` of l_f and `ls` of l_s.
     pub fn sigma_principal(&self, lf: &Mat3, ls: &Mat3, vol: VolumetricTraction) -> Mat3 {
         let g = lf - ls;
         let d = dev(&sym(&g));
@@ -212,7 +213,7 @@ impl InertialessSolver {
     }
 }
 
-/// Row of the (2,2) component in column-major order; replaced by tr l_s' = 0.
+/// Row of the (2,2) component in column-major order; replaced by tr l_s′ = 0.
 const TRACE_ROW: usize = 8;
 
 /// Jeffery's (1922) torque-free spin of a rigid ellipsoid in the flow gradient `l_f`: the skew

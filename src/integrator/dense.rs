@@ -1,6 +1,11 @@
 //! Dense output over one step: cubic Hermite interpolation of the barycentre x and the
 //! deformation gradient F from their values and rates at both ends of the step.
 //!
+//! # Physics
+//! None of its own: the paper's scheme has no dense output. The interpolant serves the driver's
+//! output times and events (wall contact, [`crate::contact`]) between the accepted states of
+//! eqs. 17, 18.
+//!
 //! # Accuracy
 //! With exact end rates the cubic Hermite interpolant has local error O(h⁴), the same order as
 //! the collocation polynomial of Radau IIA(5) and higher than the local error O(h³) of a

@@ -1,5 +1,12 @@
 //! The paper's implicit–explicit integrator (§5), exactly as published.
 //!
+//! # Physics (paper eqs. 17–22)
+//! The step integrates the shape equation Ḟ = A, Ȧ = vol(B₀)[P̃ − P]Θ⁻¹ (eq. 18) and the
+//! barycentre equation (eq. 17, with 1/τ_D = π μ_f r_min/m) with the paper's splitting: the
+//! elastic stress P implicit (eq. 21), the fluid load P̃* explicit in the old solid velocity
+//! gradient (eq. 22), the barycentre by implicit Euler (eqs. 19, 20). First order in Δt. Its
+//! two stability conditions are derived in [`crate::theory::stability`].
+//!
 //! # Algorithm (paper §5)
 //! 1. (r, Q)ⁿ from F̄ⁿ F̄ⁿᵀ; l_sⁿ = Aⁿ(Fⁿ)⁻¹; σ̃* = σ̃(rⁿ, Qⁿ; l_sⁿ, l_f^{n+1}) — **explicit** and
 //!    frozen during the Newton iterations.
@@ -202,7 +209,7 @@ impl StepWindow {
 /// the literal eq. 12 (anti-damping), 0 for `Dev`, −4μ_f·1 for `Source`. Projected on δF,
 /// eq. 18 is the oscillator ẍ = a ẋ − ω² x with the Rayleigh quotients
 /// $a = \langle F, \mathrm{vol}(B_0) J \tilde\sigma(1) F^{-T}\Theta^{-1}\rangle / |F|^2$ and
-/// $\omega^2 = \langle F, \mathrm{vol}(B_0)\,(\partial P/\partial F : F)\,\Theta^{-1}\rangle / |F|^2$.
+/// $\omega^2 = \langle F, \mathrm{vol}(B_0)\\,(\partial P/\partial F : F)\\,\Theta^{-1}\rangle / |F|^2$.
 /// The IMEX step (a explicit, ω² implicit) multiplies the mode's energy by
 /// (1 + aΔt)/(1 + ω²Δt²) per step, so it is stable iff Δt > a/ω², the value returned. For a
 /// sphere at rest this is the exact 2μ_f/(3λ_s + 2μ_s); for deformed shapes dilation is not

@@ -1,6 +1,11 @@
 //! The paper's IMEX step with step-size control (an option; [`super::ImexPaper`] stays the
 //! faithful fixed-step reference).
 //!
+//! # Physics (paper eqs. 17–22)
+//! The same equations and the same step as [`super::imex`] (eqs. 17, 18 discretised by
+//! eqs. 19–22); only the step size changes, so the model and its stability conditions
+//! ([`crate::theory::stability`]) are those of the paper.
+//!
 //! # Scheme
 //! Each attempt is one paper step of size h, capped at 0.9× the explicit viscous stability
 //! limit ([`super::imex::stability_limit`], cached as in [`super::imex::StabilityGuard`]).

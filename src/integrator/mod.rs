@@ -5,6 +5,13 @@
 //! Every step returns a [`Step`]: the new state, a [`StepInfo`] whose counts come from the
 //! model wrapper that did the work, and a [`Dense`] interpolant over the step for event location
 //! and output.
+//!
+//! # Physics (paper eqs. 17–22)
+//! What is integrated is the barycentre equation ẋ_c = v_c, v̇_c = a_G + (1/τ_D) k·(u − v_c)
+//! (eq. 17) and the shape equation Ḟ = A, Ȧ = vol(B₀)[P̃ − P]Θ⁻¹ (eq. 18), evaluated by
+//! [`crate::particle::dynamics`]. [`imex`] is the paper's discretisation (eqs. 19–22, §5);
+//! [`imex_adaptive`] the same step with error control; [`stokesian`] the inertialess limit
+//! Θ → 0 of eq. 18, advanced by [`radau5`] or [`rosenbrock`].
 
 pub mod dense;
 pub mod imex;

@@ -1,4 +1,10 @@
 //! Newton's method on 9 unknowns (a flattened 3×3 tensor) with a caller-supplied Jacobian.
+//!
+//! # Physics
+//! None of its own: it solves the implicit shape update of the paper's IMEX step, the residual
+//! R(F) = F − Fⁿ − ΔtAⁿ − Δt² vol(B₀)[P̃*(F) − P(F)]Θ⁻¹ = 0 of eqs. 21, 22 (§5), for
+//! [`super::imex`]; the paper reports quadratic convergence in about three iterations, which
+//! needs the Jacobian of P̃* as well as the material tangent.
 
 use crate::error::{ParamError, StepError, positive};
 use crate::tensor::{Mat9, Vec9};

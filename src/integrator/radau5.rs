@@ -1,6 +1,10 @@
 //! The three-stage Radau IIA collocation method of order 5 (Hairer & Wanner, *Solving Ordinary
 //! Differential Equations II*, §IV.8, the RADAU5 algorithm), one accepted step per call, on a
-//! fixed-size state y' = f(t, y), y ∈ ℝᴺ, with a caller-supplied (possibly approximate) Jacobian.
+//! fixed-size state y′ = f(t, y), y ∈ ℝᴺ, with a caller-supplied (possibly approximate) Jacobian.
+//!
+//! # Physics
+//! None of its own: a generic solver of y′ = f(t, y). [`super::stokesian`] applies it to the
+//! inertialess shape equation (paper eq. 18 with Θ → 0) and the barycentre equation (eq. 17).
 //!
 //! # Scheme
 //! Collocation at c = ((4 − √6)/10, (4 + √6)/10, 1) with the Butcher matrix
@@ -783,7 +787,7 @@ mod tests {
         sxy / sxx
     }
 
-    /// Linear y' = A y, A = [[−1, 10], [−10, −1]]: y = e^{−t}(cos 10t, −sin 10t) from (1, 0).
+    /// Linear y′ = A y, A = [[−1, 10], [−10, −1]]: y = e^{−t}(cos 10t, −sin 10t) from (1, 0).
     /// Steps 10…80 (h·ω from 1 to 1/8): errors from ~5e-4 down to ~1e-8, far above the
     /// Newton floor (0.03 × weights 1e-12 per step); the slope is 5 up to the O(h) drift of the error constant
     /// over the range, allowed ±0.3.
@@ -806,7 +810,7 @@ mod tests {
         assert!((p - 5.0).abs() < 0.3, "order {p}, errors {errors:?}");
     }
 
-    /// Nonlinear rotation y' = 10 r (−y₂, y₁), r = |y|², from (1, 0): r stays 1, so
+    /// Nonlinear rotation y′ = 10 r (−y₂, y₁), r = |y|², from (1, 0): r stays 1, so
     /// y = (cos 10t, sin 10t), while the Jacobian depends on y.
     fn rotation(_t: f64, y: &SVector<f64, 2>) -> SVector<f64, 2> {
         SVector::<f64, 2>::new(-y[1], y[0]) * (10.0 * y.norm_squared())

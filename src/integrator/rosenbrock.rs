@@ -1,6 +1,10 @@
 //! Shampine's L-stable Rosenbrock(-W) pair of order 2(3) (the MATLAB `ode23s` formulas,
 //! Shampine & Reichelt 1997), on a fixed-size state with a caller-supplied Jacobian.
 //!
+//! # Physics
+//! None of its own: a generic solver of y′ = f(t, y). [`super::stokesian`] applies it to the
+//! inertialess shape equation (paper eq. 18 with Θ → 0) and the barycentre equation (eq. 17).
+//!
 //! # Scheme
 //! d = 1/(2 + √2), e₃₂ = 6 + √2, W = 1 − h d J:
 //! k₁ = W⁻¹F₀, F₁ = f(t + h/2, y + h k₁/2), k₂ = W⁻¹(F₁ − k₁) + k₁, y₁ = y + h k₂,

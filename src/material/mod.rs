@@ -5,7 +5,16 @@
 //! differentiation; a law may override them with closed forms as an optimisation, which a test
 //! must check against AD (see `tests/material.rs`).
 //!
-//! To add a law, implement [`Hyperelastic`] in one file (see `examples/custom_material.rs`).
+//! To add a law, implement [`Hyperelastic`] in one file (see `examples/custom_material.rs` and
+//! the [guide](crate::guide)).
+//!
+//! # Physics (paper §2.4, eqs. 7, 9)
+//! The particle's elastic response enters the shape equation (eq. 7, and eq. 18 after the
+//! traction is inserted) only through the first Piola–Kirchhoff stress P = ∂W/∂F of a
+//! homogeneous, hyperelastic solid. The paper uses the compressible Neo-Hooke law (eq. 9,
+//! [`NeoHooke`]) "without loss of generality"; [`MooneyRivlin`] is a second law. A law must
+//! leave F = 1 stress-free and be objective (W a function of C = FᵀF); its small-strain shear
+//! modulus μ_s sets Ca = μ_f γ̇/μ_s (eq. 23), its λ_s the compressibility J − 1 = O(σ/λ_s).
 
 pub mod mooney_rivlin;
 pub mod neo_hooke;

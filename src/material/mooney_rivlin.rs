@@ -1,6 +1,6 @@
 //! Compressible Mooney–Rivlin solid.
 //!
-//! # Physics
+//! # Physics (generalises paper eq. 9)
 //! With C = FᵀF, I₁ = tr C, I₂ = ½[(tr C)² − tr C²] and J = det F:
 //!
 //! $W = \frac{\mu_1}{2}(I_1 - 3 - 2\ln J) + \frac{\mu_2}{2}(I_2 - 3 - 4\ln J) + \frac{\lambda}{2}(\ln J)^2$.

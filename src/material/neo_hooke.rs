@@ -1,6 +1,6 @@
 //! Compressible Neo-Hooke solid (paper eq. 9).
 //!
-//! # Physics
+//! # Physics (paper eq. 9)
 //! $W = \frac{\mu_s}{2}(\mathrm{tr}\\,F^TF - 3) - \mu_s \ln J + \frac{\lambda_s}{2}(\ln J)^2$, so
 //! $P = \mu_s (F - F^{-T}) + \lambda_s \ln J\\, F^{-T}$ (eq. 9) and, with G = F⁻¹,
 //! $\partial P_{iJ}/\partial F_{lK} = \mu_s\delta_{il}\delta_{JK} + (\mu_s - \lambda_s\ln J) G_{Ki}G_{Jl}

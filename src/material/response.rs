@@ -1,6 +1,6 @@
 //! How a particle's shape responds to load: elastically, with a hyperelastic law, or not at all.
 //!
-//! # Physics
+//! # Physics (paper eqs. 9, 18; Jeffery 1922)
 //! An elastic particle carries the stress P = ∂W/∂F of its law (eq. 9) and its shape follows
 //! eq. 18 (or its inertialess limit). A rigid particle (Ca → 0, μ_s → ∞) keeps F a rotation that
 //! spins at Jeffery's (1922) torque-free rate; no stress is ever evaluated. The choice is part

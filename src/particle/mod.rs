@@ -2,6 +2,14 @@
 //! ([`State`]: barycentre x_c, v_c; deformation gradient F and its rate A = Ḟ).
 //!
 //! Particles are independent and `Send`, so a scene advances them in parallel.
+//!
+//! # Physics (paper §2, eqs. 1–8)
+//! A pseudo-rigid body (Cohen & Muncaster 1988) moves affinely: x = x_c + F·Ξ with one
+//! deformation gradient F for the whole particle (eqs. 1, 2), A = Ḟ (eq. 3), and the rest
+//! shape Ξ = S·Ξ̄ of the unit sphere (eqs. 4, 5). Its motion is two Euler–Lagrange equations:
+//! the barycentre's (eq. 6) and the shape's (eq. 7), with mass m and Euler tensor Θ (eq. 8).
+//! [`State`] holds (x_c, v_c, F, A); [`Particle`] the constants; [`dynamics`] the loads of §3
+//! inserted into eqs. 6, 7, which gives eqs. 17, 18.
 
 pub mod dynamics;
 pub mod lines;

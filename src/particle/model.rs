@@ -1,5 +1,11 @@
 //! Constant data of a particle: shape, material, drag law, fluid, gravity, and the derived
 //! mass m = ρ₀ vol(B₀) and Euler tensor Θ = (m/5) S Sᵀ (paper eq. 8).
+//!
+//! # Physics (paper eqs. 8, 13, 17)
+//! For a homogeneous solid ellipsoid of density ρ₀ and rest shape S, eq. 8 gives
+//! m = ρ₀ vol(B₀) with vol(B₀) = (4π/3) det S, and Θ = ∫ρ₀ Ξ⊗Ξ dV = (m/5) S Sᵀ (the second
+//! moment of the unit ball is (4π/15) 1). The mass is constant; the current density
+//! ρ_t = ρ₀/J and the buoyancy factor β_t (eqs. 13, 17) follow the volume.
 
 use super::dynamics::Geometry;
 use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};

@@ -1,5 +1,6 @@
 //! Nondimensional groups of the shear-flow problems (paper eqs. 23, 24).
 //!
+//! # Physics (paper §6, eqs. 23, 24)
 //! Units: lengths in d_eq, times in 1/γ̇, stresses in μ_f γ̇. Then μ_f = 1, γ̇ = 1, the
 //! stress-free ellipsoid has R₁R₂R₃ = 1/8, μ_s = 1/Ca with Ca = μ_f γ̇/μ_s, and inertia enters
 //! only through ρ* = ρ_s γ̇ d_eq²/μ_f = (ρ_s/ρ_f) Re_γ̇.

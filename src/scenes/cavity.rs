@@ -231,7 +231,7 @@ impl Default for Variant {
 }
 
 /// The shipped field seen through a [`Variant`]: with J = diag(−1, 1, 1) and the mirror
-/// x ↦ Jx + L e_x, u'(x) = s J u(Jx + L e_x) and ∇u'(x) = s J ∇u(Jx + L e_x) J.
+/// x ↦ Jx + L e_x, u′(x) = s J u(Jx + L e_x) and ∇u′(x) = s J ∇u(Jx + L e_x) J.
 struct VariantFlow<'a> {
     mesh: &'a MeshedFlow,
     variant: Variant,

@@ -16,8 +16,9 @@
 //! Real flow fields:
 //! - [`pipe`]: the Tian/Cui laminar pipe flow (§6.2): orientation and deposition of soft
 //!   prolate particles;
-//! - [`cavity`]: soft and quasi-rigid ellipsoids in the lid-driven cavity (§6.3);
-//! - [`cavity_benchmark`]: the cavity flow field against Albensoeder & Kuhlmann (2005).
+//! - `cavity` (feature `mesh`): soft and quasi-rigid ellipsoids in the lid-driven cavity (§6.3);
+//! - `cavity_benchmark` (feature `mesh`): the cavity flow field against Albensoeder & Kuhlmann
+//!   (2005).
 
 #[cfg(feature = "mesh")]
 pub mod cavity;

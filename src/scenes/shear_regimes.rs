@@ -20,7 +20,7 @@
 //! [`crate::integrator::Dense`]), on which ξ = FΞ is linear. Wherever a sample undercuts the
 //! Every local minimum of the samples is refined by a golden-section search on the dense
 //! output between its neighbouring samples. Sampling a smooth minimum at spacing δ alone would miss it by up
-//! to ½|m''|(δ/2)² (≈ 2.5e-5 at the step ends of a Rosenbrock run at rtol 1e-6, more with
+//! to ½|m″|(δ/2)² (≈ 2.5e-5 at the step ends of a Rosenbrock run at rtol 1e-6, more with
 //! Radau's longer steps); after refinement what remains is the interpolant's error, O(h⁴)
 //! and below the integration tolerance, so the margin is resolved well below the
 //! 1e-5 – 1e-4 margins met next to the boundary at ΔCa ≤ 1e-4 (sensitivity ≈ 0.6 ΔCa).

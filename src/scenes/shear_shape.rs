@@ -96,7 +96,7 @@ impl ShearShape {
         PI * (r + 1.0 / r)
     }
 
-    /// The Neo-Hooke particle of this shape with the groups `scaling`, axes E'_a = e_a.
+    /// The Neo-Hooke particle of this shape with the groups `scaling`, axes E′_a = e_a.
     pub fn particle(&self, scaling: &ShearScaling) -> Result<Particle<NeoHooke>, ParamError> {
         scaling.particle(self.ratios(), Mat3::identity())
     }

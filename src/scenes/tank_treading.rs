@@ -11,8 +11,8 @@
 //! components 0 (a pure tank-treading rotation; the shape b̄ = R₀²V² is stationary),
 //!
 //! and FFᵀ = V² makes the elastic stress σ_el = μ_s(V² − 1) + p1 constant (J = 1).
-//! The fluid gradient in the body frame is l'_f,11 = −l'_f,22 = ½ sin 2θ,
-//! l'_f,12 = cos²θ, l'_f,21 = −sin²θ. With g = l_f − l_s, d = sym g, w = skw g and
+//! The fluid gradient in the body frame is l′_f,11 = −l′_f,22 = ½ sin 2θ,
+//! l′_f,12 = cos²θ, l′_f,21 = −sin²θ. With g = l_f − l_s, d = sym g, w = skw g and
 //! x_i = r_i² = R₀²λ_i², the steady inertialess balance dev σ̃ = dev σ_el of the
 //! Jeffery–Roscoe traction ([`crate::hydro::traction`]) reduces to four algebraic equations:
 //!
@@ -26,9 +26,9 @@
 //! w₁₂ = ½ + ½ν(λ₁/λ₂ + λ₂/λ₁) and d_s,12 = ½ν(λ₂/λ₁ − λ₁/λ₂). For a given shape (λ₁, λ₂),
 //! equations 1–2 are linear in (cos 2θ, ν); Newton on (λ₁, λ₂) then solves 3–4. Nothing here
 //! integrates in time, and σ̃ is not evaluated through the library's traction code: only the
-//! Jeffery integrals α', α'' are shared.
+//! Jeffery integrals α′, α″ are shared.
 //!
-//! Small Ca: the sphere has 2(α''₁+α''₂)/(abcΣ'') = 5, so D = (r₁ − r₃)/(r₁ + r₃) → (5/4)Ca and
+//! Small Ca: the sphere has 2(α″₁+α″₂)/(abcΣ'') = 5, so D = (r₁ − r₃)/(r₁ + r₃) → (5/4)Ca and
 //! θ → π/4 − (3/4)Ca (Roscoe 1967, small-Ca expansion); the error is O(Ca²).
 
 use super::SceneError;
@@ -86,7 +86,7 @@ impl TankTreading {
 pub struct RoscoeSolution {
     /// Shape and inclination.
     pub steady: TankTreading,
-    /// ν of l'_s (negative: the material turns clockwise like the vorticity −e_z).
+    /// ν of l′_s (negative: the material turns clockwise like the vorticity −e_z).
     pub nu: f64,
     /// Newton iterations over the whole continuation path.
     pub iterations: u32,
