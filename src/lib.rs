@@ -17,6 +17,8 @@
 //! Units are the caller's: any consistent set works. [`particle::ShearScaling`] builds the
 //! paper's nondimensional shear-flow particles (lengths d_eq, times 1/γ̇, stresses μ_f γ̇).
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod contact;
 pub mod diagnostics;
 pub mod driver;
