@@ -27,8 +27,8 @@ pub fn fate_code(fate: &Fate) -> i64 {
 
 /// Columns of `frames.csv`: one row per particle per frame, the numbers of the `.vtp` files.
 pub const FRAME_HEADER: [&str; 19] = [
-    "frame", "time", "id", "x1", "x2", "x3", "V11", "V12", "V13", "V21", "V22", "V23", "V31", "V32", "V33", "r1",
-    "r2", "r3", "flag",
+    "frame", "time", "id", "x1", "x2", "x3", "V11", "V12", "V13", "V21", "V22", "V23", "V31", "V32", "V33", "r1", "r2",
+    "r3", "flag",
 ];
 
 /// Columns of `trajectories.csv`: every kept state of every particle.
@@ -67,13 +67,15 @@ pub fn write_run(output: &RunOutput<SceneLaw>, times: &[f64], vtk: bool, dir: &P
             let (v, r) = stretch(&p.f_bar);
             let mut row = vec![frame.to_string(), format!("{t:?}"), p.id.to_string()];
             row.extend(p.x.iter().map(|c| format!("{c:?}")));
-            row.extend(v.transpose().iter().map(|c| format!("{c:?}")));
+            row.extend(v.iter().map(|c| format!("{c:?}")));
             row.extend(r.iter().map(|c| format!("{c:?}")));
             row.push(p.flag.to_string());
             table.push(row)?;
         }
         let name = format!("vtk/particles_{frame:06}.vtp");
-        particle_cloud(&points).map_err(OutputError::from)?.write(dir.join(&name))?;
+        particle_cloud(&points)
+            .map_err(OutputError::from)?
+            .write(dir.join(&name))?;
         index.push((t, name));
     }
     write_pvd(dir.join("particles.pvd"), &index)?;

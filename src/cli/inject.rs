@@ -63,6 +63,7 @@ pub enum Region {
 
 /// The particles of a scene.
 #[derive(Debug, Clone, PartialEq)]
+#[allow(clippy::large_enum_variant)] // one value per scene
 pub enum Source {
     /// Particle k is entry k.
     List(Vec<Placement>),
@@ -122,12 +123,16 @@ impl Injector for SceneInjector<'_> {
     fn draw(&self, index: u64, rng: &mut ParticleRng) -> Result<ParticleSpec<SceneLaw>, StepError> {
         match self.source {
             Source::List(list) => {
-                let placement = usize::try_from(index).ok().and_then(|i| list.get(i)).ok_or(ParamError::OutOfRange {
-                    name: "particle index",
-                    value: index as f64,
-                    min: 0.0,
-                    max: list.len() as f64 - 1.0,
-                })?;
+                let placement =
+                    usize::try_from(index)
+                        .ok()
+                        .and_then(|i| list.get(i))
+                        .ok_or(ParamError::OutOfRange {
+                            name: "particle index",
+                            value: index as f64,
+                            min: 0.0,
+                            max: list.len() as f64 - 1.0,
+                        })?;
                 self.start(placement, placement.position)
             }
             Source::Inject {
@@ -145,7 +150,8 @@ impl Injector for SceneInjector<'_> {
                 let mut placement = placement.clone();
                 if *random_orientation {
                     let turn: Mat3 = haar_rotation(rng);
-                    placement.shape = Ellipsoid::new(placement.shape.semi_axes().into(), turn * placement.shape.axes())?;
+                    placement.shape =
+                        Ellipsoid::new(placement.shape.semi_axes().into(), turn * placement.shape.axes())?;
                 }
                 self.start(&placement, position)
             }

@@ -27,7 +27,9 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, CliError> {
         .next()
         .map_or(Vec::new(), |(_, l)| l.split(',').map(str::trim).collect());
     if header != ["x", "y", "z"] {
-        return Err(CliError::Input(format!("{name}: header must be `x,y,z`, found {header:?}")));
+        return Err(CliError::Input(format!(
+            "{name}: header must be `x,y,z`, found {header:?}"
+        )));
     }
     lines
         .take(MAX_POINTS + 1)
@@ -39,7 +41,10 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, CliError> {
                 .map_err(|e| CliError::Input(format!("{name}:{}: {e}", i + 1)))?;
             match v.as_slice() {
                 [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
-                _ => Err(CliError::Input(format!("{name}:{}: expected three finite numbers", i + 1))),
+                _ => Err(CliError::Input(format!(
+                    "{name}:{}: expected three finite numbers",
+                    i + 1
+                ))),
             }
         })
         .enumerate()

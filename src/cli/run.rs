@@ -133,7 +133,10 @@ pub fn merge(scene: &Scene, out: &Path) -> Result<String, CliError> {
         .collect();
     paths.sort();
     if paths.is_empty() {
-        return Err(CliError::Input(format!("no shard-*-of-*.json files in {}", out.display())));
+        return Err(CliError::Input(format!(
+            "no shard-*-of-*.json files in {}",
+            out.display()
+        )));
     }
     let output = scene.population(&Job::Merge { paths: paths.clone() })?;
     let frames = write_run(&output, &scene.frame_times(), scene.vtk, out)?;

@@ -20,8 +20,8 @@ use crate::population::ParticleTemplate;
 use crate::tensor::{Mat3, Vec3};
 use nalgebra::{Rotation3, Unit};
 use std::ops::Range;
-use toml::Spanned;
 use std::path::Path;
+use toml::Spanned;
 
 /// Output times allowed per particle: beyond this a run is a time series of one particle,
 /// better written by a program than by the command.
@@ -92,7 +92,13 @@ pub fn load(path: &Path) -> Result<Scene, CliError> {
     })?;
     let file = path.display().to_string();
     let base = path.parent().unwrap_or(Path::new("."));
-    parse(&Source { file: &file, text: &text }, base)
+    parse(
+        &Source {
+            file: &file,
+            text: &text,
+        },
+        base,
+    )
 }
 
 /// Validate a scene's text; relative paths in it are relative to `base`.
@@ -136,7 +142,11 @@ impl Builder<'_> {
     fn vec3(&self, v: &Num3, key: &str) -> Result<Vec3, CliError> {
         let a = *v.get_ref();
         match a.iter().position(|c| !c.is_finite()) {
-            Some(i) => Err(self.err(v.span(), key, format!("component {} must be finite, got {}", i + 1, a[i]))),
+            Some(i) => Err(self.err(
+                v.span(),
+                key,
+                format!("component {} must be finite, got {}", i + 1, a[i]),
+            )),
             None => Ok(Vec3::from(a)),
         }
     }
@@ -170,7 +180,13 @@ impl Builder<'_> {
     }
 
     /// `value`, which the chosen kind (`kind` at `at`) needs.
-    fn need<'v, T>(&self, value: &'v Option<Spanned<T>>, at: Range<usize>, key: &str, kind: &str) -> Result<&'v Spanned<T>, CliError> {
+    fn need<'v, T>(
+        &self,
+        value: &'v Option<Spanned<T>>,
+        at: Range<usize>,
+        key: &str,
+        kind: &str,
+    ) -> Result<&'v Spanned<T>, CliError> {
         value
             .as_ref()
             .ok_or_else(|| self.err(at, key, format!("`{kind}` needs `{key}`")))
@@ -187,13 +203,18 @@ impl Builder<'_> {
     fn flow(&self, spec: &FlowSpec, base: &Path) -> Result<SceneFlow, CliError> {
         let at = spec.kind.span();
         let rate = ("flow.rate", spec.rate.is_some());
-        let pipe = [("flow.radius", spec.radius.is_some()), ("flow.mean_velocity", spec.mean_velocity.is_some())];
+        let pipe = [
+            ("flow.radius", spec.radius.is_some()),
+            ("flow.mean_velocity", spec.mean_velocity.is_some()),
+        ];
         let foam = [("flow.case", spec.case.is_some()), ("flow.time", spec.time.is_some())];
         let linear = |kind: &str, make: fn(f64) -> Result<LinearFlow, ParamError>| {
             self.refuse(&[pipe[0], pipe[1], foam[0], foam[1]], at.clone(), kind)?;
             let rate = self.need(&spec.rate, at.clone(), "flow.rate", kind)?;
             let r = self.finite(rate, "flow.rate")?;
-            make(r).map(SceneFlow::Linear).map_err(|e| self.param(rate.span(), "flow.rate", e))
+            make(r)
+                .map(SceneFlow::Linear)
+                .map_err(|e| self.param(rate.span(), "flow.rate", e))
         };
         match spec.kind.get_ref() {
             FlowKind::Quiescent => {
@@ -260,7 +281,11 @@ impl Builder<'_> {
             }
             BoundaryKind::Planes => {
                 if b.walls.is_empty() {
-                    return Err(self.err(b.kind.span(), "boundary.walls", "a `planes` boundary needs `[[boundary.walls]]`"));
+                    return Err(self.err(
+                        b.kind.span(),
+                        "boundary.walls",
+                        "a `planes` boundary needs `[[boundary.walls]]`",
+                    ));
                 }
                 let walls = b
                     .walls
@@ -269,7 +294,8 @@ impl Builder<'_> {
                     .map(|(i, w)| {
                         let key = format!("boundary.walls[{i}]");
                         let normal = self.vec3(&w.normal, &format!("{key}.normal"))?;
-                        if !(normal.norm() > 0.0) {
+                        // Finite components: the norm is 0 only for the zero vector.
+                        if normal.norm() == 0.0 {
                             return Err(self.err(w.normal.span(), &format!("{key}.normal"), "must not be zero"));
                         }
                         Ok(Plane {
@@ -291,7 +317,11 @@ impl Builder<'_> {
                 SceneFlow::Foam(f) => MeshBoundary::new(f.mesh())
                     .map(|m| SceneBoundary::Mesh(Box::new(m)))
                     .map_err(|e| self.err(b.kind.span(), "boundary.type", e.to_string())),
-                _ => Err(self.err(b.kind.span(), "boundary.type", "a `mesh` boundary needs an `openfoam` flow")),
+                _ => Err(self.err(
+                    b.kind.span(),
+                    "boundary.type",
+                    "a `mesh` boundary needs an `openfoam` flow",
+                )),
             },
         }
     }
@@ -299,8 +329,7 @@ impl Builder<'_> {
     fn template(&self, fluid: &FluidSpec, particles: &ParticlesSpec) -> Result<ParticleTemplate<SceneDrag>, CliError> {
         let mu = self.positive(&fluid.viscosity, "fluid.viscosity")?;
         let rho_f = self.finite(&fluid.density, "fluid.density")?;
-        let fluid_model =
-            Fluid::new(mu, rho_f).map_err(|e| self.param(fluid.density.span(), "fluid.density", e))?;
+        let fluid_model = Fluid::new(mu, rho_f).map_err(|e| self.param(fluid.density.span(), "fluid.density", e))?;
         let gravity = match &fluid.gravity {
             Some(g) => self.vec3(g, "fluid.gravity")?,
             None => Vec3::zeros(),
@@ -327,7 +356,11 @@ impl Builder<'_> {
             }
             LawKind::NeoHooke => {
                 let (k1, k2) = (k("mu1"), k("mu2"));
-                self.refuse(&[(&k1, m.mu1.is_some()), (&k2, m.mu2.is_some())], at.clone(), "neo_hooke")?;
+                self.refuse(
+                    &[(&k1, m.mu1.is_some()), (&k2, m.mu2.is_some())],
+                    at.clone(),
+                    "neo_hooke",
+                )?;
                 let mu = self.need(&m.mu, at.clone(), &k("mu"), "neo_hooke")?;
                 let lambda = self.need(&m.lambda, at, &k("lambda"), "neo_hooke")?;
                 let (mu_v, l) = (self.positive(mu, &k("mu"))?, self.positive(lambda, &k("lambda"))?);
@@ -361,7 +394,13 @@ impl Builder<'_> {
         let angle = self.finite(&o.angle, &format!("{key}.angle"))?;
         let axis = Unit::try_new(axis, 0.0)
             .filter(|a| a.iter().all(|c| c.is_finite()))
-            .ok_or_else(|| self.err(o.axis.span(), &format!("{key}.axis"), "must be a non-zero finite vector"))?;
+            .ok_or_else(|| {
+                self.err(
+                    o.axis.span(),
+                    &format!("{key}.axis"),
+                    "must be a non-zero finite vector",
+                )
+            })?;
         Ok(Rotation3::from_axis_angle(&axis, angle).into_inner())
     }
 
@@ -388,10 +427,18 @@ impl Builder<'_> {
         let span = spec.density.span();
         let source = match (&spec.inject, spec.list.is_empty()) {
             (Some(_), false) => {
-                return Err(self.err(span, "particles", "give either `[[particles.list]]` or `[particles.inject]`, not both"));
+                return Err(self.err(
+                    span,
+                    "particles",
+                    "give either `[[particles.list]]` or `[particles.inject]`, not both",
+                ));
             }
             (None, true) => {
-                return Err(self.err(span, "particles", "give `[[particles.list]]` entries or `[particles.inject]`"));
+                return Err(self.err(
+                    span,
+                    "particles",
+                    "give `[[particles.list]]` entries or `[particles.inject]`",
+                ));
             }
             (None, false) => {
                 let list = spec
@@ -405,7 +452,11 @@ impl Builder<'_> {
             (Some(inj), true) => self.injection(inj, template)?,
         };
         if source.count() > MAX_PARTICLES {
-            return Err(self.err(span, "particles.inject.count", format!("at most {MAX_PARTICLES} particles")));
+            return Err(self.err(
+                span,
+                "particles.inject.count",
+                format!("at most {MAX_PARTICLES} particles"),
+            ));
         }
         Ok(source)
     }
@@ -423,7 +474,11 @@ impl Builder<'_> {
         let position = self.vec3(&p.position, &format!("{key}.position"))?;
         let velocity = match (&p.velocity, p.fluid_velocity) {
             (Some(v), true) => {
-                return Err(self.err(v.span(), &format!("{key}.velocity"), "give `velocity` or `fluid_velocity = true`, not both"));
+                return Err(self.err(
+                    v.span(),
+                    &format!("{key}.velocity"),
+                    "give `velocity` or `fluid_velocity = true`, not both",
+                ));
             }
             (Some(v), false) => Velocity::Given(self.vec3(v, &format!("{key}.velocity"))?),
             (None, true) => {
@@ -441,9 +496,13 @@ impl Builder<'_> {
         };
         // Build it once now, so a particle the model refuses (too slender, too heavy) is
         // reported at its entry rather than as a failed particle of the run.
-        template
-            .build(&placement.spec(Vec3::zeros()))
-            .map_err(|e| self.param(p.semi_axes.span(), &format!("{key}.semi_axes, {key}.material, particles.density"), e))?;
+        template.build(&placement.spec(Vec3::zeros())).map_err(|e| {
+            self.param(
+                p.semi_axes.span(),
+                &format!("{key}.semi_axes, {key}.material, particles.density"),
+                e,
+            )
+        })?;
         Ok(placement)
     }
 
@@ -475,7 +534,11 @@ impl Builder<'_> {
             },
         };
         template.build(&placement.spec(Vec3::zeros())).map_err(|e| {
-            self.param(inj.semi_axes.span(), "particles.inject.semi_axes, particles.inject.material, particles.density", e)
+            self.param(
+                inj.semi_axes.span(),
+                "particles.inject.semi_axes, particles.inject.material, particles.density",
+                e,
+            )
         })?;
         Ok(ParticleSource::Inject {
             count,
@@ -493,7 +556,11 @@ impl Builder<'_> {
             RegionKind::Point => {
                 let (c, n, rr) = (k("centre"), k("normal"), k("radius"));
                 self.refuse(
-                    &[(&c, r.centre.is_some()), (&n, r.normal.is_some()), (&rr, r.radius.is_some())],
+                    &[
+                        (&c, r.centre.is_some()),
+                        (&n, r.normal.is_some()),
+                        (&rr, r.radius.is_some()),
+                    ],
                     at.clone(),
                     "point",
                 )?;
@@ -522,11 +589,19 @@ impl Builder<'_> {
     fn integrator(&self, spec: &IntegratorSpec) -> Result<SceneIntegrator, CliError> {
         let tol = |name: &str| match &spec.tol {
             Some(t) => Ok((self.positive(t, "integrator.tol")?, t.span())),
-            None => Err(self.err(spec.dt.span(), "integrator.tol", format!("`{name}` needs a tolerance `tol`"))),
+            None => Err(self.err(
+                spec.dt.span(),
+                "integrator.tol",
+                format!("`{name}` needs a tolerance `tol`"),
+            )),
         };
         let refuse_overdamped = |name: &str| {
             if spec.overdamped {
-                Err(self.err(spec.dt.span(), "integrator.overdamped", format!("`{name}` has an inertial barycentre only")))
+                Err(self.err(
+                    spec.dt.span(),
+                    "integrator.overdamped",
+                    format!("`{name}` has an inertial barycentre only"),
+                ))
             } else {
                 Ok(())
             }
@@ -535,7 +610,11 @@ impl Builder<'_> {
             IntegratorKind::Imex => {
                 refuse_overdamped("imex")?;
                 if let Some(t) = &spec.tol {
-                    return Err(self.err(t.span(), "integrator.tol", "`imex` is a fixed-step scheme; it takes `dt` only"));
+                    return Err(self.err(
+                        t.span(),
+                        "integrator.tol",
+                        "`imex` is a fixed-step scheme; it takes `dt` only",
+                    ));
                 }
                 Ok(SceneIntegrator::Imex(ImexPaper::default()))
             }
@@ -578,7 +657,8 @@ impl Builder<'_> {
             Some(every) => {
                 let e = self.positive(every, "output.every")?;
                 let n = (t_end / e).floor();
-                if !(n < MAX_OUTPUTS as f64) {
+                // t_end and every are finite and > 0, so n is a number (∞ when every underflows).
+                if n >= MAX_OUTPUTS as f64 {
                     return Err(self.err(
                         every.span(),
                         "output.every",
@@ -612,7 +692,9 @@ impl Builder<'_> {
             .map_err(|e| self.param(end.t_end.span(), "end.t_end", e))?;
         if let Some(m) = &integrator.dt_max {
             let v = self.positive(m, "integrator.dt_max")?;
-            plan = plan.with_dt_max(v).map_err(|e| self.param(m.span(), "integrator.dt_max", e))?;
+            plan = plan
+                .with_dt_max(v)
+                .map_err(|e| self.param(m.span(), "integrator.dt_max", e))?;
         }
         let max_steps = match &end.max_steps {
             Some(m) if *m.get_ref() == 0 => return Err(self.err(m.span(), "end.max_steps", "must be at least 1")),

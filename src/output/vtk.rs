@@ -108,7 +108,11 @@ fn plain(name: &str) -> Result<&str, VtkError> {
         && name
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '/'));
-    if ok { Ok(name) } else { Err(VtkError::Name(name.to_string())) }
+    if ok {
+        Ok(name)
+    } else {
+        Err(VtkError::Name(name.to_string()))
+    }
 }
 
 fn check_finite(name: &str, values: &[f64]) -> Result<(), VtkError> {
@@ -288,18 +292,23 @@ pub struct CloudPoint {
     pub flag: i64,
 }
 
-/// V = sqrt(F̄F̄ᵀ) and the semi-axes r (descending) of a total distortion.
+/// V = sqrt(F̄F̄ᵀ) and the semi-axes r (descending) of a total distortion. V is made exactly
+/// symmetric (QᵀdiagQ leaves round-off of one ulp between V_ij and V_ji).
 pub fn stretch(f_bar: &Mat3) -> (Mat3, Vec3) {
     let frame = PrincipalFrame::from_total_distortion(f_bar);
-    (frame.to_global(&Mat3::from_diagonal(&frame.r)), frame.r)
+    let v = frame.to_global(&Mat3::from_diagonal(&frame.r));
+    (crate::tensor::sym(&v), frame.r)
 }
 
 /// Particles as vertices with the arrays `id`, `V` (active tensors), `r1`, `r2`, `r3`, `flag`.
 pub fn particle_cloud(points: &[CloudPoint]) -> Result<PolyData, VtkError> {
-    let (mut v, mut r) = (Vec::with_capacity(9 * points.len()), [(); 3].map(|_| Vec::with_capacity(points.len())));
+    let (mut v, mut r) = (
+        Vec::with_capacity(9 * points.len()),
+        [(); 3].map(|_| Vec::with_capacity(points.len())),
+    );
     for p in points {
         let (stretch, semi_axes) = stretch(&p.f_bar);
-        v.extend(stretch.transpose().iter().copied()); // row-major (symmetric anyway)
+        v.extend(stretch.iter().copied()); // symmetric: row- and column-major agree
         for (a, column) in r.iter_mut().enumerate() {
             column.push(semi_axes[a]);
         }
