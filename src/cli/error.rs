@@ -85,8 +85,25 @@ impl Source<'_> {
     /// written just before the value's span is added.
     pub fn parse_error(&self, e: &toml::de::Error) -> CliError {
         let span = e.span().unwrap_or(0..0);
-        let key = self.key_before(span.start).unwrap_or_default();
+        let key = self
+            .key_before(span.start)
+            .or_else(|| self.line_key(span.start))
+            .unwrap_or_default();
         self.error(span, key, e.message().trim().to_string())
+    }
+
+    /// The key of the `key = value` line holding `offset` (a span inside an inline table or
+    /// an array points past the `=`).
+    fn line_key(&self, offset: usize) -> Option<String> {
+        let start = self.text.get(..offset)?.rfind('\n').map_or(0, |i| i + 1);
+        let line = self.text[start..].lines().next()?;
+        let (key, _) = line.split_once('=')?;
+        let key = key.trim().trim_matches('"');
+        let plain = !key.is_empty()
+            && key
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '"'));
+        plain.then(|| key.to_string())
     }
 
     /// The key of `key = value` when `offset` is the start of the value.

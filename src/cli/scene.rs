@@ -232,7 +232,7 @@ impl Builder<'_> {
                 let u = self.finite(mean, "flow.mean_velocity")?;
                 Poiseuille::new(r, u)
                     .map(SceneFlow::Poiseuille)
-                    .map_err(|e| self.param(mean.span(), "flow.mean_velocity", e))
+                    .map_err(|e| self.param(mean.span(), "flow.radius, flow.mean_velocity", e))
             }
             FlowKind::Openfoam => {
                 self.refuse(&[rate, pipe[0], pipe[1]], at.clone(), "openfoam")?;
@@ -329,7 +329,8 @@ impl Builder<'_> {
     fn template(&self, fluid: &FluidSpec, particles: &ParticlesSpec) -> Result<ParticleTemplate<SceneDrag>, CliError> {
         let mu = self.positive(&fluid.viscosity, "fluid.viscosity")?;
         let rho_f = self.finite(&fluid.density, "fluid.density")?;
-        let fluid_model = Fluid::new(mu, rho_f).map_err(|e| self.param(fluid.density.span(), "fluid.density", e))?;
+        let fluid_model =
+            Fluid::new(mu, rho_f).map_err(|e| self.param(fluid.density.span(), "fluid.viscosity, fluid.density", e))?;
         let gravity = match &fluid.gravity {
             Some(g) => self.vec3(g, "fluid.gravity")?,
             None => Vec3::zeros(),
@@ -340,7 +341,7 @@ impl Builder<'_> {
             DragSpec::StokesSphere => SceneDrag::StokesSphere,
         };
         ParticleTemplate::new(drag, fluid_model, rho_s, gravity)
-            .map_err(|e| self.param(particles.density.span(), "particles.density", e))
+            .map_err(|e| self.param(particles.density.span(), "particles.density, fluid.gravity", e))
     }
 
     fn material(&self, m: &MaterialSpec, key: &str) -> Result<Softness<SceneLaw>, CliError> {
@@ -366,7 +367,7 @@ impl Builder<'_> {
                 let (mu_v, l) = (self.positive(mu, &k("mu"))?, self.positive(lambda, &k("lambda"))?);
                 NeoHooke::new(mu_v, l)
                     .map(|law| Softness::Elastic(SceneLaw::NeoHooke(law)))
-                    .map_err(|e| self.param(mu.span(), &k("mu"), e))
+                    .map_err(|e| self.param(mu.span(), &format!("{}, {}", k("mu"), k("lambda")), e))
             }
             LawKind::MooneyRivlin => {
                 let k0 = k("mu");
@@ -381,7 +382,7 @@ impl Builder<'_> {
                 );
                 MooneyRivlin::new(a, b, l)
                     .map(|law| Softness::Elastic(SceneLaw::MooneyRivlin(law)))
-                    .map_err(|e| self.param(mu1.span(), &format!("{} / {}", k("mu1"), k("mu2")), e))
+                    .map_err(|e| self.param(mu1.span(), &format!("{}, {}, {}", k("mu1"), k("mu2"), k("lambda")), e))
             }
         }
     }
@@ -392,8 +393,11 @@ impl Builder<'_> {
         };
         let axis = self.vec3(&o.axis, &format!("{key}.axis"))?;
         let angle = self.finite(&o.angle, &format!("{key}.angle"))?;
-        let axis = Unit::try_new(axis, 0.0)
-            .filter(|a| a.iter().all(|c| c.is_finite()))
+        // Divide by the largest component first: the norm of (1e308, 1e308, 1e308) overflows.
+        let scale = axis.amax();
+        let axis = (scale > 0.0)
+            .then(|| Unit::try_new(axis / scale, 0.0))
+            .flatten()
             .ok_or_else(|| {
                 self.err(
                     o.axis.span(),
@@ -689,7 +693,7 @@ impl Builder<'_> {
         }
         let mut plan = Plan::new(t_end, dt)
             .and_then(|p| p.with_outputs(&outputs))
-            .map_err(|e| self.param(end.t_end.span(), "end.t_end", e))?;
+            .map_err(|e| self.param(end.t_end.span(), "end.t_end, integrator.dt, output.every", e))?;
         if let Some(m) = &integrator.dt_max {
             let v = self.positive(m, "integrator.dt_max")?;
             plan = plan

@@ -1,0 +1,166 @@
+//! The example scenes of `scenes/` through the command's library path, at reduced size, against
+//! the library's own runs of the same cases. A scene's numbers are the library's f64 values
+//! printed in shortest round-trip form, so the particle, flow and plan are bitwise the
+//! library's, and so must be the trajectory: every comparison is exact.
+
+use pseudorigid::cli::error::Source;
+use pseudorigid::cli::models::SceneLaw;
+use pseudorigid::cli::run::Job;
+use pseudorigid::cli::scene::{Scene, parse};
+use pseudorigid::contact::{ContactEvent, ContactModel};
+use pseudorigid::driver::{Plan, integrate};
+use pseudorigid::integrator::TimeIntegrator;
+use pseudorigid::particle::lines::material_line;
+use pseudorigid::population::{Fate, RunOptions, RunOutput, Shard};
+use pseudorigid::scenes::pipe::PipeScene;
+use pseudorigid::scenes::shear_regimes::{Regime, RegimeClassifier};
+use pseudorigid::scenes::shear_run::{oblate_fig4_run, stokesian_scaling};
+use pseudorigid::scenes::shear_shape::ShearShape;
+use std::path::{Path, PathBuf};
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
+}
+
+/// The scene `name` with each `(from, to)` text replaced (a reduced size).
+fn scene(name: &str, edits: &[(&str, &str)]) -> Scene {
+    let path = scene_path(name);
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{name} has no `{from}`");
+        text = text.replace(from, to);
+    }
+    let file = path.display().to_string();
+    parse(
+        &Source {
+            file: &file,
+            text: &text,
+        },
+        path.parent().unwrap(),
+    )
+    .unwrap()
+}
+
+fn run(scene: &Scene) -> RunOutput<SceneLaw> {
+    let options = RunOptions::default().serial().quiet();
+    scene
+        .population(&Job::Run {
+            shard: Shard::ALL,
+            options,
+        })
+        .unwrap()
+}
+
+#[test]
+fn every_example_scene_validates() {
+    let mut names: Vec<_> = std::fs::read_dir(scene_path(""))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 3, "{names:?}");
+    for p in names {
+        let name = p.file_name().unwrap().to_str().unwrap().to_string();
+        // A scene on an OpenFOAM case needs the solved case (its Allrun); parse the rest.
+        if std::fs::read_to_string(&p).unwrap().contains("\"openfoam\"") {
+            continue;
+        }
+        let s = scene(&name, &[]);
+        assert!(s.count() >= 1, "{name}");
+    }
+}
+
+/// Fig. 4's oblate at Ca = 0.4: the scene's material lines at every output time equal the
+/// library's `oblate_fig4_run` bitwise.
+#[test]
+fn oblate_shear_scene_is_the_library_fig4_run() {
+    let s = scene("oblate_shear.toml", &[("t_end = 30.0", "t_end = 3.0")]);
+    let out = run(&s);
+    let record = &out.records[0];
+    assert_eq!(record.fate, Fate::Suspended);
+    let shape = record.spec.as_ref().unwrap().shape;
+    // The record keeps the start state too; the library samples the output times only.
+    let samples = &record.samples[1..];
+    let times: Vec<f64> = samples.iter().map(|st| st.t).collect();
+    assert_eq!(times, s.outputs);
+    assert_eq!(times.len(), 12);
+    let library = oblate_fig4_run(0.4, &times).unwrap();
+    let (a, c) = ShearShape::oblate(2.5).in_plane_axes();
+    for (mine, theirs) in samples.iter().zip(&library) {
+        assert_eq!(material_line(&shape, &mine.f, a), theirs.xi_a, "t = {}", mine.t);
+        assert_eq!(material_line(&shape, &mine.f, c), theirs.xi_c, "t = {}", mine.t);
+    }
+}
+
+/// Fig. 7: the two particles either side of the prolate 2:1:1 boundary tumble and tremble as
+/// the library's classifier says. The check is on the output times (every 0.1), which can
+/// only miss a trembling episode shorter than 0.1: the classifier's margins at these Ca are
+/// checked to be far from zero.
+#[test]
+fn phase_boundary_scene_brackets_the_boundary() {
+    let s = scene("phase_boundary.toml", &[("[output]\n", "[output]\nvtk = false\n")]);
+    let out = run(&s);
+    let classifier = RegimeClassifier::stokesian(1e-8).unwrap();
+    let shape = ShearShape::prolate(2.0);
+    for (record, (ca, expected)) in out
+        .records
+        .iter()
+        .zip([(0.25, Regime::Tumbling), (0.3, Regime::Trembling)])
+    {
+        assert_eq!(record.fate, Fate::Suspended);
+        let rest = record.spec.as_ref().unwrap().shape;
+        let margin = record
+            .samples
+            .iter()
+            .map(|st| material_line(&rest, &st.f, 0).norm() - material_line(&rest, &st.f, 1).norm())
+            .fold(f64::INFINITY, f64::min);
+        let regime = if margin > 0.0 {
+            Regime::Tumbling
+        } else {
+            Regime::Trembling
+        };
+        assert_eq!(regime, expected, "Ca = {ca}: min (l_a − l_c) = {margin}");
+        let library = classifier
+            .classify_ca(&shape, ca, &stokesian_scaling(ca).unwrap())
+            .unwrap();
+        assert_eq!(library.regime, expected, "Ca = {ca}");
+        assert!(library.margin.abs() > 0.01, "Ca = {ca}: margin {}", library.margin);
+    }
+}
+
+/// The fibre of Fig. 11(b) for its first 200 time units (suspended, still far from the wall):
+/// bitwise the library's Tian/Cui particle advanced by the driver with the pipe-wall contact.
+#[test]
+fn pipe_fibre_scene_is_the_library_tian_cui_particle() {
+    let s = scene(
+        "pipe_fibre.toml",
+        &[
+            ("t_end = 11528.5", "t_end = 200.0"),
+            ("[output]\n", "[output]\nvtk = false\n"),
+        ],
+    );
+    let out = run(&s);
+    let record = &out.records[0];
+    assert_eq!(record.fate, Fate::Suspended);
+
+    let lib = PipeScene::tian_cui(7.0, 0.25).unwrap();
+    let integrator = lib.integrator(1e-7).unwrap();
+    let plan = Plan::new(200.0, 1e-3).unwrap().with_outputs(&s.outputs).unwrap();
+    let contact = ContactEvent::new(&lib.wall, &lib.particle, &lib.flow, ContactModel::Extent);
+    let mut memory = <pseudorigid::integrator::Stokesian as TimeIntegrator>::Memory::default();
+    let end = integrate(
+        &integrator,
+        &lib.particle,
+        &lib.flow,
+        lib.initial_state().unwrap(),
+        &mut memory,
+        &plan,
+        &[&contact],
+        |_| {},
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(record.end.unwrap(), end.state);
+    assert_eq!(record.stats.steps, end.stats.steps);
+}
