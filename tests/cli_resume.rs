@@ -54,10 +54,16 @@ fn ok(out: std::process::Output) -> String {
 
 /// The files a finished run writes, by name.
 fn results(out: &Path) -> Vec<(String, Vec<u8>)> {
-    ["results.json", "results.csv", "frames.csv", "trajectories.csv", "particles.pvd"]
-        .iter()
-        .map(|f| (f.to_string(), std::fs::read(out.join(f)).unwrap()))
-        .collect()
+    [
+        "results.json",
+        "results.csv",
+        "frames.csv",
+        "trajectories.csv",
+        "particles.pvd",
+    ]
+    .iter()
+    .map(|f| (f.to_string(), std::fs::read(out.join(f)).unwrap()))
+    .collect()
 }
 
 fn chunks(dir: &Path) -> usize {
@@ -86,8 +92,14 @@ fn killed_and_resumed_run_equals_uninterrupted_run() {
     let started = Instant::now();
     // Bounded wait: the first chunk is due 0.2 s after the start.
     while chunks(&checkpoint) == 0 {
-        assert!(started.elapsed() < Duration::from_secs(120), "no checkpoint after 120 s");
-        assert!(child.try_wait().unwrap().is_none(), "the run ended before its first checkpoint");
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "no checkpoint after 120 s"
+        );
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before its first checkpoint"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
     child.kill().unwrap();
@@ -103,7 +115,10 @@ fn killed_and_resumed_run_equals_uninterrupted_run() {
     assert!(!refused.status.success());
     assert!(String::from_utf8_lossy(&refused.stderr).contains("resume"));
 
-    ok(pseudorigid(&dir, &["run", "scene.toml", "--out", "killed", "--quiet", "--resume"]));
+    ok(pseudorigid(
+        &dir,
+        &["run", "scene.toml", "--out", "killed", "--quiet", "--resume"],
+    ));
     assert!(chunks(&checkpoint) > kept);
     assert_eq!(results(&dir.join("killed")), whole);
 }
@@ -113,7 +128,10 @@ fn merged_shards_equal_the_whole_run() {
     let dir = workdir("cli_shards");
     ok(pseudorigid(&dir, &["run", "scene.toml", "--out", "whole", "--quiet"]));
     for k in ["0/2", "1/2"] {
-        ok(pseudorigid(&dir, &["run", "scene.toml", "--out", "sharded", "--quiet", "--shard", k]));
+        ok(pseudorigid(
+            &dir,
+            &["run", "scene.toml", "--out", "sharded", "--quiet", "--shard", k],
+        ));
     }
     let merged = ok(pseudorigid(&dir, &["merge", "scene.toml", "--out", "sharded"]));
     assert!(merged.contains("merged 2 shards (400 particles)"), "{merged}");
