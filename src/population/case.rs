@@ -4,6 +4,7 @@ use super::record::{Fate, ParticleRecord};
 use super::spec::{Injector, particle_rng};
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
 use crate::driver::{Plan, RunStats, Stop, integrate};
+use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::integrator::TimeIntegrator;
 use std::hash::Hasher;
@@ -151,7 +152,12 @@ where
                 };
                 (fate, out.state)
             }
-            Err(e) => (Fate::Failed { error: e.to_string() }, last),
+            Err(e) => (
+                Fate::Failed {
+                    error: failure_text(&e),
+                },
+                last,
+            ),
         };
         ParticleRecord {
             index,
@@ -189,6 +195,16 @@ where
             h.write(b"samples");
         }
         format!("{:016x}", h.finish())
+    }
+}
+
+/// The text of a failed particle's error. Every error displays only numbers of the model,
+/// except the step budget's, which also shows the wall time spent: the record keeps the
+/// steps and the time reached, so that it stays the same on any machine and any load.
+fn failure_text(error: &StepError) -> String {
+    match error {
+        StepError::BudgetExceeded { steps, t, .. } => format!("step budget exceeded after {steps} steps at t = {t}"),
+        other => other.to_string(),
     }
 }
 

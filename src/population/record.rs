@@ -2,6 +2,7 @@
 
 use super::spec::ParticleSpec;
 use crate::driver::RunStats;
+use crate::ellipsoid::PrincipalFrame;
 use crate::particle::State;
 use crate::tensor::Vec3;
 use serde::{Deserialize, Serialize};
@@ -72,6 +73,17 @@ pub struct ParticleRecord<L> {
     /// keeps them ([`super::Case::with_samples`]); empty otherwise.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub samples: Vec<State>,
+}
+
+impl<L> ParticleRecord<L> {
+    /// The current ellipsoid at the end (semi-axes r₁ ≥ r₂ ≥ r₃ and axes of F̄ = F·S; its
+    /// tensor V = √(F̄F̄ᵀ) = Qᵀ diag(r) Q is what ParaView's tensor glyphs draw).
+    pub fn end_frame(&self) -> Option<PrincipalFrame> {
+        let (spec, end) = (self.spec.as_ref()?, self.end.as_ref()?);
+        Some(PrincipalFrame::from_total_distortion(
+            &(end.f * spec.shape.shape_tensor()),
+        ))
+    }
 }
 
 /// How many particles met each fate.
