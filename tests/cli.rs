@@ -41,12 +41,15 @@ fn scene(name: &str, edits: &[(&str, &str)]) -> Scene {
     .unwrap()
 }
 
-fn run(scene: &Scene) -> RunOutput<SceneLaw> {
+fn run(scene: &Scene, name: &str) -> RunOutput<SceneLaw> {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
     let options = RunOptions::default().serial().quiet();
     scene
         .population(&Job::Run {
             shard: Shard::ALL,
             options,
+            dir,
         })
         .unwrap()
 }
@@ -76,7 +79,7 @@ fn every_example_scene_validates() {
 #[test]
 fn oblate_shear_scene_is_the_library_fig4_run() {
     let s = scene("oblate_shear.toml", &[("t_end = 30.0", "t_end = 3.0")]);
-    let out = run(&s);
+    let out = run(&s, "cli_oblate");
     let record = &out.records[0];
     assert_eq!(record.fate, Fate::Suspended);
     let shape = record.spec.as_ref().unwrap().shape;
@@ -100,7 +103,7 @@ fn oblate_shear_scene_is_the_library_fig4_run() {
 #[test]
 fn phase_boundary_scene_brackets_the_boundary() {
     let s = scene("phase_boundary.toml", &[("[output]\n", "[output]\nvtk = false\n")]);
-    let out = run(&s);
+    let out = run(&s, "cli_phase_boundary");
     let classifier = RegimeClassifier::stokesian(1e-8).unwrap();
     let shape = ShearShape::prolate(2.0);
     for (record, (ca, expected)) in out
@@ -140,7 +143,7 @@ fn pipe_fibre_scene_is_the_library_tian_cui_particle() {
             ("[output]\n", "[output]\nvtk = false\n"),
         ],
     );
-    let out = run(&s);
+    let out = run(&s, "cli_pipe");
     let record = &out.records[0];
     assert_eq!(record.fate, Fate::Suspended);
 

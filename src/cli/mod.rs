@@ -40,10 +40,12 @@
 //! `particles.pvd` with `vtk/particles_NNNNNN.vtp` (one per output time: the particles with
 //! `V` = √(F̄F̄ᵀ) for ParaView's Tensor Glyph, `r1`..`r3`, `id`, `flag` 0 moving, 1 deposited,
 //! 2 escaped, 3 suspended, 4 failed), `vtk/trajectories.vtp` (polylines), and `frames.csv`,
-//! `trajectories.csv` with the same numbers. `checkpoint/` holds finished particles; after a
-//! kill, `run --resume` continues and gives bitwise the results of an uninterrupted run.
-//! `--shard k/N` (or `SLURM_ARRAY_TASK_ID`/`SLURM_ARRAY_TASK_COUNT`) runs one shard into
-//! `shard-k-of-N.json`; `merge` joins them into the files of the whole run.
+//! `trajectories.csv` with the same numbers. The population runner's own files are there
+//! too: `checkpoint-<k>-of-<N>/` holds finished particles (after a kill, `run --resume`
+//! continues and gives bitwise the results of an uninterrupted run) and
+//! `results-<k>-of-<N>.json` the shard's records. `--shard k/N` (or
+//! `SLURM_ARRAY_TASK_ID`/`SLURM_ARRAY_TASK_COUNT`) runs one shard; `merge` joins the shards
+//! into the files of the whole run.
 
 pub mod error;
 pub mod frames;
@@ -107,7 +109,7 @@ pub enum Command {
     Merge {
         /// Scene file (TOML) of the sharded run.
         scene: PathBuf,
-        /// Folder holding `shard-*-of-*.json` (default as for `run`).
+        /// Folder holding the shards' `results-<k>-of-<N>.json` (default as for `run`).
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -163,7 +165,8 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
                 .ok_or_else(|| CliError::Input(format!("--checkpoint-every {checkpoint_every}: need seconds > 0")))?;
             let options = RunOptions::default()
                 .with_progress(if quiet { Progress::Quiet } else { Progress::Auto })
-                .with_checkpoints(run::checkpoint_dir(&out, shard), interval)
+                // The folder is the runner's own (`checkpoint-<k>-of-<N>` in `out`).
+                .with_checkpoints(&out, interval)
                 .resume(resume);
             match threads {
                 None => run::run(&s, &out, shard, options),

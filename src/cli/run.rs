@@ -6,23 +6,26 @@ use super::frames::write_run;
 use super::models::SceneLaw;
 use super::scene::{Scene, SceneIntegrator};
 use crate::integrator::TimeIntegrator;
-use crate::population::{Case, PopulationError, RunConfig, RunOptions, RunOutput, Shard};
+use crate::population::{Case, PopulationError, RunConfig, RunOptions, RunOutput, Shard, result_path, run_in_dir};
 use std::path::{Path, PathBuf};
 
 /// What to do with a scene's population.
 #[derive(Debug, Clone)]
 pub enum Job {
-    /// Run shard `shard` with `options`.
+    /// Run shard `shard` with `options` in `dir` (the population runner's layout: result file
+    /// and checkpoint folder of the shard).
     Run {
         /// The shard ([`Shard::ALL`]: the whole run).
         shard: Shard,
-        /// Parallelism, progress and checkpoints.
+        /// Parallelism, progress, checkpoint interval and resume.
         options: RunOptions,
+        /// Output folder.
+        dir: PathBuf,
     },
-    /// Merge these shard files.
+    /// Merge the shard result files in `dir`.
     Merge {
-        /// Shard result files.
-        paths: Vec<PathBuf>,
+        /// Output folder of the shards.
+        dir: PathBuf,
     },
 }
 
@@ -61,13 +64,13 @@ impl Scene {
             .with_samples();
         let config = self.config();
         match job {
-            Job::Run { shard, options } => Ok(crate::population::run(&case, &config, *shard, options)?),
-            Job::Merge { paths } => {
-                let merged = RunOutput::merge_files(paths)?;
+            Job::Run { shard, options, dir } => Ok(run_in_dir(&case, &config, *shard, dir, options)?),
+            Job::Merge { dir } => {
+                let merged = RunOutput::merge_dir(dir)?;
                 let expected = case.config_hash(&config);
                 if merged.config_hash != expected {
                     return Err(PopulationError::ConfigMismatch {
-                        path: paths.first().cloned(),
+                        path: Some(dir.clone()),
                         expected,
                         found: merged.config_hash,
                     }
@@ -79,24 +82,15 @@ impl Scene {
     }
 }
 
-/// `shard-<k>-of-<N>.json`.
-pub fn shard_file(shard: Shard) -> String {
-    format!("shard-{}-of-{}.json", shard.index(), shard.count())
-}
-
-/// Checkpoint folder of `shard` in `out`.
-pub fn checkpoint_dir(out: &Path, shard: Shard) -> PathBuf {
-    if shard == Shard::ALL {
-        out.join("checkpoint")
-    } else {
-        out.join(format!("checkpoint-{}-of-{}", shard.index(), shard.count()))
-    }
-}
-
-/// Run `scene` (or one shard of it) into `out`. A whole run writes its results and frames; a
-/// shard writes its result file for [`merge`]. Returns a one-line summary.
+/// Run `scene` (or one shard of it) into `out`: the shard's result file and checkpoint
+/// ([`crate::population::result_path`], [`crate::population::checkpoint_dir`]); a whole run
+/// also writes `results.json`, `results.csv` and its frames. Returns a one-line summary.
 pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Result<String, CliError> {
-    let output = scene.population(&Job::Run { shard, options })?;
+    let output = scene.population(&Job::Run {
+        shard,
+        options,
+        dir: out.to_path_buf(),
+    })?;
     let counts = output.counts();
     let what = format!(
         "{} particles: {} deposited, {} escaped, {} suspended, {} failed",
@@ -110,39 +104,19 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Resu
         let frames = write_run(&output, &scene.frame_times(), scene.vtk, out)?;
         Ok(format!("{what}; {frames} frames in {}", out.display()))
     } else {
-        let file = out.join(shard_file(shard));
-        output.write_json(&file)?;
-        Ok(format!("shard {shard}: {what}; written to {}", file.display()))
+        Ok(format!(
+            "shard {shard}: {what}; written to {}",
+            result_path(out, shard).display()
+        ))
     }
 }
 
-/// Merge the shard files `shard-*-of-*.json` in `out` into the whole run's files.
+/// Merge the shard result files in `out` into the whole run's files and frames.
 pub fn merge(scene: &Scene, out: &Path) -> Result<String, CliError> {
-    let entries = std::fs::read_dir(out).map_err(|source| CliError::Read {
-        path: out.to_path_buf(),
-        source,
-    })?;
-    let mut paths: Vec<PathBuf> = entries
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("shard-") && n.ends_with(".json"))
-        })
-        .collect();
-    paths.sort();
-    if paths.is_empty() {
-        return Err(CliError::Input(format!(
-            "no shard-*-of-*.json files in {}",
-            out.display()
-        )));
-    }
-    let output = scene.population(&Job::Merge { paths: paths.clone() })?;
+    let output = scene.population(&Job::Merge { dir: out.to_path_buf() })?;
     let frames = write_run(&output, &scene.frame_times(), scene.vtk, out)?;
     Ok(format!(
-        "merged {} shards ({} particles); {frames} frames in {}",
-        paths.len(),
+        "merged {} particles; {frames} frames in {}",
         output.records.len(),
         out.display()
     ))
