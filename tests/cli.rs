@@ -275,3 +275,34 @@ fn probe_reads_a_case_back() {
     assert_eq!(rows[2][3], 0.0);
     assert!(rows[2][4..].iter().all(|v| v.is_nan()));
 }
+
+/// The injection scene: particle k starts on the disc (radius 3 in the plane x₃ = 0) and is
+/// the same particle whatever the size of the run, since it draws from stream k of the seed.
+#[test]
+fn injection_scene_draws_particle_k_from_its_own_stream() {
+    let reduced = |count: &str| {
+        scene(
+            "shear_injection.toml",
+            &[
+                ("count = 60", count),
+                ("t_end = 8.0", "t_end = 0.5"),
+                ("[output]\n", "[output]\nvtk = false\n"),
+            ],
+        )
+    };
+    let six = run(&reduced("count = 6"), "cli_inject_6");
+    let three = run(&reduced("count = 3"), "cli_inject_3");
+    assert_eq!(six.records.len(), 6);
+    assert_eq!(three.records[..], six.records[..3]);
+    for r in &six.records {
+        let spec = r.spec.as_ref().unwrap();
+        assert!(
+            spec.position.norm() <= 3.0 && spec.position[2] == 0.0,
+            "{:?}",
+            spec.position
+        );
+        assert_eq!(r.fate, Fate::Suspended);
+    }
+    // Different particles: distinct start points and orientations.
+    assert_ne!(six.records[0].spec, six.records[1].spec);
+}
