@@ -202,6 +202,9 @@ def render(out, frame, png):
     w.SetFileName(str(png))
     w.SetInputConnection(grab.GetOutputPort())
     w.Write()
+    # The writer reports failures (a full disk) only in its log: check the file.
+    if w.GetErrorCode() != 0 or not png.exists() or png.stat().st_size == 0:
+        fail(f"{png} was not written (VTK error code {w.GetErrorCode()})")
     print(f"vtk-check: rendered frame {frame} (t = {ds.get('timestep')}) to {png}")
 
 
