@@ -244,6 +244,30 @@ fn checkpoint_guards_and_resume_of_a_finished_run() {
     );
     let err = run(&case, &config, Shard::new(1, 2).unwrap(), &opts.clone().resume(true)).unwrap_err();
     assert!(matches!(err, PopulationError::ShardMismatch { .. }), "{err}");
+
+    // A chunk that is not ours: cut short (not something write_atomic leaves, but a copy
+    // gone wrong), or holding a particle of another shard.
+    let chunk = std::fs::read_dir(&dir).unwrap().next().unwrap().unwrap().path();
+    let text = std::fs::read_to_string(&chunk).unwrap();
+    std::fs::write(dir.join("chunk-90000000.json"), &text[..text.len() / 2]).unwrap();
+    let err = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
+    assert!(
+        matches!(&err, PopulationError::Json { path: Some(p), .. } if p.ends_with("chunk-90000000.json")),
+        "{err}"
+    );
+    let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    value["records"][0]["index"] = serde_json::json!(12);
+    std::fs::write(dir.join("chunk-90000000.json"), value.to_string()).unwrap();
+    let err = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
+    assert!(matches!(err, PopulationError::ForeignRecord { index: 12, .. }), "{err}");
+    value["records"][0]["index"] = serde_json::json!(3);
+    value["records"][0]["stats"]["steps"] = serde_json::json!(123_456_789);
+    std::fs::write(dir.join("chunk-90000000.json"), value.to_string()).unwrap();
+    let err = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
+    assert!(
+        matches!(err, PopulationError::ConflictingRecords { index: 3, .. }),
+        "{err}"
+    );
 }
 
 /// Records are written and read back bit for bit, including subnormal, huge and negative-zero
@@ -419,4 +443,42 @@ fn composite_boundary_indices_rules_and_ties() {
     assert_eq!(b.nearest(&Vec3::new(2.0, 0.0, 0.0), &point).patch, 0);
     assert!(b.nearest(&Vec3::new(f64::NAN, 0.0, 0.0), &point).gap.is_nan());
     assert!(b.nearest(&Vec3::new(5.0, f64::NAN, 0.0), &point).gap.is_nan());
+}
+
+proptest::proptest! {
+    /// Any finite f64 (every bit pattern: subnormals, extremes, −0) survives the result file's
+    /// JSON bit for bit (shortest round-trip printing, `float_roundtrip` parsing).
+    #[test]
+    fn any_finite_f64_round_trips_through_a_record(bits in proptest::collection::vec(proptest::num::u64::ANY, 25)) {
+        use pseudorigid::driver::RunStats;
+        use pseudorigid::particle::State;
+        use pseudorigid::population::ParticleRecord;
+        use pseudorigid::tensor::{Mat3, Vec3};
+        let v: Vec<f64> = bits.iter().map(|&b| f64::from_bits(b)).map(|x| if x.is_finite() { x } else { 1.0 }).collect();
+        let state = State {
+            t: v[0],
+            x: Vec3::from_column_slice(&v[1..4]),
+            v: Vec3::from_column_slice(&v[4..7]),
+            f: Mat3::from_column_slice(&v[7..16]),
+            a: Mat3::from_column_slice(&v[16..25]),
+        };
+        let record = ParticleRecord::<NeoHooke> {
+            index: bits[0],
+            spec: None,
+            fate: Fate::Deposited { patch: 3, position: state.x, time: state.t },
+            end: Some(state),
+            stats: RunStats::default(),
+        };
+        let back: ParticleRecord<NeoHooke> = serde_json::from_slice(&serde_json::to_vec(&record).unwrap()).unwrap();
+        let end = back.end.unwrap();
+        let got: Vec<u64> = std::iter::once(end.t)
+            .chain(end.x.iter().copied())
+            .chain(end.v.iter().copied())
+            .chain(end.f.iter().copied())
+            .chain(end.a.iter().copied())
+            .map(f64::to_bits)
+            .collect();
+        let want: Vec<u64> = v.iter().map(|x| x.to_bits()).collect();
+        proptest::prop_assert_eq!(got, want);
+    }
 }

@@ -217,6 +217,8 @@ pub struct RunConfig {
     /// Number of particles N (indices 0..N).
     pub particles: u64,
     /// Text that determines the case beyond the integrator, the plan and the contact model:
-    /// e.g. the scene file, the flow field's identity and the injector's parameters. Resuming or merging checks it through [`Case::config_hash`].
+    /// the flow field's identity, the boundary and the injector's parameters (e.g. the scene
+    /// file and the mesh's time directory). The runner cannot see these itself: a mesh's
+    /// `Debug` text would be as large as the mesh. Resuming or merging checks it through [`Case::config_hash`].
     pub fingerprint: String,
 }

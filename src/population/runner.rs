@@ -108,29 +108,30 @@ where
         }
         None => (None, BTreeMap::new()),
     };
-    let todo: Vec<u64> = shard
-        .indices(config.particles)
-        .filter(|k| !done.contains_key(k))
-        .collect();
     let total = shard.len(config.particles);
+    // The j-th particle of the shard; those in the checkpoint are skipped by the workers, so
+    // nothing of size N is allocated up front.
+    let (first, stride) = (shard.index(), shard.count());
+    let finished: std::collections::BTreeSet<u64> = done.keys().copied().collect();
     let label = format!("population shard {shard}");
     let reporter = Reporter::start(options.progress, &label, total, done.len() as u64);
     let abort = AtomicBool::new(false);
     let (tx, rx) = mpsc::channel::<ParticleRecord<J::Law>>();
     let collected = std::thread::scope(|scope| {
         let collector = scope.spawn(|| collect(rx, done, checkpoint, reporter, &abort));
-        let work = |tx: &mut mpsc::Sender<ParticleRecord<J::Law>>, k: u64| {
-            if abort.load(Ordering::Relaxed) {
+        let work = |tx: &mut mpsc::Sender<ParticleRecord<J::Law>>, j: u64| {
+            let k = first + j * stride;
+            if abort.load(Ordering::Relaxed) || finished.contains(&k) {
                 return;
             }
             // A closed channel means the collector failed; its error is reported below.
             let _ = tx.send(case.run_particle(config.seed, k));
         };
         if options.parallel {
-            todo.par_iter().for_each_with(tx, |tx, &k| work(tx, k));
+            (0..total).into_par_iter().for_each_with(tx, |tx, j| work(tx, j));
         } else {
             let mut tx = tx;
-            todo.iter().for_each(|&k| work(&mut tx, k));
+            (0..total).for_each(|j| work(&mut tx, j));
         }
         collector.join()
     });
