@@ -57,6 +57,8 @@
 
 #![warn(missing_docs)]
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod contact;
 pub mod diagnostics;
 pub mod driver;

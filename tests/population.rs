@@ -468,6 +468,7 @@ proptest::proptest! {
             fate: Fate::Deposited { patch: 3, position: state.x, time: state.t },
             end: Some(state),
             stats: RunStats::default(),
+            samples: vec![state],
         };
         let back: ParticleRecord<NeoHooke> = serde_json::from_slice(&serde_json::to_vec(&record).unwrap()).unwrap();
         let end = back.end.unwrap();

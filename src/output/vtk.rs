@@ -292,10 +292,12 @@ pub struct CloudPoint {
     pub flag: i64,
 }
 
-/// V = sqrt(F̄F̄ᵀ) and the semi-axes r (descending) of a total distortion.
+/// V = sqrt(F̄F̄ᵀ) and the semi-axes r (descending) of a total distortion. V is made exactly
+/// symmetric (QᵀdiagQ leaves round-off of one ulp between V_ij and V_ji).
 pub fn stretch(f_bar: &Mat3) -> (Mat3, Vec3) {
     let frame = PrincipalFrame::from_total_distortion(f_bar);
-    (frame.to_global(&Mat3::from_diagonal(&frame.r)), frame.r)
+    let v = frame.to_global(&Mat3::from_diagonal(&frame.r));
+    (crate::tensor::sym(&v), frame.r)
 }
 
 /// Particles as vertices with the arrays `id`, `V` (active tensors), `r1`, `r2`, `r3`, `flag`.
@@ -306,7 +308,7 @@ pub fn particle_cloud(points: &[CloudPoint]) -> Result<PolyData, VtkError> {
     );
     for p in points {
         let (stretch, semi_axes) = stretch(&p.f_bar);
-        v.extend(stretch.transpose().iter().copied()); // row-major (symmetric anyway)
+        v.extend(stretch.iter().copied()); // symmetric: row- and column-major agree
         for (a, column) in r.iter_mut().enumerate() {
             column.push(semi_axes[a]);
         }

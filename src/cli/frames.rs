@@ -1,0 +1,111 @@
+//! The files of a finished run: per-particle results, ParaView frames at the output times with
+//! their `.pvd` index, trajectories as polylines, and the same numbers as CSV.
+//!
+//! A frame at time t shows every particle at its last state at or before t. Its `flag` says
+//! what the particle is doing then: 0 while it moves, afterwards its fate ([`fate_code`]). A
+//! deposited particle therefore stays where it touched, flagged 1, in every later frame.
+
+use super::error::CliError;
+use super::models::SceneLaw;
+use crate::output::vtk::{CloudPoint, PolyData, Values, particle_cloud, stretch, write_pvd};
+use crate::output::{Csv, OutputError};
+use crate::particle::State;
+use crate::population::{Fate, ParticleRecord, RunOutput};
+use crate::tensor::Vec3;
+use std::path::Path;
+
+/// Flag of a particle after its run: 1 deposited, 2 escaped, 3 suspended (reached the end
+/// time), 4 failed. (0 is a moving particle.)
+pub fn fate_code(fate: &Fate) -> i64 {
+    match fate {
+        Fate::Deposited { .. } => 1,
+        Fate::Escaped { .. } => 2,
+        Fate::Suspended => 3,
+        Fate::Failed { .. } => 4,
+    }
+}
+
+/// Columns of `frames.csv`: one row per particle per frame, the numbers of the `.vtp` files.
+pub const FRAME_HEADER: [&str; 19] = [
+    "frame", "time", "id", "x1", "x2", "x3", "V11", "V12", "V13", "V21", "V22", "V23", "V31", "V32", "V33", "r1", "r2",
+    "r3", "flag",
+];
+
+/// Columns of `trajectories.csv`: every kept state of every particle.
+pub const TRAJECTORY_HEADER: [&str; 5] = ["id", "t", "x1", "x2", "x3"];
+
+/// The particles of `records` at `time`: (id, state, flag) of those with a state by then.
+fn at_time<'a>(records: &'a [ParticleRecord<SceneLaw>], time: f64) -> impl Iterator<Item = CloudPoint> + 'a {
+    records.iter().filter_map(move |r| {
+        let spec = r.spec.as_ref()?;
+        let last = r.samples.last()?;
+        let state: &State = r.samples.iter().rev().find(|s| s.t <= time)?;
+        let flag = if time < last.t { 0 } else { fate_code(&r.fate) };
+        Some(CloudPoint {
+            id: r.index as i64,
+            x: state.x,
+            f_bar: state.f * spec.shape.shape_tensor(),
+            flag,
+        })
+    })
+}
+
+/// Write `results.json`, `results.csv`, and, with `vtk`, the frames at `times` (`vtk/particles_*.vtp`,
+/// `particles.pvd`, `frames.csv`) and the trajectories (`vtk/trajectories.vtp`,
+/// `trajectories.csv`) into `dir`. Returns the number of frames.
+pub fn write_run(output: &RunOutput<SceneLaw>, times: &[f64], vtk: bool, dir: &Path) -> Result<usize, CliError> {
+    output.write_json(dir.join("results.json"))?;
+    output.table()?.write(dir.join("results.csv"))?;
+    if !vtk {
+        return Ok(0);
+    }
+    let mut index = Vec::with_capacity(times.len());
+    let mut table = Csv::new(&FRAME_HEADER);
+    for (frame, &t) in times.iter().enumerate() {
+        let points: Vec<CloudPoint> = at_time(&output.records, t).collect();
+        for p in &points {
+            let (v, r) = stretch(&p.f_bar);
+            let mut row = vec![frame.to_string(), format!("{t:?}"), p.id.to_string()];
+            row.extend(p.x.iter().map(|c| format!("{c:?}")));
+            row.extend(v.iter().map(|c| format!("{c:?}")));
+            row.extend(r.iter().map(|c| format!("{c:?}")));
+            row.push(p.flag.to_string());
+            table.push(row)?;
+        }
+        let name = format!("vtk/particles_{frame:06}.vtp");
+        particle_cloud(&points)
+            .map_err(OutputError::from)?
+            .write(dir.join(&name))?;
+        index.push((t, name));
+    }
+    write_pvd(dir.join("particles.pvd"), &index)?;
+    table.write(dir.join("frames.csv"))?;
+    write_trajectories(&output.records, dir)?;
+    Ok(times.len())
+}
+
+/// One polyline per particle through its kept states, with point arrays `id` and `t`.
+fn write_trajectories(records: &[ParticleRecord<SceneLaw>], dir: &Path) -> Result<(), CliError> {
+    let mut points: Vec<Vec3> = Vec::new();
+    let (mut ids, mut ts, mut lines) = (Vec::new(), Vec::new(), Vec::new());
+    let mut table = Csv::new(&TRAJECTORY_HEADER);
+    for r in records.iter().filter(|r| !r.samples.is_empty()) {
+        let start = points.len();
+        for s in &r.samples {
+            points.push(s.x);
+            ids.push(r.index as i64);
+            ts.push(s.t);
+            let mut row = vec![r.index.to_string(), format!("{:?}", s.t)];
+            row.extend(s.x.iter().map(|c| format!("{c:?}")));
+            table.push(row)?;
+        }
+        lines.push((start..points.len()).collect());
+    }
+    let data = PolyData::polylines(points, lines)
+        .and_then(|d| d.with_array("id", 1, Values::Int64(ids)))
+        .and_then(|d| d.with_array("t", 1, Values::Float64(ts)))
+        .map_err(OutputError::from)?;
+    data.write(dir.join("vtk/trajectories.vtp"))?;
+    table.write(dir.join("trajectories.csv"))?;
+    Ok(())
+}

@@ -1,0 +1,164 @@
+//! The particles of a scene as a population [`Injector`]: an explicit list (particle k is
+//! entry k) or an injection rule drawn from particle k's own generator.
+
+use super::models::{SceneDrag, SceneFlow, SceneLaw};
+use crate::ellipsoid::Ellipsoid;
+use crate::error::{ParamError, StepError};
+use crate::flow::FlowField;
+use crate::material::Softness;
+use crate::particle::Particle;
+use crate::population::sampling::{haar_rotation, uniform_disc};
+use crate::population::{Injector, ParticleRng, ParticleSpec, ParticleTemplate};
+use crate::tensor::{Mat3, Vec3};
+
+/// Initial velocity of a particle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Velocity {
+    /// This velocity.
+    Given(Vec3),
+    /// The fluid's at the injection point (at t = 0).
+    Fluid,
+}
+
+/// One particle's shape, response, start point and velocity rule.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Placement {
+    /// Stress-free ellipsoid (with its orientation).
+    pub shape: Ellipsoid,
+    /// Shape response.
+    pub softness: Softness<SceneLaw>,
+    /// Start point (ignored for injection, which draws it).
+    pub position: Vec3,
+    /// Start velocity.
+    pub velocity: Velocity,
+}
+
+impl Placement {
+    /// The specification with velocity `velocity`.
+    pub fn spec(&self, velocity: Vec3) -> ParticleSpec<SceneLaw> {
+        ParticleSpec {
+            shape: self.shape,
+            softness: self.softness,
+            position: self.position,
+            velocity,
+        }
+    }
+}
+
+/// Where injected particles start.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Region {
+    /// All at one point.
+    Point(Vec3),
+    /// Uniform by area on a disc.
+    Disc {
+        /// Centre.
+        centre: Vec3,
+        /// Normal.
+        normal: Vec3,
+        /// Radius.
+        radius: f64,
+    },
+}
+
+/// The particles of a scene.
+#[derive(Debug, Clone, PartialEq)]
+#[allow(clippy::large_enum_variant)] // one value per scene
+pub enum Source {
+    /// Particle k is entry k.
+    List(Vec<Placement>),
+    /// `count` particles drawn from their own generators.
+    Inject {
+        /// Number of particles.
+        count: u64,
+        /// Start region.
+        region: Region,
+        /// Orientation uniform on SO(3) (else the placement's).
+        random_orientation: bool,
+        /// Shape (rest semi-axes and fixed orientation), response and velocity rule.
+        placement: Placement,
+    },
+}
+
+impl Source {
+    /// Number of particles.
+    pub fn count(&self) -> u64 {
+        match self {
+            Source::List(l) => l.len() as u64,
+            Source::Inject { count, .. } => *count,
+        }
+    }
+}
+
+/// A scene's particles over its flow, as the population runner draws them.
+#[derive(Debug, Clone, Copy)]
+pub struct SceneInjector<'a> {
+    template: &'a ParticleTemplate<SceneDrag>,
+    source: &'a Source,
+    flow: &'a SceneFlow,
+}
+
+impl<'a> SceneInjector<'a> {
+    /// Particles of `source` built with `template`, starting in `flow`.
+    pub fn new(template: &'a ParticleTemplate<SceneDrag>, source: &'a Source, flow: &'a SceneFlow) -> Self {
+        Self { template, source, flow }
+    }
+
+    fn start(&self, placement: &Placement, position: Vec3) -> Result<ParticleSpec<SceneLaw>, StepError> {
+        let velocity = match placement.velocity {
+            Velocity::Given(v) => v,
+            Velocity::Fluid => self.flow.sample(&position, 0.0)?.u,
+        };
+        Ok(ParticleSpec {
+            position,
+            ..placement.spec(velocity)
+        })
+    }
+}
+
+impl Injector for SceneInjector<'_> {
+    type Law = SceneLaw;
+    type Drag = SceneDrag;
+
+    fn draw(&self, index: u64, rng: &mut ParticleRng) -> Result<ParticleSpec<SceneLaw>, StepError> {
+        match self.source {
+            Source::List(list) => {
+                let placement =
+                    usize::try_from(index)
+                        .ok()
+                        .and_then(|i| list.get(i))
+                        .ok_or(ParamError::OutOfRange {
+                            name: "particle index",
+                            value: index as f64,
+                            min: 0.0,
+                            max: list.len() as f64 - 1.0,
+                        })?;
+                self.start(placement, placement.position)
+            }
+            Source::Inject {
+                region,
+                random_orientation,
+                placement,
+                ..
+            } => {
+                // Fixed draw order (position, then orientation): particle k's numbers depend
+                // on its stream alone.
+                let position = match region {
+                    Region::Point(p) => *p,
+                    Region::Disc { centre, normal, radius } => uniform_disc(rng, centre, normal, *radius)?,
+                };
+                let mut placement = placement.clone();
+                if *random_orientation {
+                    let turn: Mat3 = haar_rotation(rng);
+                    placement.shape =
+                        Ellipsoid::new(placement.shape.semi_axes().into(), turn * placement.shape.axes())?;
+                }
+                self.start(&placement, position)
+            }
+        }
+    }
+
+    fn particle(&self, spec: &ParticleSpec<SceneLaw>) -> Result<Particle<Softness<SceneLaw>, SceneDrag>, ParamError> {
+        self.template.build(spec)
+    }
+}

@@ -1,0 +1,191 @@
+//! The `pseudorigid` command: run a scene described in a TOML file without writing Rust,
+//! resume it after a kill, split it into shards and merge them, and look at it in ParaView.
+//!
+//! ```text
+//! pseudorigid validate SCENE.toml
+//! pseudorigid run SCENE.toml [--out DIR] [--shard k/N] [--resume] [--checkpoint-every S] [--threads N] [--quiet]
+//! pseudorigid merge SCENE.toml [--out DIR]
+//! pseudorigid probe CASE_DIR TIME|latest POINTS.csv OUT.csv
+//! ```
+//!
+//! # Scene files
+//! Every table refuses unknown keys. Units are the caller's (any consistent set). Example
+//! scenes are in `scenes/` at the top of the repository.
+//!
+//! | key | meaning |
+//! |---|---|
+//! | `seed` | run seed (default 0); injected particle k draws from stream k of it |
+//! | `[flow] type` | `quiescent`, `shear`, `planar_extension`, `uniaxial_extension`, `poiseuille`, `openfoam` |
+//! | `flow.rate` | γ̇ or ε̇ of the linear flows |
+//! | `flow.radius`, `flow.mean_velocity` | Poiseuille pipe along e₁: R and Ū (centreline 2Ū) |
+//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file) and time (default: latest) |
+//! | `[fluid] viscosity`, `density`, `gravity` | μ_f, ρ_f, g (default 0) |
+//! | `[boundary] type` | `pipe` (needs `radius`), `planes` (needs `[[boundary.walls]]`), `mesh` (the case's patches) |
+//! | `boundary.walls` | `name`, `point`, `normal` (outward), `rule` = `stick` or `exit` |
+//! | `boundary.contact_radius` | touch at this distance from the barycentre (default: the particle's extent touches) |
+//! | `[particles] density`, `drag` | ρ_s of every particle; `brenner` (default) or `stokes_sphere` |
+//! | `[[particles.list]]` | `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
+//! | `[particles.inject]` | `count`, `region` (`{ type = "point", at }` or `{ type = "disc", centre, normal, radius }`), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material` |
+//! | `material` | `{ law = "neo_hooke", mu, lambda }`, `{ law = "mooney_rivlin", mu1, mu2, lambda }` or `{ law = "rigid" }` |
+//! | `[integrator] type` | `imex` (the paper's, fixed `dt`), `imex_adaptive`, `stokesian`, `stokesian_radau5` (need `tol`) |
+//! | `integrator.dt`, `dt_max`, `overdamped` | first (or fixed) step, largest step, overdamped barycentre (`stokesian*`) |
+//! | `[end] t_end`, `max_steps` | end time of every particle's run; accepted steps allowed per particle |
+//! | `[output] every`, `vtk` | output interval (default: the end only); write ParaView files (default true) |
+//!
+//! A particle's run ends at `t_end` (*suspended*), when it touches a `stick` wall
+//! (*deposited*) or an `exit` (*escaped*), or when a step fails (*failed*, with the error).
+//!
+//! # Output (in `--out DIR`)
+//! `results.json` (every record, f64 exact), `results.csv` (one row per particle),
+//! `particles.pvd` with `vtk/particles_NNNNNN.vtp` (one per output time: the particles with
+//! `V` = √(F̄F̄ᵀ) for ParaView's Tensor Glyph, `r1`..`r3`, `id`, `flag` 0 moving, 1 deposited,
+//! 2 escaped, 3 suspended, 4 failed), `vtk/trajectories.vtp` (polylines), and `frames.csv`,
+//! `trajectories.csv` with the same numbers. The population runner's own files are there
+//! too: `checkpoint-<k>-of-<N>/` holds finished particles (after a kill, `run --resume`
+//! continues and gives bitwise the results of an uninterrupted run) and
+//! `results-<k>-of-<N>.json` the shard's records. `--shard k/N` (or
+//! `SLURM_ARRAY_TASK_ID`/`SLURM_ARRAY_TASK_COUNT`) runs one shard; `merge` joins the shards
+//! into the files of the whole run.
+
+pub mod error;
+pub mod frames;
+pub mod inject;
+pub mod models;
+pub mod probe;
+pub mod run;
+pub mod scene;
+pub mod schema;
+
+pub use error::CliError;
+pub use scene::{Scene, load};
+
+use crate::population::{CHECKPOINT_INTERVAL, Progress, RunOptions, Shard};
+use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// Soft ellipsoidal micro-particles in viscous flow (pseudo-rigid bodies, Wedel et al.).
+#[derive(Debug, Parser)]
+#[command(name = "pseudorigid", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Check a scene file: every error names file, line, column and key.
+    Validate {
+        /// Scene file (TOML).
+        scene: PathBuf,
+    },
+    /// Run a scene (or one shard of it).
+    Run {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Output folder (default: `<scene name>-out` in the current folder).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Run shard k of N (`k/N`, 0 ≤ k < N); default: from SLURM_ARRAY_TASK_ID and
+        /// SLURM_ARRAY_TASK_COUNT if set, else the whole run.
+        #[arg(long)]
+        shard: Option<Shard>,
+        /// Continue from the checkpoint in the output folder.
+        #[arg(long)]
+        resume: bool,
+        /// Seconds between checkpoints.
+        #[arg(long, default_value_t = CHECKPOINT_INTERVAL.as_secs_f64())]
+        checkpoint_every: f64,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// No progress report.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Merge the shard files of a run into the whole run's files.
+    Merge {
+        /// Scene file (TOML) of the sharded run.
+        scene: PathBuf,
+        /// Folder holding the shards' `results-<k>-of-<N>.json` (default as for `run`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// u and ∇u of an OpenFOAM case at listed points.
+    Probe {
+        /// Undecomposed OpenFOAM case.
+        case: PathBuf,
+        /// Time directory, or `latest`.
+        time: String,
+        /// CSV with header `x,y,z`.
+        points: PathBuf,
+        /// Output CSV.
+        out: PathBuf,
+    },
+}
+
+/// `<scene stem>-out` in the current folder.
+fn default_out(scene: &Path) -> PathBuf {
+    let stem = scene.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
+    PathBuf::from(format!("{stem}-out"))
+}
+
+/// Carry out `cli`; returns the line to print on success.
+pub fn execute(cli: Cli) -> Result<String, CliError> {
+    match cli.command {
+        Command::Validate { scene } => {
+            let s = load(&scene)?;
+            Ok(format!(
+                "{}: valid ({} particles, {} output times)",
+                scene.display(),
+                s.count(),
+                s.outputs.len()
+            ))
+        }
+        Command::Run {
+            scene,
+            out,
+            shard,
+            resume,
+            checkpoint_every,
+            threads,
+            quiet,
+        } => {
+            let s = load(&scene)?;
+            let out = out.unwrap_or_else(|| default_out(&scene));
+            let shard = match shard {
+                Some(k) => k,
+                None => Shard::from_env()?.unwrap_or(Shard::ALL),
+            };
+            let interval = Duration::try_from_secs_f64(checkpoint_every)
+                .ok()
+                .filter(|d| !d.is_zero())
+                .ok_or_else(|| CliError::Input(format!("--checkpoint-every {checkpoint_every}: need seconds > 0")))?;
+            let options = RunOptions::default()
+                .with_progress(if quiet { Progress::Quiet } else { Progress::Auto })
+                // The folder is the runner's own (`checkpoint-<k>-of-<N>` in `out`).
+                .with_checkpoints(&out, interval)
+                .resume(resume);
+            match threads {
+                None => run::run(&s, &out, shard, options),
+                Some(n) => rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .map_err(|e| CliError::Input(format!("--threads {n}: {e}")))?
+                    .install(|| run::run(&s, &out, shard, options)),
+            }
+        }
+        Command::Merge { scene, out } => {
+            let s = load(&scene)?;
+            run::merge(&s, &out.unwrap_or_else(|| default_out(&scene)))
+        }
+        Command::Probe {
+            case,
+            time,
+            points,
+            out,
+        } => probe::probe(&case, &time, &points, &out),
+    }
+}

@@ -1,0 +1,206 @@
+//! From a scene file to library objects. Every value goes through the constructor of the
+//! type it becomes (`Plan::new`, `NeoHooke::new`, `Ellipsoid::new`, `Stokesian::new`, ...),
+//! and a value it refuses is reported at its line and column with its dotted key.
+
+mod carrier;
+mod particles;
+mod timing;
+
+use super::error::{CliError, Source};
+use super::inject::{Placement, SceneInjector, Source as ParticleSource, Velocity};
+use super::models::{SceneBoundary, SceneDrag, SceneFlow, SceneLaw};
+use super::schema::*;
+use crate::contact::{ContactModel, PatchRule, PipeWall, Plane, Planes};
+use crate::driver::{Budget, Plan};
+use crate::ellipsoid::Ellipsoid;
+use crate::error::ParamError;
+use crate::flow::FlowField;
+use crate::flow::analytic::{LinearFlow, Poiseuille};
+use crate::flow::openfoam::{FoamCase, FoamFlow, MeshBoundary};
+use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian};
+use crate::material::{MooneyRivlin, NeoHooke, Softness};
+use crate::particle::Fluid;
+use crate::population::ParticleTemplate;
+use crate::tensor::{Mat3, Vec3};
+use nalgebra::{Rotation3, Unit};
+use std::ops::Range;
+use std::path::Path;
+use toml::Spanned;
+
+/// Output times allowed per particle: beyond this a run is a time series of one particle,
+/// better written by a program than by the command.
+pub const MAX_OUTPUTS: u64 = 100_000;
+/// States kept in memory over all particles and output times (each state is 200 bytes, so
+/// this is 400 MB).
+pub const MAX_SAMPLES: u64 = 2_000_000;
+/// Particles allowed in one scene (the population runner's results hold one record each).
+pub const MAX_PARTICLES: u64 = 100_000_000;
+/// Steps allowed per particle unless `end.max_steps` says otherwise.
+pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
+
+/// The integrators a scene can name.
+#[derive(Debug, Clone, Copy)]
+pub enum SceneIntegrator {
+    /// The paper's fixed-step IMEX scheme.
+    Imex(ImexPaper),
+    /// IMEX with error control.
+    ImexAdaptive(ImexAdaptive),
+    /// The inertialess integrator (Rosenbrock-W or Radau IIA).
+    Stokesian(Stokesian),
+}
+
+/// A validated scene: everything a run needs.
+#[derive(Debug)]
+pub struct Scene {
+    /// Run seed.
+    pub seed: u64,
+    /// Carrier flow.
+    pub flow: SceneFlow,
+    /// Walls and exits.
+    pub boundary: SceneBoundary,
+    /// Extent or point contact.
+    pub contact: ContactModel,
+    /// What the particles share.
+    pub template: ParticleTemplate<SceneDrag>,
+    /// The particles.
+    pub particles: ParticleSource,
+    /// Time integrator.
+    pub integrator: SceneIntegrator,
+    /// End time, first step, step cap and budget, output times.
+    pub plan: Plan,
+    /// Output times (ascending, the last one t_end).
+    pub outputs: Vec<f64>,
+    /// Write ParaView files.
+    pub vtk: bool,
+    /// The scene text (the run's fingerprint for checkpoints and shards).
+    pub text: String,
+}
+
+impl Scene {
+    /// Number of particles.
+    pub fn count(&self) -> u64 {
+        self.particles.count()
+    }
+
+    /// The injection rule over this scene's flow.
+    pub fn injector(&self) -> SceneInjector<'_> {
+        SceneInjector::new(&self.template, &self.particles, &self.flow)
+    }
+}
+
+/// Read and validate the scene file at `path`.
+pub fn load(path: &Path) -> Result<Scene, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let file = path.display().to_string();
+    let base = path.parent().unwrap_or(Path::new("."));
+    parse(
+        &Source {
+            file: &file,
+            text: &text,
+        },
+        base,
+    )
+}
+
+/// Validate a scene's text; relative paths in it are relative to `base`.
+pub fn parse(src: &Source<'_>, base: &Path) -> Result<Scene, CliError> {
+    let raw: SceneFile = toml::from_str(src.text).map_err(|e| src.parse_error(&e))?;
+    Builder { src }.scene(raw, base)
+}
+
+struct Builder<'a> {
+    src: &'a Source<'a>,
+}
+
+impl Builder<'_> {
+    fn err(&self, span: Range<usize>, key: &str, message: impl Into<String>) -> CliError {
+        self.src.error(span, key, message)
+    }
+
+    /// A library constructor's refusal, reported at `span` for `key`.
+    fn param(&self, span: Range<usize>, key: &str, e: ParamError) -> CliError {
+        self.err(span, key, e.to_string())
+    }
+
+    fn finite(&self, v: &Num, key: &str) -> Result<f64, CliError> {
+        let x = *v.get_ref();
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.err(v.span(), key, format!("must be a finite number, got {x}")))
+        }
+    }
+
+    fn positive(&self, v: &Num, key: &str) -> Result<f64, CliError> {
+        let x = self.finite(v, key)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(v.span(), key, format!("must be > 0, got {x}")))
+        }
+    }
+
+    fn vec3(&self, v: &Num3, key: &str) -> Result<Vec3, CliError> {
+        let a = *v.get_ref();
+        match a.iter().position(|c| !c.is_finite()) {
+            Some(i) => Err(self.err(
+                v.span(),
+                key,
+                format!("component {} must be finite, got {}", i + 1, a[i]),
+            )),
+            None => Ok(Vec3::from(a)),
+        }
+    }
+
+    fn scene(&self, raw: SceneFile, base: &Path) -> Result<Scene, CliError> {
+        let flow = self.flow(&raw.flow, base)?;
+        let boundary = self.boundary(raw.boundary.as_ref(), &flow)?;
+        let contact = match raw.boundary.as_ref().and_then(|b| b.contact_radius.as_ref()) {
+            Some(r) => ContactModel::Barycentre {
+                radius: self.positive(r, "boundary.contact_radius")?,
+            },
+            None => ContactModel::Extent,
+        };
+        let template = self.template(&raw.fluid, &raw.particles)?;
+        let particles = self.particles(&raw.particles, &template, &flow)?;
+        let integrator = self.integrator(&raw.integrator)?;
+        let (plan, outputs) = self.plan(&raw.integrator, &raw.end, &raw.output, particles.count())?;
+        Ok(Scene {
+            seed: raw.seed,
+            flow,
+            boundary,
+            contact,
+            template,
+            particles,
+            integrator,
+            plan,
+            outputs,
+            vtk: raw.output.vtk.unwrap_or(true),
+            text: self.src.text.to_string(),
+        })
+    }
+
+    /// `value`, which the chosen kind (`kind` at `at`) needs.
+    fn need<'v, T>(
+        &self,
+        value: &'v Option<Spanned<T>>,
+        at: Range<usize>,
+        key: &str,
+        kind: &str,
+    ) -> Result<&'v Spanned<T>, CliError> {
+        value
+            .as_ref()
+            .ok_or_else(|| self.err(at, key, format!("`{kind}` needs `{key}`")))
+    }
+
+    /// Keys given that the chosen kind does not take: `(key, given)` pairs.
+    fn refuse(&self, given: &[(&str, bool)], at: Range<usize>, kind: &str) -> Result<(), CliError> {
+        match given.iter().find(|(_, g)| *g) {
+            Some((key, _)) => Err(self.err(at, key, format!("`{kind}` does not take `{key}`"))),
+            None => Ok(()),
+        }
+    }
+}

@@ -1,0 +1,272 @@
+//! `[fluid]` and `[particles]`: what the particles share, their shapes, laws and starts.
+use super::*;
+
+impl Builder<'_> {
+    pub(super) fn template(
+        &self,
+        fluid: &FluidSpec,
+        particles: &ParticlesSpec,
+    ) -> Result<ParticleTemplate<SceneDrag>, CliError> {
+        let mu = self.positive(&fluid.viscosity, "fluid.viscosity")?;
+        let rho_f = self.finite(&fluid.density, "fluid.density")?;
+        let fluid_model =
+            Fluid::new(mu, rho_f).map_err(|e| self.param(fluid.density.span(), "fluid.viscosity, fluid.density", e))?;
+        let gravity = match &fluid.gravity {
+            Some(g) => self.vec3(g, "fluid.gravity")?,
+            None => Vec3::zeros(),
+        };
+        let rho_s = self.positive(&particles.density, "particles.density")?;
+        let drag = match particles.drag {
+            DragSpec::Brenner => SceneDrag::Brenner,
+            DragSpec::StokesSphere => SceneDrag::StokesSphere,
+        };
+        ParticleTemplate::new(drag, fluid_model, rho_s, gravity)
+            .map_err(|e| self.param(particles.density.span(), "particles.density, fluid.gravity", e))
+    }
+
+    fn material(&self, m: &MaterialSpec, key: &str) -> Result<Softness<SceneLaw>, CliError> {
+        let at = m.law.span();
+        let k = |name: &str| format!("{key}.{name}");
+        match m.law.get_ref() {
+            LawKind::Rigid => {
+                let keys = [k("mu"), k("mu1"), k("mu2"), k("lambda")];
+                let flags = [m.mu.is_some(), m.mu1.is_some(), m.mu2.is_some(), m.lambda.is_some()];
+                let given: Vec<(&str, bool)> = keys.iter().map(String::as_str).zip(flags).collect();
+                self.refuse(&given, at, "rigid")?;
+                Ok(Softness::Rigid)
+            }
+            LawKind::NeoHooke => {
+                let (k1, k2) = (k("mu1"), k("mu2"));
+                self.refuse(
+                    &[(&k1, m.mu1.is_some()), (&k2, m.mu2.is_some())],
+                    at.clone(),
+                    "neo_hooke",
+                )?;
+                let mu = self.need(&m.mu, at.clone(), &k("mu"), "neo_hooke")?;
+                let lambda = self.need(&m.lambda, at, &k("lambda"), "neo_hooke")?;
+                let (mu_v, l) = (self.positive(mu, &k("mu"))?, self.positive(lambda, &k("lambda"))?);
+                NeoHooke::new(mu_v, l)
+                    .map(|law| Softness::Elastic(SceneLaw::NeoHooke(law)))
+                    .map_err(|e| self.param(mu.span(), &format!("{}, {}", k("mu"), k("lambda")), e))
+            }
+            LawKind::MooneyRivlin => {
+                let k0 = k("mu");
+                self.refuse(&[(&k0, m.mu.is_some())], at.clone(), "mooney_rivlin")?;
+                let mu1 = self.need(&m.mu1, at.clone(), &k("mu1"), "mooney_rivlin")?;
+                let mu2 = self.need(&m.mu2, at.clone(), &k("mu2"), "mooney_rivlin")?;
+                let lambda = self.need(&m.lambda, at, &k("lambda"), "mooney_rivlin")?;
+                let (a, b, l) = (
+                    self.finite(mu1, &k("mu1"))?,
+                    self.finite(mu2, &k("mu2"))?,
+                    self.positive(lambda, &k("lambda"))?,
+                );
+                MooneyRivlin::new(a, b, l)
+                    .map(|law| Softness::Elastic(SceneLaw::MooneyRivlin(law)))
+                    .map_err(|e| self.param(mu1.span(), &format!("{}, {}, {}", k("mu1"), k("mu2"), k("lambda")), e))
+            }
+        }
+    }
+
+    fn rotation(&self, o: Option<&OrientationSpec>, key: &str) -> Result<Mat3, CliError> {
+        let Some(o) = o else {
+            return Ok(Mat3::identity());
+        };
+        let axis = self.vec3(&o.axis, &format!("{key}.axis"))?;
+        let angle = self.finite(&o.angle, &format!("{key}.angle"))?;
+        // Divide by the largest component first: the norm of (1e308, 1e308, 1e308) overflows.
+        let scale = axis.amax();
+        let axis = (scale > 0.0)
+            .then(|| Unit::try_new(axis / scale, 0.0))
+            .flatten()
+            .ok_or_else(|| {
+                self.err(
+                    o.axis.span(),
+                    &format!("{key}.axis"),
+                    "must be a non-zero finite vector",
+                )
+            })?;
+        Ok(Rotation3::from_axis_angle(&axis, angle).into_inner())
+    }
+
+    fn shape(&self, semi_axes: &Num3, axes: Mat3, key: &str) -> Result<Ellipsoid, CliError> {
+        let r = *semi_axes.get_ref();
+        for (i, v) in r.iter().enumerate() {
+            if !(v.is_finite() && *v > 0.0) {
+                return Err(self.err(
+                    semi_axes.span(),
+                    key,
+                    format!("semi-axis {} must be finite and > 0, got {v}", i + 1),
+                ));
+            }
+        }
+        Ellipsoid::new(r, axes).map_err(|e| self.param(semi_axes.span(), key, e))
+    }
+
+    pub(super) fn particles(
+        &self,
+        spec: &ParticlesSpec,
+        template: &ParticleTemplate<SceneDrag>,
+        flow: &SceneFlow,
+    ) -> Result<ParticleSource, CliError> {
+        let span = spec.density.span();
+        let source = match (&spec.inject, spec.list.is_empty()) {
+            (Some(_), false) => {
+                return Err(self.err(
+                    span,
+                    "particles",
+                    "give either `[[particles.list]]` or `[particles.inject]`, not both",
+                ));
+            }
+            (None, true) => {
+                return Err(self.err(
+                    span,
+                    "particles",
+                    "give `[[particles.list]]` entries or `[particles.inject]`",
+                ));
+            }
+            (None, false) => {
+                let list = spec
+                    .list
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| self.listed(p, &format!("particles.list[{i}]"), template, flow))
+                    .collect::<Result<Vec<_>, _>>()?;
+                ParticleSource::List(list)
+            }
+            (Some(inj), true) => self.injection(inj, template)?,
+        };
+        if source.count() > MAX_PARTICLES {
+            return Err(self.err(
+                span,
+                "particles.inject.count",
+                format!("at most {MAX_PARTICLES} particles"),
+            ));
+        }
+        Ok(source)
+    }
+
+    fn listed(
+        &self,
+        p: &ParticleEntry,
+        key: &str,
+        template: &ParticleTemplate<SceneDrag>,
+        flow: &SceneFlow,
+    ) -> Result<Placement, CliError> {
+        let axes = self.rotation(p.orientation.as_ref(), &format!("{key}.orientation"))?;
+        let shape = self.shape(&p.semi_axes, axes, &format!("{key}.semi_axes"))?;
+        let softness = self.material(&p.material, &format!("{key}.material"))?;
+        let position = self.vec3(&p.position, &format!("{key}.position"))?;
+        let velocity = match (&p.velocity, p.fluid_velocity) {
+            (Some(v), true) => {
+                return Err(self.err(
+                    v.span(),
+                    &format!("{key}.velocity"),
+                    "give `velocity` or `fluid_velocity = true`, not both",
+                ));
+            }
+            (Some(v), false) => Velocity::Given(self.vec3(v, &format!("{key}.velocity"))?),
+            (None, true) => {
+                flow.sample(&position, 0.0)
+                    .map_err(|e| self.err(p.position.span(), &format!("{key}.position"), e.to_string()))?;
+                Velocity::Fluid
+            }
+            (None, false) => Velocity::Given(Vec3::zeros()),
+        };
+        let placement = Placement {
+            shape,
+            softness,
+            position,
+            velocity,
+        };
+        // Build it once now, so a particle the model refuses (too slender, too heavy) is
+        // reported at its entry rather than as a failed particle of the run.
+        template.build(&placement.spec(Vec3::zeros())).map_err(|e| {
+            self.param(
+                p.semi_axes.span(),
+                &format!("{key}.semi_axes, {key}.material, particles.density"),
+                e,
+            )
+        })?;
+        Ok(placement)
+    }
+
+    fn injection(&self, inj: &InjectSpec, template: &ParticleTemplate<SceneDrag>) -> Result<ParticleSource, CliError> {
+        let key = "particles.inject";
+        let count = *inj.count.get_ref();
+        if count == 0 {
+            return Err(self.err(inj.count.span(), "particles.inject.count", "must be at least 1"));
+        }
+        if inj.random_orientation && inj.orientation.is_some() {
+            return Err(self.err(
+                inj.semi_axes.span(),
+                "particles.inject.orientation",
+                "give `orientation` or `random_orientation = true`, not both",
+            ));
+        }
+        let axes = self.rotation(inj.orientation.as_ref(), &format!("{key}.orientation"))?;
+        let shape = self.shape(&inj.semi_axes, axes, &format!("{key}.semi_axes"))?;
+        let softness = self.material(&inj.material, &format!("{key}.material"))?;
+        let region = self.region(&inj.region)?;
+        let placement = Placement {
+            shape,
+            softness,
+            position: Vec3::zeros(),
+            velocity: if inj.fluid_velocity {
+                Velocity::Fluid
+            } else {
+                Velocity::Given(Vec3::zeros())
+            },
+        };
+        template.build(&placement.spec(Vec3::zeros())).map_err(|e| {
+            self.param(
+                inj.semi_axes.span(),
+                "particles.inject.semi_axes, particles.inject.material, particles.density",
+                e,
+            )
+        })?;
+        Ok(ParticleSource::Inject {
+            count,
+            region,
+            random_orientation: inj.random_orientation,
+            placement,
+        })
+    }
+
+    fn region(&self, r: &RegionSpec) -> Result<crate::cli::inject::Region, CliError> {
+        let at = r.kind.span();
+        let key = "particles.inject.region";
+        let k = |name: &str| format!("{key}.{name}");
+        match r.kind.get_ref() {
+            RegionKind::Point => {
+                let (c, n, rr) = (k("centre"), k("normal"), k("radius"));
+                self.refuse(
+                    &[
+                        (&c, r.centre.is_some()),
+                        (&n, r.normal.is_some()),
+                        (&rr, r.radius.is_some()),
+                    ],
+                    at.clone(),
+                    "point",
+                )?;
+                let p = self.need(&r.at, at, &k("at"), "point")?;
+                Ok(crate::cli::inject::Region::Point(self.vec3(p, &k("at"))?))
+            }
+            RegionKind::Disc => {
+                let a = k("at");
+                self.refuse(&[(&a, r.at.is_some())], at.clone(), "disc")?;
+                let centre = self.need(&r.centre, at.clone(), &k("centre"), "disc")?;
+                let normal = self.need(&r.normal, at.clone(), &k("normal"), "disc")?;
+                let radius = self.need(&r.radius, at, &k("radius"), "disc")?;
+                let n = self.vec3(normal, &k("normal"))?;
+                if !(n.norm() > 0.0 && n.norm().is_finite()) {
+                    return Err(self.err(normal.span(), &k("normal"), "must be a non-zero finite vector"));
+                }
+                Ok(crate::cli::inject::Region::Disc {
+                    centre: self.vec3(centre, &k("centre"))?,
+                    normal: n,
+                    radius: self.positive(radius, &k("radius"))?,
+                })
+            }
+        }
+    }
+}

@@ -1,0 +1,127 @@
+//! `[integrator]`, `[end]` and `[output]`: the scheme, the plan and the output times.
+use super::*;
+
+impl Builder<'_> {
+    pub(super) fn integrator(&self, spec: &IntegratorSpec) -> Result<SceneIntegrator, CliError> {
+        let tol = |name: &str| match &spec.tol {
+            Some(t) => Ok((self.positive(t, "integrator.tol")?, t.span())),
+            None => Err(self.err(
+                spec.dt.span(),
+                "integrator.tol",
+                format!("`{name}` needs a tolerance `tol`"),
+            )),
+        };
+        let refuse_overdamped = |name: &str| {
+            if spec.overdamped {
+                Err(self.err(
+                    spec.dt.span(),
+                    "integrator.overdamped",
+                    format!("`{name}` has an inertial barycentre only"),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        match spec.kind {
+            IntegratorKind::Imex => {
+                refuse_overdamped("imex")?;
+                if let Some(t) = &spec.tol {
+                    return Err(self.err(
+                        t.span(),
+                        "integrator.tol",
+                        "`imex` is a fixed-step scheme; it takes `dt` only",
+                    ));
+                }
+                Ok(SceneIntegrator::Imex(ImexPaper::default()))
+            }
+            IntegratorKind::ImexAdaptive => {
+                refuse_overdamped("imex_adaptive")?;
+                let (t, span) = tol("imex_adaptive")?;
+                ImexAdaptive::new(t)
+                    .map(SceneIntegrator::ImexAdaptive)
+                    .map_err(|e| self.param(span, "integrator.tol", e))
+            }
+            IntegratorKind::Stokesian | IntegratorKind::StokesianRadau5 => {
+                let (t, span) = tol("stokesian")?;
+                let made = if spec.overdamped {
+                    Stokesian::overdamped(t)
+                } else {
+                    Stokesian::new(t)
+                };
+                let scheme = if spec.kind == IntegratorKind::StokesianRadau5 {
+                    Scheme::Radau5
+                } else {
+                    Scheme::Rosenbrock23
+                };
+                made.map(|s| SceneIntegrator::Stokesian(s.with_scheme(scheme)))
+                    .map_err(|e| self.param(span, "integrator.tol", e))
+            }
+        }
+    }
+
+    pub(super) fn plan(
+        &self,
+        integrator: &IntegratorSpec,
+        end: &EndSpec,
+        output: &OutputSpec,
+        particles: u64,
+    ) -> Result<(Plan, Vec<f64>), CliError> {
+        let t_end = self.positive(&end.t_end, "end.t_end")?;
+        let dt = self.positive(&integrator.dt, "integrator.dt")?;
+        let outputs = match &output.every {
+            None => vec![t_end],
+            Some(every) => {
+                let e = self.positive(every, "output.every")?;
+                let n = (t_end / e).floor();
+                // t_end and every are finite and > 0, so n is a number (∞ when every underflows).
+                if n >= MAX_OUTPUTS as f64 {
+                    return Err(self.err(
+                        every.span(),
+                        "output.every",
+                        format!("t_end / every = {:e} output times; at most {MAX_OUTPUTS}", t_end / e),
+                    ));
+                }
+                let mut times: Vec<f64> = (1..=n as u64)
+                    .map(|k| k as f64 * e)
+                    // An output within round-off of t_end would be a second frame at the same time.
+                    .filter(|&t| t < t_end * (1.0 - 1e-9))
+                    .collect();
+                times.push(t_end);
+                times
+            }
+        };
+        // One state per particle at the start, every output time and the event.
+        let samples = particles.saturating_mul(outputs.len() as u64 + 2);
+        if samples > MAX_SAMPLES {
+            let span = output.every.as_ref().map_or(end.t_end.span(), |e| e.span());
+            return Err(self.err(
+                span,
+                "output.every",
+                format!(
+                    "{particles} particles × {} output times = {samples} states to keep; at most {MAX_SAMPLES} (write fewer outputs or split the run)",
+                    outputs.len()
+                ),
+            ));
+        }
+        let mut plan = Plan::new(t_end, dt)
+            .and_then(|p| p.with_outputs(&outputs))
+            .map_err(|e| self.param(end.t_end.span(), "end.t_end, integrator.dt, output.every", e))?;
+        if let Some(m) = &integrator.dt_max {
+            let v = self.positive(m, "integrator.dt_max")?;
+            plan = plan
+                .with_dt_max(v)
+                .map_err(|e| self.param(m.span(), "integrator.dt_max", e))?;
+        }
+        let max_steps = match &end.max_steps {
+            Some(m) if *m.get_ref() == 0 => return Err(self.err(m.span(), "end.max_steps", "must be at least 1")),
+            Some(m) => *m.get_ref(),
+            None => DEFAULT_MAX_STEPS,
+        };
+        // No wall-time limit: it would make a particle's fate depend on the machine's load.
+        let plan = plan.with_budget(Budget {
+            max_steps,
+            wall_time: None,
+        });
+        Ok((plan, outputs))
+    }
+}

@@ -1,0 +1,321 @@
+//! The TOML form of a scene, as written: every table refuses unknown keys, and every number
+//! keeps its place in the file so that a bad value is reported at its line and column.
+//! [`super::scene`] turns it into library objects through their validated constructors.
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A number with its place in the file.
+pub type Num = Spanned<f64>;
+/// Three numbers with their place in the file.
+pub type Num3 = Spanned<[f64; 3]>;
+
+/// A whole scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Run seed: particle k of an injection draws from stream k of it (default 0).
+    #[serde(default)]
+    pub seed: u64,
+    /// The carrier flow.
+    pub flow: FlowSpec,
+    /// The carrier fluid.
+    pub fluid: FluidSpec,
+    /// Walls and exits; none: the particles run to the end time.
+    pub boundary: Option<BoundarySpec>,
+    /// The particles.
+    pub particles: ParticlesSpec,
+    /// The time integrator.
+    pub integrator: IntegratorSpec,
+    /// When each particle's run ends.
+    pub end: EndSpec,
+    /// What is written.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// `[flow]`: a kind and the keys that kind takes.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlowSpec {
+    /// Which flow.
+    #[serde(rename = "type")]
+    pub kind: Spanned<FlowKind>,
+    /// γ̇ or ε̇ (`shear`, `planar_extension`, `uniaxial_extension`).
+    pub rate: Option<Num>,
+    /// Pipe radius R (`poiseuille`).
+    pub radius: Option<Num>,
+    /// Mean velocity Ū (`poiseuille`; the centreline velocity is 2Ū).
+    pub mean_velocity: Option<Num>,
+    /// Case folder, relative to the scene file (`openfoam`).
+    pub case: Option<Spanned<String>>,
+    /// Time directory to read (`openfoam`; default: the latest).
+    pub time: Option<Num>,
+}
+
+/// The kinds of flow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FlowKind {
+    /// u = 0.
+    Quiescent,
+    /// u = γ̇ x₂ e₁.
+    Shear,
+    /// u = ε̇ (x₁, −x₂, 0).
+    PlanarExtension,
+    /// u = ε̇ (x₁, −x₂/2, −x₃/2).
+    UniaxialExtension,
+    /// Hagen–Poiseuille pipe along e₁.
+    Poiseuille,
+    /// An OpenFOAM case.
+    Openfoam,
+}
+
+/// `[fluid]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidSpec {
+    /// μ_f.
+    pub viscosity: Num,
+    /// ρ_f.
+    pub density: Num,
+    /// Gravitational acceleration (default 0).
+    pub gravity: Option<Num3>,
+}
+
+/// `[boundary]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySpec {
+    /// Which boundary.
+    #[serde(rename = "type")]
+    pub kind: Spanned<BoundaryKind>,
+    /// Pipe radius (`pipe`).
+    pub radius: Option<Num>,
+    /// Planar walls (`planes`).
+    #[serde(default)]
+    pub walls: Vec<WallSpec>,
+    /// Contact distance of a point particle; absent: the particle's extent touches.
+    pub contact_radius: Option<Num>,
+}
+
+/// The kinds of boundary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundaryKind {
+    /// The wall of the Poiseuille pipe (every contact deposits).
+    Pipe,
+    /// Planar walls, each with a rule.
+    Planes,
+    /// The patches of the OpenFOAM mesh: walls deposit, other patches let the particle exit.
+    Mesh,
+}
+
+/// `[[boundary.walls]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    /// Name in reports.
+    pub name: String,
+    /// A point on the plane.
+    pub point: Num3,
+    /// Outward normal.
+    pub normal: Num3,
+    /// `stick` or `exit`.
+    pub rule: RuleSpec,
+}
+
+/// What a wall does to a particle that touches it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RuleSpec {
+    /// Deposit.
+    Stick,
+    /// Leave the domain.
+    Exit,
+}
+
+/// `[particles]`: what all particles share, and either a list or an injection rule.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticlesSpec {
+    /// Solid density ρ_s.
+    pub density: Num,
+    /// Drag model (default `brenner`).
+    #[serde(default)]
+    pub drag: DragSpec,
+    /// Explicit particles.
+    #[serde(default)]
+    pub list: Vec<ParticleEntry>,
+    /// Random injection.
+    pub inject: Option<InjectSpec>,
+}
+
+/// Drag models by name.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DragSpec {
+    /// Brenner's ellipsoid resistance (the paper's).
+    #[default]
+    Brenner,
+    /// Stokes drag of the volume-equivalent sphere.
+    StokesSphere,
+}
+
+/// `[[particles.list]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleEntry {
+    /// Rest semi-axes R₁, R₂, R₃.
+    pub semi_axes: Num3,
+    /// Initial orientation (default: the axes along e₁, e₂, e₃).
+    pub orientation: Option<OrientationSpec>,
+    /// Barycentre at t = 0.
+    pub position: Num3,
+    /// Velocity at t = 0 (default 0, or the fluid's with `fluid_velocity`).
+    pub velocity: Option<Num3>,
+    /// Start with the fluid velocity at `position`.
+    #[serde(default)]
+    pub fluid_velocity: bool,
+    /// Shape response.
+    pub material: MaterialSpec,
+}
+
+/// A rotation about `axis` by `angle` (radians, right-handed).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OrientationSpec {
+    /// Rotation axis (any length > 0).
+    pub axis: Num3,
+    /// Angle in radians.
+    pub angle: Num,
+}
+
+/// Shape response: a law and its parameters.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Which law.
+    pub law: Spanned<LawKind>,
+    /// Shear modulus μ_s (`neo_hooke`).
+    pub mu: Option<Num>,
+    /// μ₁ (`mooney_rivlin`).
+    pub mu1: Option<Num>,
+    /// μ₂ (`mooney_rivlin`).
+    pub mu2: Option<Num>,
+    /// First Lamé parameter λ_s (`neo_hooke`, `mooney_rivlin`).
+    pub lambda: Option<Num>,
+}
+
+/// Laws by name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LawKind {
+    /// Neo-Hooke (paper eq. 9).
+    NeoHooke,
+    /// Mooney–Rivlin.
+    MooneyRivlin,
+    /// Rigid (Ca → 0): Jeffery rotation, no elasticity.
+    Rigid,
+}
+
+/// `[particles.inject]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InjectSpec {
+    /// Number of particles.
+    pub count: Spanned<u64>,
+    /// Where they start.
+    pub region: RegionSpec,
+    /// A fixed initial orientation (default: the axes along e₁, e₂, e₃).
+    pub orientation: Option<OrientationSpec>,
+    /// Orientations uniform on SO(3) instead (default false).
+    #[serde(default)]
+    pub random_orientation: bool,
+    /// Start with the fluid velocity.
+    #[serde(default)]
+    pub fluid_velocity: bool,
+    /// Rest semi-axes.
+    pub semi_axes: Num3,
+    /// Shape response.
+    pub material: MaterialSpec,
+}
+
+/// Injection region.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    /// Which region.
+    #[serde(rename = "type")]
+    pub kind: Spanned<RegionKind>,
+    /// The point (`point`).
+    pub at: Option<Num3>,
+    /// Centre (`disc`).
+    pub centre: Option<Num3>,
+    /// Normal (`disc`).
+    pub normal: Option<Num3>,
+    /// Radius (`disc`).
+    pub radius: Option<Num>,
+}
+
+/// Kinds of injection region.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RegionKind {
+    /// Every particle at one point.
+    Point,
+    /// Uniform on a disc.
+    Disc,
+}
+
+/// `[integrator]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegratorSpec {
+    /// Scheme name.
+    #[serde(rename = "type")]
+    pub kind: IntegratorKind,
+    /// Local error tolerance (adaptive schemes).
+    pub tol: Option<Num>,
+    /// First step (the fixed step of `imex`).
+    pub dt: Num,
+    /// Largest step.
+    pub dt_max: Option<Num>,
+    /// Overdamped barycentre (`stokesian*` only; default false).
+    #[serde(default)]
+    pub overdamped: bool,
+}
+
+/// Integrators by name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorKind {
+    /// The paper's fixed-step IMEX scheme (§5).
+    Imex,
+    /// IMEX with error control.
+    ImexAdaptive,
+    /// Inertialess shape dynamics, Rosenbrock-W 2(3).
+    Stokesian,
+    /// Inertialess shape dynamics, Radau IIA order 5.
+    StokesianRadau5,
+}
+
+/// `[end]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EndSpec {
+    /// End time of every particle's run.
+    pub t_end: Num,
+    /// Accepted steps allowed per particle (default 10⁷).
+    pub max_steps: Option<Spanned<u64>>,
+}
+
+/// `[output]`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Interval between output times (default: only the end of each run).
+    pub every: Option<Num>,
+    /// Write ParaView files (default true).
+    pub vtk: Option<bool>,
+}

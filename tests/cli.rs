@@ -1,0 +1,308 @@
+//! The example scenes of `scenes/` through the command's library path, at reduced size, against
+//! the library's own runs of the same cases. A scene's numbers are the library's f64 values
+//! printed in shortest round-trip form, so the particle, flow and plan are bitwise the
+//! library's, and so must be the trajectory: every comparison is exact.
+
+#[path = "flow_openfoam/build.rs"]
+#[allow(dead_code)] // the mesh builder of the reader's tests; these tests use a part of it
+mod build;
+
+use pseudorigid::cli::error::Source;
+use pseudorigid::cli::models::SceneLaw;
+use pseudorigid::cli::run::Job;
+use pseudorigid::cli::scene::{Scene, parse};
+use pseudorigid::contact::{ContactEvent, ContactModel};
+use pseudorigid::driver::{Plan, integrate};
+use pseudorigid::integrator::TimeIntegrator;
+use pseudorigid::particle::lines::material_line;
+use pseudorigid::population::{Fate, RunOptions, RunOutput, Shard};
+use pseudorigid::scenes::pipe::PipeScene;
+use pseudorigid::scenes::shear_regimes::{Regime, RegimeClassifier};
+use pseudorigid::scenes::shear_run::{oblate_fig4_run, stokesian_scaling};
+use pseudorigid::scenes::shear_shape::ShearShape;
+use std::path::{Path, PathBuf};
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
+}
+
+/// The scene `name` with each `(from, to)` text replaced (a reduced size).
+fn scene(name: &str, edits: &[(&str, &str)]) -> Scene {
+    let path = scene_path(name);
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{name} has no `{from}`");
+        text = text.replace(from, to);
+    }
+    let file = path.display().to_string();
+    parse(
+        &Source {
+            file: &file,
+            text: &text,
+        },
+        path.parent().unwrap(),
+    )
+    .unwrap()
+}
+
+fn run(scene: &Scene, name: &str) -> RunOutput<SceneLaw> {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    let options = RunOptions::default().serial().quiet();
+    scene
+        .population(&Job::Run {
+            shard: Shard::ALL,
+            options,
+            dir,
+        })
+        .unwrap()
+}
+
+#[test]
+fn every_example_scene_validates() {
+    let mut names: Vec<_> = std::fs::read_dir(scene_path(""))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 3, "{names:?}");
+    for p in names {
+        let name = p.file_name().unwrap().to_str().unwrap().to_string();
+        // A scene on an OpenFOAM case needs the solved case (its Allrun); parse the rest.
+        if std::fs::read_to_string(&p).unwrap().contains("\"openfoam\"") {
+            continue;
+        }
+        let s = scene(&name, &[]);
+        assert!(s.count() >= 1, "{name}");
+    }
+}
+
+/// Fig. 4's oblate at Ca = 0.4: the scene's material lines at every output time equal the
+/// library's `oblate_fig4_run` bitwise.
+#[test]
+fn oblate_shear_scene_is_the_library_fig4_run() {
+    let s = scene("oblate_shear.toml", &[("t_end = 30.0", "t_end = 3.0")]);
+    let out = run(&s, "cli_oblate");
+    let record = &out.records[0];
+    assert_eq!(record.fate, Fate::Suspended);
+    let shape = record.spec.as_ref().unwrap().shape;
+    // The record keeps the start state too; the library samples the output times only.
+    let samples = &record.samples[1..];
+    let times: Vec<f64> = samples.iter().map(|st| st.t).collect();
+    assert_eq!(times, s.outputs);
+    assert_eq!(times.len(), 12);
+    let library = oblate_fig4_run(0.4, &times).unwrap();
+    let (a, c) = ShearShape::oblate(2.5).in_plane_axes();
+    for (mine, theirs) in samples.iter().zip(&library) {
+        assert_eq!(material_line(&shape, &mine.f, a), theirs.xi_a, "t = {}", mine.t);
+        assert_eq!(material_line(&shape, &mine.f, c), theirs.xi_c, "t = {}", mine.t);
+    }
+}
+
+/// Fig. 7: the two particles either side of the prolate 2:1:1 boundary tumble and tremble as
+/// the library's classifier says. The check is on the output times (every 0.1), which can
+/// only miss a trembling episode shorter than 0.1: the classifier's margins at these Ca are
+/// checked to be far from zero.
+#[test]
+fn phase_boundary_scene_brackets_the_boundary() {
+    let s = scene("phase_boundary.toml", &[("[output]\n", "[output]\nvtk = false\n")]);
+    let out = run(&s, "cli_phase_boundary");
+    let classifier = RegimeClassifier::stokesian(1e-8).unwrap();
+    let shape = ShearShape::prolate(2.0);
+    for (record, (ca, expected)) in out
+        .records
+        .iter()
+        .zip([(0.25, Regime::Tumbling), (0.3, Regime::Trembling)])
+    {
+        assert_eq!(record.fate, Fate::Suspended);
+        let rest = record.spec.as_ref().unwrap().shape;
+        let margin = record
+            .samples
+            .iter()
+            .map(|st| material_line(&rest, &st.f, 0).norm() - material_line(&rest, &st.f, 1).norm())
+            .fold(f64::INFINITY, f64::min);
+        let regime = if margin > 0.0 {
+            Regime::Tumbling
+        } else {
+            Regime::Trembling
+        };
+        assert_eq!(regime, expected, "Ca = {ca}: min (l_a − l_c) = {margin}");
+        let library = classifier
+            .classify_ca(&shape, ca, &stokesian_scaling(ca).unwrap())
+            .unwrap();
+        assert_eq!(library.regime, expected, "Ca = {ca}");
+        assert!(library.margin.abs() > 0.01, "Ca = {ca}: margin {}", library.margin);
+    }
+}
+
+/// The fibre of Fig. 11(b) for its first 200 time units (suspended, still far from the wall):
+/// bitwise the library's Tian/Cui particle advanced by the driver with the pipe-wall contact.
+#[test]
+fn pipe_fibre_scene_is_the_library_tian_cui_particle() {
+    let s = scene(
+        "pipe_fibre.toml",
+        &[
+            ("t_end = 11528.5", "t_end = 200.0"),
+            ("[output]\n", "[output]\nvtk = false\n"),
+        ],
+    );
+    let out = run(&s, "cli_pipe");
+    let record = &out.records[0];
+    assert_eq!(record.fate, Fate::Suspended);
+
+    let lib = PipeScene::tian_cui(7.0, 0.25).unwrap();
+    let integrator = lib.integrator(1e-7).unwrap();
+    let plan = Plan::new(200.0, 1e-3).unwrap().with_outputs(&s.outputs).unwrap();
+    let contact = ContactEvent::new(&lib.wall, &lib.particle, &lib.flow, ContactModel::Extent);
+    let mut memory = <pseudorigid::integrator::Stokesian as TimeIntegrator>::Memory::default();
+    let end = integrate(
+        &integrator,
+        &lib.particle,
+        &lib.flow,
+        lib.initial_state().unwrap(),
+        &mut memory,
+        &plan,
+        &[&contact],
+        |_| {},
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(record.end.unwrap(), end.state);
+    assert_eq!(record.stats.steps, end.stats.steps);
+}
+
+/// A case written to disk: the unit cube of warped hexahedra (patches `inlet` x = 0, `outlet`
+/// x = 1, `walls`) with the velocity `u` at time 0.
+fn foam_case(name: &str, u: impl Fn(&pseudorigid::tensor::Vec3) -> pseudorigid::tensor::Vec3) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    let raw = build::cube(build::Shape::Hex, 6);
+    build::write_case(&dir, &raw, &build::sampled(&raw.mesh(), u), "0", build::Format::Ascii);
+    dir
+}
+
+/// A scene on an OpenFOAM case with its patches as the boundary: a sphere of radius 0.05
+/// carried by the uniform flow u = e₁ from x₁ = 0.1 leaves through `outlet` when its front
+/// reaches x₁ = 1, at t = 0.85. The cellwise-linear reconstruction of a uniform field is
+/// uniform to round-off, so the particle moves exactly with the fluid; the event is located
+/// to 1e-9 of the particle's diameter in gap, i.e. in time at unit speed.
+#[test]
+fn openfoam_scene_with_mesh_patches() {
+    let case = foam_case("cli_foam_uniform", |_| pseudorigid::tensor::Vec3::x());
+    let text = format!(
+        r#"[flow]
+type = "openfoam"
+case = "{}"
+[fluid]
+viscosity = 1.0
+density = 1.0
+[boundary]
+type = "mesh"
+[particles]
+density = 1.0
+[[particles.list]]
+semi_axes = [0.05, 0.05, 0.05]
+position = [0.1, 0.5, 0.5]
+fluid_velocity = true
+material = {{ law = "rigid" }}
+[integrator]
+type = "stokesian"
+tol = 1e-8
+dt = 1e-3
+[end]
+t_end = 2.0
+[output]
+every = 0.5
+vtk = false
+"#,
+        case.display()
+    );
+    let s = parse(
+        &Source {
+            file: "foam.toml",
+            text: &text,
+        },
+        Path::new("."),
+    )
+    .unwrap();
+    let out = run(&s, "cli_foam_run");
+    let record = &out.records[0];
+    let Fate::Escaped { patch, time } = record.fate else {
+        panic!("{:?}", record.fate);
+    };
+    assert_eq!(out.patches[patch], "outlet");
+    assert!((time - 0.85).abs() < 1e-9, "t = {time}");
+}
+
+/// `probe` on a linear field: the reconstruction is exact for linear fields, so u and ∇u come
+/// back to round-off (1e-12 of |u| ~ 1); a point outside is flagged and NaN.
+#[test]
+fn probe_reads_a_case_back() {
+    use pseudorigid::tensor::{Mat3, Vec3};
+    let a = Mat3::new(0.2, 0.5, -0.1, 0.3, -0.4, 0.7, 0.6, -0.2, 0.2);
+    let b = Vec3::new(1.0, -0.5, 0.25);
+    let case = foam_case("cli_probe_case", move |x| b + a * x);
+    let dir = case.parent().unwrap().join("cli_probe_files");
+    std::fs::create_dir_all(&dir).unwrap();
+    let points = dir.join("points.csv");
+    std::fs::write(&points, "x,y,z\n0.3,0.4,0.5\n0.77,0.21,0.9\n1.5,0.5,0.5\n").unwrap();
+    let out = dir.join("probe.csv");
+    let line = pseudorigid::cli::probe::probe(&case, "latest", &points, &out).unwrap();
+    assert!(line.contains("2 of 3 points inside"), "{line}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    for row in &rows[..2] {
+        let x = Vec3::new(row[0], row[1], row[2]);
+        assert_eq!(row[3], 1.0);
+        let u = b + a * x;
+        for i in 0..3 {
+            assert!(
+                (row[4 + i] - u[i]).abs() < 1e-12,
+                "u{i} at {x:?}: {} vs {}",
+                row[4 + i],
+                u[i]
+            );
+            for j in 0..3 {
+                assert!((row[7 + 3 * i + j] - a[(i, j)]).abs() < 1e-12, "l{i}{j} at {x:?}");
+            }
+        }
+    }
+    assert_eq!(rows[2][3], 0.0);
+    assert!(rows[2][4..].iter().all(|v| v.is_nan()));
+}
+
+/// The injection scene: particle k starts on the disc (radius 3 in the plane x₃ = 0) and is
+/// the same particle whatever the size of the run, since it draws from stream k of the seed.
+#[test]
+fn injection_scene_draws_particle_k_from_its_own_stream() {
+    let reduced = |count: &str| {
+        scene(
+            "shear_injection.toml",
+            &[
+                ("count = 60", count),
+                ("t_end = 8.0", "t_end = 0.5"),
+                ("[output]\n", "[output]\nvtk = false\n"),
+            ],
+        )
+    };
+    let six = run(&reduced("count = 6"), "cli_inject_6");
+    let three = run(&reduced("count = 3"), "cli_inject_3");
+    assert_eq!(six.records.len(), 6);
+    assert_eq!(three.records[..], six.records[..3]);
+    for r in &six.records {
+        let spec = r.spec.as_ref().unwrap();
+        assert!(
+            spec.position.norm() <= 3.0 && spec.position[2] == 0.0,
+            "{:?}",
+            spec.position
+        );
+        assert_eq!(r.fate, Fate::Suspended);
+    }
+    // Different particles: distinct start points and orientations.
+    assert_ne!(six.records[0].spec, six.records[1].spec);
+}

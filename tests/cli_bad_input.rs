@@ -1,0 +1,265 @@
+//! Bad scene files: two valid base scenes with every key mutated in turn (a bad number, a
+//! wrong type, the key removed, an unknown key added), and a property test breaking two keys
+//! at once. Validation must never panic,
+//! and every error must name the offending key (in its `key` field or its message) and point
+//! at a line of the file.
+
+use proptest::prelude::*;
+use pseudorigid::cli::CliError;
+use pseudorigid::cli::error::Source;
+use pseudorigid::cli::scene::parse;
+use std::path::Path;
+
+/// A pipe with a listed particle: Poiseuille flow, gravity, pipe wall, orientation, fluid
+/// velocity, Neo-Hooke, the paper's IMEX scheme.
+const LISTED: &str = r#"seed = 3
+[flow]
+type = "poiseuille"
+radius = 10.0
+mean_velocity = 2.0
+[fluid]
+viscosity = 1.0
+density = 1.0
+gravity = [0.0, -1.0, 0.0]
+[boundary]
+type = "pipe"
+radius = 10.0
+[particles]
+density = 2.0
+drag = "brenner"
+[[particles.list]]
+semi_axes = [1.0, 0.5, 0.5]
+position = [0.0, 1.0, 0.0]
+fluid_velocity = true
+[particles.list.orientation]
+axis = [0.0, 0.0, 1.0]
+angle = 0.3
+[particles.list.material]
+law = "neo_hooke"
+mu = 5.0
+lambda = 50.0
+[integrator]
+type = "imex"
+dt = 0.001
+dt_max = 0.01
+[end]
+t_end = 1.0
+max_steps = 1000
+[output]
+every = 0.1
+vtk = true
+"#;
+
+/// A box with injected particles: quiescent fluid, planar walls, a disc, random orientations,
+/// Mooney–Rivlin, adaptive Stokesian.
+const INJECTED: &str = r#"[flow]
+type = "quiescent"
+[fluid]
+viscosity = 1.0
+density = 1.0
+gravity = [0.0, 0.0, -9.81]
+[boundary]
+type = "planes"
+contact_radius = 0.1
+[[boundary.walls]]
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, -1.0]
+rule = "stick"
+[[boundary.walls]]
+name = "lid"
+point = [0.0, 0.0, 5.0]
+normal = [0.0, 0.0, 1.0]
+rule = "exit"
+[particles]
+density = 3.0
+drag = "stokes_sphere"
+[particles.inject]
+count = 20
+semi_axes = [1.0, 1.0, 0.5]
+random_orientation = true
+fluid_velocity = false
+[particles.inject.region]
+type = "disc"
+centre = [0.0, 0.0, 2.0]
+normal = [0.0, 0.0, 1.0]
+radius = 1.5
+[particles.inject.material]
+law = "mooney_rivlin"
+mu1 = 2.0
+mu2 = 1.0
+lambda = 30.0
+[integrator]
+type = "stokesian_radau5"
+tol = 1e-6
+dt = 0.01
+overdamped = true
+[end]
+t_end = 2.0
+[output]
+every = 0.5
+"#;
+
+/// Replacement values: bad numbers, extreme numbers, wrong types.
+const VALUES: [&str; 16] = [
+    "nan",
+    "inf",
+    "-inf",
+    "-1.0",
+    "0.0",
+    "1e308",
+    "-1e308",
+    "1e-320",
+    "\"text\"",
+    "true",
+    "[1.0]",
+    "[1.0, 2.0]",
+    "[nan, 1.0, 1.0]",
+    "[1e308, 1e308, 1e308]",
+    "{ a = 1 }",
+    "-5",
+];
+
+#[derive(Debug, Clone)]
+enum Mutation {
+    /// Set the value of the line's key.
+    Value(&'static str),
+    /// Remove the line.
+    Remove,
+    /// Add `bogus_key = 1` to the line's table.
+    Unknown,
+}
+
+/// Lines of `text` that hold `key = value`.
+fn key_lines(text: &str) -> Vec<usize> {
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| l.contains(" = "))
+        .map(|(i, _)| i)
+        .collect()
+}
+
+fn mutate(text: &str, line: usize, m: &Mutation) -> (String, String) {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let key = lines[line].split(" = ").next().unwrap().trim().to_string();
+    match m {
+        Mutation::Value(v) => lines[line] = format!("{key} = {v}"),
+        Mutation::Remove => {
+            lines.remove(line);
+        }
+        Mutation::Unknown => {
+            lines.insert(line + 1, "bogus_key = 1".to_string());
+            return (lines.join("\n"), "bogus_key".to_string());
+        }
+    }
+    (lines.join("\n"), key)
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        6 => proptest::sample::select(VALUES.to_vec()).prop_map(Mutation::Value),
+        1 => Just(Mutation::Remove),
+        1 => Just(Mutation::Unknown),
+    ]
+}
+
+/// Apply `mutations` (on distinct lines of `base`) and check the error names one of their keys.
+fn check(base: &str, mutations: &[(usize, Mutation)]) -> Result<(), TestCaseError> {
+    let mut sorted = mutations.to_vec();
+    // From the last line up, so that removing or adding a line does not move the others.
+    sorted.sort_by_key(|(line, _)| std::cmp::Reverse(*line));
+    let mut text = base.to_string();
+    let mut keys = Vec::new();
+    for (line, m) in &sorted {
+        let (t, k) = mutate(&text, *line, m);
+        text = t;
+        keys.push(k);
+    }
+    let src = Source {
+        file: "mutated.toml",
+        text: &text,
+    };
+    match parse(&src, Path::new(".")) {
+        Ok(_) => Ok(()),
+        Err(CliError::Scene {
+            file,
+            line: at,
+            column,
+            key: named,
+            message,
+        }) => {
+            prop_assert_eq!(file, "mutated.toml");
+            prop_assert!(
+                at >= 1 && at <= text.lines().count() + 1 && column >= 1,
+                "{}:{}",
+                at,
+                column
+            );
+            // A removed key is named as missing, a wrong value by its dotted key; an error
+            // that another key reports (a derived quantity) names the mutated key too.
+            let names = |key: &String| {
+                let leaf = key.rsplit('.').next().unwrap();
+                named.split(['.', '[', ' ', ',']).any(|k| k == leaf) || message.contains(leaf)
+            };
+            prop_assert!(
+                keys.iter().any(names),
+                "mutating {:?} gave an error about `{}`: {}",
+                sorted,
+                named,
+                message
+            );
+            Ok(())
+        }
+        Err(other) => Err(TestCaseError::fail(format!("not a scene error: {other}"))),
+    }
+}
+
+/// Two distinct key lines of `base` with a mutation each.
+fn two_mutations(base: &'static str) -> impl Strategy<Value = Vec<(usize, Mutation)>> {
+    let lines = key_lines(base);
+    (proptest::sample::subsequence(lines, 2), mutation(), mutation()).prop_map(|(l, a, b)| vec![(l[0], a), (l[1], b)])
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// Two keys broken at once: the error names one of them.
+    #[test]
+    fn listed_scene_errors_name_a_broken_key(m in two_mutations(LISTED)) {
+        check(LISTED, &m)?;
+    }
+
+    /// The same for the injection scene.
+    #[test]
+    fn injected_scene_errors_name_a_broken_key(m in two_mutations(INJECTED)) {
+        check(INJECTED, &m)?;
+    }
+}
+
+#[test]
+fn base_scenes_are_valid() {
+    for text in [LISTED, INJECTED] {
+        let src = Source {
+            file: "base.toml",
+            text,
+        };
+        parse(&src, Path::new(".")).unwrap();
+    }
+}
+
+/// Every key of both base scenes, with every mutation: the exhaustive version of the property
+/// (16 values + removal + unknown key, on each of ~70 lines).
+#[test]
+fn every_key_every_mutation() {
+    for base in [LISTED, INJECTED] {
+        for line in key_lines(base) {
+            let all = VALUES
+                .iter()
+                .map(|v| Mutation::Value(v))
+                .chain([Mutation::Remove, Mutation::Unknown]);
+            for m in all {
+                check(base, &[(line, m)]).unwrap();
+            }
+        }
+    }
+}
