@@ -2,7 +2,7 @@
 //! (a pipe wall, a mesh's walls) to a finite domain.
 //!
 //! # Physics
-//! Each plane w bounds the half-space $\{x : (x − p_w)·n_w ≤ 0\}$; its gap is
+//! Each plane w bounds the half-space $\\{x : (x − p_w)·n_w ≤ 0\\}$; its gap is
 //! $g_w = (p_w − x_c)·n_w − h(n_w)$ as for [`Planes`]. The composite's gap is the smaller of
 //! the planes' and the other boundary's, so the particle touches whichever it reaches first.
 

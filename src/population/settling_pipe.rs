@@ -4,7 +4,7 @@
 //!
 //! # Physics
 //! Units d_eq = μ_f = 1, no fluid density (no buoyancy, ρ_f = 0), solid density 1, so the
-//! mass is m = π/6. The flow is $u = 2\bar U (1 − r^2/R^2)\, e_1$ in a pipe of radius R along e₁;
+//! mass is m = π/6. The flow is $u = 2\bar U (1 − r^2/R^2)\\, e_1$ in a pipe of radius R along e₁;
 //! gravity g acts along −e₂. The inlet is x₁ = 0 (particles are injected there, uniformly on
 //! a disc of radius r_in, with the local fluid velocity), the wall sticks, and the plane
 //! x₁ = L is an exit. A rigid sphere in Stokes flow has K̂ = 3π d_eq 1 (Brenner 1963 for a
