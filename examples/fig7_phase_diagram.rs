@@ -4,7 +4,7 @@
 //! Writes `paper-figures/fig7/boundary.csv` and `paper-figures/fig7/boundary.svg`.
 
 use pseudorigid::output::{Figure, paper_figure_path};
-use pseudorigid::scenes::phase_map::{self, boundary_panel, boundary_table};
+use pseudorigid::scenes::phase_map::{self, boundary_panel, boundary_table, validity_table};
 use pseudorigid::scenes::shear_shape::ShearShape;
 use std::error::Error;
 use std::time::Instant;
@@ -26,6 +26,8 @@ fn main() -> Result<(), Box<dyn Error>> {
         );
     }
     boundary_table(&points)?.write(paper_figure_path("fig7", "boundary.csv"))?;
+    // The paper search is inertialess (Re = 0 by assumption).
+    validity_table(&points, true)?.write(paper_figure_path("fig7", "validity.csv"))?;
     Figure::single(boundary_panel(
         &points,
         "Fig. 7: TU/TR boundary, prolate (λ,1,1) and oblate (λ,1,λ)",

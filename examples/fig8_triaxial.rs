@@ -6,7 +6,7 @@
 //! Writes `paper-figures/fig8/boundary.csv` and `paper-figures/fig8/boundary.svg`.
 
 use pseudorigid::output::{Figure, paper_figure_path};
-use pseudorigid::scenes::phase_map::{self, boundary_panel, boundary_table};
+use pseudorigid::scenes::phase_map::{self, boundary_panel, boundary_table, validity_table};
 use pseudorigid::scenes::shear_shape::ShearShape;
 use std::error::Error;
 use std::time::Instant;
@@ -26,6 +26,8 @@ fn main() -> Result<(), Box<dyn Error>> {
         );
     }
     boundary_table(&points)?.write(paper_figure_path("fig8", "boundary.csv"))?;
+    // The paper search is inertialess (Re = 0 by assumption).
+    validity_table(&points, true)?.write(paper_figure_path("fig8", "validity.csv"))?;
     let (a, b): (Vec<_>, Vec<_>) = points.iter().partition(|p| p.boundary.shape.family.starts_with('a'));
     Figure::grid(
         vec![

@@ -93,6 +93,19 @@ impl Validity {
         }
     }
 
+    /// The maxima over two runs (e.g. the two runs bracketing a phase boundary).
+    pub fn combine(self, other: Self) -> Self {
+        Self {
+            max_re_shear: self.max_re_shear.max(other.max_re_shear),
+            max_re_slip: self.max_re_slip.max(other.max_re_slip),
+            max_r1: self.max_r1.max(other.max_r1),
+            max_r1_over_wall_distance: self.max_r1_over_wall_distance.max(other.max_r1_over_wall_distance),
+            max_r1_over_flow_scale: self.max_r1_over_flow_scale.max(other.max_r1_over_flow_scale),
+            states: self.states + other.states,
+            unsampled: self.unsampled + other.unsampled,
+        }
+    }
+
     /// Names of the thresholds crossed, in the order of [`Thresholds`]' fields.
     pub fn flags(&self, limits: &Thresholds) -> Vec<&'static str> {
         [

@@ -12,6 +12,7 @@
 use super::SceneError;
 use super::shear_regimes::{Classification, Regime, RegimeClassifier};
 use super::shear_shape::ShearShape;
+use crate::diagnostics::Validity;
 use crate::integrator::TimeIntegrator;
 use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::ShearScaling;
@@ -48,6 +49,8 @@ pub struct Boundary {
     pub margin_tr: f64,
     /// Classification runs used.
     pub evaluations: u32,
+    /// Validity diagnostics of the two bracketing runs, combined (as measured).
+    pub validity: Validity,
 }
 
 impl Boundary {
@@ -116,6 +119,7 @@ impl<I: TimeIntegrator, L: LawFactory> BoundarySearch<I, L> {
             margin_tu: lo.1.margin,
             margin_tr: hi.1.margin,
             evaluations,
+            validity: lo.1.validity.combine(hi.1.validity),
         })
     }
 

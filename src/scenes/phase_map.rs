@@ -8,6 +8,7 @@ use super::SceneError;
 use super::phase_boundary::{Boundary, BoundarySearch};
 use super::shear_regimes::RegimeClassifier;
 use super::shear_shape::ShearShape;
+use crate::diagnostics::Validity;
 use crate::integrator::{Stokesian, TimeIntegrator};
 use crate::material::LawFactory;
 use crate::output::{Csv, OutputError, Panel, Series};
@@ -55,6 +56,35 @@ pub fn boundary_table(points: &[MapPoint]) -> Result<Csv, OutputError> {
             b.ca_tu.to_string(),
             b.ca_tr.to_string(),
         ])?;
+    }
+    Ok(csv)
+}
+
+/// Validity diagnostics of the runs bracketing each boundary:
+/// `family,r_flow,r_gradient,r_vorticity`, then [`Validity::COLUMNS`] (r₁ in d_eq, default
+/// thresholds). `inertialess`: the search ran the inertialess model, which assumes Re = 0
+/// ([`Validity::inertialess`]); the shear flow is unbounded and linear, so the length-scale
+/// ratios are 0 by construction.
+pub fn validity_table(points: &[MapPoint], inertialess: bool) -> Result<Csv, OutputError> {
+    let mut header = vec!["family", "r_flow", "r_gradient", "r_vorticity"];
+    header.extend(Validity::COLUMNS);
+    let mut csv = Csv::new(&header);
+    let limits = crate::diagnostics::Thresholds::default();
+    for p in points {
+        let s = p.boundary.shape;
+        let v = if inertialess {
+            p.boundary.validity.inertialess()
+        } else {
+            p.boundary.validity
+        };
+        let mut cells = vec![
+            s.family.to_string(),
+            s.r_flow.to_string(),
+            s.r_gradient.to_string(),
+            s.r_vorticity.to_string(),
+        ];
+        cells.extend(v.cells(&limits));
+        csv.push(cells)?;
     }
     Ok(csv)
 }

@@ -31,6 +31,7 @@
 use super::SceneError;
 use super::shear_run::unit_shear;
 use super::shear_shape::ShearShape;
+use crate::diagnostics::{Monitor, Validity};
 use crate::driver::{Plan, RunStats, integrate};
 use crate::integrator::Dense;
 use crate::integrator::{Scheme, Stokesian, TimeIntegrator};
@@ -63,6 +64,8 @@ pub struct Classification {
     pub horizon: f64,
     /// Work of the run.
     pub stats: RunStats,
+    /// Validity diagnostics over the accepted steps, as measured (r₁ in d_eq).
+    pub validity: Validity,
 }
 
 /// The TU/TR classifier: an integrator, the particles' law, the horizon and checking density.
@@ -132,16 +135,22 @@ impl<I: TimeIntegrator, L: LawFactory> RegimeClassifier<I, L> {
         let start = State::at_rest(Vec3::zeros());
         let mut track = MarginTracker::new(&start, xi_a0, xi_c0);
         let mut memory = I::Memory::default();
+        let flow = unit_shear();
+        let mut monitor = Monitor::in_linear_flow(&particle, &flow);
+        monitor.observe(&start);
         let stats = integrate(
             &self.integrator,
             &particle,
-            &unit_shear(),
+            &flow,
             start,
             &mut memory,
             &Plan::new(horizon, self.dt0)?,
             &[],
             |_| {},
-            |step| track.step(&step.dense, self.substeps),
+            |step| {
+                track.step(&step.dense, self.substeps);
+                monitor.observe(&step.state);
+            },
         )?
         .stats;
         Ok(Classification {
@@ -155,6 +164,7 @@ impl<I: TimeIntegrator, L: LawFactory> RegimeClassifier<I, L> {
             first_trembling: track.first_trembling,
             horizon,
             stats,
+            validity: monitor.validity(),
         })
     }
 
