@@ -14,11 +14,13 @@
 //!   integration and by Roscoe's (1967) steady algebraic equations.
 //!
 //! Real flow fields:
+//! - [`bifurcation`]: deposition of soft ellipsoids in an airway bifurcation (§6.4);
 //! - [`pipe`]: the Tian/Cui laminar pipe flow (§6.2): orientation and deposition of soft
 //!   prolate particles;
 //! - [`cavity`]: soft and quasi-rigid ellipsoids in the lid-driven cavity (§6.3);
 //! - [`cavity_benchmark`]: the cavity flow field against Albensoeder & Kuhlmann (2005).
 
+pub mod bifurcation;
 pub mod cavity;
 pub mod cavity_benchmark;
 pub mod phase_boundary;
