@@ -28,6 +28,7 @@ pub mod integrator;
 pub mod material;
 pub mod output;
 pub mod particle;
+pub mod population;
 pub mod reference;
 pub mod scenes;
 pub mod tensor;

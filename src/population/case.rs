@@ -1,0 +1,185 @@
+//! One particle of a population, from its seed to its fate.
+
+use super::record::{Fate, ParticleRecord};
+use super::spec::{Injector, particle_rng};
+use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
+use crate::driver::{Plan, RunStats, Stop, integrate};
+use crate::flow::FlowField;
+use crate::integrator::TimeIntegrator;
+use std::hash::Hasher;
+
+/// What every particle of a population shares: integrator, flow, boundary, injection rule,
+/// contact model and the driver's plan (end time, first step, step cap, step budget).
+///
+/// The plan's end time is each particle's time limit (it starts at t = 0). Give the plan a step
+/// budget ([`crate::driver::Budget::max_steps`]) but no wall-time limit: a wall-time limit
+/// makes a particle's fate depend on the machine's load, and the run is then no longer the
+/// same whatever its layout.
+pub struct Case<'a, I, F: ?Sized, B: ?Sized, J> {
+    integrator: &'a I,
+    flow: &'a F,
+    boundary: &'a B,
+    injector: &'a J,
+    contact: ContactModel,
+    plan: Plan,
+}
+
+impl<'a, I, F, B, J> Case<'a, I, F, B, J>
+where
+    I: TimeIntegrator + std::fmt::Debug,
+    F: FlowField + ?Sized,
+    B: Boundary + ?Sized,
+    J: Injector,
+{
+    /// Particles drawn by `injector`, advanced by `integrator` in `flow` as `plan` says, until
+    /// their extent touches a patch of `boundary` ([`ContactModel::Extent`]).
+    pub fn new(integrator: &'a I, flow: &'a F, boundary: &'a B, injector: &'a J, plan: Plan) -> Self {
+        Self {
+            integrator,
+            flow,
+            boundary,
+            injector,
+            contact: ContactModel::Extent,
+            plan,
+        }
+    }
+
+    /// Use `contact` instead of the particle's extent.
+    pub fn with_contact(mut self, contact: ContactModel) -> Self {
+        self.contact = contact;
+        self
+    }
+
+    /// The boundary (for patch names).
+    pub fn boundary(&self) -> &B {
+        self.boundary
+    }
+
+    /// The injection rule.
+    pub fn injector(&self) -> &J {
+        self.injector
+    }
+
+    /// Particle `index` of a run with seed `seed`: drawn from its own generator, then advanced
+    /// until a patch is touched, the end time is reached, or something fails. A pure function
+    /// of (case, seed, index): this is what makes the population's results independent of
+    /// threads, shards and restarts.
+    pub fn run_particle(&self, seed: u64, index: u64) -> ParticleRecord<J::Law> {
+        let mut rng = particle_rng(seed, index);
+        let spec = match self.injector.draw(index, &mut rng) {
+            Ok(spec) => spec,
+            Err(e) => {
+                return ParticleRecord {
+                    index,
+                    spec: None,
+                    fate: Fate::Failed { error: e.to_string() },
+                    end: None,
+                    stats: RunStats::default(),
+                };
+            }
+        };
+        let start = spec.start_state();
+        let particle = match self.injector.particle(&spec) {
+            Ok(p) => p,
+            Err(e) => {
+                return ParticleRecord {
+                    index,
+                    spec: Some(spec),
+                    fate: Fate::Failed { error: e.to_string() },
+                    end: Some(start),
+                    stats: RunStats::default(),
+                };
+            }
+        };
+        let contact = ContactEvent::new(self.boundary, &particle, self.flow, self.contact);
+        let mut memory = I::Memory::default();
+        let mut stats = RunStats::default();
+        let mut last = start;
+        let result = integrate(
+            self.integrator,
+            &particle,
+            self.flow,
+            start,
+            &mut memory,
+            &self.plan,
+            &[&contact],
+            |_| {},
+            |step| {
+                stats.steps += 1;
+                stats.rejected += u64::from(step.info.rejected);
+                stats.rhs_evals += u64::from(step.info.rhs_evals);
+                stats.jac_evals += u64::from(step.info.jac_evals);
+                stats.newton_iters += u64::from(step.info.newton_iters);
+                stats.max_newton_iters = stats.max_newton_iters.max(step.info.newton_iters);
+                last = step.state;
+            },
+        );
+        let (fate, end) = match result {
+            Ok(out) => {
+                let fate = match out.stop {
+                    Stop::EndTime => Fate::Suspended,
+                    Stop::Event { .. } => {
+                        let patch = contact.nearest(&out.state).patch;
+                        match self.boundary.rule(patch) {
+                            PatchRule::Stick => Fate::Deposited {
+                                patch,
+                                position: out.state.x,
+                                time: out.state.t,
+                            },
+                            PatchRule::Exit => Fate::Escaped {
+                                patch,
+                                time: out.state.t,
+                            },
+                        }
+                    }
+                };
+                (fate, out.state)
+            }
+            Err(e) => (Fate::Failed { error: e.to_string() }, last),
+        };
+        ParticleRecord {
+            index,
+            spec: Some(spec),
+            fate,
+            end: Some(end),
+            stats,
+        }
+    }
+
+    /// A hash (16 hex digits) of what determines the results of a run with `config`: the seed,
+    /// the number of particles, the caller's fingerprint, the integrator (its settings), the
+    /// plan and the contact model (their `Debug` forms print every f64 exactly). A checkpoint or shard
+    /// file carries it, so a resumed run or a merge refuses files of a different run.
+    ///
+    /// FNV-1a (64 bit, the `fnv` crate) over a fixed byte layout: stable across Rust releases,
+    /// unlike `std`'s `DefaultHasher`; it guards against mistakes, not against forgery.
+    pub fn config_hash(&self, config: &RunConfig) -> String {
+        let mut h = fnv::FnvHasher::default();
+        for part in [
+            "pseudorigid population v1",
+            &config.seed.to_string(),
+            &config.particles.to_string(),
+            &config.fingerprint,
+            &format!("{:?}", self.integrator),
+            &format!("{:?}", self.plan),
+            &format!("{:?}", self.contact),
+        ] {
+            h.write(&(part.len() as u64).to_le_bytes());
+            h.write(part.as_bytes());
+        }
+        format!("{:016x}", h.finish())
+    }
+}
+
+/// What identifies a run: its seed, its number of particles and a fingerprint of everything
+/// else that determines the results.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RunConfig {
+    /// Run seed s; particle k draws from [`super::particle_rng`]`(s, k)`.
+    pub seed: u64,
+    /// Number of particles N (indices 0..N).
+    pub particles: u64,
+    /// Text that determines the case beyond the integrator, the plan and the contact model:
+    /// e.g. the scene file, the flow field's identity and the injector's parameters. Resuming or merging checks it through [`Case::config_hash`].
+    pub fingerprint: String,
+}

@@ -1,0 +1,182 @@
+//! Checkpoints: finished particles, written in chunks as they finish.
+//!
+//! # Why restarting unfinished particles from their seed is exact
+//! A checkpoint holds the records of finished particles only, in files
+//! `chunk-<n>.json` of one folder, each written atomically
+//! ([`crate::output::write_atomic`]): a chunk is on disk whole or not at all, and a chunk once
+//! written is never rewritten, so a kill at any instant loses no finished record and leaves
+//! no half-written one. A resumed run loads every chunk and runs the particles that have no
+//! record, each from the start. A particle's record is a pure function of (case, seed, index)
+//! ([`super::Case::run_particle`]), so rerunning an unfinished particle from its seed gives
+//! bitwise the record the killed run would have produced, and the resumed run's results equal
+//! an uninterrupted run's. What a kill costs is the work on the particles in flight: at most
+//! one particle per thread plus the records not yet flushed (one checkpoint interval). Saving
+//! mid-flight integrator states would bound the loss further but would make the record depend
+//! on where the run was cut: the driver's step-size proposal and output schedule live in its
+//! loop, not in the step memory.
+
+use super::record::ParticleRecord;
+use super::shard::Shard;
+use super::{FORMAT, PopulationError};
+use crate::output::write_atomic;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// One chunk file.
+#[derive(Serialize, Deserialize)]
+struct Chunk<L> {
+    format: u32,
+    config_hash: String,
+    shard: Shard,
+    records: Vec<ParticleRecord<L>>,
+}
+
+/// Prefix and suffix of chunk file names.
+const PREFIX: &str = "chunk-";
+const SUFFIX: &str = ".json";
+
+/// A checkpoint folder of one run's shard.
+#[derive(Debug)]
+pub(crate) struct Checkpoint {
+    dir: PathBuf,
+    config_hash: String,
+    shard: Shard,
+    next: u64,
+}
+
+impl Checkpoint {
+    /// Open `dir` for the run with `config_hash` and `shard`: the finished records found there
+    /// (by index) and the checkpoint to add chunks to. Chunks of another run or shard, or
+    /// records of particles outside the shard, are errors; so is a non-empty checkpoint when
+    /// `resume` is false (a new run would mix with an old one).
+    pub(crate) fn open<L: Serialize + DeserializeOwned + PartialEq>(
+        dir: &Path,
+        config_hash: &str,
+        shard: Shard,
+        particles: u64,
+        resume: bool,
+    ) -> Result<(Self, BTreeMap<u64, ParticleRecord<L>>), PopulationError> {
+        let files = chunk_files(dir)?;
+        if !resume && !files.is_empty() {
+            return Err(PopulationError::CheckpointExists {
+                dir: dir.to_path_buf(),
+                chunks: files.len(),
+            });
+        }
+        let mut done = BTreeMap::new();
+        for (_, path) in &files {
+            let text = std::fs::read(path).map_err(|source| PopulationError::Io {
+                path: path.clone(),
+                source,
+            })?;
+            let chunk: Chunk<L> = serde_json::from_slice(&text).map_err(|source| PopulationError::Json {
+                path: Some(path.clone()),
+                source,
+            })?;
+            if chunk.format != FORMAT {
+                return Err(PopulationError::Format {
+                    path: path.clone(),
+                    found: chunk.format,
+                    expected: FORMAT,
+                });
+            }
+            if chunk.config_hash != config_hash {
+                return Err(PopulationError::ConfigMismatch {
+                    path: Some(path.clone()),
+                    expected: config_hash.to_string(),
+                    found: chunk.config_hash,
+                });
+            }
+            if chunk.shard != shard {
+                return Err(PopulationError::ShardMismatch {
+                    path: Some(path.clone()),
+                    expected: shard,
+                    found: chunk.shard,
+                });
+            }
+            for record in chunk.records {
+                if !(record.index < particles && shard.owns(record.index)) {
+                    return Err(PopulationError::ForeignRecord {
+                        path: path.clone(),
+                        index: record.index,
+                        shard,
+                    });
+                }
+                if let Some(old) = done.get(&record.index)
+                    && *old != record
+                {
+                    return Err(PopulationError::ConflictingRecords {
+                        path: path.clone(),
+                        index: record.index,
+                    });
+                }
+                let _ = done.insert(record.index, record);
+            }
+        }
+        let next = files.last().map_or(0, |(n, _)| n + 1);
+        Ok((
+            Self {
+                dir: dir.to_path_buf(),
+                config_hash: config_hash.to_string(),
+                shard,
+                next,
+            },
+            done,
+        ))
+    }
+
+    /// Write `records` as the next chunk (atomically).
+    pub(crate) fn write<L: Serialize>(&mut self, records: &[ParticleRecord<L>]) -> Result<(), PopulationError> {
+        #[derive(Serialize)]
+        struct ChunkRef<'a, L> {
+            format: u32,
+            config_hash: &'a str,
+            shard: Shard,
+            records: &'a [ParticleRecord<L>],
+        }
+        let chunk = ChunkRef {
+            format: FORMAT,
+            config_hash: &self.config_hash,
+            shard: self.shard,
+            records,
+        };
+        let text = serde_json::to_vec(&chunk).map_err(|source| PopulationError::Json { path: None, source })?;
+        write_atomic(self.dir.join(format!("{PREFIX}{:08}{SUFFIX}", self.next)), &text)?;
+        self.next += 1;
+        Ok(())
+    }
+}
+
+/// The chunk files in `dir` (absent folder: none), by ascending number.
+fn chunk_files(dir: &Path) -> Result<Vec<(u64, PathBuf)>, PopulationError> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(source) => {
+            return Err(PopulationError::Io {
+                path: dir.to_path_buf(),
+                source,
+            });
+        }
+    };
+    let mut files = Vec::new();
+    for entry in entries {
+        let entry = entry.map_err(|source| PopulationError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        let name = entry.file_name();
+        let number = name
+            .to_str()
+            .and_then(|n| n.strip_prefix(PREFIX))
+            .and_then(|n| n.strip_suffix(SUFFIX))
+            .and_then(|n| n.parse::<u64>().ok());
+        if let Some(n) = number {
+            files.push((n, entry.path()));
+        }
+    }
+    files.sort_unstable();
+    Ok(files)
+}

@@ -1,0 +1,194 @@
+//! Populations of independent particles: a deterministic runner with progress, checkpoints
+//! and sharding (paper §6.4: "a statistically relevant number of soft particles in complex
+//! flow situations").
+//!
+//! # Shape of the API
+//! ```text
+//! impl Injector for MyInjection {                      // spec.rs: how particle k is drawn
+//!     type Law = NeoHooke; type Drag = Brenner;
+//!     fn draw(&self, k, rng: &mut ParticleRng) -> Result<ParticleSpec<Law>, StepError>;
+//!     fn particle(&self, spec) -> Result<Particle<Softness<Law>, Drag>, ParamError>;  // ParticleTemplate::build
+//! }
+//! let case = Case::new(&integrator, &flow, &boundary, &injector, plan);   // case.rs
+//! let config = RunConfig { seed, particles: n, fingerprint: scene_text };
+//! let shard = Shard::from_env()?.unwrap_or(Shard::ALL);                   // or "k/N".parse()
+//! let options = RunOptions::default().with_checkpoints(dir, CHECKPOINT_INTERVAL).resume(true);
+//! let out: RunOutput<NeoHooke> = run(&case, &config, shard, &options)?;   // runner.rs
+//! out.write_json(path)?;  out.table()?.write(csv_path)?;                 // output.rs
+//! let whole = RunOutput::<NeoHooke>::merge_files(&shard_paths)?;          // == the unsharded run
+//! ```
+//! - [`spec`]: [`ParticleSpec`] (shape and orientation, softness, injection point and
+//!   velocity), the [`Injector`] trait, [`ParticleTemplate`], per-particle generators
+//!   [`particle_rng`];
+//! - [`sampling`]: uniform points on a disc, uniform rotations;
+//! - [`case`]: [`Case`] (integrator, flow, boundary, injector, plan, contact model),
+//!   [`Case::run_particle`], [`RunConfig`] and the configuration hash;
+//! - [`record`]: [`Fate`] (deposited, escaped, suspended, failed), [`ParticleRecord`];
+//! - [`runner`]: [`run`] with [`RunOptions`] (parallel or serial, progress, checkpoints);
+//! - [`progress`], [`checkpoint`], [`shard`], [`output`]: progress reports, checkpoint files,
+//!   shards `k/N`, result files and their merge.
+//!
+//! # Determinism
+//! Particle k draws from its own generator (stream k of the run seed) and shares nothing
+//! with the others, so its record is a pure function of (case, seed, k): the same serially,
+//! on any number of threads, in any shard, and after any number of kills and resumes. The
+//! tests compare the JSON bytes.
+
+pub mod case;
+pub mod checkpoint;
+pub mod output;
+pub mod progress;
+pub mod record;
+pub mod runner;
+pub mod sampling;
+pub mod shard;
+pub mod spec;
+
+pub use case::{Case, RunConfig};
+pub use output::RunOutput;
+pub use progress::Progress;
+pub use record::{Fate, FateCounts, ParticleRecord};
+pub use runner::{CHECKPOINT_INTERVAL, RunOptions, run};
+pub use shard::Shard;
+pub use spec::{Injector, ParticleRng, ParticleSpec, ParticleTemplate, particle_rng};
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Version of the result and checkpoint files.
+pub const FORMAT: u32 = 1;
+
+/// Failures of a population run, its files and their merge. (A particle that fails is not
+/// one of these: it is recorded as [`Fate::Failed`].)
+#[derive(Debug, Error)]
+pub enum PopulationError {
+    /// A shard index outside 0..count, or count 0.
+    #[error("shard {index}/{count} does not exist (need 0 <= index < count)")]
+    ShardOutOfRange {
+        /// Index asked for.
+        index: u64,
+        /// Number of shards.
+        count: u64,
+    },
+    /// A shard given as text is not `k/N`.
+    #[error("shard `{text}` is not of the form k/N (e.g. 3/16)")]
+    BadShard {
+        /// The text.
+        text: String,
+    },
+    /// An environment variable that names a shard is not a number.
+    #[error("environment variable {name}={value:?} is not a non-negative integer")]
+    BadEnvironment {
+        /// Variable.
+        name: &'static str,
+        /// Its value.
+        value: String,
+    },
+    /// A checkpoint, shard or result file belongs to a different run.
+    #[error("{} belongs to a different run: configuration hash {found}, this run has {expected}", path.as_ref().map_or("a shard output".to_string(), |p| p.display().to_string()))]
+    ConfigMismatch {
+        /// File concerned, if one.
+        path: Option<PathBuf>,
+        /// This run's hash.
+        expected: String,
+        /// The file's hash.
+        found: String,
+    },
+    /// A checkpoint or shard output of a different sharding.
+    #[error("{} holds shard {found}, expected shard {expected}", path.as_ref().map_or("a shard output".to_string(), |p| p.display().to_string()))]
+    ShardMismatch {
+        /// File concerned, if one.
+        path: Option<PathBuf>,
+        /// Expected shard.
+        expected: Shard,
+        /// The file's shard.
+        found: Shard,
+    },
+    /// A checkpoint holds a particle that is not this shard's.
+    #[error("{path} holds particle {index}, which is not in shard {shard}")]
+    ForeignRecord {
+        /// Chunk file.
+        path: PathBuf,
+        /// Particle index.
+        index: u64,
+        /// The run's shard.
+        shard: Shard,
+    },
+    /// Two checkpoint chunks hold different records of one particle.
+    #[error("{path} holds a record of particle {index} that differs from an earlier chunk's")]
+    ConflictingRecords {
+        /// The later chunk.
+        path: PathBuf,
+        /// Particle index.
+        index: u64,
+    },
+    /// A new run would write into the checkpoint of an earlier one.
+    #[error("{dir} already holds {chunks} checkpoint chunk(s); resume the run or remove them")]
+    CheckpointExists {
+        /// Checkpoint folder.
+        dir: PathBuf,
+        /// Chunk files found.
+        chunks: usize,
+    },
+    /// A merge is missing shards.
+    #[error("merge of {count} shards: shards {missing:?} are missing")]
+    MissingShards {
+        /// Number of shards.
+        count: u64,
+        /// The first missing shard indices (at most 16).
+        missing: Vec<u64>,
+    },
+    /// A merge got one shard twice.
+    #[error("merge: shard {shard} appears twice")]
+    RepeatedShard {
+        /// The shard.
+        shard: Shard,
+    },
+    /// A shard output does not hold exactly its particles.
+    #[error("shard {shard} holds {records} records, not exactly its {expected} particles in order")]
+    IncompleteShard {
+        /// The shard.
+        shard: Shard,
+        /// Records found.
+        records: u64,
+        /// Particles the shard owns.
+        expected: u64,
+    },
+    /// Two shards name one patch index differently.
+    #[error("shards disagree on a patch name: `{first}` vs `{second}`")]
+    PatchMismatch {
+        /// Name in one shard.
+        first: String,
+        /// Name in another.
+        second: String,
+    },
+    /// A file of another format version.
+    #[error("{path} has format {found}, this version reads {expected}")]
+    Format {
+        /// File.
+        path: PathBuf,
+        /// Its version.
+        found: u32,
+        /// The supported version.
+        expected: u32,
+    },
+    /// Reading a file failed.
+    #[error("cannot read {path}: {source}")]
+    Io {
+        /// File or folder.
+        path: PathBuf,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+    /// A file is not valid JSON of the expected shape.
+    #[error("{}: {source}", path.as_ref().map_or("JSON".to_string(), |p| p.display().to_string()))]
+    Json {
+        /// File, if one.
+        path: Option<PathBuf>,
+        /// Underlying error.
+        source: serde_json::Error,
+    },
+    /// Writing a file failed.
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
+}

@@ -1,0 +1,234 @@
+//! The results of a run or a shard: one JSON file that round-trips every f64 exactly, a CSV
+//! table for reading, and the merge of shard files.
+
+use super::record::{FateCounts, ParticleRecord};
+use super::shard::Shard;
+use super::{FORMAT, PopulationError};
+use crate::ellipsoid::PrincipalFrame;
+use crate::material::Hyperelastic;
+use crate::output::{Csv, write_atomic};
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The results of a run (or of one shard of it), sorted by particle index.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunOutput<L> {
+    /// File format version.
+    pub format: u32,
+    /// [`super::Case::config_hash`] of the run.
+    pub config_hash: String,
+    /// Run seed.
+    pub seed: u64,
+    /// Particles in the whole run (all shards).
+    pub particles: u64,
+    /// The shard these records are ([`Shard::ALL`] for a whole or merged run).
+    pub shard: Shard,
+    /// Names of patches 0..=p, p the largest patch index touched.
+    pub patches: Vec<String>,
+    /// One record per particle of the shard, by ascending index.
+    pub records: Vec<ParticleRecord<L>>,
+}
+
+impl<L: Serialize + DeserializeOwned> RunOutput<L> {
+    /// How many particles met each fate.
+    pub fn counts(&self) -> FateCounts {
+        FateCounts::of(&self.records)
+    }
+
+    /// The JSON text (compact; shortest round-trip f64, parsed back exactly with serde_json's
+    /// `float_roundtrip`).
+    pub fn to_json(&self) -> Result<Vec<u8>, PopulationError> {
+        serde_json::to_vec(self).map_err(|source| PopulationError::Json { path: None, source })
+    }
+
+    /// Write the JSON file atomically.
+    pub fn write_json(&self, path: impl AsRef<Path>) -> Result<(), PopulationError> {
+        Ok(write_atomic(path, &self.to_json()?)?)
+    }
+
+    /// Read a JSON file written by [`RunOutput::write_json`].
+    pub fn read_json(path: impl AsRef<Path>) -> Result<Self, PopulationError> {
+        let path = path.as_ref();
+        let text = std::fs::read(path).map_err(|source| PopulationError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let out: Self = serde_json::from_slice(&text).map_err(|source| PopulationError::Json {
+            path: Some(path.to_path_buf()),
+            source,
+        })?;
+        if out.format != FORMAT {
+            return Err(PopulationError::Format {
+                path: path.to_path_buf(),
+                found: out.format,
+                expected: FORMAT,
+            });
+        }
+        Ok(out)
+    }
+
+    /// Merge the outputs of all shards 0/N … (N−1)/N of one run into the whole run: the same
+    /// records, sorted by index, as an unsharded run writes. Refuses outputs of different runs,
+    /// a missing or repeated shard, and a shard whose records are not exactly its particles.
+    pub fn merge(parts: Vec<Self>) -> Result<Self, PopulationError> {
+        let Some(first) = parts.first() else {
+            return Err(PopulationError::MissingShards {
+                count: 0,
+                missing: vec![],
+            });
+        };
+        let (hash, seed, particles, count) = (
+            first.config_hash.clone(),
+            first.seed,
+            first.particles,
+            first.shard.count(),
+        );
+        for p in &parts {
+            if p.config_hash != hash || p.seed != seed || p.particles != particles {
+                return Err(PopulationError::ConfigMismatch {
+                    path: None,
+                    expected: hash,
+                    found: p.config_hash.clone(),
+                });
+            }
+            if p.shard.count() != count {
+                return Err(PopulationError::ShardMismatch {
+                    path: None,
+                    expected: first.shard,
+                    found: p.shard,
+                });
+            }
+        }
+        let mut present: Vec<u64> = parts.iter().map(|p| p.shard.index()).collect();
+        present.sort_unstable();
+        if let Some(w) = present.windows(2).find(|w| w[0] == w[1]) {
+            return Err(PopulationError::RepeatedShard {
+                shard: Shard::new(w[0], count)?,
+            });
+        }
+        if (present.len() as u64) < count {
+            // Indices are distinct and < count, so a gap exists; list the first few.
+            let mut missing = Vec::new();
+            let mut next = 0;
+            for &k in present.iter().chain(std::iter::once(&count)) {
+                missing.extend((next..k).take(16 - missing.len()));
+                next = k + 1;
+                if missing.len() == 16 {
+                    break;
+                }
+            }
+            return Err(PopulationError::MissingShards { count, missing });
+        }
+        let mut patches: Vec<String> = Vec::new();
+        for p in &parts {
+            let expected = p.shard.indices(particles);
+            let got = p.records.iter().map(|r| r.index);
+            if p.records.len() as u64 != p.shard.len(particles) || !expected.eq(got) {
+                return Err(PopulationError::IncompleteShard {
+                    shard: p.shard,
+                    records: p.records.len() as u64,
+                    expected: p.shard.len(particles),
+                });
+            }
+            for (a, b) in patches.iter().zip(&p.patches) {
+                if a != b {
+                    return Err(PopulationError::PatchMismatch {
+                        first: a.clone(),
+                        second: b.clone(),
+                    });
+                }
+            }
+            if p.patches.len() > patches.len() {
+                patches = p.patches.clone();
+            }
+        }
+        let mut records: Vec<ParticleRecord<L>> = parts.into_iter().flat_map(|p| p.records).collect();
+        records.sort_by_key(|r| r.index);
+        Ok(Self {
+            format: FORMAT,
+            config_hash: hash,
+            seed,
+            particles,
+            shard: Shard::ALL,
+            patches,
+            records,
+        })
+    }
+
+    /// [`RunOutput::merge`] of the JSON files at `paths`.
+    pub fn merge_files<P: AsRef<Path>>(paths: &[P]) -> Result<Self, PopulationError> {
+        Self::merge(paths.iter().map(Self::read_json).collect::<Result<_, _>>()?)
+    }
+}
+
+/// Columns of [`RunOutput::table`].
+pub const TABLE_HEADER: [&str; 20] = [
+    "index",
+    "fate",
+    "patch",
+    "patch_name",
+    "t",
+    "x1",
+    "x2",
+    "x3",
+    "r1",
+    "r2",
+    "r3",
+    "x0_1",
+    "x0_2",
+    "x0_3",
+    "rest_r1",
+    "rest_r2",
+    "rest_r3",
+    "mu_s",
+    "steps",
+    "error",
+];
+
+impl<L: Hyperelastic + Serialize + DeserializeOwned> RunOutput<L> {
+    /// One row per particle: fate, patch, end time and barycentre, current semi-axes r₁ ≥ r₂ ≥
+    /// r₃ at the end, injection point, rest semi-axes, shear modulus μ_s (empty: rigid), steps
+    /// and the error of a failed particle (commas and line breaks replaced by spaces). Empty
+    /// fields where a quantity does not exist.
+    pub fn table(&self) -> Result<Csv, PopulationError> {
+        let mut csv = Csv::new(&TABLE_HEADER);
+        let num = |v: f64| format!("{v:?}");
+        for r in &self.records {
+            let mut row = vec![r.index.to_string(), r.fate.label().to_string()];
+            match r.fate.patch() {
+                Some(p) => row.extend([p.to_string(), self.patches.get(p).cloned().unwrap_or_default()]),
+                None => row.extend([String::new(), String::new()]),
+            }
+            match &r.end {
+                Some(s) => row.extend([s.t, s.x[0], s.x[1], s.x[2]].map(num)),
+                None => row.extend([const { String::new() }; 4]),
+            }
+            match (&r.spec, &r.end) {
+                (Some(spec), Some(s)) => {
+                    let frame = PrincipalFrame::from_total_distortion(&(s.f * spec.shape.shape_tensor()));
+                    row.extend(frame.r.iter().map(|&v| num(v)));
+                }
+                _ => row.extend([const { String::new() }; 3]),
+            }
+            match &r.spec {
+                Some(spec) => {
+                    row.extend(spec.position.iter().map(|&v| num(v)));
+                    row.extend(spec.shape.semi_axes().iter().map(|&v| num(v)));
+                    row.push(match &spec.softness {
+                        crate::material::Softness::Rigid => String::new(),
+                        crate::material::Softness::Elastic(law) => num(law.shear_modulus()),
+                    });
+                }
+                None => row.extend([const { String::new() }; 7]),
+            }
+            row.push(r.stats.steps.to_string());
+            row.push(match &r.fate {
+                super::Fate::Failed { error } => error.replace([',', '\n', '\r'], " "),
+                _ => String::new(),
+            });
+            csv.push(row)?;
+        }
+        Ok(csv)
+    }
+}

@@ -1,0 +1,105 @@
+//! What became of one particle.
+
+use super::spec::ParticleSpec;
+use crate::driver::RunStats;
+use crate::particle::State;
+use crate::tensor::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// The terminal event of one particle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Fate {
+    /// It touched a [`crate::contact::PatchRule::Stick`] patch.
+    Deposited {
+        /// Patch index ([`crate::contact::Boundary::patch_name`]).
+        patch: usize,
+        /// Barycentre at contact.
+        position: Vec3,
+        /// Time of contact.
+        time: f64,
+    },
+    /// It touched a [`crate::contact::PatchRule::Exit`] patch.
+    Escaped {
+        /// Patch index.
+        patch: usize,
+        /// Time of exit.
+        time: f64,
+    },
+    /// It was still inside at the end time.
+    Suspended,
+    /// Drawing, building or advancing it failed; the run went on with the others.
+    Failed {
+        /// The error, as displayed.
+        error: String,
+    },
+}
+
+impl Fate {
+    /// Short label for tables: `deposited`, `escaped`, `suspended` or `failed`.
+    pub fn label(&self) -> &'static str {
+        match self {
+            Fate::Deposited { .. } => "deposited",
+            Fate::Escaped { .. } => "escaped",
+            Fate::Suspended => "suspended",
+            Fate::Failed { .. } => "failed",
+        }
+    }
+
+    /// The patch touched, if any.
+    pub fn patch(&self) -> Option<usize> {
+        match self {
+            Fate::Deposited { patch, .. } | Fate::Escaped { patch, .. } => Some(*patch),
+            Fate::Suspended | Fate::Failed { .. } => None,
+        }
+    }
+}
+
+/// One particle of a population: what it was and what became of it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParticleRecord<L> {
+    /// Particle index k (its generator is stream k of the run seed).
+    pub index: u64,
+    /// Its specification; `None` only when drawing it failed.
+    pub spec: Option<ParticleSpec<L>>,
+    /// Its terminal event.
+    pub fate: Fate,
+    /// The last state: at contact, exit or the end time, or the last accepted one before a
+    /// failure; `None` only when drawing it failed.
+    pub end: Option<State>,
+    /// Work of its run.
+    pub stats: RunStats,
+}
+
+/// How many particles met each fate.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FateCounts {
+    /// Deposited on a wall.
+    pub deposited: u64,
+    /// Escaped through an exit.
+    pub escaped: u64,
+    /// Still inside at the end time.
+    pub suspended: u64,
+    /// Failed.
+    pub failed: u64,
+}
+
+impl FateCounts {
+    /// Count the fates of `records`.
+    pub fn of<'a, L: 'a>(records: impl IntoIterator<Item = &'a ParticleRecord<L>>) -> Self {
+        let mut c = Self::default();
+        for r in records {
+            match r.fate {
+                Fate::Deposited { .. } => c.deposited += 1,
+                Fate::Escaped { .. } => c.escaped += 1,
+                Fate::Suspended => c.suspended += 1,
+                Fate::Failed { .. } => c.failed += 1,
+            }
+        }
+        c
+    }
+
+    /// All particles counted.
+    pub fn total(&self) -> u64 {
+        self.deposited + self.escaped + self.suspended + self.failed
+    }
+}

@@ -1,0 +1,224 @@
+//! Running a population (or one shard of it): particles in parallel, results collected,
+//! checkpointed and reported by one collector thread.
+
+use super::FORMAT;
+use super::PopulationError;
+use super::case::{Case, RunConfig};
+use super::checkpoint::Checkpoint;
+use super::output::RunOutput;
+use super::progress::{Progress, Reporter};
+use super::record::ParticleRecord;
+use super::shard::Shard;
+use super::spec::Injector;
+use crate::contact::Boundary;
+use crate::flow::FlowField;
+use crate::integrator::TimeIntegrator;
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// How to run: in parallel or serially, with which progress report, with or without
+/// checkpoints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOptions {
+    parallel: bool,
+    progress: Progress,
+    checkpoint: Option<CheckpointOptions>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct CheckpointOptions {
+    dir: PathBuf,
+    interval: Duration,
+    resume: bool,
+}
+
+impl Default for RunOptions {
+    /// Parallel (rayon's current pool), [`Progress::Auto`], no checkpoints.
+    fn default() -> Self {
+        Self {
+            parallel: true,
+            progress: Progress::Auto,
+            checkpoint: None,
+        }
+    }
+}
+
+/// Checkpoint interval of [`RunOptions::with_checkpoints`] callers that have no better idea:
+/// a minute of work at most is lost to a kill.
+pub const CHECKPOINT_INTERVAL: Duration = Duration::from_secs(60);
+
+impl RunOptions {
+    /// Run the particles one after the other on the calling thread.
+    pub fn serial(mut self) -> Self {
+        self.parallel = false;
+        self
+    }
+
+    /// Report progress as `progress` says.
+    pub fn with_progress(mut self, progress: Progress) -> Self {
+        self.progress = progress;
+        self
+    }
+
+    /// No progress report.
+    pub fn quiet(self) -> Self {
+        self.with_progress(Progress::Quiet)
+    }
+
+    /// Write the finished records into `dir` every `interval` and at the end
+    /// ([`super::checkpoint`]). An existing non-empty checkpoint there is an error unless
+    /// [`RunOptions::resume`] is set.
+    pub fn with_checkpoints(mut self, dir: impl AsRef<Path>, interval: Duration) -> Self {
+        self.checkpoint = Some(CheckpointOptions {
+            dir: dir.as_ref().to_path_buf(),
+            interval,
+            resume: false,
+        });
+        self
+    }
+
+    /// Continue from the checkpoint folder's records (a missing or empty folder starts afresh).
+    /// Without checkpoints this does nothing.
+    pub fn resume(mut self, resume: bool) -> Self {
+        if let Some(c) = &mut self.checkpoint {
+            c.resume = resume;
+        }
+        self
+    }
+}
+
+/// Run shard `shard` of the population `config` of `case` and return its records by
+/// ascending index. Each particle is [`Case::run_particle`]; a particle that fails is recorded
+/// as [`super::Fate::Failed`] and the run goes on. With checkpoints, finished records go to
+/// disk as the run proceeds and a resumed run skips them; the results are bitwise the same
+/// for any number of threads, serial or parallel, with or without restarts, and for the
+/// merge of any sharding ([`RunOutput::merge`]).
+///
+/// Parallel runs use the current rayon pool: call inside `pool.install(..)` to choose one.
+pub fn run<I, F, B, J>(
+    case: &Case<'_, I, F, B, J>,
+    config: &RunConfig,
+    shard: Shard,
+    options: &RunOptions,
+) -> Result<RunOutput<J::Law>, PopulationError>
+where
+    I: TimeIntegrator + std::fmt::Debug,
+    F: FlowField + ?Sized,
+    B: Boundary + ?Sized,
+    J: Injector,
+{
+    let hash = case.config_hash(config);
+    let (checkpoint, done) = match &options.checkpoint {
+        Some(c) => {
+            let (cp, done) = Checkpoint::open(&c.dir, &hash, shard, config.particles, c.resume)?;
+            (Some((cp, c.interval)), done)
+        }
+        None => (None, BTreeMap::new()),
+    };
+    let todo: Vec<u64> = shard
+        .indices(config.particles)
+        .filter(|k| !done.contains_key(k))
+        .collect();
+    let total = shard.len(config.particles);
+    let label = format!("population shard {shard}");
+    let reporter = Reporter::start(options.progress, &label, total, done.len() as u64);
+    let abort = AtomicBool::new(false);
+    let (tx, rx) = mpsc::channel::<ParticleRecord<J::Law>>();
+    let collected = std::thread::scope(|scope| {
+        let collector = scope.spawn(|| collect(rx, done, checkpoint, reporter, &abort));
+        let work = |tx: &mut mpsc::Sender<ParticleRecord<J::Law>>, k: u64| {
+            if abort.load(Ordering::Relaxed) {
+                return;
+            }
+            // A closed channel means the collector failed; its error is reported below.
+            let _ = tx.send(case.run_particle(config.seed, k));
+        };
+        if options.parallel {
+            todo.par_iter().for_each_with(tx, |tx, &k| work(tx, k));
+        } else {
+            let mut tx = tx;
+            todo.iter().for_each(|&k| work(&mut tx, k));
+        }
+        collector.join()
+    });
+    let records = match collected {
+        Ok(result) => result?,
+        Err(panic) => std::panic::resume_unwind(panic),
+    };
+    let patches = match records.iter().filter_map(|r| r.fate.patch()).max() {
+        Some(max) => (0..=max).map(|p| case.boundary().patch_name(p).to_string()).collect(),
+        None => Vec::new(),
+    };
+    Ok(RunOutput {
+        format: FORMAT,
+        config_hash: hash,
+        seed: config.seed,
+        particles: config.particles,
+        shard,
+        patches,
+        records,
+    })
+}
+
+/// Receive records until every worker is done: report progress, write a checkpoint chunk
+/// every interval and at the end, and return all records by index. On a write error, ask the
+/// workers to stop and return the error.
+fn collect<L: serde::Serialize>(
+    rx: mpsc::Receiver<ParticleRecord<L>>,
+    mut done: BTreeMap<u64, ParticleRecord<L>>,
+    mut checkpoint: Option<(Checkpoint, Duration)>,
+    mut reporter: Reporter,
+    abort: &AtomicBool,
+) -> Result<Vec<ParticleRecord<L>>, PopulationError> {
+    let mut pending: Vec<ParticleRecord<L>> = Vec::new();
+    let mut next_flush = checkpoint.as_ref().map(|(_, interval)| Instant::now() + *interval);
+    let flush = |pending: &mut Vec<ParticleRecord<L>>,
+                 done: &mut BTreeMap<u64, ParticleRecord<L>>,
+                 checkpoint: &mut Option<(Checkpoint, Duration)>|
+     -> Result<(), PopulationError> {
+        if let Some((cp, _)) = checkpoint
+            && !pending.is_empty()
+        {
+            cp.write(pending)?;
+        }
+        done.extend(pending.drain(..).map(|r| (r.index, r)));
+        Ok(())
+    };
+    let result = loop {
+        let now = Instant::now();
+        let wait = [
+            next_flush.map(|t| t.saturating_duration_since(now)),
+            reporter.until_due(),
+        ]
+        .into_iter()
+        .flatten()
+        .min();
+        let received = match wait {
+            Some(w) => rx.recv_timeout(w),
+            None => rx.recv().map_err(|_| mpsc::RecvTimeoutError::Disconnected),
+        };
+        match received {
+            Ok(record) => pending.push(record),
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => break flush(&mut pending, &mut done, &mut checkpoint),
+        }
+        if let Some(t) = next_flush
+            && Instant::now() >= t
+        {
+            if let Err(e) = flush(&mut pending, &mut done, &mut checkpoint) {
+                break Err(e);
+            }
+            next_flush = checkpoint.as_ref().map(|(_, interval)| Instant::now() + *interval);
+        }
+        reporter.update((done.len() + pending.len()) as u64);
+    };
+    if result.is_err() {
+        abort.store(true, Ordering::Relaxed);
+    }
+    reporter.finish(done.len() as u64);
+    result.map(|()| done.into_values().collect())
+}

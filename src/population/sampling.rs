@@ -1,0 +1,39 @@
+//! Draws that injection rules share: points uniform on a disc, rotations uniform on SO(3).
+
+use super::spec::ParticleRng;
+use crate::error::{ParamError, positive};
+use crate::tensor::{Mat3, Vec3};
+use nalgebra::{Quaternion, UnitQuaternion};
+use rand::RngExt;
+use std::f64::consts::PI;
+
+/// A point uniform (by area) on the disc of `radius` (> 0) about `centre` normal to `normal`
+/// (non-zero): radius ρ = R√u and angle φ = 2πw for u, w uniform on [0, 1), so that the area
+/// element ρ dρ dφ has constant density. The in-plane angle is measured from the unit vector
+/// along the component of e₁ (or e₂, when `normal` is nearer e₁) normal to `normal`.
+pub fn uniform_disc(rng: &mut ParticleRng, centre: &Vec3, normal: &Vec3, radius: f64) -> Result<Vec3, ParamError> {
+    let radius = positive("disc radius", radius)?;
+    let n = normal
+        .try_normalize(0.0)
+        .filter(|n| n.iter().all(|c| c.is_finite()))
+        .ok_or(ParamError::NotPositive {
+            name: "disc normal length",
+            value: normal.norm(),
+        })?;
+    let seed = if n.x.abs() < 0.9 { Vec3::x() } else { Vec3::y() };
+    let e1 = (seed - n * n.dot(&seed)).normalize();
+    let e2 = n.cross(&e1);
+    let (u, w): (f64, f64) = (rng.random(), rng.random());
+    let (rho, phi) = (radius * u.sqrt(), 2.0 * PI * w);
+    Ok(centre + rho * (phi.cos() * e1 + phi.sin() * e2))
+}
+
+/// A rotation uniform on SO(3) (Haar measure), from a unit quaternion uniform on S³ by
+/// Shoemake's (1992) construction from three uniform numbers.
+pub fn haar_rotation(rng: &mut ParticleRng) -> Mat3 {
+    let (u1, u2, u3): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
+    let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+    let (t2, t3) = (2.0 * PI * u2, 2.0 * PI * u3);
+    let q = Quaternion::new(b * t3.cos(), a * t2.sin(), a * t2.cos(), b * t3.sin());
+    UnitQuaternion::from_quaternion(q).to_rotation_matrix().into_inner()
+}

@@ -1,0 +1,115 @@
+//! What one particle of a population is, and how it is drawn from its own generator.
+//!
+//! # Per-particle seeds
+//! Particle k of a run with seed s draws its [`ParticleSpec`] from [`particle_rng`]`(s, k)`:
+//! ChaCha12 keyed by s (expanded to the 256-bit key by `rand_core`'s portable
+//! `seed_from_u64`) on stream k. ChaCha is a counter-based generator: its output is a keyed
+//! function of (stream, block counter), so the 2⁶⁴ streams of one key are independent
+//! sequences (Bernstein 2008; the `rand` project uses ChaCha12 for its standard generator), and
+//! particle k's numbers depend on (s, k) alone, never on the thread, shard or order that runs
+//! it. That is what makes a population the same whatever its layout.
+
+use crate::ellipsoid::Ellipsoid;
+use crate::error::{ParamError, StepError};
+use crate::hydro::DragModel;
+use crate::material::{Hyperelastic, Softness};
+use crate::particle::{Fluid, Particle, State};
+use crate::tensor::Vec3;
+use rand_chacha::ChaCha12Rng;
+use rand_chacha::rand_core::SeedableRng;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+/// The generator a particle draws its specification from.
+pub type ParticleRng = ChaCha12Rng;
+
+/// The generator of particle `index` in a run with seed `seed`: ChaCha12 keyed by `seed`, on
+/// stream `index`.
+pub fn particle_rng(seed: u64, index: u64) -> ParticleRng {
+    let mut rng = ChaCha12Rng::seed_from_u64(seed);
+    rng.set_stream(index);
+    rng
+}
+
+/// Everything that differs between the particles of a population: the stress-free ellipsoid
+/// (semi-axes and initial orientation), the shape response, and the injection point and
+/// velocity. The injection time is 0.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParticleSpec<L> {
+    /// Stress-free ellipsoid B₀: semi-axes along its initial axes (the orientation).
+    pub shape: Ellipsoid,
+    /// Rigid, or elastic with a hyperelastic law.
+    pub softness: Softness<L>,
+    /// Injection point x_c(0).
+    pub position: Vec3,
+    /// Injection velocity v_c(0).
+    pub velocity: Vec3,
+}
+
+impl<L> ParticleSpec<L> {
+    /// The stress-free state at injection (t = 0, F = 1, A = 0).
+    pub fn start_state(&self) -> State {
+        State {
+            v: self.velocity,
+            ..State::at_rest(self.position)
+        }
+    }
+}
+
+/// How a population's particles are drawn and built. `draw` must be a function of its
+/// arguments only (no clocks, no shared counters): particle `index` is then the same particle
+/// in every run layout.
+pub trait Injector: Sync {
+    /// The hyperelastic law of the elastic particles.
+    type Law: Hyperelastic + Clone + PartialEq + std::fmt::Debug + Serialize + DeserializeOwned;
+    /// The drag model of every particle.
+    type Drag: DragModel;
+
+    /// The specification of particle `index`, drawn from its own generator `rng`.
+    fn draw(&self, index: u64, rng: &mut ParticleRng) -> Result<ParticleSpec<Self::Law>, StepError>;
+
+    /// The particle model of `spec`.
+    fn particle(&self, spec: &ParticleSpec<Self::Law>)
+    -> Result<Particle<Softness<Self::Law>, Self::Drag>, ParamError>;
+}
+
+/// What the particles of a population share: drag model, carrier fluid, solid density and
+/// gravity. [`ParticleTemplate::build`] adds a [`ParticleSpec`]'s shape and response.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParticleTemplate<D> {
+    drag: D,
+    fluid: Fluid,
+    rho_solid: f64,
+    gravity: Vec3,
+}
+
+impl<D: DragModel + Clone> ParticleTemplate<D> {
+    /// Particles with drag `drag` in `fluid`, of density `rho_solid` (> 0) under `gravity`
+    /// (finite).
+    pub fn new(drag: D, fluid: Fluid, rho_solid: f64, gravity: Vec3) -> Result<Self, ParamError> {
+        for g in gravity.iter() {
+            crate::error::finite("gravity", *g)?;
+        }
+        Ok(Self {
+            drag,
+            fluid,
+            rho_solid: crate::error::positive("rho_s", rho_solid)?,
+            gravity,
+        })
+    }
+
+    /// The particle of `spec`.
+    pub fn build<L: Hyperelastic + Clone>(
+        &self,
+        spec: &ParticleSpec<L>,
+    ) -> Result<Particle<Softness<L>, D>, ParamError> {
+        Particle::with_drag(
+            spec.shape,
+            spec.softness.clone(),
+            self.drag.clone(),
+            self.fluid,
+            self.rho_solid,
+        )?
+        .with_gravity(self.gravity)
+    }
+}
