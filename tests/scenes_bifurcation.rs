@@ -32,15 +32,22 @@ fn stokes_number_from_the_paper_pairs() {
 
 /// The shipped field carries the case's patches with their roles, and conserves the inlet flow
 /// rate U πR² through a cross-section of the parent (x₁ = 10 mm) and of each daughter (the plane
-/// x₁ = 36 mm, one half each). The flux is integrated by the midpoint rule on a 0.05 mm grid over
-/// the points the mesh contains; the error budget is the reconstruction's O(h²) velocity error
+/// x₁ = 36 mm, one half each). The flux of the cellwise field is integrated by the midpoint rule
+/// on a 0.05 mm grid over the points the mesh contains; the error budget is the reconstruction's O(h²) velocity error
 /// ((0.4/3)² ≈ 2 % of the peak near the wall, less on average), the faceted wall (area deficit
 /// ≈ (h/R)²/6 ≈ 0.3 %) and the grid's boundary cells (a 0.05 mm band where u ≈ 0): 3 %.
 /// The two daughters split the flow equally by symmetry, to the same 3 %.
 #[test]
 fn shipped_field_conserves_the_flow_rate() {
     let a = airway();
-    let names: Vec<String> = a.flow().mesh().patches().iter().map(|p| p.name.clone()).collect();
+    let names: Vec<String> = a
+        .flow()
+        .cellwise()
+        .mesh()
+        .patches()
+        .iter()
+        .map(|p| p.name.clone())
+        .collect();
     for want in ["inlet", "outlet1", "outlet2", "wall"] {
         assert!(names.iter().any(|n| n == want), "patch {want} missing: {names:?}");
     }
@@ -57,7 +64,7 @@ fn shipped_field_conserves_the_flow_rate() {
                     y_from + (j as f64 + 0.5) * h,
                     -setup::RADIUS - h + (k as f64 + 0.5) * h,
                 );
-                if let Ok(s) = a.flow().sample(&x, 0.0) {
+                if let Ok(s) = a.flow().cellwise().sample(&x, 0.0) {
                     q += s.u[0] * h * h;
                 }
             }
@@ -75,4 +82,148 @@ fn shipped_field_conserves_the_flow_rate() {
             0.5 * q_in
         );
     }
+}
+
+/// The blended field reproduces a linear field u = a + Bx (and ∇u = B) on a snapped mesh with
+/// prisms and split-hex polyhedra: every cell fit is exact for linear fields and the weights
+/// sum to one, so only round-off remains. The fits solve small least-squares systems whose
+/// condition on snapped cells stays below ~10⁴; with |u| ≈ 1 that bounds the error by
+/// 10⁴ · 2.2e-16 · (terms ≈ 10) ≈ 2e-11, and 1e-9 leaves room for summation order.
+#[test]
+fn blended_field_is_exact_for_linear_fields() {
+    use pseudorigid::flow::openfoam::{BlendedFlow, FoamFlow, PolyMesh, VolField};
+    use pseudorigid::tensor::Mat3;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data/snappy-sphere/n10");
+    let mesh = PolyMesh::read(&dir).unwrap();
+    let a = Vec3::new(0.3, -0.2, 0.1);
+    let b = Mat3::new(0.5, -1.0, 0.25, 0.7, 0.1, -0.3, -0.2, 0.4, -0.6);
+    let lin = |x: &Vec3| a + b * x;
+    let internal = mesh
+        .cell_centres()
+        .iter()
+        .flat_map(|c| lin(c).iter().copied().collect::<Vec<_>>())
+        .collect();
+    let boundary = (mesh.n_internal_faces()..mesh.n_faces())
+        .flat_map(|f| lin(&mesh.face_centres()[f]).iter().copied().collect::<Vec<_>>())
+        .collect();
+    let field = VolField {
+        comps: 3,
+        internal,
+        boundary,
+    };
+    let flow = BlendedFlow::new(FoamFlow::new(mesh.clone(), vec![(0.0, field)]).unwrap());
+    let mut checked = 0;
+    for c in (0..mesh.n_cells()).step_by(7) {
+        // Points between a cell centre and one of its face centres lie inside that cell.
+        let face = mesh.cell_faces(c)[0] as usize;
+        let x = mesh.cell_centres()[c] * 0.7 + mesh.face_centres()[face] * 0.3;
+        let s = flow.sample(&x, 0.0).unwrap();
+        assert!((s.u - lin(&x)).amax() < 1e-9, "cell {c}: u {:?} vs {:?}", s.u, lin(&x));
+        assert!((s.grad_u - b).amax() < 1e-9, "cell {c}: grad {:?}", s.grad_u);
+        checked += 1;
+    }
+    assert!(checked > 50);
+}
+
+/// The blended field is continuous: along a line through the parent and across the carina,
+/// sampled every δ = 1 µm (hundreds of cell faces crossed), no step changes u by more than
+/// δ times 10 max|∇u| — the blend's derivative is the cells' gradients plus the weights'
+/// derivatives (≤ 5/r for Wendland's C² weight) times the differences between neighbouring
+/// fits, O(h²|∇²u|), which is of the order of |∇u| h ≤ |∇u| r. The cellwise field jumps by
+/// O(h²|∇²u|) at faces, independent of δ, and fails the same bound.
+#[test]
+fn blended_field_is_continuous() {
+    let a = airway();
+    let delta = 1e-6;
+    let (mut worst_blend, mut worst_cells, mut grad_max): (f64, f64, f64) = (0.0, 0.0, 0.0);
+    let path = |k: usize| Vec3::new(0.004 + k as f64 * delta, 3e-4, 2e-4);
+    let mut prev: Option<(Vec3, Vec3)> = None;
+    for k in 0..26_000 {
+        let x = path(k);
+        let (Ok(s), Ok(c)) = (a.flow().sample(&x, 0.0), a.flow().cellwise().sample(&x, 0.0)) else {
+            prev = None;
+            continue;
+        };
+        grad_max = grad_max.max(s.grad_u.norm());
+        if let Some((u_blend, u_cells)) = prev {
+            worst_blend = worst_blend.max((s.u - u_blend).norm());
+            worst_cells = worst_cells.max((c.u - u_cells).norm());
+        }
+        prev = Some((s.u, c.u));
+    }
+    let bound = 10.0 * grad_max * delta;
+    assert!(grad_max > 0.0);
+    assert!(worst_blend <= bound, "blended jump {worst_blend:e} > {bound:e}");
+    assert!(
+        worst_cells > bound,
+        "cellwise jump {worst_cells:e} (expected jumps at faces)"
+    );
+}
+
+/// Injection (paper §6.4): points uniform by area on the 5.5 mm disc at x₁ = 0.2 mm, velocity
+/// the local fluid velocity, orientation a rotation, and particle k the same whatever else was
+/// drawn. Uniform by area means ρ²/R² is uniform on [0, 1]: its mean over 2000 draws is ½ with
+/// standard error 1/√(12·2000) = 0.0065; 4 standard errors (0.026) fail by chance once in
+/// 1.6·10⁴ seeds. The same for the polar angle's cosine (mean 0, standard error
+/// 1/√(2·2000) = 0.016, so 0.064).
+#[test]
+fn injection_is_uniform_on_the_disc_with_the_fluid_velocity() {
+    use pseudorigid::population::{Injector, particle_rng};
+    use pseudorigid::scenes::bifurcation::{Injection, Kind, Material};
+    use pseudorigid::scenes::cavity::Shape;
+    let a = airway();
+    let kind = Kind {
+        shape: Shape::Prolate(5.0),
+        material: Material::ShearModulus(0.5),
+        stokes: 0.1,
+    };
+    let inj = Injection::new(a, kind).unwrap();
+    let r = 0.5 * setup::INJECTION_DIAMETER;
+    let (mut rho2, mut cos) = (0.0, 0.0);
+    let n = 2000;
+    for k in 0..n {
+        let spec = inj.draw(k, &mut particle_rng(7, k)).unwrap();
+        let again = inj.draw(k, &mut particle_rng(7, k)).unwrap();
+        assert_eq!(spec, again);
+        let p = spec.position;
+        assert_eq!(p[0], setup::INJECTION_X);
+        let rr = (p[1] * p[1] + p[2] * p[2]) / (r * r);
+        assert!(rr <= 1.0);
+        rho2 += rr;
+        cos += p[1] / (p[1] * p[1] + p[2] * p[2]).sqrt();
+        assert_eq!(spec.velocity, a.flow().sample(&p, 0.0).unwrap().u);
+        let axes = spec.shape.axes();
+        assert!((axes.transpose() * axes - pseudorigid::tensor::Mat3::identity()).amax() < 1e-12);
+        let semi = spec.shape.semi_axes();
+        let d_eq = 2.0 * semi.product().cbrt();
+        assert!((d_eq / setup::d_eq_for_stokes(0.1).unwrap() - 1.0).abs() < 1e-12);
+    }
+    assert!(
+        (rho2 / n as f64 - 0.5).abs() < 0.026,
+        "mean rho²/R² {}",
+        rho2 / n as f64
+    );
+    assert!((cos / n as f64).abs() < 0.064, "mean cos {}", cos / n as f64);
+}
+
+/// Histogram bins and the mean position of deposits at known places.
+#[test]
+fn histogram_and_mean_of_known_deposits() {
+    use pseudorigid::scenes::bifurcation::deposition::{Deposit, histogram, mean_position};
+    use pseudorigid::tensor::Mat3;
+    let at = |x1: f64| Deposit {
+        index: 0,
+        x: Vec3::new(x1 * setup::LENGTH, 0.0, 0.0),
+        patch: 0,
+        v: Mat3::identity(),
+        r: Vec3::repeat(1.0),
+    };
+    let deps = [at(0.01), at(0.77), at(0.771), at(0.999), at(1.2), at(-0.1)];
+    let h = histogram(&deps, 10);
+    assert_eq!(h, vec![2, 0, 0, 0, 0, 0, 0, 2, 0, 2]);
+    let (mean, se) = mean_position(&deps[1..3]).unwrap();
+    assert!((mean - 0.7705).abs() < 1e-12);
+    // Sample standard deviation of {0.77, 0.771} is 0.001/√2; over √2: 0.0005.
+    assert!((se - 0.0005).abs() < 1e-12);
+    assert!(mean_position(&deps[..1]).is_none());
 }

@@ -97,7 +97,8 @@ pub enum Shape {
 }
 
 impl Shape {
-    fn ratios(self) -> [f64; 3] {
+    /// Semi-axis ratios.
+    pub fn ratios(self) -> [f64; 3] {
         match self {
             Shape::Prolate(l) => [l, 1.0, 1.0],
             Shape::Oblate(l) => [l, l, 1.0],

@@ -12,6 +12,32 @@
 //! Readings where the paper is silent are listed in `cases/bifurcation/README.md` and at the
 //! items they concern ([`setup`]).
 
+pub mod deposition;
+pub mod figures;
+pub mod injection;
 pub mod setup;
+pub mod study;
+pub mod validity;
 
+pub use injection::{Injection, Kind, Material};
 pub use setup::{Airway, d_eq_for_stokes, stokes_number, zhang_reference};
+pub use study::{Efficiency, efficiency_table, run_kind};
+
+use thiserror::Error;
+
+/// Failures of a bifurcation study.
+#[derive(Debug, Error)]
+pub enum BifurcationError {
+    /// Invalid parameters.
+    #[error(transparent)]
+    Param(#[from] crate::error::ParamError),
+    /// The OpenFOAM case could not be read.
+    #[error(transparent)]
+    Foam(#[from] crate::flow::openfoam::FoamError),
+    /// The population run failed (a file, a checkpoint; not a particle).
+    #[error(transparent)]
+    Population(#[from] crate::population::PopulationError),
+    /// A dataset or figure could not be written.
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
+}

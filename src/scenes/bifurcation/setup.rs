@@ -11,7 +11,7 @@
 //! digits, for ρ_p/ρ_f ∈ [1993.7, 1994.4]; we take [`DENSITY_RATIO`] = 1994.
 
 use crate::error::{ParamError, positive};
-use crate::flow::openfoam::{FoamCase, FoamError, FoamFlow, MeshBoundary};
+use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, MeshBoundary};
 use crate::particle::Fluid;
 use std::path::{Path, PathBuf};
 
@@ -88,10 +88,12 @@ pub fn zhang_reference(stokes: f64) -> Result<f64, ParamError> {
 }
 
 /// The meshed airway: the steady flow and the particle boundaries (patches `inlet`, `outlet1`,
-/// `outlet2`: exits; `wall`: deposition).
+/// `outlet2`: exits; `wall`: deposition). The flow is the continuous blend of the cells' linear
+/// fits ([`BlendedFlow`]): the cellwise field's jumps at faces cost the adaptive integrator most
+/// of its steps and trap some particles on faces.
 #[derive(Debug, Clone)]
 pub struct Airway {
-    flow: FoamFlow,
+    flow: BlendedFlow,
     boundary: MeshBoundary,
     residence_time: f64,
 }
@@ -134,14 +136,14 @@ impl Airway {
             });
         }
         Ok(Self {
-            flow,
+            flow: BlendedFlow::new(flow),
             boundary,
             residence_time,
         })
     }
 
-    /// The steady flow.
-    pub fn flow(&self) -> &FoamFlow {
+    /// The steady flow (continuous blend).
+    pub fn flow(&self) -> &BlendedFlow {
         &self.flow
     }
 
@@ -162,9 +164,10 @@ impl Airway {
 
     /// Largest cell-centre speed of the field.
     pub fn max_speed(&self) -> f64 {
-        let mesh = self.flow.mesh();
+        let cells = self.flow.cellwise();
+        let mesh = cells.mesh();
         (0..mesh.n_cells())
-            .map(|c| self.flow.sample_cell(c, &mesh.cell_centres()[c], 0.0).u.norm())
+            .map(|c| cells.sample_cell(c, &mesh.cell_centres()[c], 0.0).u.norm())
             .fold(0.0, f64::max)
     }
 }
