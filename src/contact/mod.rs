@@ -20,9 +20,11 @@
 //! a corner, where two patches are about equally near, a scene should also cap the step by its
 //! flow speed ([`crate::driver::Plan::with_dt_max`]), as the cavity does.
 
+pub mod composite;
 pub mod pipe;
 pub mod planes;
 
+pub use composite::Composite;
 pub use pipe::PipeWall;
 pub use planes::{Plane, Planes};
 

@@ -4,6 +4,7 @@ use super::record::{Fate, ParticleRecord};
 use super::spec::{Injector, particle_rng};
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
 use crate::driver::{Plan, RunStats, Stop, integrate};
+use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::integrator::TimeIntegrator;
 use std::hash::Hasher;
@@ -135,7 +136,12 @@ where
                 };
                 (fate, out.state)
             }
-            Err(e) => (Fate::Failed { error: e.to_string() }, last),
+            Err(e) => (
+                Fate::Failed {
+                    error: failure_text(&e),
+                },
+                last,
+            ),
         };
         ParticleRecord {
             index,
@@ -171,6 +177,16 @@ where
     }
 }
 
+/// The text of a failed particle's error. Every error displays only numbers of the model,
+/// except the step budget's, which also shows the wall time spent: the record keeps the
+/// steps and the time reached, so that it stays the same on any machine and any load.
+fn failure_text(error: &StepError) -> String {
+    match error {
+        StepError::BudgetExceeded { steps, t, .. } => format!("step budget exceeded after {steps} steps at t = {t}"),
+        other => other.to_string(),
+    }
+}
+
 /// What identifies a run: its seed, its number of particles and a fingerprint of everything
 /// else that determines the results.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -180,6 +196,8 @@ pub struct RunConfig {
     /// Number of particles N (indices 0..N).
     pub particles: u64,
     /// Text that determines the case beyond the integrator, the plan and the contact model:
-    /// e.g. the scene file, the flow field's identity and the injector's parameters. Resuming or merging checks it through [`Case::config_hash`].
+    /// the flow field's identity, the boundary and the injector's parameters (e.g. the scene
+    /// file and the mesh's time directory). The runner cannot see these itself: a mesh's
+    /// `Debug` text would be as large as the mesh. Resuming or merging checks it through [`Case::config_hash`].
     pub fingerprint: String,
 }

@@ -9,13 +9,15 @@
 //!     fn draw(&self, k, rng: &mut ParticleRng) -> Result<ParticleSpec<Law>, StepError>;
 //!     fn particle(&self, spec) -> Result<Particle<Softness<Law>, Drag>, ParamError>;  // ParticleTemplate::build
 //! }
+//! let boundary = contact::Composite::new(outlet_planes, walls);          // or a MeshBoundary
 //! let case = Case::new(&integrator, &flow, &boundary, &injector, plan);   // case.rs
 //! let config = RunConfig { seed, particles: n, fingerprint: scene_text };
 //! let shard = Shard::from_env()?.unwrap_or(Shard::ALL);                   // or "k/N".parse()
-//! let options = RunOptions::default().with_checkpoints(dir, CHECKPOINT_INTERVAL).resume(true);
-//! let out: RunOutput<NeoHooke> = run(&case, &config, shard, &options)?;   // runner.rs
-//! out.write_json(path)?;  out.table()?.write(csv_path)?;                 // output.rs
-//! let whole = RunOutput::<NeoHooke>::merge_files(&shard_paths)?;          // == the unsharded run
+//! let options = RunOptions::default().resume(true);                      // runner.rs
+//! let result = run_in_dir(&case, &config, shard, &out, &options)?;       // checkpoints, JSON, CSV
+//! let whole = RunOutput::<NeoHooke>::merge_in_dir(&out)?;                // == the unsharded run
+//! // or by hand: run(&case, &config, shard, &options.with_checkpoints(dir, interval)),
+//! // RunOutput::{write_json, table, merge, merge_files, merge_dir}, result_path, checkpoint_dir
 //! ```
 //! - [`spec`]: [`ParticleSpec`] (shape and orientation, softness, injection point and
 //!   velocity), the [`Injector`] trait, [`ParticleTemplate`], per-particle generators
@@ -26,13 +28,17 @@
 //! - [`record`]: [`Fate`] (deposited, escaped, suspended, failed), [`ParticleRecord`];
 //! - [`runner`]: [`run`] with [`RunOptions`] (parallel or serial, progress, checkpoints);
 //! - [`progress`], [`checkpoint`], [`shard`], [`output`]: progress reports, checkpoint files,
-//!   shards `k/N`, result files and their merge.
+//!   shards `k/N`, result files, their standard paths and their merge;
+//! - [`settling_pipe`]: a cheap population with a closed-form answer (tests, benches).
 //!
 //! # Determinism
 //! Particle k draws from its own generator (stream k of the run seed) and shares nothing
 //! with the others, so its record is a pure function of (case, seed, k): the same serially,
-//! on any number of threads, in any shard, and after any number of kills and resumes. The
-//! tests compare the JSON bytes.
+//! on any number of threads, in any shard, and after any number of kills and resumes
+//! ([`checkpoint`] says why restarting a particle from its seed is exact). The tests compare
+//! the JSON bytes. Two things would break this and are kept out: a wall-time budget in the
+//! plan (a particle's fate would depend on the machine's load), and an [`Injector::draw`] that
+//! reads anything but its arguments.
 
 pub mod case;
 pub mod checkpoint;
@@ -41,14 +47,15 @@ pub mod progress;
 pub mod record;
 pub mod runner;
 pub mod sampling;
+pub mod settling_pipe;
 pub mod shard;
 pub mod spec;
 
 pub use case::{Case, RunConfig};
-pub use output::RunOutput;
+pub use output::{RunOutput, checkpoint_dir, result_path};
 pub use progress::Progress;
 pub use record::{Fate, FateCounts, ParticleRecord};
-pub use runner::{CHECKPOINT_INTERVAL, RunOptions, run};
+pub use runner::{CHECKPOINT_INTERVAL, RunOptions, run, run_in_dir};
 pub use shard::Shard;
 pub use spec::{Injector, ParticleRng, ParticleSpec, ParticleTemplate, particle_rng};
 

@@ -4,12 +4,11 @@
 use super::record::{FateCounts, ParticleRecord};
 use super::shard::Shard;
 use super::{FORMAT, PopulationError};
-use crate::ellipsoid::PrincipalFrame;
 use crate::material::Hyperelastic;
 use crate::output::{Csv, write_atomic};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The results of a run (or of one shard of it), sorted by particle index.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -156,10 +155,63 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
         })
     }
 
+    /// [`RunOutput::merge`] of every shard result file ([`result_path`]) in `dir`.
+    pub fn merge_dir(dir: impl AsRef<Path>) -> Result<Self, PopulationError> {
+        let dir = dir.as_ref();
+        let io = |source| PopulationError::Io {
+            path: dir.to_path_buf(),
+            source,
+        };
+        let mut paths = Vec::new();
+        for entry in std::fs::read_dir(dir).map_err(io)? {
+            let entry = entry.map_err(io)?;
+            let name = entry.file_name();
+            if name.to_str().and_then(parse_result_name).is_some() {
+                paths.push(entry.path());
+            }
+        }
+        paths.sort();
+        Self::merge_files(&paths)
+    }
+
+    /// [`RunOutput::merge_dir`], written to `dir/results.json` and `dir/results.csv`.
+    pub fn merge_in_dir(dir: impl AsRef<Path>) -> Result<Self, PopulationError>
+    where
+        L: Hyperelastic,
+    {
+        let dir = dir.as_ref();
+        let merged = Self::merge_dir(dir)?;
+        merged.write_json(dir.join("results.json"))?;
+        merged.table()?.write(dir.join("results.csv"))?;
+        Ok(merged)
+    }
+
     /// [`RunOutput::merge`] of the JSON files at `paths`.
     pub fn merge_files<P: AsRef<Path>>(paths: &[P]) -> Result<Self, PopulationError> {
         Self::merge(paths.iter().map(Self::read_json).collect::<Result<_, _>>()?)
     }
+}
+
+/// Where shard `shard` of a run in `dir` writes its results:
+/// `dir/results-<k>-of-<N>.json` (k, N zero-padded to 4 digits, so the files sort by shard).
+pub fn result_path(dir: impl AsRef<Path>, shard: Shard) -> PathBuf {
+    dir.as_ref()
+        .join(format!("results-{:04}-of-{:04}.json", shard.index(), shard.count()))
+}
+
+/// Where shard `shard` of a run in `dir` keeps its checkpoint: `dir/checkpoint-<k>-of-<N>`.
+pub fn checkpoint_dir(dir: impl AsRef<Path>, shard: Shard) -> PathBuf {
+    dir.as_ref()
+        .join(format!("checkpoint-{:04}-of-{:04}", shard.index(), shard.count()))
+}
+
+/// The shard of a [`result_path`] file name.
+fn parse_result_name(name: &str) -> Option<(u64, u64)> {
+    let (k, n) = name
+        .strip_prefix("results-")?
+        .strip_suffix(".json")?
+        .split_once("-of-")?;
+    Some((k.parse().ok()?, n.parse().ok()?))
 }
 
 /// Columns of [`RunOutput::table`].
@@ -204,12 +256,9 @@ impl<L: Hyperelastic + Serialize + DeserializeOwned> RunOutput<L> {
                 Some(s) => row.extend([s.t, s.x[0], s.x[1], s.x[2]].map(num)),
                 None => row.extend([const { String::new() }; 4]),
             }
-            match (&r.spec, &r.end) {
-                (Some(spec), Some(s)) => {
-                    let frame = PrincipalFrame::from_total_distortion(&(s.f * spec.shape.shape_tensor()));
-                    row.extend(frame.r.iter().map(|&v| num(v)));
-                }
-                _ => row.extend([const { String::new() }; 3]),
+            match r.end_frame() {
+                Some(frame) => row.extend(frame.r.iter().map(|&v| num(v))),
+                None => row.extend([const { String::new() }; 3]),
             }
             match &r.spec {
                 Some(spec) => {

@@ -109,6 +109,8 @@ impl Reporter {
     /// The time until the next log line is due (`None`: no deadline).
     pub(crate) fn until_due(&self) -> Option<Duration> {
         match self {
+            // A zero interval prints a line per record; waking up for it would spin.
+            Reporter::Log { interval, .. } if interval.is_zero() => None,
             Reporter::Log { next, .. } => Some(next.saturating_duration_since(Instant::now())),
             Reporter::Bar(_) | Reporter::Quiet => None,
         }

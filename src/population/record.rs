@@ -2,6 +2,7 @@
 
 use super::spec::ParticleSpec;
 use crate::driver::RunStats;
+use crate::ellipsoid::PrincipalFrame;
 use crate::particle::State;
 use crate::tensor::Vec3;
 use serde::{Deserialize, Serialize};
@@ -68,6 +69,17 @@ pub struct ParticleRecord<L> {
     pub end: Option<State>,
     /// Work of its run.
     pub stats: RunStats,
+}
+
+impl<L> ParticleRecord<L> {
+    /// The current ellipsoid at the end (semi-axes r₁ ≥ r₂ ≥ r₃ and axes of F̄ = F·S; its
+    /// tensor V = √(F̄F̄ᵀ) = Qᵀ diag(r) Q is what ParaView's tensor glyphs draw).
+    pub fn end_frame(&self) -> Option<PrincipalFrame> {
+        let (spec, end) = (self.spec.as_ref()?, self.end.as_ref()?);
+        Some(PrincipalFrame::from_total_distortion(
+            &(end.f * spec.shape.shape_tensor()),
+        ))
+    }
 }
 
 /// How many particles met each fate.

@@ -5,7 +5,7 @@ use super::FORMAT;
 use super::PopulationError;
 use super::case::{Case, RunConfig};
 use super::checkpoint::Checkpoint;
-use super::output::RunOutput;
+use super::output::{RunOutput, checkpoint_dir, result_path};
 use super::progress::{Progress, Reporter};
 use super::record::ParticleRecord;
 use super::shard::Shard;
@@ -26,13 +26,7 @@ use std::time::{Duration, Instant};
 pub struct RunOptions {
     parallel: bool,
     progress: Progress,
-    checkpoint: Option<CheckpointOptions>,
-}
-
-#[derive(Debug, Clone, PartialEq)]
-struct CheckpointOptions {
-    dir: PathBuf,
-    interval: Duration,
+    checkpoint: Option<(PathBuf, Duration)>,
     resume: bool,
 }
 
@@ -43,6 +37,7 @@ impl Default for RunOptions {
             parallel: true,
             progress: Progress::Auto,
             checkpoint: None,
+            resume: false,
         }
     }
 }
@@ -73,20 +68,14 @@ impl RunOptions {
     /// ([`super::checkpoint`]). An existing non-empty checkpoint there is an error unless
     /// [`RunOptions::resume`] is set.
     pub fn with_checkpoints(mut self, dir: impl AsRef<Path>, interval: Duration) -> Self {
-        self.checkpoint = Some(CheckpointOptions {
-            dir: dir.as_ref().to_path_buf(),
-            interval,
-            resume: false,
-        });
+        self.checkpoint = Some((dir.as_ref().to_path_buf(), interval));
         self
     }
 
     /// Continue from the checkpoint folder's records (a missing or empty folder starts afresh).
-    /// Without checkpoints this does nothing.
+    /// Without checkpoints there is nothing to resume from, and this does nothing.
     pub fn resume(mut self, resume: bool) -> Self {
-        if let Some(c) = &mut self.checkpoint {
-            c.resume = resume;
-        }
+        self.resume = resume;
         self
     }
 }
@@ -113,35 +102,36 @@ where
 {
     let hash = case.config_hash(config);
     let (checkpoint, done) = match &options.checkpoint {
-        Some(c) => {
-            let (cp, done) = Checkpoint::open(&c.dir, &hash, shard, config.particles, c.resume)?;
-            (Some((cp, c.interval)), done)
+        Some((dir, interval)) => {
+            let (cp, done) = Checkpoint::open(dir, &hash, shard, config.particles, options.resume)?;
+            (Some((cp, *interval)), done)
         }
         None => (None, BTreeMap::new()),
     };
-    let todo: Vec<u64> = shard
-        .indices(config.particles)
-        .filter(|k| !done.contains_key(k))
-        .collect();
     let total = shard.len(config.particles);
+    // The j-th particle of the shard; those in the checkpoint are skipped by the workers, so
+    // nothing of size N is allocated up front.
+    let (first, stride) = (shard.index(), shard.count());
+    let finished: std::collections::BTreeSet<u64> = done.keys().copied().collect();
     let label = format!("population shard {shard}");
     let reporter = Reporter::start(options.progress, &label, total, done.len() as u64);
     let abort = AtomicBool::new(false);
     let (tx, rx) = mpsc::channel::<ParticleRecord<J::Law>>();
     let collected = std::thread::scope(|scope| {
         let collector = scope.spawn(|| collect(rx, done, checkpoint, reporter, &abort));
-        let work = |tx: &mut mpsc::Sender<ParticleRecord<J::Law>>, k: u64| {
-            if abort.load(Ordering::Relaxed) {
+        let work = |tx: &mut mpsc::Sender<ParticleRecord<J::Law>>, j: u64| {
+            let k = first + j * stride;
+            if abort.load(Ordering::Relaxed) || finished.contains(&k) {
                 return;
             }
             // A closed channel means the collector failed; its error is reported below.
             let _ = tx.send(case.run_particle(config.seed, k));
         };
         if options.parallel {
-            todo.par_iter().for_each_with(tx, |tx, &k| work(tx, k));
+            (0..total).into_par_iter().for_each_with(tx, |tx, j| work(tx, j));
         } else {
             let mut tx = tx;
-            todo.iter().for_each(|&k| work(&mut tx, k));
+            (0..total).for_each(|j| work(&mut tx, j));
         }
         collector.join()
     });
@@ -162,6 +152,33 @@ where
         patches,
         records,
     })
+}
+
+/// [`run`] in the standard layout of an output folder `dir`: checkpoints in
+/// [`checkpoint_dir`]`(dir, shard)` (every [`CHECKPOINT_INTERVAL`], or the interval `options`
+/// set; resumed if `options` say so), results in [`result_path`]`(dir, shard)` and the same
+/// path with `.csv` ([`RunOutput::table`]). [`RunOutput::merge_in_dir`] merges such a folder.
+pub fn run_in_dir<I, F, B, J>(
+    case: &Case<'_, I, F, B, J>,
+    config: &RunConfig,
+    shard: Shard,
+    dir: impl AsRef<Path>,
+    options: &RunOptions,
+) -> Result<RunOutput<J::Law>, PopulationError>
+where
+    I: TimeIntegrator + std::fmt::Debug,
+    F: FlowField + ?Sized,
+    B: Boundary + ?Sized,
+    J: Injector,
+{
+    let dir = dir.as_ref();
+    let interval = options.checkpoint.as_ref().map_or(CHECKPOINT_INTERVAL, |(_, i)| *i);
+    let options = options.clone().with_checkpoints(checkpoint_dir(dir, shard), interval);
+    let out = run(case, config, shard, &options)?;
+    let path = result_path(dir, shard);
+    out.write_json(&path)?;
+    out.table()?.write(path.with_extension("csv"))?;
+    Ok(out)
 }
 
 /// Receive records until every worker is done: report progress, write a checkpoint chunk
@@ -190,8 +207,10 @@ fn collect<L: serde::Serialize>(
     };
     let result = loop {
         let now = Instant::now();
+        // With nothing to flush, only a record (or a log line) is worth waking up for.
+        let flush_due = next_flush.filter(|_| !pending.is_empty());
         let wait = [
-            next_flush.map(|t| t.saturating_duration_since(now)),
+            flush_due.map(|t| t.saturating_duration_since(now)),
             reporter.until_due(),
         ]
         .into_iter()

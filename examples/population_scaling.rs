@@ -1,0 +1,96 @@
+//! Run time of the population runner against N and threads, on the settling pipe (rigid
+//! spheres, overdamped barycentre, tol 1e-6: the runner bench's case).
+//!
+//! ```text
+//! cargo run --release --example population_scaling -- 1000:1,2 10000:1,2 100000:2
+//! ```
+//! Each argument is `N:threads,threads,...`. Prints, per run: N, threads, wall time, the
+//! process's CPU time, particles/s, particle-steps/s, fates, and the resident memory the run's
+//! records added per particle (from /proc/self where it exists). On a shared machine the wall
+//! time of a 2-thread run says little about the speed-up (the second core may be busy); the
+//! CPU time does not depend on the load: equal CPU time for 1 and 2 threads means the runner
+//! adds no parallel overhead, and the speed-up on an idle machine is the thread count times
+//! the load balance.
+
+use pseudorigid::driver::{Budget, Plan};
+use pseudorigid::integrator::Stokesian;
+use pseudorigid::population::settling_pipe::SettlingPipe;
+use pseudorigid::population::{Case, RunConfig, RunOptions, Shard, run};
+use std::time::Instant;
+
+/// CPU time (user + system) of this process in seconds (Linux), if known: fields 14 and 15 of
+/// /proc/self/stat, in USER_HZ = 100 ticks per second (fixed for user space on Linux).
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The command name (field 2) is in parentheses and may hold spaces: count after it.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// Resident set size in bytes (Linux), if known.
+fn rss() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args = if args.is_empty() {
+        vec!["1000:1,2".to_string()]
+    } else {
+        args
+    };
+    let pipe = SettlingPipe::new(20.0, 200.0, 1.0, 0.1, 15.0)?;
+    let stokes = Stokesian::overdamped(1e-6)?;
+    let plan = Plan::new(1e4, 0.1)?.with_budget(Budget {
+        max_steps: 1_000_000,
+        wall_time: None,
+    });
+    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &pipe, plan);
+    println!(
+        "n,threads,wall_s,cpu_s,particles_per_s,steps_per_s,deposited,escaped,suspended,failed,rss_bytes_per_particle"
+    );
+    for arg in &args {
+        let (n, threads) = arg.split_once(':').ok_or("argument must be N:threads,...")?;
+        let n: u64 = n.parse()?;
+        for threads in threads.split(',') {
+            let threads: usize = threads.parse()?;
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+            let config = RunConfig {
+                seed: 1,
+                particles: n,
+                fingerprint: pipe.fingerprint(),
+            };
+            let before = rss();
+            let cpu_before = cpu_seconds();
+            let start = Instant::now();
+            let out = pool.install(|| run(&case, &config, Shard::ALL, &RunOptions::default().quiet()))?;
+            let wall = start.elapsed().as_secs_f64();
+            let cpu = match (cpu_before, cpu_seconds()) {
+                (Some(a), Some(b)) => format!("{:.2}", b - a),
+                _ => String::new(),
+            };
+            let per_particle = match (before, rss()) {
+                (Some(a), Some(b)) => format!("{:.0}", (b - a) / n as f64),
+                _ => String::new(),
+            };
+            let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
+            let c = out.counts();
+            println!(
+                "{n},{threads},{wall:.2},{cpu},{:.0},{:.0},{},{},{},{},{per_particle}",
+                n as f64 / wall,
+                steps as f64 / wall,
+                c.deposited,
+                c.escaped,
+                c.suspended,
+                c.failed
+            );
+            drop(out);
+        }
+    }
+    Ok(())
+}
