@@ -206,6 +206,72 @@ fn injection_is_uniform_on_the_disc_with_the_fluid_velocity() {
     assert!((cos / n as f64).abs() < 0.064, "mean cos {}", cos / n as f64);
 }
 
+/// The first 200 soft spheres (μ_s = 0.5 Pa) at Stk = 0.4 of the Fig. 19 dataset: their fates
+/// are a snapshot (a change in the model, integrator or field shows here), and their DE agrees
+/// with the dataset's DE over N particles (`paper-figures/fig19/de.csv`, same seed). These 200
+/// are the dataset's first 200, so DE₂₀₀ − DE_N has standard deviation
+/// √(p(1 − p)(1/200 − 1/N)) (a subsample against its whole); 4 of them fail by chance with
+/// probability 6e-5. No particle may fail. The deposits' left stretch satisfies V² = F̄F̄ᵀ (a
+/// symmetric square root: round-off of the 3×3 eigen-decomposition, 1e-10 of |F̄|²).
+#[test]
+fn soft_spheres_at_stokes_0_4_snapshot() {
+    use pseudorigid::population::{Injector, RunOptions, Shard};
+    use pseudorigid::scenes::bifurcation::{Efficiency, Injection, Kind, Material, deposition, figures, run_kind};
+    use pseudorigid::scenes::cavity::Shape;
+    let a = airway();
+    let kind = Kind {
+        shape: Shape::Prolate(1.0),
+        material: Material::ShearModulus(0.5),
+        stokes: 0.4,
+    };
+    let n = 200;
+    let out = run_kind(
+        a,
+        kind,
+        n,
+        figures::SEED,
+        Shard::ALL,
+        &RunOptions::default().quiet(),
+        None,
+    )
+    .unwrap();
+    let row = Efficiency::of(kind, &out);
+    assert_eq!(row.counts.failed, 0);
+    insta::assert_snapshot!(format!(
+        "deposited {} escaped {} suspended {} failed {}",
+        row.counts.deposited, row.counts.escaped, row.counts.suspended, row.counts.failed
+    ));
+    let table =
+        std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("paper-figures/fig19/de.csv"))
+            .unwrap();
+    let line = table
+        .lines()
+        .find(|l| {
+            l.starts_with("prolate_1,")
+                && l.split(',').nth(2) == Some("0.4")
+                && l.contains(&format!("{:.4e}", Material::ShearModulus(0.5).capillary_number()))
+        })
+        .expect("dataset row");
+    let cells: Vec<&str> = line.split(',').collect();
+    let (n_all, p): (f64, f64) = (cells[3].parse().unwrap(), cells[7].parse().unwrap());
+    let sd = (p * (1.0 - p) * (1.0 / n as f64 - 1.0 / n_all)).sqrt();
+    assert!(
+        (row.de() - p).abs() <= 4.0 * sd + 1e-12,
+        "DE {} vs dataset {p} (sd {sd})",
+        row.de()
+    );
+    let inj = Injection::new(a, kind).unwrap();
+    for d in deposition::deposits(a, kind, &out).unwrap() {
+        let r = &out.records[d.index as usize];
+        let f_bar = inj
+            .particle(r.spec.as_ref().unwrap())
+            .unwrap()
+            .total_distortion(&r.end.unwrap().f);
+        let b = f_bar * f_bar.transpose();
+        assert!((d.v * d.v - b).amax() <= 1e-10 * b.amax(), "particle {}", d.index);
+    }
+}
+
 /// Histogram bins and the mean position of deposits at known places.
 #[test]
 fn histogram_and_mean_of_known_deposits() {

@@ -264,3 +264,48 @@ pub fn write_validity(figure: &str, airway: &Airway, kinds: &[Kind]) -> Result<(
     super::validity::summary_table(&rows)?.write(paper_figure_path(figure, "validity.csv"))?;
     Ok(())
 }
+
+/// Paired comparison of softness: the same particles (same seed) as quasi-rigid (`reference`)
+/// and soft kinds. A row per pair `shape,stk,reference,soft,n,dep_to_esc,esc_to_dep,delta_de,
+/// delta_de_stderr`: the particles whose deposition changes either way, ΔDE = (esc→dep −
+/// dep→esc)/n and its standard error √(dep→esc + esc→dep)/n (McNemar's test: under no effect the
+/// discordant particles split evenly). Far tighter than comparing two independent DEs, because
+/// most particles meet the same fate either way.
+pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<crate::output::Csv, BifurcationError> {
+    let mut csv = crate::output::Csv::new(&[
+        "shape",
+        "stk",
+        "reference",
+        "soft",
+        "n",
+        "dep_to_esc",
+        "esc_to_dep",
+        "delta_de",
+        "delta_de_stderr",
+    ]);
+    for (reference, soft) in pairs {
+        let (a, b) = (run_cached(airway, *reference, n)?, run_cached(airway, *soft, n)?);
+        let deposited = |f: &crate::population::Fate| matches!(f, crate::population::Fate::Deposited { .. });
+        let (mut lost, mut gained) = (0u64, 0u64);
+        for (ra, rb) in a.records.iter().zip(&b.records) {
+            match (deposited(&ra.fate), deposited(&rb.fate)) {
+                (true, false) => lost += 1,
+                (false, true) => gained += 1,
+                _ => {}
+            }
+        }
+        let count = a.records.len().max(1) as f64;
+        csv.push(vec![
+            reference.shape.label(),
+            reference.stokes.to_string(),
+            reference.material.label(),
+            soft.material.label(),
+            a.records.len().to_string(),
+            lost.to_string(),
+            gained.to_string(),
+            format!("{:.4}", (gained as f64 - lost as f64) / count),
+            format!("{:.4}", ((lost + gained) as f64).sqrt() / count),
+        ])?;
+    }
+    Ok(csv)
+}
