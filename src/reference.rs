@@ -106,7 +106,7 @@ fn validate_settling_path(radius: f64, mean_velocity: f64, from: f64, to: f64) -
 
 /// Inertial deposition efficiency in one airway bifurcation, the empirical correlation of
 /// Zhang, Asgharian & Anjilvel (Aerosol Sci. Technol. 26 (1997) 97–110), used by the paper's
-/// Fig. 18 (its ref. [45]):
+/// Fig. 18 (its ref. \[45\]):
 /// $$DE = \begin{cases} 0.000654\, e^{55.7\,Stk^{0.954}}\, Re^{1/3} \sin\theta & Stk < 0.04 \\
 /// \big[0.19 − 0.193\, e^{−9.5\,Stk^{1.565}}\big]\, Re^{1/3} \sin\theta & Stk \ge 0.04 \end{cases}$$
 /// with Stk = ρ_p d² U/(18 μ_f D) and Re = U D/ν of the parent branch (U its mean velocity, D

@@ -16,14 +16,14 @@ use crate::tensor::{Mat3, Vec3};
 pub struct Deposit {
     /// Particle index.
     pub index: u64,
-    /// Barycentre at contact [m].
+    /// Barycentre at contact (m).
     pub x: Vec3,
     /// Patch index of the boundary.
     pub patch: usize,
-    /// Left stretch of the total distortion, V = √(F̄F̄ᵀ) with F̄ = F S [m]: the current
+    /// Left stretch of the total distortion, V = √(F̄F̄ᵀ) with F̄ = F S (m): the current
     /// ellipsoid is V·(unit ball) about x.
     pub v: Mat3,
-    /// Semi-axes r₁ ≥ r₂ ≥ r₃ [m].
+    /// Semi-axes r₁ ≥ r₂ ≥ r₃ (m).
     pub r: Vec3,
 }
 
@@ -156,7 +156,7 @@ pub fn summary_table(runs: &[(Kind, u64, Vec<Deposit>)]) -> Result<Csv, Bifurcat
     Ok(csv)
 }
 
-/// `shape,material,stk,index,x1,x2,x3,patch,r1,r2,r3,v11,v12,v13,v22,v23,v33` [m]: one row per
+/// `shape,material,stk,index,x1,x2,x3,patch,r1,r2,r3,v11,v12,v13,v22,v23,v33` (m): one row per
 /// deposit (V is symmetric).
 pub fn map_table(runs: &[(Kind, u64, Vec<Deposit>)], boundary: &impl Boundary) -> Result<Csv, BifurcationError> {
     let mut csv = Csv::new(&[

@@ -32,7 +32,7 @@ const BULK_RATIO: f64 = 1e3;
 pub enum Material {
     /// Rigid: the limit Ca → 0 (paper Fig. 18).
     Rigid,
-    /// Neo-Hookean with this shear modulus μ_s [Pa] (paper: 1e5 quasi-rigid, 1 and 0.5 soft).
+    /// Neo-Hookean with this shear modulus μ_s (Pa) (paper: 1e5 quasi-rigid, 1 and 0.5 soft).
     ShearModulus(f64),
 }
 
@@ -100,7 +100,7 @@ impl<'a> Injection<'a> {
         self.kind
     }
 
-    /// Volume-equivalent diameter d_eq [m].
+    /// Volume-equivalent diameter d_eq (m).
     pub fn d_eq(&self) -> f64 {
         self.d_eq
     }

@@ -22,12 +22,12 @@ use std::path::Path;
 /// paired run: the same 200 rigid spheres at Stk = 0.1 meet the same fates at rtol 10⁻³ and
 /// 10⁻⁴ (atol 10⁻⁶ and 10⁻⁷), and the deposits agree in x₁/L to 10⁻⁴.
 pub const RTOL: f64 = 1e-3;
-/// Absolute tolerance [SI]: 10⁻⁶ m on positions, 10⁻⁶ m/s on velocities (10⁻⁶ of the inlet
+/// Absolute tolerance (SI): 10⁻⁶ m on positions, 10⁻⁶ m/s on velocities (10⁻⁶ of the inlet
 /// speed), 10⁻⁶ on F; see [`RTOL`] for the check.
 pub const ATOL: f64 = 1e-6;
-/// First step [s] (the integrator adapts it at once).
+/// First step (s) (the integrator adapts it at once).
 pub const DT0: f64 = 1e-6;
-/// Longest distance a particle may travel in one step [m]: a quarter of the shipped mesh's
+/// Longest distance a particle may travel in one step (m): a quarter of the shipped mesh's
 /// 0.4 mm cells. The contact event caps a step by the approach to the *nearest* wall face only;
 /// at the carina ridge a particle heading for the face across the ridge was carried through it
 /// within one step (its trial stages left the mesh: 1–4 particles in 1000 failed so), as in a
