@@ -61,3 +61,31 @@ fn poiseuille_settling_distance_quadrature() {
     assert!(poiseuille_settling_distance_uniform(r, u, 685.0, 870.0, 0.0).is_err());
     assert!(poiseuille_settling_distance(r, u, 685.0, 870.0, |_| 0.0, 4).is_err());
 }
+
+/// The Zhang et al. (1997) correlation at Re = 500, θ = 30° against its values evaluated by hand
+/// from the formula (five significant digits, double precision in Python: Re^{1/3} = 7.937005, sin 30° = ½; e.g. Stk = 0.1:
+/// [0.19 − 0.193 e^{−9.5·0.1^{1.565}}]·7.937005·0.5 = 0.16266), so 5e-5 relative covers the
+/// rounding of the hand values; the branches nearly meet at Stk = 0.04 (0.008662 against
+/// 0.008539 before the Re^{1/3} sin θ factor, 1.4 %); bad arguments are typed errors.
+#[test]
+fn zhang_correlation_values() {
+    use pseudorigid::reference::zhang_deposition_efficiency;
+    let theta = 30f64.to_radians();
+    for (stk, de) in [
+        (0.005, 0.0037029),
+        (0.02, 0.0098491),
+        (0.05, 0.052208),
+        (0.1, 0.16266),
+        (0.2, 0.39772),
+        (0.5, 0.72313),
+    ] {
+        let got = zhang_deposition_efficiency(stk, 500.0, theta).unwrap();
+        assert!((got / de - 1.0).abs() < 5e-5, "Stk {stk}: {got} vs {de}");
+    }
+    let below = zhang_deposition_efficiency(0.04 - 1e-12, 500.0, theta).unwrap();
+    let above = zhang_deposition_efficiency(0.04, 500.0, theta).unwrap();
+    assert!((below / above - 0.008662 / 0.008539).abs() < 1e-3, "{below} {above}");
+    assert!(zhang_deposition_efficiency(0.0, 500.0, theta).is_err());
+    assert!(zhang_deposition_efficiency(0.1, f64::NAN, theta).is_err());
+    assert!(zhang_deposition_efficiency(0.1, 500.0, 2.0).is_err());
+}

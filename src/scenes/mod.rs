@@ -14,12 +14,16 @@
 //!   integration and by Roscoe's (1967) steady algebraic equations.
 //!
 //! Real flow fields:
+//! - `bifurcation` (features `mesh`, `parallel`): deposition of soft ellipsoids in an airway
+//!   bifurcation (§6.4);
 //! - [`pipe`]: the Tian/Cui laminar pipe flow (§6.2): orientation and deposition of soft
 //!   prolate particles;
 //! - `cavity` (feature `mesh`): soft and quasi-rigid ellipsoids in the lid-driven cavity (§6.3);
 //! - `cavity_benchmark` (feature `mesh`): the cavity flow field against Albensoeder & Kuhlmann
 //!   (2005).
 
+#[cfg(all(feature = "mesh", feature = "parallel"))]
+pub mod bifurcation;
 #[cfg(feature = "mesh")]
 pub mod cavity;
 #[cfg(feature = "mesh")]

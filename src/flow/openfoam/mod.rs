@@ -31,6 +31,7 @@
 //! point values come from volPointInterpolation, which is not exact for linear fields. The
 //! Re = 1000 cavity validation passes through this reader as well (`tests/flow_openfoam_cavity.rs`).
 
+pub mod blend;
 pub mod error;
 pub mod field;
 pub mod locate;
@@ -39,6 +40,7 @@ pub mod parse;
 pub mod patch;
 pub mod reconstruct;
 
+pub use blend::BlendedFlow;
 pub use error::FoamError;
 pub use field::{VolField, read_vol_field};
 pub use locate::CellLocator;
