@@ -5,7 +5,7 @@
 //! cargo run --release --example fig22_deposition_map -- [N] [CASE_DIR]
 //! ```
 //! N particles per kind (default 100 000; also `PSEUDORIGID_BIF_N`). Writes
-//! `paper-figures/fig22/{deposits.csv, summary.csv, map.svg}`: every deposit's position, patch,
+//! `paper-figures/fig22/{deposits.csv, deposits.vtp, summary.csv, map.svg}`: every deposit's position, patch,
 //! semi-axes and left stretch V = √(F̄F̄ᵀ), the largest r₁ and where it occurs.
 
 use pseudorigid::scenes::bifurcation::figures;

@@ -293,3 +293,41 @@ fn histogram_and_mean_of_known_deposits() {
     assert!((se - 0.0005).abs() < 1e-12);
     assert!(mean_position(&deps[..1]).is_none());
 }
+
+/// The deposition maps' ParaView file holds every deposit of every run, in run order, with
+/// the deposit's own V, semi-axes and patch (copied, so exactly equal), and `kind` numbering
+/// the runs.
+#[test]
+fn deposition_map_vtp_holds_every_deposit() {
+    use pseudorigid::scenes::bifurcation::deposition::Deposit;
+    use pseudorigid::scenes::bifurcation::figures::deposits_vtp;
+    use pseudorigid::scenes::bifurcation::{Kind, Material};
+    use pseudorigid::scenes::cavity::Shape;
+    use pseudorigid::tensor::Mat3;
+    let deposit = |index: u64, r: [f64; 3], patch: usize| Deposit {
+        index,
+        x: Vec3::new(index as f64 * 1e-3, 0.0, 0.0),
+        patch,
+        v: Mat3::from_diagonal(&Vec3::from(r)),
+        r: Vec3::from(r),
+    };
+    let kind = |stokes| Kind {
+        shape: Shape::Prolate(2.0),
+        material: Material::Rigid,
+        stokes,
+    };
+    let runs = vec![
+        (kind(0.1), 10, vec![deposit(3, [3e-6, 2e-6, 1e-6], 4)]),
+        (
+            kind(0.4),
+            10,
+            vec![deposit(1, [4e-6, 2e-6, 2e-6], 5), deposit(7, [5e-6, 1e-6, 1e-6], 4)],
+        ),
+    ];
+    let xml = deposits_vtp(&runs).unwrap().to_xml();
+    assert!(xml.contains("NumberOfPoints=\"3\""), "{xml}");
+    for array in ["id", "kind", "patch", "V", "r1", "r2", "r3"] {
+        assert!(xml.contains(&format!("Name=\"{array}\"")), "array {array} missing");
+    }
+    assert!(xml.contains("Tensors=\"V\""));
+}

@@ -8,6 +8,7 @@ use super::setup::{Airway, zhang_reference};
 use super::study::{Efficiency, efficiency_table, run_kind};
 use crate::material::NeoHooke;
 use crate::output::paper_figure_path;
+use crate::output::vtk::{PolyData, Values};
 use crate::output::{Figure, Panel, Series};
 use crate::population::RunOutput;
 use crate::population::{RunOptions, Shard};
@@ -181,6 +182,7 @@ pub fn write_maps(
 ) -> Result<(), BifurcationError> {
     map_table(runs, airway.boundary())?.write(paper_figure_path(figure, "deposits.csv"))?;
     summary_table(runs)?.write(paper_figure_path(figure, "summary.csv"))?;
+    deposits_vtp(runs)?.write(paper_figure_path(figure, "deposits.vtp"))?;
     let mut plane = Panel::new(format!("{title}: deposits on the x1-x2 plane"), "x1 [mm]", "x2 [mm]")
         .with_ranges((0.0, 40.0), (-14.0, 14.0));
     let mut stretch = Panel::new(format!("{title}: semi-major axis at deposition"), "x1/L", "r1 [um]");
@@ -204,6 +206,30 @@ pub fn write_maps(
     let stretch = stretch.with_ranges((0.0, 1.0), (0.0, (1.1 * r1_top).max(1.0)));
     Figure::grid(vec![plane, stretch], 1, (900, 500)).write(paper_figure_path(figure, "map.svg"))?;
     Ok(())
+}
+
+/// The deposits of `runs` as ParaView vertices (m): `V` = √(F̄F̄ᵀ) as the active tensors (a
+/// Tensor Glyph with a sphere source draws each particle as deposited), `r1`..`r3`, the `patch`
+/// index, the particle `id` and `kind`, the index of its run in `runs` (the row order of
+/// `summary.csv`).
+pub fn deposits_vtp(runs: &[(Kind, u64, Vec<Deposit>)]) -> Result<PolyData, BifurcationError> {
+    let all: Vec<(usize, &Deposit)> = runs
+        .iter()
+        .enumerate()
+        .flat_map(|(k, (_, _, deps))| deps.iter().map(move |d| (k, d)))
+        .collect();
+    let column = |f: &dyn Fn(&Deposit) -> f64| Values::Float64(all.iter().map(|(_, d)| f(d)).collect());
+    let ints = |f: &dyn Fn(usize, &Deposit) -> i64| Values::Int64(all.iter().map(|&(k, d)| f(k, d)).collect());
+    let v = all.iter().flat_map(|(_, d)| d.v.iter().copied()).collect();
+    Ok(PolyData::vertices(all.iter().map(|(_, d)| d.x).collect())?
+        .with_array("id", 1, ints(&|_, d| d.index as i64))?
+        .with_array("kind", 1, ints(&|k, _| k as i64))?
+        .with_array("patch", 1, ints(&|_, d| d.patch as i64))?
+        .with_array("V", 9, Values::Float64(v))?
+        .with_array("r1", 1, column(&|d| d.r[0]))?
+        .with_array("r2", 1, column(&|d| d.r[1]))?
+        .with_array("r3", 1, column(&|d| d.r[2]))?
+        .with_active_tensors("V")?)
 }
 
 /// The mesh check: the same particles (same seed) of `kind` in two cases of the airway; a row

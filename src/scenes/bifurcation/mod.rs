@@ -40,4 +40,7 @@ pub enum BifurcationError {
     /// A dataset or figure could not be written.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
+    /// A ParaView file could not be assembled.
+    #[error(transparent)]
+    Vtk(#[from] crate::output::vtk::VtkError),
 }
