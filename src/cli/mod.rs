@@ -23,7 +23,7 @@
 //! | `[boundary] type` | `pipe` (needs `radius`), `planes` (needs `[[boundary.walls]]`), `mesh` (the case's patches) |
 //! | `boundary.walls` | `name`, `point`, `normal` (outward), `rule` = `stick` or `exit` |
 //! | `boundary.contact_radius` | touch at this distance from the barycentre (default: the particle's extent touches) |
-//! | `[particles] density`, `drag` | ρ_s of every particle; `brenner` (default) or `stokes_sphere` |
+//! | `[particles] density`, `drag`, `volumetric` | ρ_s of every particle; `brenner` (default) or `stokes_sphere`; the volumetric traction `paper` (default, the literal eq. 12), `dev` or `source` (needed by `imex_adaptive` at tight tolerances: the literal eq. 12 anti-damps dilation) |
 //! | `[[particles.list]]` | `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
 //! | `[particles.inject]` | `count`, `region` (`{ type = "point", at }` or `{ type = "disc", centre, normal, radius }`), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material` |
 //! | `material` | `{ law = "neo_hooke", mu, lambda }`, `{ law = "mooney_rivlin", mu1, mu2, lambda }` or `{ law = "rigid" }` |

@@ -17,6 +17,7 @@ use crate::error::ParamError;
 use crate::flow::FlowField;
 use crate::flow::analytic::{LinearFlow, Poiseuille};
 use crate::flow::openfoam::{FoamCase, FoamFlow, MeshBoundary};
+use crate::hydro::VolumetricTraction;
 use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian};
 use crate::material::{MooneyRivlin, NeoHooke, Softness};
 use crate::particle::Fluid;

@@ -144,11 +144,28 @@ pub struct ParticlesSpec {
     /// Drag model (default `brenner`).
     #[serde(default)]
     pub drag: DragSpec,
+    /// Volumetric part of the traction (default `paper`, the literal eq. 12; `source` resists
+    /// dilation as a fluid does and is what error-controlled inertial runs need).
+    #[serde(default)]
+    pub volumetric: VolumetricSpec,
     /// Explicit particles.
     #[serde(default)]
     pub list: Vec<ParticleEntry>,
     /// Random injection.
     pub inject: Option<InjectSpec>,
+}
+
+/// Volumetric tractions by name (`crate::hydro::VolumetricTraction`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VolumetricSpec {
+    /// The literal eq. 12.
+    #[default]
+    Paper,
+    /// No viscous resistance to volume change.
+    Dev,
+    /// Source-flow resistance (exact for a sphere).
+    Source,
 }
 
 /// Drag models by name.

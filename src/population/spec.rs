@@ -11,7 +11,7 @@
 
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, StepError};
-use crate::hydro::DragModel;
+use crate::hydro::{DragModel, VolumetricTraction};
 use crate::material::{Hyperelastic, Softness};
 use crate::particle::{Fluid, Particle, State};
 use crate::tensor::Vec3;
@@ -81,6 +81,7 @@ pub struct ParticleTemplate<D> {
     fluid: Fluid,
     rho_solid: f64,
     gravity: Vec3,
+    volumetric: VolumetricTraction,
 }
 
 impl<D: DragModel + Clone> ParticleTemplate<D> {
@@ -95,7 +96,13 @@ impl<D: DragModel + Clone> ParticleTemplate<D> {
             fluid,
             rho_solid: crate::error::positive("rho_s", rho_solid)?,
             gravity,
+            volumetric: VolumetricTraction::default(),
         })
+    }
+
+    /// The same template with another volumetric traction (see [`VolumetricTraction`]).
+    pub fn with_volumetric(self, volumetric: VolumetricTraction) -> Self {
+        Self { volumetric, ..self }
     }
 
     /// The particle of `spec`.
@@ -111,5 +118,6 @@ impl<D: DragModel + Clone> ParticleTemplate<D> {
             self.rho_solid,
         )?
         .with_gravity(self.gravity)
+        .map(|p| p.with_volumetric(self.volumetric))
     }
 }

@@ -20,7 +20,13 @@ impl Builder<'_> {
             DragSpec::Brenner => SceneDrag::Brenner,
             DragSpec::StokesSphere => SceneDrag::StokesSphere,
         };
+        let volumetric = match particles.volumetric {
+            VolumetricSpec::Paper => VolumetricTraction::Paper,
+            VolumetricSpec::Dev => VolumetricTraction::Dev,
+            VolumetricSpec::Source => VolumetricTraction::Source,
+        };
         ParticleTemplate::new(drag, fluid_model, rho_s, gravity)
+            .map(|t| t.with_volumetric(volumetric))
             .map_err(|e| self.param(particles.density.span(), "particles.density, fluid.gravity", e))
     }
 
