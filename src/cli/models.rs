@@ -5,7 +5,7 @@ use crate::contact::{Boundary, Extent, Gap, PatchRule, PipeWall, Planes};
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
-use crate::flow::openfoam::{FoamFlow, MeshBoundary};
+use crate::flow::openfoam::{BlendedFlow, FoamFlow, MeshBoundary};
 use crate::flow::{FlowField, FlowSample};
 use crate::hydro::{Brenner, DragModel, StokesSphere};
 use crate::material::{Hyperelastic, MooneyRivlin, NeoHooke};
@@ -84,6 +84,8 @@ pub enum SceneFlow {
     Poiseuille(Poiseuille),
     /// An OpenFOAM case.
     Foam(Box<FoamFlow>),
+    /// An OpenFOAM case, blended into a continuous field.
+    Blended(Box<BlendedFlow>),
 }
 
 impl FlowField for SceneFlow {
@@ -93,6 +95,7 @@ impl FlowField for SceneFlow {
             SceneFlow::Linear(f) => f.sample(x, t),
             SceneFlow::Poiseuille(f) => f.sample(x, t),
             SceneFlow::Foam(f) => f.sample(x, t),
+            SceneFlow::Blended(f) => f.sample(x, t),
         }
     }
 }

@@ -16,7 +16,7 @@ use crate::ellipsoid::Ellipsoid;
 use crate::error::ParamError;
 use crate::flow::FlowField;
 use crate::flow::analytic::{LinearFlow, Poiseuille};
-use crate::flow::openfoam::{FoamCase, FoamFlow, MeshBoundary};
+use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow, MeshBoundary};
 use crate::hydro::VolumetricTraction;
 use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian};
 use crate::material::{MooneyRivlin, NeoHooke, Softness};

@@ -51,6 +51,11 @@ pub struct FlowSpec {
     pub case: Option<Spanned<String>>,
     /// Time directory to read (`openfoam`; default: the latest).
     pub time: Option<Num>,
+    /// Blend the cells' linear fits into a continuous field (`openfoam`; default false; see
+    /// `flow::openfoam::BlendedFlow`): adaptive steps crossing the cellwise field's jumps at
+    /// faces are rejected over and over on coarse or warped meshes.
+    #[serde(default)]
+    pub blend: bool,
 }
 
 /// The kinds of flow.

@@ -53,7 +53,10 @@ impl Builder<'_> {
                     None => (case.span(), "flow.case"),
                 };
                 FoamFlow::read(&foam, &[t])
-                    .map(|f| SceneFlow::Foam(Box::new(f)))
+                    .map(|f| match spec.blend {
+                        true => SceneFlow::Blended(Box::new(BlendedFlow::new(f))),
+                        false => SceneFlow::Foam(Box::new(f)),
+                    })
                     .map_err(|e| self.err(span, key, e.to_string()))
             }
         }
@@ -117,6 +120,9 @@ impl Builder<'_> {
             }
             BoundaryKind::Mesh => match flow {
                 SceneFlow::Foam(f) => MeshBoundary::new(f.mesh())
+                    .map(|m| SceneBoundary::Mesh(Box::new(m)))
+                    .map_err(|e| self.err(b.kind.span(), "boundary.type", e.to_string())),
+                SceneFlow::Blended(f) => MeshBoundary::new(f.cellwise().mesh())
                     .map(|m| SceneBoundary::Mesh(Box::new(m)))
                     .map_err(|e| self.err(b.kind.span(), "boundary.type", e.to_string())),
                 _ => Err(self.err(
