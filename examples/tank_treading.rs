@@ -5,9 +5,11 @@
 //! steady algebraic (Roscoe 1967) route and the small-Ca limits D = 5Ca/4, θ = π/4 − 3Ca/4.
 //!
 //! Writes `paper-figures/tank_treading/steady.csv` (integrated: r₁ in-plane long, r₂ along
-//! the vorticity, r₃ in-plane short), `comparison.csv` and `steady.svg`.
+//! the vorticity, r₃ in-plane short), `comparison.csv`, `steady.svg` and the runs' validity
+//! diagnostics `validity.csv`.
 
 use pseudorigid::output::{Csv, Figure, Panel, Series, paper_figure_path};
+use pseudorigid::scenes::shear_run::validity_table;
 use pseudorigid::scenes::tank_treading::{TankTreading, integrate, roscoe};
 use std::error::Error;
 use std::time::Instant;
@@ -33,8 +35,10 @@ fn main() -> Result<(), Box<dyn Error>> {
         "drift",
     ]);
     let mut rows = Vec::new();
+    let mut validity = Vec::new();
     for &ca in &cas {
         let int = integrate(ca, 1e-9, 60.0 + 100.0 * ca)?;
+        validity.push((ca, int.validity));
         let ros = roscoe(ca)?.steady;
         let lim = TankTreading::small_ca_limit(ca);
         let s = int.steady;
@@ -69,6 +73,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let dir = "tank_treading";
     steady.write(paper_figure_path(dir, "steady.csv"))?;
     comparison.write(paper_figure_path(dir, "comparison.csv"))?;
+    validity_table(&validity)?.write(paper_figure_path(dir, "validity.csv"))?;
     let curve = |f: &dyn Fn(&Row) -> f64, cap: f64| {
         rows.iter()
             .filter(|r| r.0 <= cap)

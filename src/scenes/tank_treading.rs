@@ -35,6 +35,7 @@ use super::SceneError;
 use super::section::ShearPlaneSection;
 use super::shear_run::unit_shear;
 use super::shear_shape::ShearShape;
+use crate::diagnostics::{Monitor, Validity};
 use crate::driver::run;
 use crate::ellipsoid::EllipsoidIntegrals;
 use crate::integrator::Stokesian;
@@ -207,6 +208,8 @@ pub struct IntegratedSteady {
     pub steady: TankTreading,
     /// max(|ΔD|, |Δθ|) between t_end − 1 and t_end: how far from steady the run still is.
     pub drift: f64,
+    /// Validity diagnostics of the run (inertialess: Re = 0 by assumption; r₁ in d_eq).
+    pub validity: Validity,
 }
 
 /// Integrate the initially spherical particle at `ca` to `t_end` (≥ 1).
@@ -214,11 +217,15 @@ pub fn integrate(ca: f64, tol: f64, t_end: f64) -> Result<IntegratedSteady, Scen
     let scaling = ShearScaling::new(ca, 1.0, 1e3)?;
     let particle = ShearShape::sphere().particle(&scaling)?;
     let mut read = Vec::with_capacity(2);
+    let flow = unit_shear();
+    let start = State::at_rest(Vec3::zeros());
+    let mut monitor = Monitor::in_linear_flow(&particle, &flow);
+    monitor.observe(&start);
     run(
         &Stokesian::overdamped(tol)?,
         &particle,
-        State::at_rest(Vec3::zeros()),
-        &unit_shear(),
+        start,
+        &flow,
         1e-3,
         &[t_end - 1.0, t_end],
         |s| {
@@ -231,7 +238,7 @@ pub fn integrate(ca: f64, tol: f64, t_end: f64) -> Result<IntegratedSteady, Scen
                 theta: sec.angle,
             });
         },
-        |_, _| {},
+        |s, _| monitor.observe(s),
     )?;
     let (before, end) = (read[0], read[1]);
     Ok(IntegratedSteady {
@@ -239,5 +246,6 @@ pub fn integrate(ca: f64, tol: f64, t_end: f64) -> Result<IntegratedSteady, Scen
         drift: (end.deformation() - before.deformation())
             .abs()
             .max((end.theta - before.theta).abs()),
+        validity: monitor.validity().inertialess(),
     })
 }
