@@ -292,10 +292,12 @@ fn first_event(
 ) -> Result<Option<(usize, State)>, StepError> {
     let mut first: Option<(usize, State)> = None;
     for (index, e) in events.iter().enumerate() {
-        let (g0, g1) = (e.gap(before), e.gap(after));
+        // g at the step's start is needed only when the event fires at its end.
+        let g1 = e.gap(after);
         if g1 > 0.0 {
             continue;
         }
+        let g0 = e.gap(before);
         if g1.is_nan() || g0.is_nan() {
             return Err(StepError::NonFinite {
                 what: "event gap",

@@ -1,7 +1,7 @@
 //! Boundaries and wall contact (src/contact) and event location in the driver.
 
 use approx::assert_relative_eq;
-use pseudorigid::contact::{Boundary, Extent, PatchRule, PipeWall, Planes};
+use pseudorigid::contact::{Approach, Boundary, ContactEvent, ContactModel, Extent, PatchRule, PipeWall, Planes};
 use pseudorigid::driver::{Event, Plan, Stop, integrate};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::ellipsoid::frame::support_distance;
@@ -121,4 +121,54 @@ fn time_event_is_located_within_one_large_step() {
     .unwrap();
     assert_eq!(out.stop, Stop::Event { index: 0 });
     assert!((out.state.t - 0.123456789).abs() <= 1e-9);
+}
+
+/// A box whose corners are not guarded by the scene: its walls as [`Approach::AnyDirection`].
+struct UnguardedBox(Planes);
+
+impl Boundary for UnguardedBox {
+    fn nearest(&self, x: &Vec3, extent: &Extent) -> pseudorigid::contact::Gap {
+        self.0.nearest(x, extent)
+    }
+    fn patch_name(&self, patch: usize) -> &str {
+        self.0.patch_name(patch)
+    }
+    fn rule(&self, patch: usize) -> PatchRule {
+        self.0.rule(patch)
+    }
+    fn approach(&self) -> Approach {
+        Approach::AnyDirection
+    }
+}
+
+#[test]
+fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
+    // A sphere of radius a = 1 mm, 0.5 mm from the floor z = 0 (gap 0.5 mm), moving along the
+    // floor at 1 m/s towards the wall x = 0, 3 mm away (gap 2 mm), in fluid at rest.
+    let a = 1e-3;
+    let shape = pseudorigid::ellipsoid::Ellipsoid::new([a, a, a], Mat3::identity()).unwrap();
+    let p = Particle::new(
+        shape,
+        NeoHooke::new(1.0, 1e3).unwrap(),
+        Fluid::new(1.0, 1.0).unwrap(),
+        2.0,
+    )
+    .unwrap();
+    let mut s = State::at_rest(Vec3::new(3e-3 + a, 0.05, 0.5e-3 + a));
+    s.v = Vec3::new(-1.0, 0.0, 0.0);
+    let (floor_gap, slack) = (0.5e-3, 0.5 * a);
+    // Along one smooth wall only the normal velocity closes the gap: no cap from the floor
+    // (|v·n| = 0 and no flow to sweep the tip), so the particle could cross the side wall.
+    let planes = Planes::cavity(0.1).unwrap();
+    let normal = ContactEvent::new(&planes, &p, &Quiescent, ContactModel::Extent);
+    assert!(normal.max_step(&s) > 1e300);
+    // With corners unguarded the full speed counts: |v| Δt ≤ g + δ_s = 1 mm, less than the
+    // 2 mm to the side wall, so no step reaches it.
+    let unguarded = UnguardedBox(planes.clone());
+    let any = ContactEvent::new(&unguarded, &p, &Quiescent, ContactModel::Extent);
+    let cap = any.max_step(&s);
+    assert_relative_eq!(cap, (floor_gap + slack) / 1.0, max_relative = 1e-12);
+    assert!(cap * s.v.norm() < 2e-3);
+    // The cap re-uses the gap found for the same state, and agrees with a fresh query.
+    assert_eq!(any.gap(&s), planes.nearest(&s.x, &any.extent(&s)).gap);
 }

@@ -1,7 +1,7 @@
 //! The models a scene file can name, each one type over the library's choices, so that one
 //! scene mixes laws and picks its flow and boundary at run time.
 
-use crate::contact::{Boundary, Extent, Gap, PatchRule, PipeWall, Planes};
+use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Planes};
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
@@ -143,6 +143,15 @@ impl Boundary for SceneBoundary {
             SceneBoundary::Pipe(b) => b.rule(patch),
             SceneBoundary::Planes(b) => b.rule(patch),
             SceneBoundary::Mesh(b) => b.rule(patch),
+        }
+    }
+
+    fn approach(&self) -> Approach {
+        match self {
+            SceneBoundary::Open => Approach::Normal,
+            SceneBoundary::Pipe(b) => b.approach(),
+            SceneBoundary::Planes(b) => b.approach(),
+            SceneBoundary::Mesh(b) => b.approach(),
         }
     }
 }

@@ -6,7 +6,7 @@
 //! $g_w = (p_w − x_c)·n_w − h(n_w)$ as for [`Planes`]. The composite's gap is the smaller of
 //! the planes' and the other boundary's, so the particle touches whichever it reaches first.
 
-use super::{Boundary, Extent, Gap, PatchRule, Planes};
+use super::{Approach, Boundary, Extent, Gap, PatchRule, Planes};
 
 /// Planar patches `planes` (indices 0..P, P = number of planes) added to `rest` (its patch p
 /// becomes P + p).
@@ -66,5 +66,11 @@ impl<B: Boundary> Boundary for Composite<B> {
             None => self.planes.rule(patch),
             Some(p) => self.rest.rule(p),
         }
+    }
+
+    /// The rest's: the planes add only the edges where they cut it, and a particle there
+    /// leaves or deposits at once.
+    fn approach(&self) -> Approach {
+        self.rest.approach()
     }
 }

@@ -16,9 +16,18 @@
 //! g + δ_s, with δ_s half the particle's smallest rest semi-axis, at the current rates: the
 //! barycentre approaches at |v·n| and a tip at distance ≤ r₁ sweeps at ≤ r₁|∇u| (rotation and
 //! stretching by the flow), so $(|v·n| + r_1 |\nabla u|)\\,\Delta t \le g + \delta_s$. A tumbling tip
-//! then cannot touch and leave the wall within one step. Only the nearest patch is watched: in
-//! a corner, where two patches are about equally near, a scene should also cap the step by its
-//! flow speed ([`crate::driver::Plan::with_dt_max`]), as the cavity does.
+//! then cannot touch and leave the wall within one step.
+//!
+//! Only the nearest patch is watched, so the cap must also keep the particle off every other
+//! patch. How it does depends on the boundary's [`Approach`]: along one smooth wall (a pipe)
+//! only the normal velocity closes the gap, $|v·n|$ above. At corners and ridges (mesh walls)
+//! the particle may reach another patch while moving along the nearest one; there the cap uses
+//! the full speed |v|, $(|v| + r_1 |\nabla u|)\,\Delta t \le g + \delta_s$, which keeps the
+//! particle within the gap of where it was in every direction. The gap to the nearest face is a
+//! lower bound of the distance to every other face: exactly so on a plane, and at a convex
+//! ridge because each face's plane supports the wall. Planar walls keep the normal cap; in
+//! their corners a scene caps the step by its flow speed ([`crate::driver::Plan::with_dt_max`]),
+//! as the cavity does.
 
 pub mod composite;
 pub mod pipe;
@@ -34,8 +43,9 @@ use crate::flow::FlowField;
 use crate::hydro::DragModel;
 use crate::material::Response;
 use crate::particle::{Particle, State};
-use crate::tensor::Vec3;
+use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
+use std::cell::Cell;
 
 /// What happens to a particle that touches a patch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -79,6 +89,17 @@ pub struct Gap {
     pub normal: Vec3,
 }
 
+/// Which velocity closes the gap to a boundary's patches within one step (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Approach {
+    /// Only the velocity along the nearest patch's normal: one smooth wall, or planes whose
+    /// corners the scene guards with its own step cap.
+    Normal,
+    /// The full speed: corners and ridges, where moving along the nearest patch can reach
+    /// another one (mesh walls).
+    AnyDirection,
+}
+
 /// A boundary made of patches: planar walls, a pipe wall, mesh patches.
 pub trait Boundary: Send + Sync {
     /// The patch with the smallest gap to a particle centred at `x` with `extent`.
@@ -89,6 +110,12 @@ pub trait Boundary: Send + Sync {
 
     /// Rule of patch `patch`.
     fn rule(&self, patch: usize) -> PatchRule;
+
+    /// Which velocity closes the gap within a step; [`Approach::Normal`] unless the boundary
+    /// has corners or ridges the scene does not guard.
+    fn approach(&self) -> Approach {
+        Approach::Normal
+    }
 }
 
 /// No boundary at all: the unbounded linear flows of the shear scenes. Every gap is +∞, so a
@@ -135,6 +162,19 @@ pub struct ContactEvent<'a, B: ?Sized, M, D, F: ?Sized> {
     model: ContactModel,
     slack: f64,
     scale: f64,
+    /// The last state asked about and what was found there. The driver asks for the gap at a
+    /// step's end and then for the cap of the next step from that same state: one boundary
+    /// query and one principal frame per step instead of two of each.
+    seen: Cell<Option<Seen>>,
+}
+
+/// A state's barycentre and F, with its nearest patch and longest semi-axis.
+#[derive(Debug, Clone, Copy)]
+struct Seen {
+    x: Vec3,
+    f: Mat3,
+    near: Gap,
+    r1: f64,
 }
 
 impl<'a, B, M, D, F> ContactEvent<'a, B, M, D, F>
@@ -154,22 +194,47 @@ where
             model,
             slack: 0.5 * rest.min(),
             scale: 2.0 * rest.product().cbrt(),
+            seen: Cell::new(None),
         }
     }
 
     /// The extent of the particle in `state`.
     pub fn extent(&self, state: &State) -> Extent {
-        match self.model {
-            ContactModel::Extent => Extent::Ellipsoid(PrincipalFrame::from_total_distortion(
-                &self.particle.total_distortion(&state.f),
-            )),
-            ContactModel::Barycentre { radius } => Extent::Point { radius },
-        }
+        self.extent_in(self.frame(state))
     }
 
     /// The nearest patch and its gap in `state`.
     pub fn nearest(&self, state: &State) -> Gap {
-        self.boundary.nearest(&state.x, &self.extent(state))
+        self.seen(state).near
+    }
+
+    fn frame(&self, state: &State) -> PrincipalFrame {
+        PrincipalFrame::from_total_distortion(&self.particle.total_distortion(&state.f))
+    }
+
+    fn extent_in(&self, frame: PrincipalFrame) -> Extent {
+        match self.model {
+            ContactModel::Extent => Extent::Ellipsoid(frame),
+            ContactModel::Barycentre { radius } => Extent::Point { radius },
+        }
+    }
+
+    fn seen(&self, state: &State) -> Seen {
+        if let Some(seen) = self.seen.get()
+            && seen.x == state.x
+            && seen.f == state.f
+        {
+            return seen;
+        }
+        let frame = self.frame(state);
+        let seen = Seen {
+            x: state.x,
+            f: state.f,
+            near: self.boundary.nearest(&state.x, &self.extent_in(frame)),
+            r1: frame.r[0],
+        };
+        self.seen.set(Some(seen));
+        seen
     }
 }
 
@@ -189,14 +254,17 @@ where
     }
 
     fn max_step(&self, state: &State) -> f64 {
-        let r1 = PrincipalFrame::from_total_distortion(&self.particle.total_distortion(&state.f)).r[0];
         let sweep = match self.flow.sample(&state.x, state.t) {
             Ok(s) => s.grad_u.norm(),
             // Outside the flow the step fails anyway; do not cap.
             Err(_) => return f64::INFINITY,
         };
-        let near = self.nearest(state);
-        let rate = state.v.dot(&near.normal).abs() + r1 * sweep;
+        let Seen { near, r1, .. } = self.seen(state);
+        let approach = match self.boundary.approach() {
+            Approach::Normal => state.v.dot(&near.normal).abs(),
+            Approach::AnyDirection => state.v.norm(),
+        };
+        let rate = approach + r1 * sweep;
         (near.gap.max(0.0) + self.slack) / rate.max(f64::MIN_POSITIVE)
     }
 }

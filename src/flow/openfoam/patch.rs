@@ -23,7 +23,7 @@
 
 use super::error::FoamError;
 use super::mesh::PolyMesh;
-use crate::contact::{Boundary, Extent, Gap, PatchRule};
+use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule};
 use crate::ellipsoid::frame::support_distance;
 use crate::tensor::{Mat3, Vec3};
 use rstar::RTree;
@@ -282,5 +282,10 @@ impl Boundary for MeshBoundary {
 
     fn rule(&self, patch: usize) -> PatchRule {
         self.rules[patch]
+    }
+
+    /// Mesh walls have ridges (a carina) and corners.
+    fn approach(&self) -> Approach {
+        Approach::AnyDirection
     }
 }
