@@ -40,7 +40,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         views
             .iter()
             .copied()
-            .filter(|(s, _)| s.particle_data.lambda1 == l)
+            .filter(|(s, _)| s.particle_data.lambda1() == l)
             .collect()
     };
     trajectory_table(&views)?.write(paper_figure_path("fig11", "trajectories.csv"))?;

@@ -4,7 +4,8 @@
 //! Writes `paper-figures/fig7/boundary.csv` and `paper-figures/fig7/boundary.svg`.
 
 use pseudorigid::output::{Figure, paper_figure_path};
-use pseudorigid::scenes::phase_map::{self, boundary_panel, boundary_table, validity_table};
+use pseudorigid::scenes::particles::Shape;
+use pseudorigid::scenes::phase_map::{self, MapShape, boundary_panel, boundary_table, validity_table};
 use pseudorigid::scenes::shear_shape::ShearShape;
 use std::error::Error;
 use std::time::Instant;
@@ -13,16 +14,25 @@ const ASPECT_RATIOS: [f64; 10] = [1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5,
 
 fn main() -> Result<(), Box<dyn Error>> {
     let start = Instant::now();
-    let shapes: Vec<(f64, ShearShape)> = [ShearShape::prolate, ShearShape::oblate]
+    let shapes: Vec<MapShape> = [Shape::Prolate as fn(f64) -> Shape, Shape::Oblate]
         .iter()
-        .flat_map(|family| ASPECT_RATIOS.map(|r| (r, family(r))))
+        .flat_map(|family| {
+            ASPECT_RATIOS.map(|x| {
+                let shape = family(x);
+                MapShape {
+                    series: shape.family(),
+                    x,
+                    shape: ShearShape::new(shape),
+                }
+            })
+        })
         .collect();
     let points = phase_map::compute(&phase_map::paper_search()?, &shapes)?;
     for p in &points {
         let b = p.boundary;
         println!(
             "{:8} λ = {:4}: Ca_c ∈ [{:.4}, {:.4}]  ({} runs)",
-            b.shape.family, p.x, b.ca_tu, b.ca_tr, b.evaluations
+            p.series, p.x, b.ca_tu, b.ca_tr, b.evaluations
         );
     }
     boundary_table(&points)?.write(paper_figure_path("fig7", "boundary.csv"))?;

@@ -6,7 +6,8 @@
 //! Writes `paper-figures/fig8/boundary.csv` and `paper-figures/fig8/boundary.svg`.
 
 use pseudorigid::output::{Figure, paper_figure_path};
-use pseudorigid::scenes::phase_map::{self, boundary_panel, boundary_table, validity_table};
+use pseudorigid::scenes::particles::Shape;
+use pseudorigid::scenes::phase_map::{self, MapShape, boundary_panel, boundary_table, validity_table};
 use pseudorigid::scenes::shear_shape::ShearShape;
 use std::error::Error;
 use std::time::Instant;
@@ -14,21 +15,26 @@ use std::time::Instant;
 fn main() -> Result<(), Box<dyn Error>> {
     let start = Instant::now();
     let tenths = |from: u32, to: u32| (from..=to).map(|i| f64::from(i) / 10.0);
-    let section_a = tenths(1, 10).map(|w2| (w2, ShearShape::triaxial("a_omega1_0.5", 0.5, w2)));
-    let section_b = tenths(1, 9).map(|w1| (w1, ShearShape::triaxial("b_omega2_0.5", w1, 0.5)));
+    let point = |series, x, omega1, omega2| MapShape {
+        series,
+        x,
+        shape: ShearShape::new(Shape::Triaxial { omega1, omega2 }),
+    };
+    let section_a = tenths(1, 10).map(|w2| point("a_omega1_0.5", w2, 0.5, w2));
+    let section_b = tenths(1, 9).map(|w1| point("b_omega2_0.5", w1, w1, 0.5));
     let shapes: Vec<_> = section_a.chain(section_b).collect();
     let points = phase_map::compute(&phase_map::paper_search()?, &shapes)?;
     for p in &points {
         let b = p.boundary;
         println!(
             "{}  ω = {:.1}: Ca_c ∈ [{:.4}, {:.4}]  ({} runs)",
-            b.shape.family, p.x, b.ca_tu, b.ca_tr, b.evaluations
+            p.series, p.x, b.ca_tu, b.ca_tr, b.evaluations
         );
     }
     boundary_table(&points)?.write(paper_figure_path("fig8", "boundary.csv"))?;
     // The paper search is inertialess (Re = 0 by assumption).
     validity_table(&points, true)?.write(paper_figure_path("fig8", "validity.csv"))?;
-    let (a, b): (Vec<_>, Vec<_>) = points.iter().partition(|p| p.boundary.shape.family.starts_with('a'));
+    let (a, b): (Vec<_>, Vec<_>) = points.iter().partition(|p| p.series.starts_with('a'));
     Figure::grid(
         vec![
             boundary_panel(&a, "Fig. 8(a): ω₁ = 0.5", "ω₂ = r_vorticity / r_long"),

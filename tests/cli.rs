@@ -16,6 +16,7 @@ use pseudorigid::driver::{Plan, integrate};
 use pseudorigid::integrator::TimeIntegrator;
 use pseudorigid::particle::lines::material_line;
 use pseudorigid::population::{Fate, RunOptions, RunOutput, Shard};
+use pseudorigid::scenes::particles::Shape;
 use pseudorigid::scenes::pipe::PipeScene;
 use pseudorigid::scenes::shear_regimes::{Regime, RegimeClassifier};
 use pseudorigid::scenes::shear_run::{oblate_fig4_run, stokesian_scaling};
@@ -93,7 +94,7 @@ fn oblate_shear_scene_is_the_library_fig4_run() {
     assert_eq!(times, s.outputs);
     assert_eq!(times.len(), 12);
     let (library, _) = oblate_fig4_run(0.4, &times).unwrap();
-    let (a, c) = ShearShape::oblate(2.5).in_plane_axes();
+    let (a, c) = ShearShape::new(Shape::Oblate(2.5)).in_plane_axes();
     for (mine, theirs) in samples.iter().zip(&library) {
         assert_eq!(material_line(&shape, &mine.f, a), theirs.xi_a, "t = {}", mine.t);
         assert_eq!(material_line(&shape, &mine.f, c), theirs.xi_c, "t = {}", mine.t);
@@ -109,7 +110,7 @@ fn phase_boundary_scene_brackets_the_boundary() {
     let s = scene("phase_boundary.toml", &[("[output]\n", "[output]\nvtk = false\n")]);
     let out = run(&s, "cli_phase_boundary");
     let classifier = RegimeClassifier::stokesian(1e-8).unwrap();
-    let shape = ShearShape::prolate(2.0);
+    let shape = ShearShape::new(Shape::Prolate(2.0));
     for (record, (ca, expected)) in out
         .records
         .iter()

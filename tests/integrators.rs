@@ -13,6 +13,7 @@ use pseudorigid::ellipsoid::Ellipsoid;
 use pseudorigid::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator};
 use pseudorigid::prelude::*;
 use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
+use pseudorigid::scenes::particles::Shape;
 use pseudorigid::scenes::section::ShearPlaneSection;
 use pseudorigid::scenes::shear_shape::ShearShape;
 use pseudorigid::scenes::tank_treading::roscoe;
@@ -35,7 +36,7 @@ struct Setup<I> {
 /// period error is ≤ Ca), so 10 (Ca + ρ*) plus 10× the scheme's own error bounds the angle.
 fn jeffery_orbit<I: TimeIntegrator>(s: &Setup<I>) {
     let (r, ca) = (3.0, 1e-4);
-    let shape = ShearShape::prolate(r);
+    let shape = ShearShape::new(Shape::Prolate(r));
     let p = shape
         .particle(&ShearScaling::new(ca, s.rho_star.max(1e-3), 1e5).unwrap())
         .unwrap();
@@ -57,7 +58,7 @@ fn jeffery_orbit<I: TimeIntegrator>(s: &Setup<I>) {
 /// study's drift); what remains is shape inertia O(ρ*) and the scheme's error.
 fn steady_tank_treading<I: TimeIntegrator>(s: &Setup<I>) {
     let ca = 0.2;
-    let p = ShearShape::sphere()
+    let p = ShearShape::new(Shape::Sphere)
         .particle(&ShearScaling::new(ca, s.rho_star.max(1e-3), 1e5).unwrap())
         .unwrap();
     let flow = LinearFlow::simple_shear(1.0).unwrap();
@@ -243,7 +244,7 @@ harness!(
 #[test]
 fn radau_is_l_stable_on_a_quasi_rigid_particle() {
     let r = 3.0;
-    let p = ShearShape::prolate(r)
+    let p = ShearShape::new(Shape::Prolate(r))
         .particle(&ShearScaling::new(1e-4, 1.0, 1e5).unwrap())
         .unwrap();
     let flow = LinearFlow::simple_shear(1.0).unwrap();
@@ -285,7 +286,7 @@ fn radau_is_l_stable_on_a_quasi_rigid_particle() {
 /// per decade for p = 5; the Rosenbrock 2(3) pair gives 10^{2/3}), measured over two decades.
 #[test]
 fn radau_error_falls_faster_than_second_order_with_tolerance() {
-    let p = ShearShape::oblate(2.5)
+    let p = ShearShape::new(Shape::Oblate(2.5))
         .particle(&ShearScaling::new(0.4, 1.0, 1e5).unwrap())
         .unwrap();
     let flow = LinearFlow::simple_shear(1.0).unwrap();

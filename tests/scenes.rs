@@ -6,8 +6,9 @@ use common::sig;
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::output::Csv;
 use pseudorigid::prelude::*;
+use pseudorigid::scenes::particles::Shape;
 use pseudorigid::scenes::phase_boundary::BoundarySearch;
-use pseudorigid::scenes::phase_map::{self, boundary_table};
+use pseudorigid::scenes::phase_map::{self, MapShape, boundary_table};
 use pseudorigid::scenes::shear_regimes::{Regime, RegimeClassifier};
 use pseudorigid::scenes::shear_run::{ShearSample, sample, stokesian_scaling};
 use pseudorigid::scenes::shear_shape::ShearShape;
@@ -17,7 +18,7 @@ use pseudorigid::tensor::dev;
 fn oblate_run(ca: f64, times: &[f64]) -> Vec<ShearSample> {
     sample(
         &Stokesian::overdamped(1e-8).unwrap(),
-        &ShearShape::oblate(2.5),
+        &ShearShape::new(Shape::Oblate(2.5)),
         &stokesian_scaling(ca).unwrap(),
         times,
         1e-3,
@@ -38,10 +39,10 @@ fn grid(from: f64, to: f64, step: f64) -> Vec<f64> {
 fn oblate_2_5_tumbles_at_0_4_and_trembles_at_0_5() {
     let c = RegimeClassifier::stokesian(1e-7).unwrap();
     let tu = c
-        .classify(&ShearShape::oblate(2.5), &stokesian_scaling(0.4).unwrap())
+        .classify(&ShearShape::new(Shape::Oblate(2.5)), &stokesian_scaling(0.4).unwrap())
         .unwrap();
     let tr = c
-        .classify(&ShearShape::oblate(2.5), &stokesian_scaling(0.5).unwrap())
+        .classify(&ShearShape::new(Shape::Oblate(2.5)), &stokesian_scaling(0.5).unwrap())
         .unwrap();
     assert_eq!(tu.regime, Regime::Tumbling, "{tu:?}");
     assert_eq!(tr.regime, Regime::Trembling, "{tr:?}");
@@ -55,7 +56,7 @@ fn oblate_2_5_tumbles_at_0_4_and_trembles_at_0_5() {
     };
     for (short, ca) in [(&tu, 0.4), (&tr, 0.5)] {
         let l = long
-            .classify(&ShearShape::oblate(2.5), &stokesian_scaling(ca).unwrap())
+            .classify(&ShearShape::new(Shape::Oblate(2.5)), &stokesian_scaling(ca).unwrap())
             .unwrap();
         assert!(l.horizon >= 2.0 * short.horizon - 1e-9, "{l:?}");
         assert_eq!(l.regime, short.regime);
@@ -102,9 +103,12 @@ fn regime_switches_once_in_ca() {
     let c = RegimeClassifier::stokesian(1e-6).unwrap();
     let cas: Vec<f64> = (0..=16).map(|i| 0.02 * 200f64.powf(i as f64 / 16.0)).collect();
     for shape in [
-        ShearShape::oblate(2.5),
-        ShearShape::prolate(5.0),
-        ShearShape::triaxial("b_omega2_0.5", 0.3, 0.5),
+        ShearShape::new(Shape::Oblate(2.5)),
+        ShearShape::new(Shape::Prolate(5.0)),
+        ShearShape::new(Shape::Triaxial {
+            omega1: 0.3,
+            omega2: 0.5,
+        }),
     ] {
         let regimes: Vec<Regime> = cas
             .iter()
@@ -131,7 +135,7 @@ fn regime_and_margin_converged_in_tolerance() {
             .map(|&tol| {
                 RegimeClassifier::stokesian(tol)
                     .unwrap()
-                    .classify(&ShearShape::oblate(2.5), &scaling)
+                    .classify(&ShearShape::new(Shape::Oblate(2.5)), &scaling)
                     .unwrap()
             })
             .collect();
@@ -141,7 +145,7 @@ fn regime_and_margin_converged_in_tolerance() {
     }
     let boundary = |tol| {
         BoundarySearch::new(RegimeClassifier::stokesian(tol).unwrap(), 1e-3)
-            .find(&ShearShape::oblate(2.5))
+            .find(&ShearShape::new(Shape::Oblate(2.5)))
             .unwrap()
             .ca_critical()
     };
@@ -159,9 +163,9 @@ fn regime_and_margin_converged_in_tolerance() {
 fn margin_refinement_makes_sampling_density_irrelevant() {
     let scaling = stokesian_scaling(0.4).unwrap();
     let mut c = RegimeClassifier::stokesian(1e-6).unwrap();
-    let dense = c.classify(&ShearShape::oblate(2.5), &scaling).unwrap();
+    let dense = c.classify(&ShearShape::new(Shape::Oblate(2.5)), &scaling).unwrap();
     c.substeps = 0;
-    let sparse = c.classify(&ShearShape::oblate(2.5), &scaling).unwrap();
+    let sparse = c.classify(&ShearShape::new(Shape::Oblate(2.5)), &scaling).unwrap();
     assert!((sparse.margin - dense.margin).abs() <= 1e-9, "{sparse:?} {dense:?}");
 }
 
@@ -177,7 +181,7 @@ fn margin_refinement_makes_sampling_density_irrelevant() {
 #[test]
 fn paper_imex_agrees_on_the_fig4_regimes() {
     let stokes = RegimeClassifier::stokesian(1e-9).unwrap();
-    let shape = ShearShape::oblate(2.5);
+    let shape = ShearShape::new(Shape::Oblate(2.5));
     for ca in [0.4, 0.5] {
         let b = stokes.classify(&shape, &stokesian_scaling(ca).unwrap()).unwrap();
         let diff = |rho_star: f64| {
@@ -316,12 +320,18 @@ fn snapshot_fig5_fig6() {
 /// nodes, fixed by the regimes alone, so they are exact across machines.
 #[test]
 fn snapshot_phase_boundaries() {
+    let point = |series, x, shape| MapShape {
+        series,
+        x,
+        shape: ShearShape::new(shape),
+    };
+    let triaxial = |omega1, omega2| Shape::Triaxial { omega1, omega2 };
     let shapes = [
-        (2.0, ShearShape::prolate(2.0)),
-        (4.0, ShearShape::prolate(4.0)),
-        (2.5, ShearShape::oblate(2.5)),
-        (0.2, ShearShape::triaxial("a_omega1_0.5", 0.5, 0.2)),
-        (0.3, ShearShape::triaxial("b_omega2_0.5", 0.3, 0.5)),
+        point("prolate", 2.0, Shape::Prolate(2.0)),
+        point("prolate", 4.0, Shape::Prolate(4.0)),
+        point("oblate", 2.5, Shape::Oblate(2.5)),
+        point("a_omega1_0.5", 0.2, triaxial(0.5, 0.2)),
+        point("b_omega2_0.5", 0.3, triaxial(0.3, 0.5)),
     ];
     let mut search = phase_map::paper_search().unwrap();
     search.tol = 0.01;
@@ -407,7 +417,7 @@ mod section {
 #[test]
 fn phase_boundary_with_mooney_rivlin_needs_no_scene_edit() {
     use pseudorigid::material::MooneyRivlinLaw;
-    let shape = ShearShape::oblate(2.5);
+    let shape = ShearShape::new(Shape::Oblate(2.5));
     let classifier = RegimeClassifier::stokesian(1e-7).unwrap();
     let neo = BoundarySearch::new(classifier, 1e-3).find(&shape).unwrap();
     let mr0 = BoundarySearch::new(classifier.with_law(MooneyRivlinLaw { beta: 0.0 }), 1e-3)

@@ -193,19 +193,24 @@ fn field_variants_mirror_and_scale() {
 }
 
 /// The ensemble's orientations: the nominal first, all proper rotations, and the symmetry axes
-/// they produce spread over the hemisphere: 9 points on a hemisphere of 2π sr leave ≈ 0.7 sr
+/// (a triaxial shape's first axis) they produce spread over the hemisphere: 9 points on a hemisphere of 2π sr leave ≈ 0.7 sr
 /// each, a cap of half-angle ≈ 27°, so evenly spread axes lie ≳ 30° apart; the nominal axis is
 /// not part of the lattice and may fall nearer one of its points, hence the floor of 15°.
 #[test]
 fn ensemble_orientations_are_spread_rotations() {
-    for shape in [Shape::Prolate(5.0), Shape::Oblate(5.0)] {
+    let triaxial = Shape::Triaxial {
+        omega1: 0.5,
+        omega2: 0.2,
+    };
+    // The spread axis: the symmetry axis of a spheroid, the first axis of a triaxial shape.
+    for (shape, axis) in [
+        (Shape::Prolate(5.0), Vec3::x()),
+        (Shape::Oblate(5.0), Vec3::z()),
+        (triaxial, Vec3::x()),
+    ] {
         let turns = orientations(shape, 9);
         assert_eq!(turns.len(), 9);
         assert_eq!(turns[0], Mat3::identity());
-        let axis = match shape {
-            Shape::Prolate(_) => Vec3::x(),
-            Shape::Oblate(_) => Vec3::z(),
-        };
         let axes: Vec<Vec3> = turns.iter().map(|q| q * axis).collect();
         for q in &turns {
             assert!((q.transpose() * q - Mat3::identity()).amax() < 1e-14);

@@ -6,6 +6,7 @@ use pseudorigid::driver::run;
 use pseudorigid::flow::analytic::LinearFlow;
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::particle::{ShearScaling, State};
+use pseudorigid::scenes::particles::Shape;
 use pseudorigid::scenes::scipy_peer::{Peer, PeerCase, PeerMethod};
 use pseudorigid::scenes::shear_shape::ShearShape;
 use pseudorigid::scenes::work_precision::{Case, Setting, measure};
@@ -73,7 +74,7 @@ fn scipy_peer_agrees_with_library() {
         return;
     }
     let (ca, bulk_ratio, t_end, peer_tol, library_tol) = (0.4, 1e5, 5.0, 1e-8, 1e-10);
-    let shape = ShearShape::oblate(2.5);
+    let shape = ShearShape::new(Shape::Oblate(2.5));
     let case = PeerCase {
         semi_axes: shape.ratios(),
         ca,

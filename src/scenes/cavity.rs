@@ -49,7 +49,6 @@ use super::SceneError;
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule, Planes};
 use crate::diagnostics::{Monitor, Thresholds, Validity};
 use crate::driver::{Plan, RunStats, Stop, integrate};
-use crate::ellipsoid::Ellipsoid;
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::flow::unstructured::MeshedFlow;
@@ -331,7 +330,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     }
 
     fn particle(&self, release: &Release) -> Result<Particle<Response<L>, D>, SceneError> {
-        let shape = Ellipsoid::with_volume_diameter(release.shape.ratios(), D_EQ, Mat3::identity())?;
+        let shape = release.shape.ellipsoid(D_EQ, Mat3::identity())?;
         // The inertial runs are error-controlled, so they resolve what the traction does to the
         // volume mode: the literal eq. 12 anti-damps dilation (see
         // `integrator::imex::volume_mode_floor`; at tol 1e-7 J − 1 grew from 3e-5 to 1.6), the
@@ -572,11 +571,13 @@ pub fn trajectory_panel(runs: &[CavityRun], title: &str) -> crate::output::Panel
 /// Initial orientations of an ensemble: the identity (the nominal release) and `count − 1`
 /// rotations that carry the shape's symmetry axis (e_x for prolates, e_z for oblates) to
 /// directions spread evenly over a hemisphere (a Fibonacci lattice; axis and −axis give the
-/// same ellipsoid), each by the smallest rotation.
+/// same ellipsoid), each by the smallest rotation. A triaxial shape has no symmetry axis: its
+/// first axis r₁ is spread, and the rotation about it is the smallest one, not sampled; a
+/// sphere looks the same in every orientation.
 pub fn orientations(shape: Shape, count: usize) -> Vec<Mat3> {
     let axis = match shape {
-        Shape::Prolate(_) => Vec3::x(),
         Shape::Oblate(_) => Vec3::z(),
+        Shape::Sphere | Shape::Prolate(_) | Shape::Triaxial { .. } => Vec3::x(),
     };
     let others = count.saturating_sub(1);
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());

@@ -2,7 +2,8 @@
 //!
 //! Shear-flow scenes of paper §6.1 (units of [`crate::particle::ShearScaling`]: lengths d_eq,
 //! times 1/γ̇, μ_f = 1, μ_s = 1/Ca; flow u = y e_x, vorticity −e_z):
-//! - [`shear_shape`]: initial shapes named by their semi-axes along flow, gradient, vorticity;
+//! - [`shear_shape`]: a [`particles::Shape`] placed in the shear axes (which body axis starts
+//!   along the flow, the gradient and the vorticity);
 //! - [`section`]: the ellipse cut by the shear plane (what the paper's figures show);
 //! - [`shear_run`]: sampled runs (axes, material lines l_a, l_c) for Figs 4–6;
 //! - [`shear_regimes`]: the tumbling/trembling (TU/TR) classifier with dense checking;
@@ -12,6 +13,9 @@
 //!   ([`scipy_peer`], an independent NumPy/SciPy implementation of the inertialess model);
 //! - [`tank_treading`]: steady tank-treading of an initially spherical particle, by time
 //!   integration and by Roscoe's (1967) steady algebraic equations.
+//!
+//! Every scene draws its shapes from one family type, [`particles::Shape`] (sphere, prolate,
+//! oblate, triaxial), and its particle model from [`particles::ParticleModel`].
 //!
 //! Real flow fields:
 //! - `bifurcation` (features `mesh`, `parallel`): deposition of soft ellipsoids in an airway

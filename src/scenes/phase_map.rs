@@ -1,8 +1,10 @@
 //! TU/TR phase maps: boundaries over families of shapes (paper Figs 7, 8), their CSV dataset
 //! and their figure.
 //!
-//! The dataset has one row per shape, `family,r_flow,r_gradient,r_vorticity,ca_tu,ca_tr`,
-//! with the initial semi-axes relative to each other (ratios, not d_eq units).
+//! The dataset has one row per shape, `family,r_flow,r_gradient,r_vorticity,ca_tu,ca_tr`:
+//! the series the shape belongs to (its [`MapShape::series`], e.g. `prolate` in Fig. 7 or a
+//! section `a_omega1_0.5` in Fig. 8) and its initial semi-axes along flow, gradient and
+//! vorticity relative to each other (ratios, not d_eq units).
 
 use super::SceneError;
 use super::phase_boundary::{Boundary, BoundarySearch};
@@ -13,9 +15,22 @@ use crate::integrator::{Stokesian, TimeIntegrator};
 use crate::material::LawFactory;
 use crate::output::{Csv, OutputError, Panel, Series};
 
-/// One located boundary and the abscissa it is plotted at.
+/// One shape of a map: the series it is drawn in and its abscissa.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapShape {
+    /// Series label (the dataset's `family` column and the figure's legend).
+    pub series: &'static str,
+    /// Abscissa (aspect ratio, ω₁ or ω₂).
+    pub x: f64,
+    /// The placed shape.
+    pub shape: ShearShape,
+}
+
+/// One located boundary and the series and abscissa it is plotted at.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MapPoint {
+    /// Series label.
+    pub series: &'static str,
     /// Abscissa (aspect ratio, ω₁ or ω₂).
     pub x: f64,
     /// The boundary of that shape.
@@ -29,17 +44,23 @@ pub fn paper_search() -> Result<BoundarySearch<Stokesian>, crate::error::ParamEr
     Ok(BoundarySearch::new(RegimeClassifier::stokesian(1e-7)?, 1e-4))
 }
 
-/// Boundaries of all `(x, shape)` pairs, in parallel.
+/// Boundaries of all `shapes`, in parallel.
 pub fn compute<I: TimeIntegrator + Sync, L: LawFactory + Sync>(
     search: &BoundarySearch<I, L>,
-    shapes: &[(f64, ShearShape)],
+    shapes: &[MapShape],
 ) -> Result<Vec<MapPoint>, SceneError> {
-    let list: Vec<ShearShape> = shapes.iter().map(|(_, s)| *s).collect();
+    let list: Vec<ShearShape> = shapes.iter().map(|s| s.shape).collect();
     search
         .find_all(&list)
         .into_iter()
         .zip(shapes)
-        .map(|(b, (x, _))| b.map(|boundary| MapPoint { x: *x, boundary }))
+        .map(|(b, s)| {
+            b.map(|boundary| MapPoint {
+                series: s.series,
+                x: s.x,
+                boundary,
+            })
+        })
         .collect()
 }
 
@@ -47,12 +68,12 @@ pub fn compute<I: TimeIntegrator + Sync, L: LawFactory + Sync>(
 pub fn boundary_table(points: &[MapPoint]) -> Result<Csv, OutputError> {
     let mut csv = Csv::new(&["family", "r_flow", "r_gradient", "r_vorticity", "ca_tu", "ca_tr"]);
     for p in points {
-        let (s, b) = (p.boundary.shape, p.boundary);
+        let ([flow, gradient, vorticity], b) = (p.boundary.shape.ratios(), p.boundary);
         csv.push(vec![
-            s.family.to_string(),
-            s.r_flow.to_string(),
-            s.r_gradient.to_string(),
-            s.r_vorticity.to_string(),
+            p.series.to_string(),
+            flow.to_string(),
+            gradient.to_string(),
+            vorticity.to_string(),
             b.ca_tu.to_string(),
             b.ca_tr.to_string(),
         ])?;
@@ -71,17 +92,17 @@ pub fn validity_table(points: &[MapPoint], inertialess: bool) -> Result<Csv, Out
     let mut csv = Csv::new(&header);
     let limits = crate::diagnostics::Thresholds::default();
     for p in points {
-        let s = p.boundary.shape;
+        let [flow, gradient, vorticity] = p.boundary.shape.ratios();
         let v = if inertialess {
             p.boundary.validity.inertialess()
         } else {
             p.boundary.validity
         };
         let mut cells = vec![
-            s.family.to_string(),
-            s.r_flow.to_string(),
-            s.r_gradient.to_string(),
-            s.r_vorticity.to_string(),
+            p.series.to_string(),
+            flow.to_string(),
+            gradient.to_string(),
+            vorticity.to_string(),
         ];
         cells.extend(v.cells(&limits));
         csv.push(cells)?;
@@ -89,21 +110,21 @@ pub fn validity_table(points: &[MapPoint], inertialess: bool) -> Result<Csv, Out
     Ok(csv)
 }
 
-/// Ca_c against x, one line per family, with the bracket ends as points.
+/// Ca_c against x, one line per series, with the bracket ends as points.
 pub fn boundary_panel(points: &[MapPoint], title: &str, x_label: &str) -> Panel {
-    let mut families: Vec<&str> = points.iter().map(|p| p.boundary.shape.family).collect();
-    families.dedup();
+    let mut series: Vec<&str> = points.iter().map(|p| p.series).collect();
+    series.dedup();
     let mut panel = Panel::new(title, x_label, "Ca (TU below, TR above)");
-    for (i, fam) in families.iter().enumerate() {
+    for (i, name) in series.iter().enumerate() {
         let of = |f: fn(&Boundary) -> f64| -> Vec<(f64, f64)> {
             points
                 .iter()
-                .filter(|p| p.boundary.shape.family == *fam)
+                .filter(|p| p.series == *name)
                 .map(|p| (p.x, f(&p.boundary)))
                 .collect()
         };
         panel = panel
-            .with(Series::line(*fam, of(Boundary::ca_critical), i + 1))
+            .with(Series::line(*name, of(Boundary::ca_critical), i + 1))
             .with(Series::points("", of(|b| b.ca_tu), i + 1))
             .with(Series::points("", of(|b| b.ca_tr), i + 1));
     }

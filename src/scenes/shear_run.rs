@@ -6,6 +6,7 @@
 //! one; their lines from the barycentre are ξ = F·Ξ ([`crate::particle::lines`]).
 
 use super::SceneError;
+use super::particles::Shape;
 use super::section::ShearPlaneSection;
 use super::shear_shape::ShearShape;
 use crate::diagnostics::{Monitor, Validity};
@@ -94,7 +95,7 @@ pub fn sample<I: TimeIntegrator>(
 pub fn oblate_fig4_run(ca: f64, times: &[f64]) -> Result<(Vec<ShearSample>, Validity), SceneError> {
     let (samples, validity) = sample(
         &Stokesian::overdamped(1e-8)?,
-        &ShearShape::oblate(2.5),
+        &ShearShape::new(Shape::Oblate(2.5)),
         &stokesian_scaling(ca)?,
         times,
         1e-3,

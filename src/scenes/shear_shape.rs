@@ -1,91 +1,65 @@
-//! Initial shapes for the shear-flow scenes, named by their semi-axes along the flow (x), the
-//! gradient (y) and the vorticity (z) directions.
+//! The placement of a [`Shape`] in the shear axes: which body axis starts along the flow (x),
+//! the gradient (y) and the vorticity (z).
 //!
 //! # Conventions (paper §6.1, Fig. 3; Sanagavarapu et al.)
-//! - oblate of aspect ratio λ: semi-axes (λ, 1, λ): r₁ along the flow, r₃ along the gradient,
-//!   r₂ along the vorticity, so the in-plane ratio ω₁ = r_long/r_short = λ and the
-//!   out-of-plane ratio ω₂ = r_vorticity/r_short = λ (the paper's ω₁(0) = ω₂(0) = 2.5 case);
-//! - prolate of aspect ratio λ: (λ, 1, 1): the two largest axes in the shear plane, the
-//!   longest along the flow;
-//! - triaxial in Sanagavarapu's ratios ω₁ = r_short/r_long (in-plane) and
-//!   ω₂ = r_vorticity/r_long: (1, ω₁, ω₂).
+//! - oblate λ (body λ : λ : 1): the symmetry axis along the gradient, so the semi-axes along
+//!   (flow, gradient, vorticity) are (λ, 1, λ): the in-plane ratio ω₁ = r_long/r_short = λ and
+//!   the out-of-plane ratio ω₂ = r_vorticity/r_short = λ (the paper's ω₁(0) = ω₂(0) = 2.5 case);
+//! - prolate λ (body λ : 1 : 1): the symmetry axis along the flow, (λ, 1, 1): the two largest
+//!   axes in the shear plane, the longest along the flow;
+//! - triaxial in Sanagavarapu's ratios (body 1 : ω₁ : ω₂, ω₁ = r_short/r_long in-plane,
+//!   ω₂ = r_vorticity/r_long): body axes along (flow, gradient, vorticity), (1, ω₁, ω₂);
+//! - sphere: (1, 1, 1).
 //!
-//! The stress-free particle is scaled to d_eq = 1 (R₁R₂R₃ = 1/8).
+//! The semi-axis ratios are those of [`Shape::ratios`], reordered, never recomputed; the
+//! stress-free particle is scaled to d_eq = 1 (R₁R₂R₃ = 1/8, [`ShearScaling`]).
 
 use crate::error::ParamError;
 use crate::material::{NeoHooke, Response};
 use crate::particle::{Particle, ShearScaling};
+use crate::scenes::particles::Shape;
 use crate::tensor::Mat3;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// Initial ellipsoid aligned with the shear axes.
+/// A [`Shape`] placed in the shear axes by the paper's convention (module docs), its axes
+/// E′_a = e_a.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ShearShape {
-    /// Family label used in datasets.
-    pub family: &'static str,
-    /// Semi-axis along the flow direction x (relative size).
-    pub r_flow: f64,
-    /// Semi-axis along the gradient direction y.
-    pub r_gradient: f64,
-    /// Semi-axis along the vorticity direction z.
-    pub r_vorticity: f64,
+    /// The shape family.
+    pub shape: Shape,
 }
 
 impl ShearShape {
-    /// Oblate (λ, 1, λ).
-    pub fn oblate(aspect: f64) -> Self {
-        Self {
-            family: "oblate",
-            r_flow: aspect,
-            r_gradient: 1.0,
-            r_vorticity: aspect,
-        }
+    /// `shape` in the paper's placement.
+    pub fn new(shape: Shape) -> Self {
+        Self { shape }
     }
 
-    /// Sphere (1, 1, 1).
-    pub fn sphere() -> Self {
-        Self {
-            family: "sphere",
-            r_flow: 1.0,
-            r_gradient: 1.0,
-            r_vorticity: 1.0,
-        }
-    }
-
-    /// Prolate (λ, 1, 1).
-    pub fn prolate(aspect: f64) -> Self {
-        Self {
-            family: "prolate",
-            r_flow: aspect,
-            r_gradient: 1.0,
-            r_vorticity: 1.0,
-        }
-    }
-
-    /// Triaxial (1, ω₁, ω₂) in Sanagavarapu's ratios (both relative to the in-plane long axis).
-    pub fn triaxial(family: &'static str, omega1: f64, omega2: f64) -> Self {
-        Self {
-            family,
-            r_flow: 1.0,
-            r_gradient: omega1,
-            r_vorticity: omega2,
+    /// Body axis (0, 1, 2) along the flow, the gradient and the vorticity.
+    pub fn body_axes(&self) -> [usize; 3] {
+        match self.shape {
+            Shape::Oblate(_) => [0, 2, 1],
+            Shape::Sphere | Shape::Prolate(_) | Shape::Triaxial { .. } => [0, 1, 2],
         }
     }
 
     /// Relative semi-axes in the order (flow, gradient, vorticity).
     pub fn ratios(&self) -> [f64; 3] {
-        [self.r_flow, self.r_gradient, self.r_vorticity]
+        let body = self.shape.ratios();
+        self.body_axes().map(|a| body[a])
     }
 
     /// Indices (a, c) of the initial in-shear-plane semi-axes, a on the longer one (ties: flow).
     pub fn in_plane_axes(&self) -> (usize, usize) {
-        if self.r_flow >= self.r_gradient { (0, 1) } else { (1, 0) }
+        let [flow, gradient, _] = self.ratios();
+        if flow >= gradient { (0, 1) } else { (1, 0) }
     }
 
     /// In-plane aspect ratio r_long/r_short ≥ 1.
     pub fn in_plane_aspect(&self) -> f64 {
-        self.r_flow.max(self.r_gradient) / self.r_flow.min(self.r_gradient)
+        let [flow, gradient, _] = self.ratios();
+        flow.max(gradient) / flow.min(gradient)
     }
 
     /// Half of Jeffery's period π(r + 1/r) of a rigid spheroid with the in-plane aspect ratio:

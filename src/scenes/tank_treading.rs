@@ -32,6 +32,7 @@
 //! θ → π/4 − (3/4)Ca (Roscoe 1967, small-Ca expansion); the error is O(Ca²).
 
 use super::SceneError;
+use super::particles::Shape;
 use super::section::ShearPlaneSection;
 use super::shear_run::unit_shear;
 use super::shear_shape::ShearShape;
@@ -215,7 +216,7 @@ pub struct IntegratedSteady {
 /// Integrate the initially spherical particle at `ca` to `t_end` (≥ 1).
 pub fn integrate(ca: f64, tol: f64, t_end: f64) -> Result<IntegratedSteady, SceneError> {
     let scaling = ShearScaling::new(ca, 1.0, 1e3)?;
-    let particle = ShearShape::sphere().particle(&scaling)?;
+    let particle = ShearShape::new(Shape::Sphere).particle(&scaling)?;
     let mut read = Vec::with_capacity(2);
     let flow = unit_shear();
     let start = State::at_rest(Vec3::zeros());

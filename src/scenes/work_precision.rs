@@ -24,6 +24,7 @@
 //! difference (≈ 3e-4 here) in their error.
 
 use super::SceneError;
+use super::particles::Shape;
 use super::scipy_peer::{Peer, PeerCase, PeerMethod, PeerRun};
 use super::shear_shape::ShearShape;
 use super::tank_treading::roscoe;
@@ -168,10 +169,10 @@ fn shear() -> LinearFlow {
 /// Initial shape and capillary number of `case`.
 fn definition(case: Case) -> (ShearShape, f64) {
     match case {
-        Case::Jeffery => (ShearShape::prolate(JEFFERY_R), 1e-4),
-        Case::TankTreading => (ShearShape::sphere(), 0.2),
+        Case::Jeffery => (ShearShape::new(Shape::Prolate(JEFFERY_R)), 1e-4),
+        Case::TankTreading => (ShearShape::new(Shape::Sphere), 0.2),
         // paper §6.1.1: ω₁ = ω₂ = 2.5, the short axis along the gradient
-        Case::Oblate => (ShearShape::oblate(2.5), 0.4),
+        Case::Oblate => (ShearShape::new(Shape::Oblate(2.5)), 0.4),
     }
 }
 

@@ -121,7 +121,7 @@ pub fn softness_kinds(shapes: &[f64], moduli: &[f64], stokes: &[f64]) -> Vec<Kin
         for &lambda in shapes {
             for &mu_s in moduli {
                 kinds.push(Kind {
-                    shape: crate::scenes::cavity::Shape::Prolate(lambda),
+                    shape: crate::scenes::particles::Shape::Prolate(lambda),
                     material: super::injection::Material::ShearModulus(mu_s),
                     stokes: stk,
                 });

@@ -12,14 +12,13 @@
 //!   negligible against the viscous load; the barycentre is inertial (that is what Stk measures).
 
 use super::setup::{Airway, GRAVITY, INJECTION_DIAMETER, INJECTION_X, d_eq_for_stokes, fluid, rho_particle};
-use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, StepError};
 use crate::hydro::Brenner;
 use crate::material::{NeoHooke, Softness};
 use crate::particle::Particle;
 use crate::population::sampling::{haar_rotation, uniform_disc};
 use crate::population::{Injector, ParticleRng, ParticleSpec, ParticleTemplate};
-use crate::scenes::cavity::Shape;
+use crate::scenes::particles::Shape;
 use crate::tensor::Vec3;
 use serde::Serialize;
 
@@ -126,7 +125,7 @@ impl Injector for Injection<'_> {
         let centre = Vec3::new(INJECTION_X, 0.0, 0.0);
         let position = uniform_disc(rng, &centre, &Vec3::x(), 0.5 * INJECTION_DIAMETER)?;
         let axes = haar_rotation(rng);
-        let shape = Ellipsoid::with_volume_diameter(self.kind.shape.ratios(), self.d_eq, axes)?;
+        let shape = self.kind.shape.ellipsoid(self.d_eq, axes)?;
         let velocity = crate::flow::FlowField::sample(self.airway.flow(), &position, 0.0)?.u;
         Ok(ParticleSpec {
             shape,

@@ -213,7 +213,7 @@ pub fn deposition_table(rows: &[DepositionRow]) -> Result<Csv, OutputError> {
 }
 
 fn lambda1(scene: &PipeScene) -> f64 {
-    scene.particle_data.lambda1
+    scene.particle_data.lambda1()
 }
 
 fn ca(scene: &PipeScene) -> f64 {

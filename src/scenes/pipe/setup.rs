@@ -19,7 +19,6 @@
 //! suits the uniform error tolerances of the adaptive integrators.
 
 use crate::contact::PipeWall;
-use crate::ellipsoid::Ellipsoid;
 use crate::error::{FlowError, ParamError, finite, positive};
 use crate::flow::FlowField;
 use crate::flow::analytic::Poiseuille;
@@ -28,7 +27,7 @@ use crate::hydro::{Brenner, DragModel};
 use crate::integrator::{BarycentreModel, Stokesian};
 use crate::material::{self, Hyperelastic, LawFactory, NeoHooke};
 use crate::particle::{Fluid, Particle, State};
-use crate::scenes::particles::{ParticleModel, Softness};
+use crate::scenes::particles::{ParticleModel, Shape, Softness};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -81,35 +80,39 @@ impl PipeFlowData {
     }
 }
 
-/// A stress-free prolate or triaxial particle in SI units.
+/// A stress-free particle in SI units: its shape, placed with body axis a along e_a (r₁
+/// along the flow e₁, r₂ along e₂ in the plane of motion), sized by its smallest semi-axis.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PipeParticleData {
-    /// Smallest semi-axis r₃ (m).
+    /// Shape family and semi-axis ratios.
+    pub shape: Shape,
+    /// Smallest semi-axis (m), r₃ for the spheroids.
     pub r_minor: f64,
-    /// λ₁ = r₁/r₃ (r₁ initially along the flow e₁).
-    pub lambda1: f64,
-    /// λ₂ = r₂/r₃ (r₂ initially along e₂, in the plane of motion).
-    pub lambda2: f64,
     /// Solid density ρ_p (kg/m³).
     pub rho_p: f64,
 }
 
 impl PipeParticleData {
-    /// The Tian/Cui particle family: r₃ = 0.5 µm, ρ_p = 2560 kg/m³, prolate (λ₂ = 1) with
-    /// aspect ratio `lambda1` (14 in Fig. 10; 3.5 and 7 in Figs 11, 12, where the paper calls the
-    /// set-up "identical", so r₃ is kept).
-    pub fn prolate(lambda1: f64) -> Self {
+    /// The Tian/Cui particle: r₃ = 0.5 µm, ρ_p = 2560 kg/m³, of `shape` (prolates with λ₁ = 14
+    /// in Fig. 10; 3.5 and 7 in Figs 11, 12, where the paper calls the set-up "identical", so
+    /// r₃ is kept).
+    pub fn tian_cui(shape: Shape) -> Self {
         Self {
+            shape,
             r_minor: 0.5e-6,
-            lambda1,
-            lambda2: 1.0,
             rho_p: 2560.0,
         }
     }
 
-    /// Volume-equivalent diameter d_eq = 2 r₃ (λ₁λ₂)^{1/3} (m).
-    pub fn d_eq(&self) -> f64 {
-        2.0 * self.r_minor * (self.lambda1 * self.lambda2).cbrt()
+    /// λ₁ = r₁/r₃, the aspect ratio the pipe datasets are labelled by.
+    pub fn lambda1(&self) -> f64 {
+        let [r1, _, r3] = self.shape.ratios();
+        r1 / r3
+    }
+
+    /// Volume-equivalent diameter d_eq = 2 (r₁r₂r₃)^{1/3} (m).
+    pub fn d_eq(&self) -> Result<f64, ParamError> {
+        self.shape.volume_diameter(self.r_minor)
     }
 }
 
@@ -151,7 +154,7 @@ impl PipeScene {
     pub fn tian_cui(lambda1: f64, ca: f64) -> Result<Self, ParamError> {
         Self::new(
             PipeFlowData::tian_cui(),
-            PipeParticleData::prolate(lambda1),
+            PipeParticleData::tian_cui(Shape::Prolate(lambda1)),
             Softness::from_ca(ca)?,
         )
     }
@@ -173,20 +176,18 @@ impl<M: Hyperelastic, D: DragModel> PipeScene<M, D> {
             ("nu_f", flow.nu_f),
             ("rho_f", flow.rho_f),
             ("r_minor", particle.r_minor),
-            ("lambda1", particle.lambda1),
-            ("lambda2", particle.lambda2),
             ("rho_p", particle.rho_p),
         ] {
             positive(name, v)?;
         }
         finite("mean velocity", flow.mean_velocity)?;
         finite("gravity", flow.gravity)?;
-        let d_eq = particle.d_eq();
+        let d_eq = particle.d_eq()?;
         let shear_rate = positive("release shear rate", flow.release_shear_rate())?;
         let (l, t) = (d_eq, 1.0 / shear_rate);
         let mu_f = flow.mu_f();
         let density = |rho: f64| rho * shear_rate * d_eq * d_eq / mu_f;
-        let shape = Ellipsoid::with_volume_diameter([particle.lambda1, particle.lambda2, 1.0], 1.0, Mat3::identity())?;
+        let shape = particle.shape.ellipsoid(1.0, Mat3::identity())?;
         // Stresses in units of μ_f γ̇₀, so μ_s = 1/Ca. The inertialess model keeps tr l_s = 0,
         // so J = 1 and the bulk ratio never acts.
         let model = model
