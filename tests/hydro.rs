@@ -217,3 +217,37 @@ fn buoyancy_factor() {
     // ρ_t = ρ₀/J: an expanded particle is lighter
     assert_relative_eq!(reduced_gravity(&g, 2000.0, 1000.0, 2.0), Vec3::zeros());
 }
+
+#[test]
+fn mean_response_time_ratio_of_spheroids() {
+    use pseudorigid::hydro::drag::mean_response_time_ratio;
+    // A sphere's response time is its own: the ratio is 1 up to round-off.
+    assert_relative_eq!(
+        mean_response_time_ratio(&Vec3::repeat(0.7)).unwrap(),
+        1.0,
+        max_relative = 1e-14
+    );
+    // Prolates λ = 2, 5, 20 of unit volume-equivalent radius: (a_eq/8)(3χ₀ + Σ x_i α_i) with the
+    // integrals by adaptive quadrature (SciPy `quad`, independent of the Carlson route; its
+    // error is below 1e-10, so 1e-9 relative).
+    for (lambda, quadrature) in [
+        (2.0, 0.957_975_925_942_851_6),
+        (5.0, 0.800_167_264_606_542_2),
+        (20.0, 0.501_199_955_572_886_7),
+    ] {
+        let c = (1.0_f64 / lambda).cbrt();
+        let r = Vec3::new(lambda * c, c, c);
+        assert_relative_eq!(mean_response_time_ratio(&r).unwrap(), quadrature, max_relative = 1e-9);
+        // The same through the drag model's tensor in a rotated frame: 6π a_eq tr(K̂⁻¹)/3.
+        let q = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0).into_inner();
+        let frame = PrincipalFrame { r, q };
+        let k = Brenner.resistance(&frame, &EllipsoidIntegrals::new(&r));
+        let mobility = k.try_inverse().unwrap().trace() / 3.0;
+        assert_relative_eq!(
+            mean_response_time_ratio(&r).unwrap(),
+            6.0 * std::f64::consts::PI * mobility,
+            max_relative = 1e-12
+        );
+    }
+    assert!(mean_response_time_ratio(&Vec3::new(1.0, f64::NAN, 1.0)).is_err());
+}

@@ -331,3 +331,50 @@ fn deposition_map_vtp_holds_every_deposit() {
     }
     assert!(xml.contains("Tensors=\"V\""));
 }
+
+/// The effective-Stokes table: a sphere keeps its Stk, a λ = 20 prolate's is halved (its
+/// orientation-averaged response time is 0.5012 of its volume-equivalent sphere's, checked
+/// against quadrature in `tests/hydro.rs`), and the correlation is read at both.
+#[test]
+fn effective_stokes_scales_stk_by_the_response_time_ratio() {
+    use pseudorigid::population::FateCounts;
+    use pseudorigid::scenes::bifurcation::{Efficiency, Kind, Material, study, zhang_reference};
+    use pseudorigid::scenes::particles::Shape;
+    let row = |shape, stokes| Efficiency {
+        kind: Kind {
+            shape,
+            material: Material::Rigid,
+            stokes,
+        },
+        counts: FateCounts {
+            deposited: 10,
+            escaped: 90,
+            suspended: 0,
+            failed: 0,
+        },
+    };
+    let text = study::effective_stokes_table(&[row(Shape::Prolate(1.0), 0.1), row(Shape::Prolate(20.0), 0.2)])
+        .unwrap()
+        .to_text();
+    let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        lines[0],
+        [
+            "shape",
+            "stk",
+            "response_time_ratio",
+            "stk_effective",
+            "de",
+            "de_stderr",
+            "zhang_at_stk",
+            "zhang_at_stk_effective"
+        ]
+    );
+    assert_eq!(lines[1][2..4], ["1.00000", "0.10000"]);
+    assert_eq!(lines[2][2..4], ["0.50120", "0.10024"]);
+    let zhang = |stk: f64| format!("{:.5}", zhang_reference(stk).unwrap());
+    assert_eq!(lines[2][6], zhang(0.2));
+    assert_eq!(lines[2][7], zhang(0.2 * 0.501_199_955_572_886_7));
+    // DE = 10/100 with its binomial error √(0.1·0.9/100) = 0.03.
+    assert_eq!(lines[1][4..6], ["0.10000", "0.03000"]);
+}

@@ -8,7 +8,7 @@
 
 use super::BifurcationError;
 use super::injection::{Injection, Kind};
-use super::setup::Airway;
+use super::setup::{Airway, zhang_reference};
 use crate::driver::{Budget, Plan};
 use crate::error::ParamError;
 use crate::integrator::{BarycentreModel, Stokesian, Tolerances};
@@ -172,6 +172,39 @@ pub fn efficiency_table(rows: &[Efficiency]) -> Result<Csv, crate::output::Outpu
             r.counts.suspended.to_string(),
             format!("{:.5}", r.de()),
             format!("{:.5}", r.stderr()),
+        ])?;
+    }
+    Ok(csv)
+}
+
+/// DE beside the correlation at the Stokes number the particles' drag implies: Stk from d_eq
+/// (paper eq. 25) times the orientation-averaged response-time ratio
+/// ([`crate::hydro::drag::mean_response_time_ratio`]), the correlation being for spheres.
+/// Columns `shape,stk,response_time_ratio,stk_effective,de,de_stderr,zhang_at_stk,
+/// zhang_at_stk_effective`.
+pub fn effective_stokes_table(rows: &[Efficiency]) -> Result<Csv, BifurcationError> {
+    let mut csv = Csv::new(&[
+        "shape",
+        "stk",
+        "response_time_ratio",
+        "stk_effective",
+        "de",
+        "de_stderr",
+        "zhang_at_stk",
+        "zhang_at_stk_effective",
+    ]);
+    for r in rows {
+        let ratio = crate::hydro::drag::mean_response_time_ratio(&crate::tensor::Vec3::from(r.kind.shape.ratios()))?;
+        let effective = r.kind.stokes * ratio;
+        csv.push(vec![
+            r.kind.shape.label(),
+            r.kind.stokes.to_string(),
+            format!("{ratio:.5}"),
+            format!("{effective:.5}"),
+            format!("{:.5}", r.de()),
+            format!("{:.5}", r.stderr()),
+            format!("{:.5}", zhang_reference(r.kind.stokes)?),
+            format!("{:.5}", zhang_reference(effective)?),
         ])?;
     }
     Ok(csv)
