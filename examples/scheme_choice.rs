@@ -25,15 +25,23 @@ use pseudorigid::scenes::pipe::{PipeCase, Softness, sample_orientation, track_to
 use std::error::Error;
 use std::time::Instant;
 
-type Measure<'a> = Box<dyn Fn(Scheme, f64) -> Result<Vec<f64>, Box<dyn Error>> + 'a>;
+/// What one run reports: the compared quantity and, where the scene counts them, its
+/// accepted and rejected steps.
+struct Outcome {
+    quantity: Vec<f64>,
+    steps: Option<(u64, u64)>,
+}
+
+type Measure<'a> = Box<dyn Fn(Scheme, f64) -> Result<Outcome, Box<dyn Error>> + 'a>;
 
 /// The least wall time of three runs and the run's result.
-fn timed(f: &dyn Fn() -> Result<Vec<f64>, Box<dyn Error>>) -> Result<(f64, Vec<f64>), Box<dyn Error>> {
-    let mut best = f64::INFINITY;
-    let mut out = Vec::new();
-    for _ in 0..3 {
+fn timed(f: &dyn Fn() -> Result<Outcome, Box<dyn Error>>) -> Result<(f64, Outcome), Box<dyn Error>> {
+    let start = Instant::now();
+    let out = f()?;
+    let mut best = start.elapsed().as_secs_f64();
+    for _ in 1..3 {
         let start = Instant::now();
-        out = f()?;
+        f()?;
         best = best.min(start.elapsed().as_secs_f64());
     }
     Ok((best, out))
@@ -59,7 +67,10 @@ fn main() -> Result<(), Box<dyn Error>> {
             let scene = case.scene()?;
             let t_max = 50.0 * scene.sphere_settling_time();
             let run = track_to_deposition(&scene, &scene.integrator(tol)?.with_scheme(scheme), 1e-3, t_max, t_max)?;
-            Ok(vec![run.distance(), run.steps as f64, run.rejected as f64])
+            Ok(Outcome {
+                quantity: vec![run.distance()],
+                steps: Some((run.steps, run.rejected)),
+            })
         }),
     ));
     cases.push((
@@ -74,7 +85,10 @@ fn main() -> Result<(), Box<dyn Error>> {
             let t_end = 0.5 / scene.time_unit;
             let samples = sample_orientation(&scene, &scene.integrator(tol)?.with_scheme(scheme), &[t_end], 1e-3)?;
             let c = samples.last().ok_or("no sample")?.xi_a.normalize();
-            Ok(vec![c[0], c[1], c[2]])
+            Ok(Outcome {
+                quantity: vec![c[0], c[1], c[2]],
+                steps: None,
+            })
         }),
     ));
     cases.push((
@@ -87,13 +101,10 @@ fn main() -> Result<(), Box<dyn Error>> {
             };
             let run = cavity(scheme).track(release, Contact::Extent, 5.0, tol, 5.0)?;
             let x = run.path.last().ok_or("no path")?.1;
-            Ok(vec![
-                x[0],
-                x[1],
-                x[2],
-                run.stats.steps as f64,
-                run.stats.rejected as f64,
-            ])
+            Ok(Outcome {
+                quantity: vec![x[0], x[1], x[2]],
+                steps: Some((run.stats.steps, run.stats.rejected)),
+            })
         }),
     ));
     cases.push((
@@ -106,13 +117,10 @@ fn main() -> Result<(), Box<dyn Error>> {
             };
             let run = cavity(scheme).track(release, Contact::Barycentre, 100.0, tol, 100.0)?;
             let x = run.path.last().ok_or("no path")?.1;
-            Ok(vec![
-                x[0],
-                x[1],
-                x[2],
-                run.stats.steps as f64,
-                run.stats.rejected as f64,
-            ])
+            Ok(Outcome {
+                quantity: vec![x[0], x[1], x[2]],
+                steps: Some((run.stats.steps, run.stats.rejected)),
+            })
         }),
     ));
     let airway = &airway;
@@ -146,7 +154,10 @@ fn main() -> Result<(), Box<dyn Error>> {
             let out = run(&case, &config, Shard::ALL, &RunOptions::default().quiet())?;
             let r = &out.records[0];
             let x = r.end.ok_or("no end state")?.x;
-            Ok(vec![x[0], x[1], x[2], r.stats.steps as f64, r.stats.rejected as f64])
+            Ok(Outcome {
+                quantity: vec![x[0], x[1], x[2]],
+                steps: Some((r.stats.steps, r.stats.rejected)),
+            })
         }),
     ));
 
@@ -157,21 +168,10 @@ fn main() -> Result<(), Box<dyn Error>> {
         for t in [*tol, 0.1 * tol] {
             for scheme in [Scheme::Rosenbrock23, Scheme::Radau5] {
                 let (wall, out) = timed(&|| measure(scheme, t))?;
-                // The first entries are the compared quantity; steps and rejections follow
-                // where the case reports them.
-                let n = if out.len() >= 5 {
-                    3
-                } else if out.len() == 3 && name.starts_with("pipe fig11") {
-                    1
-                } else {
-                    out.len()
-                };
-                let err = distance(&out[..n], &reference[..n]);
-                let (steps, rej) = if out.len() > n {
-                    (out[n], out[n + 1])
-                } else {
-                    (f64::NAN, f64::NAN)
-                };
+                let err = distance(&out.quantity, &reference.quantity);
+                let (steps, rej) = out
+                    .steps
+                    .map_or(("–".into(), "–".into()), |(a, r)| (a.to_string(), r.to_string()));
                 println!("| {name} | {t:e} | {scheme:?} | {wall:.3} | {steps} | {rej} | {err:.2e} |");
             }
         }
