@@ -32,7 +32,7 @@ use crate::flow::FlowField;
 use crate::hydro::{DragModel, InertialessSolver};
 use crate::material::{Hyperelastic, Response};
 use crate::particle::{Model, Particle, State};
-use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, vec9};
+use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, nearest_rotation, vec9};
 use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
@@ -314,10 +314,7 @@ impl TimeIntegrator for Stokesian {
         let (mut f, x, v) = unpack(&acc.y);
         if rigid {
             // Polar projection onto SO(3): the nearest rotation to the integrated F.
-            let svd = f.svd(true, true);
-            if let (Some(u), Some(v_t)) = (svd.u, svd.v_t) {
-                f = u * v_t;
-            }
+            f = nearest_rotation(&f);
         }
         let (a, x_dot, _) = unpack(&acc.f_new);
         let v = match barycentre {
@@ -347,7 +344,11 @@ impl TimeIntegrator for Stokesian {
         };
         let end = Knot { x, x_dot, f, f_dot: a };
         Ok(Step {
-            dense: Dense::new(state.t, acc.h, start, end),
+            dense: if rigid {
+                Dense::new(state.t, acc.h, start, end).of_rotations()
+            } else {
+                Dense::new(state.t, acc.h, start, end)
+            },
             state: next,
             info: StepInfo {
                 rejected: acc.rejected,
