@@ -129,8 +129,7 @@ mod tests {
     /// A rotation about e₃ through a quarter turn in one step, with its exact rates: the plain
     /// cubic leaves SO(3) in between (its error is O(h⁴) = O(1) here), the rotation-marked
     /// interpolant is orthogonal to round-off (SVD factors and 3×3 products of O(1) entries, a
-    /// few tens of ε: 1e-14), and both
-    /// return the end states bitwise.
+    /// few tens of ε: 1e-14), and both return the end states bitwise.
     #[test]
     fn rotation_marked_interpolant_stays_on_so3() {
         let omega = std::f64::consts::FRAC_PI_2;
