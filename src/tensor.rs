@@ -80,6 +80,16 @@ pub fn lift<S: Scalar>(a: &Mat3) -> Mat3<S> {
     a.map(S::from)
 }
 
+/// The nearest rotation to `f` (the orthogonal polar factor U Vᵀ of its SVD); `f` itself when
+/// the SVD does not return both factors.
+pub fn nearest_rotation(f: &Mat3) -> Mat3 {
+    let svd = f.svd(true, true);
+    match (svd.u, svd.v_t) {
+        (Some(u), Some(v_t)) => u * v_t,
+        _ => *f,
+    }
+}
+
 /// `true` when every coefficient is finite.
 pub fn all_finite<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>) -> bool {
     a.iter().all(|x| x.is_finite())

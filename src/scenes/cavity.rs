@@ -54,7 +54,7 @@ use crate::flow::FlowField;
 use crate::flow::unstructured::MeshedFlow;
 use crate::hydro::VolumetricTraction;
 use crate::hydro::{Brenner, DragModel};
-use crate::integrator::{BarycentreModel, ImexAdaptive, Stokesian, TimeIntegrator};
+use crate::integrator::{BarycentreModel, ImexAdaptive, Scheme, Stokesian, TimeIntegrator};
 use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::{Fluid, Particle, State};
 pub use crate::scenes::particles::Shape;
@@ -195,7 +195,8 @@ pub struct CavityRun {
 /// How the shape responds (the barycentre is inertial in both).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum ShapeModel {
-    /// Inertialess shape (ρ* → 0): [`Stokesian`] at rtol = atol = tol.
+    /// Inertialess shape (ρ* → 0): [`Stokesian`] at rtol = atol = tol, Radau IIA unless
+    /// [`Cavity::with_scheme`] says otherwise.
     Inertialess,
     /// Solid inertia as in the paper: [`ImexAdaptive`] with local tolerance tol.
     Inertial,
@@ -261,6 +262,8 @@ pub struct Cavity<'a, L = NeoHookeLaw, D = Brenner> {
     fluid: Fluid,
     shear_rate: f64,
     shape_model: ShapeModel,
+    /// Scheme of the inertialess path.
+    scheme: Scheme,
     model: ParticleModel<L, D>,
 }
 
@@ -278,6 +281,7 @@ impl<'a> Cavity<'a> {
             fluid: Fluid::new(rho_fluid() * NU, rho_fluid())?,
             shear_rate,
             shape_model: ShapeModel::Inertialess,
+            scheme: Scheme::Radau5,
             model: ParticleModel::default(),
         })
     }
@@ -292,8 +296,15 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             fluid: self.fluid,
             shear_rate: self.shear_rate,
             shape_model: self.shape_model,
+            scheme: self.scheme,
             model,
         }
+    }
+
+    /// The same experiment with another scheme for the inertialess shape model (and the rigid
+    /// limit, which always takes that path).
+    pub fn with_scheme(self, scheme: Scheme) -> Self {
+        Self { scheme, ..self }
     }
 
     /// The same experiment with another shape model.
@@ -384,7 +395,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             }
             ShapeModel::Inertialess => {
                 // Rigid releases are rigid particles (see `particle`); the integrator is the same.
-                let mut integ = Stokesian::new(tol)?;
+                let mut integ = Stokesian::new(tol)?.with_scheme(self.scheme);
                 integ.barycentre = BarycentreModel::Inertial;
                 self.track_with(&integ, model, release, contact_model, turn, t_max, dt_out)
             }

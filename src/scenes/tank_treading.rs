@@ -202,7 +202,7 @@ pub fn roscoe(ca: f64) -> Result<RoscoeSolution, SceneError> {
 }
 
 /// The steady state by time integration: an initially spherical particle in unit shear,
-/// inertialess Rosenbrock integration with rtol = atol = `tol` up to `t_end`.
+/// inertialess integration (Radau IIA) with rtol = atol = `tol` up to `t_end`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IntegratedSteady {
     /// State read at t_end.

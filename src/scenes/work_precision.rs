@@ -224,7 +224,13 @@ fn trajectory(case: Case, setting: Setting) -> Result<(Vec<State>, RunStats, f64
             .1
         }
         Setting::ImexAdaptive(tol) => drive(&ImexAdaptive::new(tol)?, &p, s0, &times, observe)?,
-        Setting::Stokesian(tol) => drive(&Stokesian::overdamped(tol)?, &p, s0, &times, observe)?,
+        Setting::Stokesian(tol) => drive(
+            &Stokesian::overdamped(tol)?.with_scheme(Scheme::Rosenbrock23),
+            &p,
+            s0,
+            &times,
+            observe,
+        )?,
         Setting::Radau5(tol) => drive(
             &Stokesian::overdamped(tol)?.with_scheme(Scheme::Radau5),
             &p,
@@ -235,7 +241,13 @@ fn trajectory(case: Case, setting: Setting) -> Result<(Vec<State>, RunStats, f64
         Setting::Rigid(tol) => {
             let (shape, ca) = definition(case);
             let rigid = shape.particle_with(&ShearScaling::new(ca, RHO_STAR, BULK)?, Rigid)?;
-            drive(&Stokesian::overdamped(tol)?, &rigid, s0, &times, observe)?
+            drive(
+                &Stokesian::overdamped(tol)?.with_scheme(Scheme::Rosenbrock23),
+                &rigid,
+                s0,
+                &times,
+                observe,
+            )?
         }
         // The peer reports the wall time of its own solve, without the interpreter's start-up.
         Setting::ScipyRadau(tol) => return peer_trajectory(case, PeerMethod::Radau, tol),

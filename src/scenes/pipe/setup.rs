@@ -24,7 +24,7 @@ use crate::flow::FlowField;
 use crate::flow::analytic::Poiseuille;
 use crate::hydro::gravity::reduced_gravity;
 use crate::hydro::{Brenner, DragModel};
-use crate::integrator::{BarycentreModel, Stokesian};
+use crate::integrator::{BarycentreModel, Scheme, Stokesian};
 use crate::material::{self, Hyperelastic, LawFactory, NeoHooke};
 use crate::particle::{Fluid, Particle, State};
 use crate::scenes::particles::{ParticleModel, Shape, Softness};
@@ -240,6 +240,7 @@ impl<M: Hyperelastic, D: DragModel> PipeScene<M, D> {
     pub fn integrator(&self, tol: f64) -> Result<Stokesian, ParamError> {
         Ok(Stokesian {
             barycentre: BarycentreModel::Inertial,
+            scheme: Scheme::Radau5,
             ..Stokesian::new(tol)?
         })
     }
