@@ -5,8 +5,10 @@
 //! cargo run --release --example fig20_deposition_map -- [N] [CASE_DIR]
 //! ```
 //! N particles per kind (default 100 000; also `PSEUDORIGID_BIF_N`). Writes
-//! `paper-figures/fig20/{deposits.csv, deposits.vtp, summary.csv, map.svg}`: every deposit's position, patch,
-//! semi-axes and left stretch V = √(F̄F̄ᵀ), the largest r₁ and where it occurs.
+//! `paper-figures/fig20/{deposits.csv, deposits.vtp, summary.csv, map.svg}`: the position, patch,
+//! semi-axes and left stretch V = √(F̄F̄ᵀ) of the deposits of the first
+//! `figures::MAP_PARTICLES` particles per kind, and over every deposit the largest r₁ and
+//! where it occurs.
 
 use pseudorigid::scenes::bifurcation::figures;
 
