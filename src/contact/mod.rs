@@ -22,7 +22,7 @@
 //! patch. How it does depends on the boundary's [`Approach`]: along one smooth wall (a pipe)
 //! only the normal velocity closes the gap, $|v·n|$ above. At corners and ridges (mesh walls)
 //! the particle may reach another patch while moving along the nearest one; there the cap uses
-//! the full speed |v|, $(|v| + r_1 |\nabla u|)\,\Delta t \le g + \delta_s$, which keeps the
+//! the full speed |v|, $(|v| + r_1 |\nabla u|)\\,\Delta t \le g + \delta_s$, which keeps the
 //! particle within the gap of where it was in every direction. The gap to the nearest face is a
 //! lower bound of the distance to every other face: exactly so on a plane, and at a convex
 //! ridge because each face's plane supports the wall. Planar walls keep the normal cap; in

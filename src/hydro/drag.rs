@@ -37,7 +37,7 @@ impl Brenner {
 /// $\bar\tau/\tau_{sphere} = 6\pi a_{eq} \cdot \tfrac13 \sum_i K_i^{-1}
 /// = \tfrac{a_{eq}}{8}\big(3\chi_0 + \sum_i x_i\alpha_i\big)$, a_eq the volume-equivalent radius.
 /// A randomly oriented particle that does not rotate on the time scale of its response sees
-/// the mean mobility $\tfrac13 \mathrm{tr}\,\hat K^{-1}$; this is the factor by which its
+/// the mean mobility $\tfrac13 \mathrm{tr}\\,\hat K^{-1}$; this is the factor by which its
 /// Stokes number defined from d_eq (paper eq. 25) over-states its inertia. Exactly 1 for a
 /// sphere; about 0.96, 0.80 and 0.50 for prolates λ = 2, 5 and 20.
 pub fn mean_response_time_ratio(r: &Vec3) -> Result<f64, ParamError> {
