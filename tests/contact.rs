@@ -14,6 +14,18 @@ fn rotation_about_y(angle: f64) -> Mat3 {
     Mat3::new(c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c)
 }
 
+/// A Neo-Hookean sphere of radius `a` (μ_s = 1, λ_s = 10³) in a unit fluid, ρ_s = 2.
+fn sphere(a: f64) -> Particle<NeoHooke> {
+    let shape = pseudorigid::ellipsoid::Ellipsoid::new([a, a, a], Mat3::identity()).unwrap();
+    Particle::new(
+        shape,
+        NeoHooke::new(1.0, 1e3).unwrap(),
+        Fluid::new(1.0, 1.0).unwrap(),
+        2.0,
+    )
+    .unwrap()
+}
+
 fn ellipsoid(r: Vec3, q: Mat3) -> Extent {
     Extent::Ellipsoid(PrincipalFrame { r, q })
 }
@@ -98,14 +110,7 @@ fn time_event_is_located_within_one_large_step() {
             self.0 - s.t
         }
     }
-    let shape = pseudorigid::ellipsoid::Ellipsoid::new([0.5, 0.5, 0.5], Mat3::identity()).unwrap();
-    let p = Particle::new(
-        shape,
-        NeoHooke::new(1.0, 1e3).unwrap(),
-        Fluid::new(1.0, 1.0).unwrap(),
-        2.0,
-    )
-    .unwrap();
+    let p = sphere(0.5);
     let mut memory = Default::default();
     let out = integrate(
         &ImexPaper::default(),
@@ -146,14 +151,7 @@ fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
     // A sphere of radius a = 1 mm, 0.5 mm from the floor z = 0 (gap 0.5 mm), moving along the
     // floor at 1 m/s towards the wall x = 0, 3 mm away (gap 2 mm), in fluid at rest.
     let a = 1e-3;
-    let shape = pseudorigid::ellipsoid::Ellipsoid::new([a, a, a], Mat3::identity()).unwrap();
-    let p = Particle::new(
-        shape,
-        NeoHooke::new(1.0, 1e3).unwrap(),
-        Fluid::new(1.0, 1.0).unwrap(),
-        2.0,
-    )
-    .unwrap();
+    let p = sphere(a);
     let mut s = State::at_rest(Vec3::new(3e-3 + a, 0.05, 0.5e-3 + a));
     s.v = Vec3::new(-1.0, 0.0, 0.0);
     let (floor_gap, slack) = (0.5e-3, 0.5 * a);
