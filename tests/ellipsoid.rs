@@ -116,6 +116,25 @@ proptest! {
         prop_assert!((sum - 2.0).abs() < 1e-13, "abc Σα = {sum}");
     }
 
+    /// The integrals come from one duplication sequence shared by R_F and the three R_D
+    /// (`joint_duplication`); the public `carlson_rf`/`carlson_rd` run a separate sequence per
+    /// integral, and a dual number for α′ = −(4/3) ∂₁R_D. Both are exact up to the O(δ⁶) ≈ 1e-20
+    /// tail, so they differ by round-off only: a few ε per duplication step (≤ 10 at ratio 1e3)
+    /// and per series term, well under 1e-13.
+    #[test]
+    fn joint_duplication_matches_separate_carlson(r in strategies::semi_axes(1e3)) {
+        let ints = EllipsoidIntegrals::new(&Vec3::from(r));
+        let x = ints.x;
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * b.abs();
+        prop_assert!(close(ints.chi0, 2.0 * carlson_rf(x[0], x[1], x[2]).unwrap()));
+        for i in 0..3 {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            let rd = carlson_rd(num_dual::Dual64::new(x[j], 1.0), x[k].into(), x[i].into()).unwrap();
+            prop_assert!(close(ints.alpha[i], 2.0 / 3.0 * rd.re), "α_{i}: {} vs {}", ints.alpha[i], rd.re);
+            prop_assert!(close(ints.alpha_p[k], -4.0 / 3.0 * rd.eps), "α'_{k}: {} vs {}", ints.alpha_p[k], rd.eps);
+        }
+    }
+
     /// α''_k = α_i − x_j α'_k = α_j − x_i α'_k: both readings agree (pair symmetry of α').
     #[test]
     fn alpha_double_prime_symmetry(r in strategies::semi_axes(10.0)) {

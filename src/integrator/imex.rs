@@ -384,8 +384,6 @@ pub(crate) fn shape_update<M: Response, D: DragModel, F: FlowField + ?Sized>(
         _ => anchor,
     };
     let theta_inv_norm = theta_inv.amax();
-    // vec(X Θ⁻¹) = (Θ⁻ᵀ ⊗ 1) vec(X)
-    let right_theta: Mat9 = theta_inv.transpose().kronecker(&Mat3::identity());
     let t_new = state.t + dt;
     // The scheme integrates eq. 18, which needs the elastic stress.
     let material = particle.elastic().ok_or(StepError::RigidParticle {
@@ -406,6 +404,8 @@ pub(crate) fn shape_update<M: Response, D: DragModel, F: FlowField + ?Sized>(
         },
         |x| {
             model.count_jacobian();
+            // vec(X Θ⁻¹) = (Θ⁻ᵀ ⊗ 1) vec(X)
+            let right_theta: Mat9 = theta_inv.transpose().kronecker(&Mat3::identity());
             let (_, d_load) = num_dual::jacobian(
                 |v: SVector<DualVec<f64, Const<9>>, 9>| vec9(&traction_load(&mat3(&v), sigma_star)),
                 x,
