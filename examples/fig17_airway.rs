@@ -1,24 +1,48 @@
 //! Paper Fig. 17: the airway bifurcation, and the check that its mesh resolves what the
 //! figures report. The same N rigid spheres at Stk = 0.1 and 0.4 are tracked through the
-//! shipped field (0.4 mm cells) and through a finer case (0.3 mm cells, made by
-//! `cases/bifurcation/Allrun 0.3e-3 DIR`); DE must change by less than its standard error.
+//! shipped field and through the other cases given (made by `cases/bifurcation/Allrun H DIR`,
+//! e.g. H = 0.4e-3 and 0.2e-3 around the shipped 0.3e-3); DE must change by less than its
+//! standard error between the shipped field and the finer one.
 //!
 //! ```text
-//! cargo run --release --example fig17_airway -- N FINE_CASE_DIR
+//! cargo run --release --example fig17_airway -- N CASE_DIR...
 //! ```
-//! Writes `paper-figures/fig17/mesh_check.csv` ([`figures::mesh_check`]).
+//! Writes `paper-figures/fig17/mesh_check.csv` ([`figures::mesh_check`]), one row per case and
+//! Stokes number, cases labelled by the cell size in their `log.summary`.
 
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures};
 use pseudorigid::scenes::cavity::Shape;
+use std::path::{Path, PathBuf};
+
+/// "h=0.3mm" from the `cell_size=0.3e-3` line that `Allrun` writes to `log.summary`.
+fn label(dir: &Path) -> Result<String, Box<dyn std::error::Error>> {
+    let summary = std::fs::read_to_string(dir.join("log.summary"))?;
+    let h: f64 = summary
+        .lines()
+        .find_map(|l| l.strip_prefix("cell_size="))
+        .ok_or_else(|| format!("{}: no cell_size in log.summary", dir.display()))?
+        .parse()?;
+    Ok(format!("h={}mm", h * 1e3))
+}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let [n, fine] = args.as_slice() else {
-        return Err("usage: fig17_airway N FINE_CASE_DIR".into());
+    let Some((n, others)) = args.split_first().filter(|(_, rest)| !rest.is_empty()) else {
+        return Err("usage: fig17_airway N CASE_DIR...".into());
     };
-    let shipped = Airway::open(Airway::shipped_dir())?;
-    let fine = Airway::open(fine)?;
+    let mut dirs = vec![Airway::shipped_dir()];
+    dirs.extend(others.iter().map(PathBuf::from));
+    let mut cases = Vec::new();
+    for (i, dir) in dirs.iter().enumerate() {
+        let name = if i == 0 {
+            format!("{} (shipped)", label(dir)?)
+        } else {
+            label(dir)?
+        };
+        cases.push((name, Airway::open(dir)?));
+    }
+    let cases: Vec<(&str, &Airway)> = cases.iter().map(|(name, a)| (name.as_str(), a)).collect();
     let mut table = String::new();
     for stokes in [0.1, 0.4] {
         let kind = Kind {
@@ -26,8 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             material: Material::Rigid,
             stokes,
         };
-        let csv = figures::mesh_check(&[("h=0.4mm (shipped)", &shipped), ("h=0.3mm", &fine)], kind, n.parse()?)?;
-        let text = csv.to_text();
+        let text = figures::mesh_check(&cases, kind, n.parse()?)?.to_text();
         table.push_str(if table.is_empty() {
             &text
         } else {
