@@ -10,10 +10,10 @@ mod build;
 use pseudorigid::cli::error::Source;
 use pseudorigid::cli::models::SceneLaw;
 use pseudorigid::cli::run::Job;
-use pseudorigid::cli::scene::{Scene, parse};
+use pseudorigid::cli::scene::{Scene, SceneIntegrator, parse};
 use pseudorigid::contact::{ContactEvent, ContactModel};
 use pseudorigid::driver::{Plan, integrate};
-use pseudorigid::integrator::TimeIntegrator;
+use pseudorigid::integrator::{Stokesian, TimeIntegrator};
 use pseudorigid::particle::lines::material_line;
 use pseudorigid::population::{Fate, RunOptions, RunOutput, Shard};
 use pseudorigid::scenes::particles::Shape;
@@ -81,6 +81,24 @@ fn every_example_scene_validates() {
 
 /// Fig. 4's oblate at Ca = 0.4: the scene's material lines at every output time equal the
 /// library's `oblate_fig4_run` bitwise.
+/// `stokesian` is the library's `Stokesian::new` (Radau IIA); the two explicit names pick
+/// their scheme. The integrator's dataset name tells the schemes apart.
+#[test]
+fn stokesian_names_choose_the_scheme() {
+    let from = "type = \"stokesian_radau5\"";
+    for (kind, name) in [
+        ("stokesian", Stokesian::new(1e-6).unwrap().name()),
+        ("stokesian_radau5", "stokesian_radau5"),
+        ("stokesian_rosenbrock23", "stokesian"),
+    ] {
+        let s = scene("oblate_shear.toml", &[(from, &format!("type = \"{kind}\""))]);
+        let SceneIntegrator::Stokesian(integ) = &s.integrator else {
+            panic!("{kind}: {:?}", s.integrator);
+        };
+        assert_eq!(integ.name(), name, "{kind}");
+    }
+}
+
 #[test]
 fn oblate_shear_scene_is_the_library_fig4_run() {
     let s = scene("oblate_shear.toml", &[("t_end = 30.0", "t_end = 3.0")]);

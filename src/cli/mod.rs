@@ -27,7 +27,7 @@
 //! | `[[particles.list]]` | `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
 //! | `[particles.inject]` | `count`, `region` (`{ type = "point", at }` or `{ type = "disc", centre, normal, radius }`), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material` |
 //! | `material` | `{ law = "neo_hooke", mu, lambda }`, `{ law = "mooney_rivlin", mu1, mu2, lambda }` or `{ law = "rigid" }` |
-//! | `[integrator] type` | `imex` (the paper's, fixed `dt`), `imex_adaptive`, `stokesian` (the Rosenbrock-W 2(3) pair), `stokesian_radau5` (Radau IIA, the library's `Stokesian` default) (both need `tol`) |
+//! | `[integrator] type` | `imex` (the paper's, fixed `dt`), `imex_adaptive`, `stokesian` (the library's `Stokesian` default, Radau IIA), `stokesian_radau5` (Radau IIA, named), `stokesian_rosenbrock23` (the Rosenbrock-W 2(3) pair) (all three need `tol`) |
 //! | `integrator.dt`, `dt_max`, `overdamped` | first (or fixed) step, largest step, overdamped barycentre (`stokesian*`) |
 //! | `[end] t_end`, `max_steps` | end time of every particle's run; accepted steps allowed per particle |
 //! | `[output] every`, `vtk` | output interval (default: the end only); write ParaView files (default true) |

@@ -316,10 +316,13 @@ pub enum IntegratorKind {
     Imex,
     /// IMEX with error control.
     ImexAdaptive,
-    /// Inertialess shape dynamics, Rosenbrock-W 2(3).
+    /// Inertialess shape dynamics with the library's default scheme (`Stokesian::new`: Radau
+    /// IIA of order 5).
     Stokesian,
-    /// Inertialess shape dynamics, Radau IIA order 5.
+    /// Inertialess shape dynamics, Radau IIA order 5, named explicitly.
     StokesianRadau5,
+    /// Inertialess shape dynamics, the Rosenbrock-W 2(3) pair.
+    StokesianRosenbrock23,
 }
 
 /// `[end]`.
