@@ -111,7 +111,7 @@ fn blended_field_is_exact_for_linear_fields() {
         internal,
         boundary,
     };
-    let flow = BlendedFlow::new(FoamFlow::new(mesh.clone(), vec![(0.0, field)]).unwrap());
+    let flow = BlendedFlow::new(FoamFlow::new(mesh.clone(), vec![(0.0, field)]).unwrap()).unwrap();
     let mut checked = 0;
     for c in (0..mesh.n_cells()).step_by(7) {
         // Points between a cell centre and one of its face centres lie inside that cell.

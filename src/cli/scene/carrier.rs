@@ -53,9 +53,9 @@ impl Builder<'_> {
                     None => (case.span(), "flow.case"),
                 };
                 FoamFlow::read(&foam, &[t])
-                    .map(|f| match spec.blend {
-                        true => SceneFlow::Blended(Box::new(BlendedFlow::new(f))),
-                        false => SceneFlow::Foam(Box::new(f)),
+                    .and_then(|f| match spec.blend {
+                        true => BlendedFlow::new(f).map(|b| SceneFlow::Blended(Box::new(b))),
+                        false => Ok(SceneFlow::Foam(Box::new(f))),
                     })
                     .map_err(|e| self.err(span, key, e.to_string()))
             }

@@ -35,21 +35,18 @@
 //! particles). Farther out (no centre within r) the point is refused as by [`FoamFlow`], with the
 //! nearest patch.
 
-use super::FoamFlow;
+use super::grid::RadiusGrid;
+use super::{FoamError, FoamFlow};
 use crate::error::FlowError;
 use crate::flow::{FlowField, FlowSample};
 use crate::tensor::{Mat3, Vec3};
-use rstar::RTree;
-use rstar::primitives::GeomWithData;
-
-type Centre = GeomWithData<[f64; 3], u32>;
 
 /// [`FoamFlow`] blended into a continuous field (module docs).
 #[derive(Debug, Clone)]
 pub struct BlendedFlow {
     flow: FoamFlow,
-    tree: RTree<Centre>,
-    radius: f64,
+    /// The cell centres, binned for the radius-r queries of every sample.
+    centres: RadiusGrid,
 }
 
 /// Wendland's C² weight on s = d/r ∈ [0, 1].
@@ -63,8 +60,9 @@ fn weight(s: f64) -> f64 {
 }
 
 impl BlendedFlow {
-    /// Blend `flow` over the largest centre-to-vertex distance of its cells.
-    pub fn new(flow: FoamFlow) -> Self {
+    /// Blend `flow` over the largest centre-to-vertex distance of its cells; an error if a
+    /// cell centre is not finite (coordinates near f64::MAX).
+    pub fn new(flow: FoamFlow) -> Result<Self, FoamError> {
         let mesh = flow.mesh();
         let mut radius: f64 = 0.0;
         for c in 0..mesh.n_cells() {
@@ -75,19 +73,17 @@ impl BlendedFlow {
                 }
             }
         }
-        let tree = RTree::bulk_load(
-            mesh.cell_centres()
-                .iter()
-                .enumerate()
-                .map(|(i, c)| Centre::new([c[0], c[1], c[2]], i as u32))
-                .collect(),
-        );
-        Self { flow, tree, radius }
+        // A mesh without cells has r = 0 and gets an empty grid of radius f64::MIN_POSITIVE.
+        let centres =
+            RadiusGrid::new(mesh.cell_centres(), radius.max(f64::MIN_POSITIVE)).ok_or_else(|| FoamError::Mesh {
+                reason: format!("cannot bin the cell centres for blending (radius {radius}): a centre is not finite"),
+            })?;
+        Ok(Self { flow, centres })
     }
 
     /// The blending radius r.
     pub fn radius(&self) -> f64 {
-        self.radius
+        self.centres.radius()
     }
 
     /// The cellwise field underneath.
@@ -100,20 +96,16 @@ impl FlowField for BlendedFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         crate::flow::check_query(x, t)?;
         let (mut w_sum, mut u, mut g) = (0.0, Vec3::zeros(), Mat3::zeros());
-        for hit in self
-            .tree
-            .locate_within_distance([x[0], x[1], x[2]], self.radius * self.radius)
-        {
-            let c = hit.data as usize;
-            let centre = Vec3::new(hit.geom()[0], hit.geom()[1], hit.geom()[2]);
-            let w = weight((x - centre).norm() / self.radius);
+        let radius = self.centres.radius();
+        self.centres.for_each_within(x, |c, _, d| {
+            let w = weight(d / radius);
             if w > 0.0 {
                 let s = self.flow.sample_cell(c, x, t);
                 w_sum += w;
                 u += s.u * w;
                 g += s.grad_u * w;
             }
-        }
+        });
         if w_sum > 0.0 {
             Ok(FlowSample {
                 u: u / w_sum,

@@ -34,6 +34,7 @@
 pub mod blend;
 pub mod error;
 pub mod field;
+pub mod grid;
 pub mod locate;
 pub mod mesh;
 pub mod parse;

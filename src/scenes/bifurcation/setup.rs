@@ -138,7 +138,7 @@ impl Airway {
             });
         }
         Ok(Self {
-            flow: BlendedFlow::new(flow),
+            flow: BlendedFlow::new(flow)?,
             boundary,
             residence_time,
         })
