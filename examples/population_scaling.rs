@@ -1,10 +1,14 @@
 //! Run time of the population runner against N and threads, on the settling pipe (rigid
-//! spheres, overdamped barycentre, tol 1e-6: the runner bench's case).
+//! spheres, overdamped barycentre, tol 1e-6: the runner bench's case) or, with
+//! `--bifurcation STK`, on the airway bifurcation (rigid spheres at that Stokes number, the
+//! shipped field and the studies' integrator: the case of Figs 17–23).
 //!
 //! ```text
 //! cargo run --release --example population_scaling -- 1000:1,2 10000:1,2 100000:2
+//! cargo run --release --example population_scaling -- --bifurcation 0.1 1000:1,2 10000:1,2 100000:1,2
 //! ```
-//! Each argument is `N:threads,threads,...`. Prints, per run: N, threads, wall time, the
+//! Each `N:threads,threads,...` argument runs N particles on each thread count. Prints, per
+//! run: N, threads, wall time, the
 //! process's CPU time, particles/s, particle-steps/s, fates, and the resident memory the run's
 //! records added per particle (from /proc/self where it exists). On a shared machine the wall
 //! time of a 2-thread run says little about the speed-up (the second core may be busy); the
@@ -14,8 +18,11 @@
 
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::integrator::Stokesian;
+use pseudorigid::material::NeoHooke;
 use pseudorigid::population::settling_pipe::SettlingPipe;
-use pseudorigid::population::{Case, RunConfig, RunOptions, Shard, run};
+use pseudorigid::population::{Case, RunConfig, RunOptions, RunOutput, Shard, run};
+use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures, study};
+use pseudorigid::scenes::cavity::Shape;
 use std::time::Instant;
 
 /// CPU time (user + system) of this process in seconds (Linux), if known: fields 14 and 15 of
@@ -37,13 +44,22 @@ fn rss() -> Option<f64> {
     Some(kb * 1024.0)
 }
 
+/// One timed run of N particles; its records are dropped before the next.
+type Runner<'a> = Box<dyn Fn(u64) -> Result<RunOutput<NeoHooke>, String> + Sync + 'a>;
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let args = if args.is_empty() {
-        vec!["1000:1,2".to_string()]
-    } else {
-        args
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let bifurcation = match args.iter().position(|a| a == "--bifurcation") {
+        Some(i) => {
+            let stk: f64 = args.get(i + 1).ok_or("--bifurcation needs a Stokes number")?.parse()?;
+            args.drain(i..i + 2);
+            Some(stk)
+        }
+        None => None,
     };
+    if args.is_empty() {
+        args.push("1000:1,2".to_string());
+    }
     let pipe = SettlingPipe::new(20.0, 200.0, 1.0, 0.1, 15.0)?;
     let stokes = Stokesian::overdamped(1e-6)?;
     let plan = Plan::new(1e4, 0.1)?.with_budget(Budget {
@@ -51,6 +67,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         wall_time: None,
     });
     let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &pipe, plan);
+    let airway = match bifurcation {
+        Some(_) => Some(Airway::open(Airway::shipped_dir())?),
+        None => None,
+    };
+    let runner: Runner = match (&airway, bifurcation) {
+        (Some(airway), Some(stk)) => {
+            let kind = Kind {
+                shape: Shape::Prolate(1.0),
+                material: Material::Rigid,
+                stokes: stk,
+            };
+            let quiet = RunOptions::default().quiet();
+            Box::new(move |n| {
+                study::run_kind(airway, kind, n, figures::SEED, Shard::ALL, &quiet, None).map_err(|e| e.to_string())
+            })
+        }
+        _ => Box::new(|n| {
+            let config = RunConfig {
+                seed: 1,
+                particles: n,
+                fingerprint: pipe.fingerprint(),
+            };
+            run(&case, &config, Shard::ALL, &RunOptions::default().quiet()).map_err(|e| e.to_string())
+        }),
+    };
     println!(
         "n,threads,wall_s,cpu_s,particles_per_s,steps_per_s,deposited,escaped,suspended,failed,rss_bytes_per_particle"
     );
@@ -60,15 +101,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for threads in threads.split(',') {
             let threads: usize = threads.parse()?;
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
-            let config = RunConfig {
-                seed: 1,
-                particles: n,
-                fingerprint: pipe.fingerprint(),
-            };
             let before = rss();
             let cpu_before = cpu_seconds();
             let start = Instant::now();
-            let out = pool.install(|| run(&case, &config, Shard::ALL, &RunOptions::default().quiet()))?;
+            let out = pool.install(|| runner(n))?;
             let wall = start.elapsed().as_secs_f64();
             let cpu = match (cpu_before, cpu_seconds()) {
                 (Some(a), Some(b)) => format!("{:.2}", b - a),
