@@ -11,9 +11,9 @@
 //!
 //! # Bounded memory
 //! The grid covers the points' bounding box. Bins start at edge r; while there would be more
-//! than 4 bins per point (a large, sparse box, or a flat one), the edge doubles. Each doubling
-//! at least halves the count until every axis has one bin, so the loop ends within
-//! log₂(extent/r) + 3 doublings, and the bins never outnumber 4N + 64.
+//! than 4N + 64 of them (a large, sparse box), the edge doubles. Once the edge exceeds the
+//! largest extent there is one bin, so the loop ends after at most log₂(extent/r) + 1
+//! doublings, and the bins never outnumber 4N + 64.
 
 use crate::tensor::Vec3;
 
