@@ -1,11 +1,13 @@
 //! Run time of the population runner against N and threads, on the settling pipe (rigid
 //! spheres, overdamped barycentre, tol 1e-6: the runner bench's case) or, with
-//! `--bifurcation STK`, on the airway bifurcation (rigid spheres at that Stokes number, the
-//! shipped field and the studies' integrator: the case of Figs 17–23).
+//! `--bifurcation STK`, on the airway bifurcation (rigid spheres at that Stokes number, or
+//! prolates with `--prolate LAMBDA`, the shipped field and the studies' integrator: the case of
+//! Figs 17–23).
 //!
 //! ```text
 //! cargo run --release --example population_scaling -- 1000:1,2 10000:1,2 100000:2
-//! cargo run --release --example population_scaling -- --bifurcation 0.1 1000:1,2 10000:1,2 100000:1,2
+//! cargo run --release --example population_scaling -- --bifurcation 0.005 1000:1,2 10000:1,2 100000:2
+//! cargo run --release --example population_scaling -- --bifurcation 0.005 --prolate 20 10000:1,2 100000:2
 //! ```
 //! Each `N:threads,threads,...` argument runs N particles on each thread count. Prints, per
 //! run: N, threads, wall time, the
@@ -57,6 +59,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         None => None,
     };
+    let prolate = match args.iter().position(|a| a == "--prolate") {
+        Some(i) => {
+            let lambda: f64 = args.get(i + 1).ok_or("--prolate needs an aspect ratio")?.parse()?;
+            args.drain(i..i + 2);
+            lambda
+        }
+        None => 1.0,
+    };
     if args.is_empty() {
         args.push("1000:1,2".to_string());
     }
@@ -74,7 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let runner: Runner = match (&airway, bifurcation) {
         (Some(airway), Some(stk)) => {
             let kind = Kind {
-                shape: Shape::Prolate(1.0),
+                shape: Shape::Prolate(prolate),
                 material: Material::Rigid,
                 stokes: stk,
             };
