@@ -23,7 +23,21 @@ pub struct VolField {
     pub internal: Vec<f64>,
     /// `(n_faces − n_internal_faces) * comps` values, boundary faces in face order.
     pub boundary: Vec<f64>,
+    /// Per patch: whether its condition prescribes the value ([`FIXED_CONDITIONS`]: a Dirichlet
+    /// condition, such as a no-slip or moving wall), rather than deriving it from the cells.
+    pub fixed: Vec<bool>,
 }
+
+/// Conditions that prescribe a patch's value: `noSlip`, `fixedValue` and the wall-motion
+/// conditions, which store the wall's velocity.
+pub const FIXED_CONDITIONS: [&str; 6] = [
+    "noSlip",
+    "fixedValue",
+    "uniformFixedValue",
+    "movingWallVelocity",
+    "rotatingWallVelocity",
+    "translatingWallVelocity",
+];
 
 impl VolField {
     /// Value of cell `c`.
@@ -37,13 +51,15 @@ impl VolField {
     }
 
     /// A vector field given by a function, evaluated at the cell centres and the boundary face
-    /// centres (analytic fields for verification and benchmarks).
+    /// centres (analytic fields for verification and benchmarks). Every patch counts as
+    /// prescribed ([`VolField::fixed`]): the function gives its values.
     pub fn from_fn(mesh: &PolyMesh, f: impl Fn(&Vec3) -> Vec3) -> Self {
         let eval = |xs: &[Vec3]| xs.iter().flat_map(|x| <[f64; 3]>::from(f(x))).collect();
         Self {
             comps: 3,
             internal: eval(mesh.cell_centres()),
             boundary: eval(&mesh.face_centres()[mesh.n_internal_faces()..]),
+            fixed: vec![true; mesh.patches().len()],
         }
     }
 }
@@ -79,10 +95,12 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
     };
     let n_internal = mesh.n_internal_faces();
     let mut boundary = Vec::with_capacity((mesh.n_faces() - n_internal) * comps);
+    let mut fixed = Vec::with_capacity(mesh.patches().len());
     for patch in mesh.patches() {
         let entry = patch_dict(boundary_dict, &patch.name)
             .ok_or_else(|| field_err(format!("boundaryField has no entry for patch `{}`", patch.name)))?;
         let kind = entry.word("type").unwrap_or("");
+        fixed.push(FIXED_CONDITIONS.contains(&kind));
         let bad = |r: String| field_err(format!("patch `{}` ({kind}): {r}", patch.name));
         if let Some((Entry::Values(v), _)) = entry.get("value") {
             boundary.extend(values(v, comps, patch.size).map_err(bad)?);
@@ -111,6 +129,7 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
         comps,
         internal,
         boundary,
+        fixed,
     })
 }
 

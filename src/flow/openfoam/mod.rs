@@ -40,6 +40,7 @@ pub mod mesh;
 pub mod parse;
 pub mod patch;
 pub mod reconstruct;
+pub mod walls;
 
 pub use blend::BlendedFlow;
 pub use error::FoamError;
@@ -153,12 +154,16 @@ impl FoamCase {
     }
 }
 
-/// One time level: cell velocities and gradients.
+/// One time level: cell velocities and gradients, and the no-slip walls' fits.
 #[derive(Debug, Clone)]
 struct Frame {
     time: f64,
     u: Vec<Vec3>,
     grad: Vec<Mat3>,
+    /// Velocity $u_f$ on wall face k of [`FoamFlow::walls`].
+    wall_u: Vec<Vec3>,
+    /// Wall gradient $G_f = (I − n nᵀ) G_o n\,nᵀ$ on wall face k ([`FoamFlow::sample_wall`]).
+    wall_grad: Vec<Mat3>,
 }
 
 /// A velocity field on a polyhedral mesh, steady or linear in time between time levels.
@@ -167,6 +172,9 @@ pub struct FoamFlow {
     mesh: PolyMesh,
     locator: CellLocator,
     boundary: PatchSet,
+    /// Faces of the no-slip walls: `wall`-type patches whose condition prescribes the velocity
+    /// in every time level ([`VolField::fixed`]).
+    walls: Vec<u32>,
     frames: Vec<Frame>,
 }
 
@@ -206,30 +214,64 @@ impl FoamFlow {
             )));
         }
         let n_boundary = mesh.n_faces() - mesh.n_internal_faces();
-        let stencils = Stencils::new(&mesh)?;
-        let mut frames = Vec::with_capacity(fields.len());
-        for (time, field) in fields {
-            if field.comps != 3 || field.internal.len() != 3 * mesh.n_cells() || field.boundary.len() != 3 * n_boundary
+        let n_patches = mesh.patches().len();
+        for (time, field) in &fields {
+            if field.comps != 3
+                || field.internal.len() != 3 * mesh.n_cells()
+                || field.boundary.len() != 3 * n_boundary
+                || field.fixed.len() != n_patches
             {
                 return Err(bad(format!(
-                    "field at t = {time} has {} components, {} cell and {} boundary values for {} cells and {n_boundary} boundary faces",
+                    "field at t = {time} has {} components, {} cell and {} boundary values and {} patch conditions for {} cells, {n_boundary} boundary faces and {n_patches} patches",
                     field.comps,
                     field.internal.len(),
                     field.boundary.len(),
+                    field.fixed.len(),
                     mesh.n_cells()
                 )));
             }
             if !time.is_finite() {
                 return Err(bad(format!("time {time} is not finite")));
             }
+        }
+        let walls: Vec<u32> = (0..n_patches)
+            .filter(|&p| {
+                PatchRole::of(&mesh.patches()[p].kind) == PatchRole::Wall && fields.iter().all(|(_, f)| f.fixed[p])
+            })
+            .flat_map(|p| {
+                let patch = &mesh.patches()[p];
+                (patch.start..patch.start + patch.size).map(|f| f as u32)
+            })
+            .collect();
+        let stencils = Stencils::new(&mesh)?;
+        let mut frames = Vec::with_capacity(fields.len());
+        for (time, field) in fields {
             let grad = stencils.gradients(&mesh, &field);
+            let (wall_u, wall_grad) = walls
+                .iter()
+                .map(|&f| {
+                    let f = f as usize;
+                    let n = mesh.face_areas()[f].normalize();
+                    let shear = grad[mesh.owner(f)] * n;
+                    let tangential = shear - n * n.dot(&shear);
+                    let b = f - mesh.n_internal_faces();
+                    (Vec3::from_row_slice(field.boundary_face(b)), tangential * n.transpose())
+                })
+                .unzip();
             let u = field.internal.chunks_exact(3).map(Vec3::from_row_slice).collect();
-            frames.push(Frame { time, u, grad });
+            frames.push(Frame {
+                time,
+                u,
+                grad,
+                wall_u,
+                wall_grad,
+            });
         }
         Ok(Self {
             locator: CellLocator::new(&mesh),
             boundary: PatchSet::all(&mesh),
             mesh,
+            walls,
             frames,
         })
     }
@@ -265,10 +307,36 @@ impl FoamFlow {
     /// u and ∇u of cell `cell`'s reconstruction at x and time t. Times before the first level
     /// or after the last hold that level (a steady case has one).
     pub fn sample_cell(&self, cell: usize, x: &Vec3, t: f64) -> FlowSample {
-        let at = |f: &Frame| {
+        self.in_time(t, |f: &Frame| {
             let g = f.grad[cell];
             (f.u[cell] + g * (x - self.mesh.cell_centres()[cell]), g)
-        };
+        })
+    }
+
+    /// Faces of the no-slip walls: the faces of every `wall`-type patch whose velocity
+    /// condition prescribes the value ([`field::FIXED_CONDITIONS`]) in every time level.
+    pub fn walls(&self) -> &[u32] {
+        &self.walls
+    }
+
+    /// The fit of wall face k of [`FoamFlow::walls`] at x and time t: with $x_f$, n the face's
+    /// centre and unit normal, $u_f$ its prescribed velocity and $G_o$ the gradient of its cell,
+    /// ```math
+    /// L_f(x) = u_f + G_f\,(x − x_f),\qquad G_f = (I − n n^{T})\,G_o\,n\;n^{T}.
+    /// ```
+    /// At a wall moving in its own plane the gradient is the wall shear alone: no-slip makes the
+    /// tangential derivatives vanish, and continuity then makes ∂u_n/∂n vanish too. So $L_f$
+    /// takes the wall's velocity on the face's plane and has no normal component off it.
+    pub fn sample_wall(&self, k: usize, x: &Vec3, t: f64) -> FlowSample {
+        let centre = self.mesh.face_centres()[self.walls[k] as usize];
+        self.in_time(t, |f: &Frame| {
+            let g = f.wall_grad[k];
+            (f.wall_u[k] + g * (x - centre), g)
+        })
+    }
+
+    /// `at` of the levels around t, linear in time between them.
+    fn in_time(&self, t: f64, at: impl Fn(&Frame) -> (Vec3, Mat3)) -> FlowSample {
         let k = self.frames.partition_point(|f| f.time <= t);
         let (u, grad_u) = if k == 0 {
             at(&self.frames[0])
