@@ -34,8 +34,8 @@ fn stokes_number_from_the_paper_pairs() {
 /// rate U πR² through a cross-section of the parent (x₁ = 10 mm) and of each daughter (the plane
 /// x₁ = 36 mm, one half each). The flux of the cellwise field is integrated by the midpoint rule
 /// on a 0.05 mm grid over the points the mesh contains; the error budget is the reconstruction's O(h²) velocity error
-/// ((0.4/3)² ≈ 2 % of the peak near the wall, less on average), the faceted wall (area deficit
-/// ≈ (h/R)²/6 ≈ 0.3 %) and the grid's boundary cells (a 0.05 mm band where u ≈ 0): 3 %.
+/// ((0.3/3)² ≈ 1 % of the peak near the wall, less on average), the faceted wall (area deficit
+/// ≈ (h/R)²/6 ≈ 0.2 %) and the grid's boundary cells (a 0.05 mm band where u ≈ 0): 3 %.
 /// The two daughters split the flow equally by symmetry, to the same 3 %.
 #[test]
 fn shipped_field_conserves_the_flow_rate() {

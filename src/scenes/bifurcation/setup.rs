@@ -102,7 +102,7 @@ pub struct Airway {
 
 impl Airway {
     /// The field shipped in `reference-data/bifurcation` (made by `cases/bifurcation/Allrun`
-    /// with 0.4 mm cells and `Allship`).
+    /// with 0.3 mm cells and `Allship`).
     pub fn shipped_dir() -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data/bifurcation")
     }
