@@ -22,6 +22,8 @@ pub struct WallFaces {
     vertices: Vec<Vec3>,
     /// Distance of wall face k's cell centre from the face's plane.
     depths: Vec<f64>,
+    /// Largest distance from wall face k's centre to its vertices.
+    circumradii: Vec<f64>,
     reach: f64,
 }
 
@@ -32,7 +34,7 @@ impl WallFaces {
         let mut offsets = Vec::with_capacity(faces.len() + 1);
         offsets.push(0);
         let mut vertices = Vec::new();
-        let mut circumradius: f64 = 0.0;
+        let mut circumradii = Vec::with_capacity(faces.len());
         let centres: Vec<Vec3> = faces.iter().map(|&f| mesh.face_centres()[f as usize]).collect();
         let depths = faces
             .iter()
@@ -45,15 +47,19 @@ impl WallFaces {
             })
             .collect();
         for (&f, c) in faces.iter().zip(&centres) {
+            let mut circumradius: f64 = 0.0;
             for &v in mesh.face(f as usize) {
                 let p = mesh.points()[v as usize];
                 circumradius = circumradius.max((p - c).norm());
                 vertices.push(p);
             }
+            circumradii.push(circumradius);
             offsets.push(vertices.len());
         }
+        let largest = circumradii.iter().copied().fold(0.0, f64::max);
         Some(Self {
-            centres: RadiusGrid::new(&centres, reach + circumradius)?,
+            centres: RadiusGrid::new(&centres, reach + largest)?,
+            circumradii,
             offsets,
             vertices,
             depths,
@@ -65,12 +71,16 @@ impl WallFaces {
     /// its cell's depth (the distance of its cell's centre from the face's plane, at most the
     /// reach), in a fixed order.
     pub fn for_each_within(&self, x: &Vec3, mut visit: impl FnMut(usize, f64, f64)) {
-        self.centres.for_each_within(x, |k, centre, _| {
+        self.centres.for_each_within(x, |k, centre, to_centre| {
+            let depth = self.depths[k].min(self.reach);
+            // The face lies within its circumradius of its centre: no point of it is nearer.
+            if to_centre - self.circumradii[k] >= depth {
+                return;
+            }
             let fan = &self.vertices[self.offsets[k]..self.offsets[k + 1]];
             let d = (0..fan.len())
                 .map(|i| triangle_distance(x, centre, &fan[i], &fan[(i + 1) % fan.len()]))
                 .fold(f64::INFINITY, f64::min);
-            let depth = self.depths[k].min(self.reach);
             if d < depth {
                 visit(k, d, depth);
             }
