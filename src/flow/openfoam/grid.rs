@@ -101,13 +101,20 @@ impl RadiusGrid {
     /// Call `visit(index, position, distance)` for every point at distance < r from `x`, in a
     /// fixed order (bin by bin, then as binned): the same `x` always visits the same points in
     /// the same order.
-    pub fn for_each_within(&self, x: &Vec3, mut visit: impl FnMut(usize, &Vec3, f64)) {
-        // Bins meeting [x − r, x + r] along each axis, clamped to the grid; empty if x is
-        // farther than r outside the box.
+    pub fn for_each_within(&self, x: &Vec3, visit: impl FnMut(usize, &Vec3, f64)) {
+        self.for_each_closer(x, self.radius, visit);
+    }
+
+    /// As [`RadiusGrid::for_each_within`] for the points at distance < `radius` (at most r):
+    /// those points, in the same order as there.
+    pub fn for_each_closer(&self, x: &Vec3, radius: f64, mut visit: impl FnMut(usize, &Vec3, f64)) {
+        let radius = radius.min(self.radius);
+        // Bins meeting [x − radius, x + radius] along each axis, clamped to the grid; empty if
+        // x is farther than the radius outside the box.
         let mut range = [(0usize, 0usize); 3];
         for (k, r) in range.iter_mut().enumerate() {
-            let lo = ((x[k] - self.radius - self.origin[k]) / self.bin).floor();
-            let hi = ((x[k] + self.radius - self.origin[k]) / self.bin).floor();
+            let lo = ((x[k] - radius - self.origin[k]) / self.bin).floor();
+            let hi = ((x[k] + radius - self.origin[k]) / self.bin).floor();
             if hi < 0.0 || lo > (self.dims[k] - 1) as f64 || lo.is_nan() || hi.is_nan() {
                 return;
             }
@@ -120,7 +127,7 @@ impl RadiusGrid {
                 for (index, p) in &self.entries[first as usize..last as usize] {
                     let p = Vec3::new(p[0], p[1], p[2]);
                     let d = (x - p).norm();
-                    if d < self.radius {
+                    if d < radius {
                         visit(*index as usize, &p, d);
                     }
                 }
@@ -170,6 +177,27 @@ mod tests {
             found.sort_unstable();
             let expected: Vec<usize> = (0..pts.len()).filter(|&i| (x - pts[i]).norm() < r).collect();
             assert_eq!(found, expected, "query {x:?}");
+        }
+    }
+
+    /// A smaller radius visits the points within it, in the order the full radius visits them.
+    #[test]
+    fn a_smaller_radius_keeps_the_order() {
+        let pts = points();
+        let grid = RadiusGrid::new(&pts, 0.15).unwrap();
+        for q in 0..200 {
+            let f = q as f64;
+            let x = Vec3::new(
+                (f * 0.377).fract() * 2.0,
+                (f * 0.291).fract(),
+                (f * 0.853).fract() * 0.1,
+            );
+            let mut all = Vec::new();
+            grid.for_each_within(&x, |i, _, d| all.push((i, d)));
+            let mut closer = Vec::new();
+            grid.for_each_closer(&x, 0.06, |i, _, d| closer.push((i, d)));
+            all.retain(|&(_, d)| d < 0.06);
+            assert_eq!(closer, all, "query {x:?}");
         }
     }
 

@@ -24,6 +24,9 @@ pub struct WallFaces {
     depths: Vec<f64>,
     /// Largest distance from wall face k's centre to its vertices.
     circumradii: Vec<f64>,
+    /// Bound on the centre distance of any face nearer than its depth: the largest depth plus
+    /// circumradius (with a margin of 10⁻⁹ for round-off).
+    near: f64,
     reach: f64,
 }
 
@@ -36,7 +39,7 @@ impl WallFaces {
         let mut vertices = Vec::new();
         let mut circumradii = Vec::with_capacity(faces.len());
         let centres: Vec<Vec3> = faces.iter().map(|&f| mesh.face_centres()[f as usize]).collect();
-        let depths = faces
+        let depths: Vec<f64> = faces
             .iter()
             .map(|&f| {
                 let f = f as usize;
@@ -57,7 +60,14 @@ impl WallFaces {
             offsets.push(vertices.len());
         }
         let largest = circumradii.iter().copied().fold(0.0, f64::max);
+        let near = depths
+            .iter()
+            .zip(&circumradii)
+            .map(|(d, c)| d.min(reach) + c)
+            .fold(0.0, f64::max)
+            * (1.0 + 1e-9);
         Some(Self {
+            near,
             centres: RadiusGrid::new(&centres, reach + largest)?,
             circumradii,
             offsets,
@@ -71,7 +81,7 @@ impl WallFaces {
     /// its cell's depth (the distance of its cell's centre from the face's plane, at most the
     /// reach), in a fixed order.
     pub fn for_each_within(&self, x: &Vec3, mut visit: impl FnMut(usize, f64, f64)) {
-        self.centres.for_each_within(x, |k, centre, to_centre| {
+        self.centres.for_each_closer(x, self.near, |k, centre, to_centre| {
             let depth = self.depths[k].min(self.reach);
             // The face lies within its circumradius of its centre: no point of it is nearer.
             if to_centre - self.circumradii[k] >= depth {
