@@ -1,10 +1,10 @@
 //! Paper Fig. 17: the airway bifurcation, and the check that its mesh resolves what the
 //! figures report. The same N rigid spheres at Stk = 0.005, 0.1 and 0.4 are tracked through the
 //! shipped field and through the other cases given (made by `cases/bifurcation/Allrun H DIR`,
-//! e.g. H = 0.3e-3 and 0.2e-3 below the shipped 0.4e-3); DE must change by less than its
+//! e.g. H = 0.4e-3 and 0.2e-3 around the shipped 0.3e-3); DE must change by less than its
 //! standard error between the shipped field and the finer one. At Stk = 0.005 the particles
-//! are nearly tracers, and what deposits them is the O(h²) error of the interpolated velocity
-//! at the wall: that row measures the numerical floor of DE on each mesh.
+//! are nearly tracers, which a no-slip wall keeps away: any numerical floor of DE (a velocity
+//! error at the wall carrying them into it) shows in that row.
 //!
 //! ```text
 //! cargo run --release --example fig17_airway -- N CASE_DIR...

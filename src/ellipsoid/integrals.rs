@@ -17,7 +17,7 @@
 //! and evaluate that derivative exactly by forward-mode AD through Carlson's duplication
 //! algorithm. There is no cancellation at any separation, so the near-degenerate branch of
 //! a series expansion (O(δ²) error) is not needed; tests check 1e-12 against quadrature.
-//! R_F and the three R_D share one duplication sequence ([`joint_duplication`]), so one loop
+//! R_F and the three R_D share one duplication sequence (`joint_duplication`), so one loop
 //! yields all of them with their gradients.
 //! The derivation, step by step: [`crate::theory::ellipsoid_integrals`].
 

@@ -58,7 +58,7 @@
 //!   the flow's grows as δ²; with r in place of ρ the layer reached into the second cells, and
 //!   DE at Stk 0.1 in the airway differed by four standard errors between the 0.3 and 0.2 mm
 //!   meshes (0.054 and 0.064; 0.065 and 0.066 with ρ).
-//! - *Exactness*: a field $u_w + s\,(n·(x − x_w))$ at a flat wall (s tangential: linear
+//! - *Exactness*: a field $u_w + s\\,(n·(x − x_w))$ at a flat wall (s tangential: linear
 //!   shear) is reproduced exactly; a linear field that violates no-slip at a wall is not
 //!   reproduced within ρ of it, where no such field is a flow.
 //! - *Continuity*: $d_f$ is continuous in x and φ vanishes with two derivatives at s = 1.

@@ -162,7 +162,7 @@ struct Frame {
     grad: Vec<Mat3>,
     /// Velocity $u_f$ on wall face k of [`FoamFlow::walls`].
     wall_u: Vec<Vec3>,
-    /// Wall gradient $G_f = (I − n nᵀ) G_o n\,nᵀ$ on wall face k ([`FoamFlow::sample_wall`]).
+    /// Wall gradient $G_f = (I − n nᵀ) G_o n\\,nᵀ$ on wall face k ([`FoamFlow::sample_wall`]).
     wall_grad: Vec<Mat3>,
 }
 
