@@ -18,7 +18,8 @@
 //! ```
 //! Both are continuous in x (the weights vanish with two derivatives at the edge of their
 //! support), both reproduce a linear field exactly (every L_c and G_c does, and the weights sum
-//! to one; within r of a no-slip wall, see below), and both keep the O(h²) and O(h) accuracy of the fits with h replaced by r. The
+//! to one; near a no-slip wall, see below), and both keep the O(h²) and O(h) accuracy of the
+//! fits with h replaced by r. The
 //! gradient is the blend of the cells' gradients, not the derivative of the blended u: the
 //! particle model takes ∇u as the local linear flow at its centre (paper Fig. 1), which this
 //! is to O(r). The radius r is the largest distance from a cell centre to one of its vertices,
@@ -86,12 +87,13 @@ pub struct BlendedFlow {
     flow: FoamFlow,
     /// The cell centres, binned for the radius-r queries of every sample.
     centres: RadiusGrid,
-    /// The no-slip wall faces ([`FoamFlow::walls`]) within r of a sample.
+    /// The no-slip wall faces ([`FoamFlow::walls`]), found within their cells' depth of a sample.
     walls: WallFaces,
 }
 
-/// Smallest wall distance, relative to the wall cell's depth, in a wall weight: it caps the weight at 10²⁴, where
-/// the cells' share of the blend is below round-off, so u on a wall is its wall velocity.
+/// Smallest wall distance, relative to the wall cell's depth, in a wall weight: it caps the
+/// weight at 10²⁴, where the cells' share of the blend is below round-off, so u on a wall is
+/// its wall velocity.
 const MIN_WALL_DISTANCE: f64 = 1e-12;
 
 /// Wendland's C² weight on s = d/r ∈ [0, 1].

@@ -5,8 +5,9 @@
 //! particle boundaries and the cell location use, so the distance is zero exactly on the faces
 //! a particle touches. The distance to a triangle is that to its closest point (Ericson 2005,
 //! *Real-Time Collision Detection*, §5.1.5: the Voronoi regions of the vertices, edges and
-//! face). The face centres are binned for queries within the blending radius plus the largest
-//! centre-to-vertex distance of a wall face, so no face within the radius is missed.
+//! face). The face centres are binned in bins of at least the blending radius plus the largest
+//! centre-to-vertex distance of a wall face; a query scans the centres within the largest sum of a
+//! face's cell depth and circumradius, so no face nearer than its cell's depth is missed.
 
 use super::grid::RadiusGrid;
 use super::mesh::PolyMesh;
