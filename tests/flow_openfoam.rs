@@ -70,7 +70,9 @@ fn ascii_binary_and_gzip_read_identically() {
         assert!((0..m.n_faces()).all(|f| m.face(f) == mesh.face(f) && m.owner(f) == mesh.owner(f)));
         assert_eq!(m.patches(), mesh.patches());
         assert_eq!(m.cell_centres(), mesh.cell_centres());
-        assert_eq!(field, &u);
+        assert_eq!((&field.internal, &field.boundary), (&u.internal, &u.boundary));
+        // `write_case` gives the inlet and outlet `fixedValue`, the walls `calculated`.
+        assert_eq!(field.fixed, vec![true, true, false]);
     }
 }
 
@@ -119,6 +121,18 @@ fn uniform_values_and_patch_conditions() {
             assert_eq!(p.boundary_face(b), [want_p], "p on {}", patch.name);
         }
     }
+    // fixedValue and noSlip prescribe the value, zeroGradient does not; and a FoamFlow finds
+    // the no-slip walls on the `wall`-type patch only.
+    assert_eq!(u.fixed, vec![true, false, true]);
+    assert_eq!(p.fixed, vec![false, true, false]);
+    let flow = FoamFlow::read(&case, &[0.0]).unwrap();
+    let walls = &m.patches()[2];
+    assert_eq!(flow.walls().len(), walls.size);
+    assert!(
+        flow.walls()
+            .iter()
+            .all(|&f| (walls.start..walls.start + walls.size).contains(&(f as usize)))
+    );
     // A vector read as a scalar is refused by class.
     assert!(matches!(case.read_field(0.0, "U", 1), Err(FoamError::Field { .. })));
 }
@@ -280,6 +294,11 @@ fn inconsistent_meshes_and_fields_are_refused() {
         format!("List<vector> {}\n(\n(0 0 0)\n", n + 1).as_bytes(),
     );
     let err = FoamCase::open(&dir).unwrap().read_field(0.0, "U", 3);
+    assert!(matches!(err, Err(FoamError::Field { .. })), "{err:?}");
+    // A field built in code with patch flags for another mesh.
+    let mut short = u.clone();
+    short.fixed.pop();
+    let err = FoamFlow::new(raw.mesh(), vec![(0.0, short)]);
     assert!(matches!(err, Err(FoamError::Field { .. })), "{err:?}");
     // Garbage in a gzip file is an I/O error naming the file.
     let dir = scratch("bad-gzip");
