@@ -9,6 +9,7 @@ use build::{Format, Shape, cube, sampled, write_case};
 use pseudorigid::contact::{Boundary, Extent, PatchRule};
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
+use pseudorigid::flow::stagnation::Hiemenz;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
 use pseudorigid::flow::openfoam::{
     BlendedFlow, FoamCase, FoamError, FoamFlow, MeshBoundary, PatchGap, PatchRole, PatchSet, PolyMesh,
@@ -567,6 +568,201 @@ fn blended_field_converges_at_second_order_with_walls() {
 }
 
 // ---------------------------------------------------------------------------------------
+// Near-wall flows: Hiemenz stagnation flow, exact, on the layerings users make
+
+/// Strain rate a and viscosity ν of the stagnation flows: boundary-layer length ℓ = √(ν/a) = 0.1.
+const STRAIN: f64 = 1.0;
+const NU: f64 = 0.01;
+/// Core cell height in y and box height (4ℓ: f' = 0.9997 at the top).
+const CORE: f64 = 0.05;
+const HEIGHT: f64 = 0.4;
+
+/// How the cells stack above the wall y = 0, as users mesh it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Layering {
+    /// blockMesh, uniform cells of height CORE.
+    Uniform,
+    /// blockMesh `simpleGrading (1 6 1)`: geometric cells, the last 6× the first.
+    Graded,
+    /// snappyHexMesh-style prism layers: the core cell at the wall replaced by `n` layers
+    /// growing by 1.2 (addLayers' expansionRatio), together as high as the core cell.
+    Layers(usize),
+}
+
+/// The y coordinates of the nodes for `layering`, every cell split `2^refine` times.
+fn wall_nodes(layering: Layering, refine: u32) -> Vec<f64> {
+    let cells = (HEIGHT / CORE).round() as usize;
+    let heights: Vec<f64> = match layering {
+        Layering::Uniform => vec![CORE; cells],
+        Layering::Graded => {
+            let r = 6f64.powf(1.0 / (cells - 1) as f64);
+            let first = HEIGHT * (r - 1.0) / (r.powi(cells as i32) - 1.0);
+            (0..cells).map(|i| first * r.powi(i as i32)).collect()
+        }
+        Layering::Layers(n) => {
+            let first = CORE * 0.2 / (1.2f64.powi(n as i32) - 1.0);
+            let mut h: Vec<f64> = (0..n).map(|i| first * 1.2f64.powi(i as i32)).collect();
+            h.extend(std::iter::repeat_n(CORE, cells - 1));
+            h
+        }
+    };
+    let split = 1usize << refine;
+    let mut y = vec![0.0];
+    for h in heights.iter().flat_map(|&h| std::iter::repeat_n(h / split as f64, split)) {
+        y.push(y.last().unwrap() + h);
+    }
+    let top = *y.last().unwrap();
+    y.iter().map(|v| v * HEIGHT / top).collect()
+}
+
+/// Hiemenz flow written into a box x ∈ [−0.5, 0.5], y ∈ [0, 0.4], z ∈ [0, 0.25] meshed with
+/// `layering` (8 × 2 core cells in x, z; every cell split `2^refine` times): the cellwise and
+/// blended fields and the first cell's height.
+fn stagnation_box(layering: Layering, refine: u32, prisms: bool) -> (FoamFlow, BlendedFlow, f64) {
+    let exact = Hiemenz::new(STRAIN, NU).unwrap();
+    let even = |lo: f64, hi: f64, n: usize| -> Vec<f64> { (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect() };
+    let split = 1usize << refine;
+    let ys = wall_nodes(layering, refine);
+    let raw = build::layered_box(&even(-0.5, 0.5, 8 * split), &ys, &even(0.0, 0.25, 2 * split), prisms);
+    let mesh = raw.mesh();
+    let field = sampled(&mesh, |x| exact.sample(x, 0.0).unwrap().u);
+    let flow = FoamFlow::new(mesh, vec![(0.0, field)]).unwrap();
+    (flow.clone(), BlendedFlow::new(flow).unwrap(), ys[1])
+}
+
+/// Points at height `y` over the middle of the wall (away from the open sides by a core cell).
+fn over_the_wall(y: f64) -> Vec<Vec3> {
+    points(60, 0.0, 1.0, 41)
+        .iter()
+        .map(|p| Vec3::new(-0.35 + 0.7 * p[0], y, 0.05 + 0.15 * p[2]))
+        .collect()
+}
+
+/// Largest relative error of the wall-normal velocity at height y.
+fn normal_velocity_error(flow: &dyn FlowField, y: f64) -> f64 {
+    let exact = Hiemenz::new(STRAIN, NU).unwrap();
+    over_the_wall(y)
+        .iter()
+        .map(|x| {
+            let v = exact.sample(x, 0.0).unwrap().u[1];
+            (flow.sample(x, 0.0).unwrap().u[1] - v).abs() / v.abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+const LAYERINGS: [Layering; 4] = [Layering::Uniform, Layering::Graded, Layering::Layers(2), Layering::Layers(5)];
+
+/// Inside the first cell (at 1/10, 1/4, 1/2 and 3/4 of its height) the blended wall-normal
+/// velocity is within 10 % of the exact one on every layering, hexahedra and prisms (the
+/// issue's target names half the height, the cell's centre, where the solver's value is; the
+/// other heights are where interpolation happens). The wall fit passes through the centre's
+/// value; its δ² coefficient comes from the wall shear's surface divergence, whose relative
+/// error is that of the shear's two-point estimate, O(κρ) with κ/γ = f‴(0)/f″(0)/ℓ = −0.81/ℓ.
+/// The cellwise field misses by more than 20 % at a quarter of the height (it extrapolates the
+/// centre's linear fit towards the wall), which the test also asserts: it can fail.
+#[test]
+fn hiemenz_normal_velocity_in_the_first_cell() {
+    for prisms in [false, true] {
+        for layering in LAYERINGS {
+            let (cells, blend, first) = stagnation_box(layering, 0, prisms);
+            for fraction in [0.1, 0.25, 0.5, 0.75] {
+                let e = normal_velocity_error(&blend, fraction * first);
+                eprintln!("{layering:?} prisms {prisms}: first cell {first:.5}, |Δv|/|v| at {fraction} of its height {e:.4}");
+                assert!(e < 0.10, "{layering:?} prisms {prisms} at {fraction}: {e}");
+            }
+            let cellwise = normal_velocity_error(&cells, 0.25 * first);
+            assert!(cellwise > 0.2, "{layering:?}: cellwise {cellwise}");
+        }
+    }
+}
+
+/// Approaching the wall, v/δ² tends to the continuity coefficient −½ a f″(0)/ℓ on every
+/// layering (at δ = first/100 the O(δ³) term is 10⁻² of the first cell's): within 10 %.
+#[test]
+fn hiemenz_normal_velocity_grows_with_the_continuity_coefficient() {
+    let exact = Hiemenz::new(STRAIN, NU).unwrap();
+    let l = exact.length();
+    let coefficient = -0.5 * STRAIN * exact.wall_curvature() / l;
+    for layering in LAYERINGS {
+        let (_, blend, first) = stagnation_box(layering, 0, false);
+        let delta = first / 100.0;
+        let worst = over_the_wall(delta)
+            .iter()
+            .map(|x| (blend.sample(x, 0.0).unwrap().u[1] / (delta * delta) / coefficient - 1.0).abs())
+            .fold(0.0, f64::max);
+        eprintln!("{layering:?}: v/δ² against continuity's coefficient, worst {worst:.4}");
+        assert!(worst < 0.10, "{layering:?}: {worst}");
+    }
+}
+
+/// The blended field converges at second order in the wall layer under refinement of every
+/// cell (first cell too), whatever the layering: max |u| error over the points within two
+/// first-cell heights of the (coarsest) wall, on the 2× and 4× refined meshes (the coarse mesh
+/// has one core cell per 0.5ℓ and is pre-asymptotic: order 1.77 there). Bound 1.7 as for the
+/// other convergence tests.
+#[test]
+fn hiemenz_wall_layer_converges_at_second_order() {
+    let exact = Hiemenz::new(STRAIN, NU).unwrap();
+    for layering in [Layering::Uniform, Layering::Layers(5)] {
+        let (_, _, first) = stagnation_box(layering, 0, false);
+        let pts: Vec<Vec3> = [0.1, 0.3, 0.6, 1.0, 1.5, 2.0].iter().flat_map(|f| over_the_wall(f * first)).collect();
+        let err = |refine: u32| {
+            let (_, blend, _) = stagnation_box(layering, refine, false);
+            pts.iter()
+                .map(|x| (blend.sample(x, 0.0).unwrap().u - exact.sample(x, 0.0).unwrap().u).amax())
+                .fold(0.0f64, f64::max)
+        };
+        let (coarse, fine) = (err(1), err(2));
+        let order = (coarse / fine).log2();
+        eprintln!("{layering:?}: wall-layer |u| error {coarse:e} -> {fine:e}, order {order:.2}");
+        assert!(order > 1.7, "{layering:?}: order {order}");
+    }
+}
+
+/// An inertialess rigid sphere of radius ℓ/20 released on the stagnation line at y₀ = 2ℓ
+/// reaches the wall (gap 0) at the time the exact field gives, T = ∫ dy / (aℓ f(y/ℓ)) from r_p
+/// to y₀ (Simpson's rule on 4 000 intervals, error < 10⁻⁸ T). The approach is dominated by the
+/// last cells, where v ∝ δ², so T's relative error is about that of the δ² coefficient: 10 % on
+/// every layering, as above.
+#[test]
+fn hiemenz_sphere_reaches_the_wall_when_the_exact_flow_says() {
+    use pseudorigid::contact::{ContactEvent, ContactModel};
+    use pseudorigid::driver::{Plan, Stop, integrate};
+    use pseudorigid::ellipsoid::Ellipsoid;
+    use pseudorigid::integrator::{Stokesian, TimeIntegrator};
+    use pseudorigid::material::Rigid;
+    use pseudorigid::particle::{Fluid, Particle, State};
+    let exact = Hiemenz::new(STRAIN, NU).unwrap();
+    let l = exact.length();
+    let (radius, y0) = (0.05 * l, 2.0 * l);
+    let n = 4000;
+    let speed = |y: f64| STRAIN * l * exact.profile(y / l)[0];
+    let h = (y0 - radius) / n as f64;
+    let t_exact: f64 = (0..n)
+        .map(|i| {
+            let (a, b) = (radius + i as f64 * h, radius + (i + 1) as f64 * h);
+            h / 6.0 * (1.0 / speed(a) + 4.0 / speed(0.5 * (a + b)) + 1.0 / speed(b))
+        })
+        .sum();
+    for layering in LAYERINGS {
+        let (_, blend, _) = stagnation_box(layering, 0, false);
+        let boundary = MeshBoundary::new(blend.cellwise().mesh()).unwrap();
+        let shape = Ellipsoid::new([radius; 3], Mat3::identity()).unwrap();
+        let particle = Particle::new(shape, Rigid, Fluid::new(NU, 1.0).unwrap(), 1.0).unwrap();
+        let integrator = Stokesian::overdamped(1e-8).unwrap();
+        let contact = ContactEvent::new(&boundary, &particle, &blend, ContactModel::Extent);
+        let plan = Plan::new(10.0 * t_exact, 1e-3).unwrap();
+        let mut memory = <Stokesian as TimeIntegrator>::Memory::default();
+        let start = State::at_rest(Vec3::new(0.0, y0, 0.125));
+        let out = integrate(&integrator, &particle, &blend, start, &mut memory, &plan, &[&contact], |_| {}, |_| {}).unwrap();
+        assert_eq!(out.stop, Stop::Event { index: 0 });
+        let error = out.state.t / t_exact - 1.0;
+        eprintln!("{layering:?}: arrival at t = {:.4} against {t_exact:.4} ({:+.2} %)", out.state.t, 100.0 * error);
+        assert!(error.abs() < 0.10, "{layering:?}: {error}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------
 // Patches and time
 
 #[test]
@@ -719,3 +915,4 @@ fn mesh_patches_as_a_contact_boundary() {
         "{gap:?}"
     );
 }
+

@@ -9,6 +9,7 @@
 //! the length over which ∇u changes ([`crate::diagnostics`]).
 
 pub mod analytic;
+pub mod stagnation;
 #[cfg(feature = "mesh")]
 pub mod openfoam;
 #[cfg(feature = "mesh")]

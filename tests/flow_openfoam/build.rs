@@ -199,9 +199,74 @@ fn patch_name(c: &Vec3) -> &'static str {
     }
 }
 
+/// Hexahedra on the tensor grid `xs` × `ys` × `zs` (each ascending), or with `prisms` each
+/// hexahedron split into two triangular prisms stacked along y (triangular faces on the planes
+/// y = const, as prism layers on a wall have). Patches: `wall` (type wall) on y = ys[0],
+/// `open` (type patch) on the other five sides.
+pub fn layered_box(xs: &[f64], ys: &[f64], zs: &[f64], prisms: bool) -> Raw {
+    let (nx, ny) = (xs.len(), ys.len());
+    let id = |i: usize, j: usize, k: usize| (i + nx * (j + ny * k)) as u32;
+    let mut points = Vec::new();
+    for &z in zs {
+        for &y in ys {
+            for &x in xs {
+                points.push(Vec3::new(x, y, z));
+            }
+        }
+    }
+    let mut cells: Vec<Vec<Vec<u32>>> = Vec::new();
+    for k in 0..zs.len() - 1 {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                // Quads on y = ys[j] (b) and y = ys[j + 1] (t), in the same order.
+                let b = [id(i, j, k), id(i + 1, j, k), id(i + 1, j, k + 1), id(i, j, k + 1)];
+                let t = [id(i, j + 1, k), id(i + 1, j + 1, k), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)];
+                let sides = |l: &[usize]| -> Vec<Vec<u32>> {
+                    (0..l.len())
+                        .map(|e| {
+                            let (p, q) = (l[e], l[(e + 1) % l.len()]);
+                            vec![b[p], b[q], t[q], t[p]]
+                        })
+                        .collect()
+                };
+                let mut prism = |l: &[usize]| {
+                    let mut faces = vec![l.iter().map(|&v| b[v]).collect(), l.iter().map(|&v| t[v]).collect()];
+                    faces.extend(sides(l));
+                    cells.push(faces);
+                };
+                if prisms {
+                    prism(&[0, 1, 2]);
+                    prism(&[0, 2, 3]);
+                } else {
+                    prism(&[0, 1, 2, 3]);
+                }
+            }
+        }
+    }
+    let y0 = ys[0];
+    let scale = ys[ny - 1] - y0;
+    assemble_with(points, &cells, &[("wall", "wall"), ("open", "patch")], |c| {
+        usize::from(c[1] > y0 + 1e-9 * scale)
+    })
+}
+
 /// Face-based form: faces matched by vertex set, internal faces first (by owner, then
 /// neighbour), then the patches `inlet`, `outlet`, `walls`; every face oriented out of its owner.
 fn assemble(points: Vec<Vec3>, cells: &[Vec<Vec<u32>>]) -> Raw {
+    let order = [("inlet", "patch"), ("outlet", "patch"), ("walls", "wall")];
+    assemble_with(points, cells, &order, |c| {
+        order.iter().position(|&(o, _)| o == patch_name(c)).unwrap()
+    })
+}
+
+/// Face-based form with the patches `patches` (name, type): boundary face centre c goes to
+/// patch `patch_of(c)`.
+fn assemble_with(
+    points: Vec<Vec3>,
+    cells: &[Vec<Vec<u32>>],
+    patches: &[(&str, &str)],
+    patch_of: impl Fn(&Vec3) -> usize,
+) -> Raw {
     let centroid = |vs: &[u32]| vs.iter().map(|&v| points[v as usize]).sum::<Vec3>() / vs.len() as f64;
     let newell = |vs: &[u32]| {
         let mut n = Vec3::zeros();
@@ -233,7 +298,6 @@ fn assemble(points: Vec<Vec3>, cells: &[Vec<Vec<u32>>]) -> Raw {
         .collect();
     let mut internal = Vec::new();
     let mut boundary: Vec<(usize, usize, Vec<u32>)> = Vec::new();
-    let order = ["inlet", "outlet", "walls"];
     for (_, (a, f, b)) in by_key {
         let (own, nei) = match b {
             Some(b) => (a.min(b), Some(a.max(b))),
@@ -246,8 +310,7 @@ fn assemble(points: Vec<Vec3>, cells: &[Vec<Vec<u32>>]) -> Raw {
         match nei {
             Some(nei) => internal.push((own, nei, f)),
             None => {
-                let p = order.iter().position(|&o| o == patch_name(&centroid(&f))).unwrap();
-                boundary.push((p, own, f));
+                boundary.push((patch_of(&centroid(&f)), own, f));
             }
         }
     }
@@ -270,14 +333,14 @@ fn assemble(points: Vec<Vec3>, cells: &[Vec<Vec<u32>>]) -> Raw {
         push(&mut raw, *own, f);
         raw.neighbour.push(*nei as u32);
     }
-    for (p, name) in order.iter().enumerate() {
+    for (p, (name, kind)) in patches.iter().enumerate() {
         let start = raw.owner.len();
         for (_, own, f) in boundary.iter().filter(|b| b.0 == p) {
             push(&mut raw, *own, f);
         }
         raw.patches.push(Patch {
             name: name.to_string(),
-            kind: if *name == "walls" { "wall" } else { "patch" }.to_string(),
+            kind: kind.to_string(),
             start,
             size: raw.owner.len() - start,
         });

@@ -11,67 +11,67 @@
 //! # Interpolant
 //! With L_c(x) = u_c + G_c (x − x_c) the fit of cell c (exact for linear fields,
 //! [`super::reconstruct`]) and the Wendland (1995) C² weight
-//! $\phi(s) = (1 − s)^4 (4s + 1)$ for s = |x − x_c|/r < 1 (0 beyond),
+//! $\phi(s) = (1 − s)^4 (4s + 1)$ for s < 1 (0 beyond),
 //! ```math
-//! u(x) = \frac{\sum_c \phi_c L_c(x)}{\sum_c \phi_c}, \qquad
-//! \nabla u(x) = \frac{\sum_c \phi_c G_c}{\sum_c \phi_c}.
+//! u(x) = \frac{\sum_c \phi(s_c) L_c(x)}{\sum_c \phi(s_c)}, \qquad
+//! \nabla u(x) = \frac{\sum_c \phi(s_c) G_c}{\sum_c \phi(s_c)}.
 //! ```
 //! Both are continuous in x (the weights vanish with two derivatives at the edge of their
 //! support), both reproduce a linear field exactly (every L_c and G_c does, and the weights sum
 //! to one; near a no-slip wall, see below), and both keep the O(h²) and O(h) accuracy of the
-//! fits with h replaced by r. The
-//! gradient is the blend of the cells' gradients, not the derivative of the blended u: the
-//! particle model takes ∇u as the local linear flow at its centre (paper Fig. 1), which this
-//! is to O(r). The radius r is the largest distance from a cell centre to one of its vertices,
-//! so the cell containing x carries weight (a convex cell lies within its farthest vertex's
-//! distance of its centre; the containing cell's own fit covers the measure-zero case d = r).
+//! fits. The gradient is the blend of the cells' gradients, not the derivative of the blended
+//! u: the particle model takes ∇u as the local linear flow at its centre (paper Fig. 1), which
+//! this is to O(h).
+//!
+//! # Each cell's support is its own, shaped like the cell
+//! $s_c(x)^2 = (x − x_c)^T M_c (x − x_c)$ with $M_c = (σ^2 k_c E_c)^{-1}$, $E_c$ the second
+//! moment of the cell's vertices about its centre and $k_c$ the largest $v^T E_c^{-1} v$ over
+//! its vertices: the support is the ellipsoid through the cell's farthest vertex (in $E_c$'s
+//! metric) scaled by σ = 1.2 ([`OVERLAP`]). So it contains the cell, the containing cell always
+//! carries weight, and a thin prism-layer cell's support is as thin as the cell. With one
+//! radius for every cell (the largest centre-to-vertex distance, as before), a point in the first
+//! prism layer was blended with the fits of the layers above it, each extrapolating its linear
+//! fit across the layers: the normal velocity there then depended on how the mesh was layered
+//! (airway bifurcation, Stk 0.1: DE 0.069 with 2 layers, 0.051 with 5).
 //!
 //! # No-slip walls
-//! Each fit reproduces a wall's no-slip value only to O(h²), so the blend of the fits has a
-//! wall-normal velocity of O(h²) on the wall itself. The physical one vanishes there as δ²
-//! (δ the wall distance: no-slip removes the tangential derivatives on the wall, and
-//! continuity then removes ∂u_n/∂n). A particle that follows the flow (Stk → 0) drifts along
-//! the numerical one into the wall and deposits however small it is: on the airway
-//! bifurcation that set a floor of DE ≈ 0.002 that fell as h² under mesh refinement.
-//!
-//! So the faces of the no-slip walls ([`FoamFlow::walls`]) enter the blend as data too, each
-//! with its fit $L_f$ ([`FoamFlow::sample_wall`]: the wall velocity plus the wall shear times
-//! the distance from the face's plane, gradient $G_f$) and the weight
+//! Each fit reproduces a wall's no-slip value only to O(h²), and the wall-normal velocity near
+//! a wall is itself O(δ²) (δ the wall distance): the cells' fits get neither right. So the
+//! faces of the no-slip walls ([`FoamFlow::walls`]) enter the blend as data too, each with
+//! its fit $L_f$ ([`FoamFlow::sample_wall`], [`super::wall_layer`]: the wall velocity, the wall
+//! shear times δ and the normal velocity −½δ²∇ₛ·γ that continuity demands) and the weight
 //! ```math
-//! \omega_f(x) = \phi(s_f)\,s_f^{-2},\qquad s_f = d_f(x)/\rho_f,
+//! \omega_f(x) = \phi(s_f)\,s_f^{-2},\qquad s_f = d_f(x)/(2\rho_f),
 //! ```
 //! $d_f$ the distance from x to the face ([`super::walls`]), capped below at $10^{-12}\rho_f$,
-//! and $\rho_f$ the depth of the face's cell (its centre's distance from the face's plane):
+//! and $\rho_f$ the depth of the face's cell (its centre's distance from the face's plane), so
+//! $2\rho_f$ is the wall cell's height:
 //! ```math
 //! u(x) = \frac{\sum_c \phi_c L_c(x) + \sum_f \omega_f L_f(x)}{\sum_c \phi_c + \sum_f \omega_f},
 //! \qquad
 //! \nabla u(x) = \frac{\sum_c \phi_c G_c + \sum_f \omega_f G_f}{\sum_c \phi_c + \sum_f \omega_f}.
 //! ```
+//! - *The wall cells' own fits*: a cell that owns wall faces enters the blend with the mean of
+//!   its faces' fits $L_f$ instead of its linear fit, which cannot follow a δ² profile (it
+//!   extrapolates the centre's slope to the wall: −2.7·10³ times the exact normal velocity at
+//!   1 % of the first cell's height of a stagnation flow). So inside the first cell the blend is
+//!   the near-wall expansion: the normal velocity grows as δ² with the coefficient of
+//!   continuity and passes through the cell's value, whatever the layering.
 //! - *On the wall* $\omega_f$ is infinite (capped at 10²⁴), so u is the wall's velocity.
-//! - *Near a flat wall* the cells' share is O(s²), so their O(h²) normal velocity enters as
-//!   O(h² δ²/ρ²): the normal velocity grows as δ² off the wall, as the physical one does. At
-//!   a faceted curved wall the neighbouring faces' fits, tilted by the angle θ between faces,
-//!   add O(θ |∂u/∂n| δ).
-//! - *Accuracy stays O(h²)*: $G_f$ carries the O(h) error of the wall cell's gradient over a
-//!   distance below ρ ≤ r.
-//! - *Only the wall cells' layer*: beyond ρ the cells' fits interpolate between the wall value
-//!   and the interior, and the wall term leaves them alone. Its fit has no normal velocity, where
-//!   the flow's grows as δ²; with r in place of ρ the layer reached into the second cells, and
-//!   DE at Stk 0.1 in the airway differed by four standard errors between the 0.3 and 0.2 mm
-//!   meshes (0.054 and 0.064; 0.065 and 0.066 with ρ).
-//! - *Exactness*: a field $u_w + s\\,(n·(x − x_w))$ at a flat wall (s tangential: linear
-//!   shear) is reproduced exactly; a linear field that violates no-slip at a wall is not
-//!   reproduced within ρ of it, where no such field is a flow.
+//! - *Accuracy stays O(h²)*: the wall fit's error is O(δ²) tangentially over δ ≤ 2ρ.
+//! - *Exactness*: a linear shear $u_w + s\,(n·(x − x_w))$ at a flat wall (s tangential) is
+//!   reproduced exactly; a linear field that violates no-slip at a wall is not reproduced
+//!   within 2ρ of it, where no such field is a flow.
 //! - *Continuity*: $d_f$ is continuous in x and φ vanishes with two derivatives at s = 1.
 //!
 //! # Just outside the mesh
-//! A point with a cell centre within r is evaluated even if it lies outside the mesh: the fits
+//! A point inside some cell's support is evaluated even if it lies outside the mesh: the fits
 //! extrapolate linearly, exactly for linear fields. Particle boundaries ([`super::MeshBoundary`])
 //! measure the gap to the face planes, while location uses the faces' tetrahedral
 //! decomposition; on warped snapped faces the two differ by a fraction of the warp, and a
 //! particle touching the plane could otherwise have its integrator's trial stages refused tens
 //! of µm before the contact is seen (on the airway bifurcation's 0.75 mm mesh: 6 in 40
-//! particles). Farther out (no centre within r) the point is refused as by [`FoamFlow`], with the
+//! particles). Farther out (in no support) the point is refused as by [`FoamFlow`], with the
 //! nearest patch.
 
 use super::grid::RadiusGrid;
@@ -85,11 +85,23 @@ use crate::tensor::{Mat3, Vec3};
 #[derive(Debug, Clone)]
 pub struct BlendedFlow {
     flow: FoamFlow,
-    /// The cell centres, binned for the radius-r queries of every sample.
+    /// The cell centres, binned for the largest support's radius.
     centres: RadiusGrid,
-    /// The no-slip wall faces ([`FoamFlow::walls`]), found within their cells' depth of a sample.
+    /// Each cell's support ellipsoid: $M_c$ and the radius of the sphere around it.
+    supports: Vec<(Mat3, f64)>,
+    /// The no-slip wall faces ([`FoamFlow::walls`]), found within their cells' height of a sample.
     walls: WallFaces,
+    /// The wall faces owned by cell c: `cell_walls[wall_offsets[c]..wall_offsets[c + 1]]`.
+    wall_offsets: Vec<u32>,
+    cell_walls: Vec<u32>,
 }
+
+/// Scale σ of a cell's support over the ellipsoid through its vertices: neighbouring supports
+/// overlap, so every point (a cell's vertex too, at s = 1/σ) lies inside some support, and the
+/// blend moves from cell to cell over a fraction of a cell. Not more: with σ = 1.5 the second
+/// prism layer's linear fits reached the first cell's centre and moved the normal velocity of
+/// a stagnation flow there by 8 %; with 1.2 they stop above it.
+pub const OVERLAP: f64 = 1.2;
 
 /// Smallest wall distance, relative to the wall cell's depth, in a wall weight: it caps the
 /// weight at 10²⁴, where the cells' share of the blend is below round-off, so u on a wall is
@@ -106,34 +118,85 @@ fn weight(s: f64) -> f64 {
     }
 }
 
+/// Support of cell c (module docs): $M_c$ and the largest semi-axis of its ellipsoid; `None` for
+/// a cell whose vertices do not span space.
+fn support(mesh: &super::PolyMesh, c: usize) -> Option<(Mat3, f64)> {
+    let centre = mesh.cell_centres()[c];
+    let mut vertices: Vec<u32> = mesh.cell_faces(c).iter().flat_map(|&f| mesh.face(f as usize).iter().copied()).collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    let offsets: Vec<Vec3> = vertices.iter().map(|&v| mesh.points()[v as usize] - centre).collect();
+    let moment = offsets.iter().fold(Mat3::zeros(), |m, d| m + d * d.transpose()) / offsets.len() as f64;
+    let inverse = moment.try_inverse()?;
+    let k = offsets.iter().map(|d| d.dot(&(inverse * d))).fold(0.0, f64::max);
+    let largest = moment.symmetric_eigenvalues().max();
+    let metric = inverse / (OVERLAP * OVERLAP * k);
+    let radius = OVERLAP * (k * largest).sqrt();
+    (metric.iter().all(|m| m.is_finite()) && radius.is_finite() && radius > 0.0).then_some((metric, radius))
+}
+
 impl BlendedFlow {
-    /// Blend `flow` over the largest centre-to-vertex distance of its cells; an error if a
-    /// cell centre is not finite (coordinates near f64::MAX).
+    /// Blend `flow` (module docs); an error if a cell's vertices do not span space or a
+    /// coordinate is not finite (near f64::MAX).
     pub fn new(flow: FoamFlow) -> Result<Self, FoamError> {
         let mesh = flow.mesh();
-        let mut radius: f64 = 0.0;
-        for c in 0..mesh.n_cells() {
-            let centre = mesh.cell_centres()[c];
-            for &f in mesh.cell_faces(c) {
-                for &v in mesh.face(f as usize) {
-                    radius = radius.max((mesh.points()[v as usize] - centre).norm());
-                }
-            }
-        }
+        let supports = (0..mesh.n_cells())
+            .map(|c| {
+                support(mesh, c).ok_or_else(|| FoamError::Mesh {
+                    reason: format!("cannot blend cell {c}: its vertices do not span space or are not finite"),
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let radius = supports.iter().map(|s| s.1).fold(0.0, f64::max);
         // A mesh without cells has r = 0 and gets an empty grid of radius f64::MIN_POSITIVE.
         let centres =
             RadiusGrid::new(mesh.cell_centres(), radius.max(f64::MIN_POSITIVE)).ok_or_else(|| FoamError::Mesh {
                 reason: format!("cannot bin the cell centres for blending (radius {radius}): a centre is not finite"),
             })?;
-        let walls = WallFaces::new(mesh, flow.walls(), centres.radius()).ok_or_else(|| FoamError::Mesh {
-            reason: "cannot bin the wall faces for blending: a face centre is not finite".into(),
+        let layer = flow.wall_layer();
+        let heights: Vec<f64> = (0..layer.len()).map(|k| 2.0 * layer.depth(k)).collect();
+        let walls = WallFaces::new(mesh, flow.walls(), &heights).ok_or_else(|| FoamError::Mesh {
+            reason: "cannot bin the wall faces for blending: a face centre or depth is not finite".into(),
         })?;
-        Ok(Self { flow, centres, walls })
+        let mut owned: Vec<(usize, u32)> = layer.owners().iter().enumerate().map(|(k, &c)| (c, k as u32)).collect();
+        owned.sort_unstable();
+        let mut wall_offsets = vec![0u32; mesh.n_cells() + 1];
+        for &(c, _) in &owned {
+            wall_offsets[c + 1] += 1;
+        }
+        for c in 0..mesh.n_cells() {
+            wall_offsets[c + 1] += wall_offsets[c];
+        }
+        Ok(Self {
+            flow,
+            centres,
+            supports,
+            walls,
+            wall_offsets,
+            cell_walls: owned.into_iter().map(|(_, k)| k).collect(),
+        })
     }
 
-    /// The blending radius r.
+    /// The radius of the largest cell support.
     pub fn radius(&self) -> f64 {
         self.centres.radius()
+    }
+
+    /// The fit of cell c in the blend: its linear fit, or for a wall cell the mean of its wall
+    /// faces' near-wall fits (module docs).
+    fn cell_fit(&self, c: usize, x: &Vec3, t: f64) -> FlowSample {
+        let walls = &self.cell_walls[self.wall_offsets[c] as usize..self.wall_offsets[c + 1] as usize];
+        if walls.is_empty() {
+            return self.flow.sample_cell(c, x, t);
+        }
+        let (mut u, mut grad_u) = (Vec3::zeros(), Mat3::zeros());
+        for &k in walls {
+            let s = self.flow.sample_wall(k as usize, x, t);
+            u += s.u;
+            grad_u += s.grad_u;
+        }
+        let n = walls.len() as f64;
+        FlowSample { u: u / n, grad_u: grad_u / n }
     }
 
     /// The cellwise field underneath.
@@ -146,20 +209,24 @@ impl FlowField for BlendedFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         crate::flow::check_query(x, t)?;
         let (mut w_sum, mut u, mut g) = (0.0, Vec3::zeros(), Mat3::zeros());
-        let radius = self.centres.radius();
         let mut add = |w: f64, s: FlowSample| {
             w_sum += w;
             u += s.u * w;
             g += s.grad_u * w;
         };
-        self.centres.for_each_within(x, |c, _, d| {
-            let w = weight(d / radius);
+        self.centres.for_each_within(x, |c, centre, d| {
+            let (metric, radius) = &self.supports[c];
+            if d >= *radius {
+                return;
+            }
+            let offset = x - centre;
+            let w = weight(offset.dot(&(metric * offset)).sqrt());
             if w > 0.0 {
-                add(w, self.flow.sample_cell(c, x, t));
+                add(w, self.cell_fit(c, x, t));
             }
         });
-        self.walls.for_each_within(x, |k, d, depth| {
-            let s = d.max(MIN_WALL_DISTANCE * depth) / depth;
+        self.walls.for_each_within(x, |k, d, height| {
+            let s = d.max(MIN_WALL_DISTANCE * height) / height;
             add(weight(s) / (s * s), self.flow.sample_wall(k, x, t));
         });
         if w_sum > 0.0 {
@@ -168,8 +235,8 @@ impl FlowField for BlendedFlow {
                 grad_u: g / w_sum,
             })
         } else {
-            // No centre within r: outside the mesh (refused with the nearest patch), or inside
-            // exactly at distance r from its cell's centre (that cell's fit).
+            // No support contains x: outside the mesh (refused with the nearest patch), or
+            // inside on the edge of its cell's support (that cell's fit).
             self.flow.sample(x, t)
         }
     }

@@ -40,6 +40,7 @@ pub mod mesh;
 pub mod parse;
 pub mod patch;
 pub mod reconstruct;
+pub mod wall_layer;
 pub mod walls;
 
 pub use blend::BlendedFlow;
@@ -49,6 +50,7 @@ pub use locate::CellLocator;
 pub use mesh::{Patch, PolyMesh};
 pub use patch::{FaceGap, MeshBoundary, PatchGap, PatchRole, PatchSet};
 pub use reconstruct::Stencils;
+pub use wall_layer::{WallFit, WallGeometry};
 
 use super::{FlowField, FlowSample, check_query};
 use crate::error::FlowError;
@@ -160,10 +162,8 @@ struct Frame {
     time: f64,
     u: Vec<Vec3>,
     grad: Vec<Mat3>,
-    /// Velocity $u_f$ on wall face k of [`FoamFlow::walls`].
-    wall_u: Vec<Vec3>,
-    /// Wall gradient $G_f = (I − n nᵀ) G_o n\\,nᵀ$ on wall face k ([`FoamFlow::sample_wall`]).
-    wall_grad: Vec<Mat3>,
+    /// The fit of wall face k of [`FoamFlow::walls`] ([`wall_layer`]).
+    wall_fits: Vec<WallFit>,
 }
 
 /// A velocity field on a polyhedral mesh, steady or linear in time between time levels.
@@ -175,6 +175,7 @@ pub struct FoamFlow {
     /// Faces of the no-slip walls: `wall`-type patches whose condition prescribes the velocity
     /// in every time level ([`VolField::fixed`]).
     walls: Vec<u32>,
+    wall_layer: WallGeometry,
     frames: Vec<Frame>,
 }
 
@@ -244,27 +245,21 @@ impl FoamFlow {
             })
             .collect();
         let stencils = Stencils::new(&mesh)?;
+        let wall_layer = WallGeometry::new(&mesh, &walls);
         let mut frames = Vec::with_capacity(fields.len());
         for (time, field) in fields {
             let grad = stencils.gradients(&mesh, &field);
-            let (wall_u, wall_grad) = walls
+            let u: Vec<Vec3> = field.internal.chunks_exact(3).map(Vec3::from_row_slice).collect();
+            let velocity: Vec<Vec3> = walls
                 .iter()
-                .map(|&f| {
-                    let f = f as usize;
-                    let n = mesh.face_areas()[f].normalize();
-                    let shear = grad[mesh.owner(f)] * n;
-                    let tangential = shear - n * n.dot(&shear);
-                    let b = f - mesh.n_internal_faces();
-                    (Vec3::from_row_slice(field.boundary_face(b)), tangential * n.transpose())
-                })
-                .unzip();
-            let u = field.internal.chunks_exact(3).map(Vec3::from_row_slice).collect();
+                .map(|&f| Vec3::from_row_slice(field.boundary_face(f as usize - mesh.n_internal_faces())))
+                .collect();
+            let wall_fits = wall_layer.fits(&velocity, &u, &grad);
             frames.push(Frame {
                 time,
                 u,
                 grad,
-                wall_u,
-                wall_grad,
+                wall_fits,
             });
         }
         Ok(Self {
@@ -272,6 +267,7 @@ impl FoamFlow {
             boundary: PatchSet::all(&mesh),
             mesh,
             walls,
+            wall_layer,
             frames,
         })
     }
@@ -319,20 +315,15 @@ impl FoamFlow {
         &self.walls
     }
 
-    /// The fit of wall face k of [`FoamFlow::walls`] at x and time t: with $x_f$, n the face's
-    /// centre and unit normal, $u_f$ its prescribed velocity and $G_o$ the gradient of its cell,
-    /// ```math
-    /// L_f(x) = u_f + G_f\,(x − x_f),\qquad G_f = (I − n n^{T})\,G_o\,n\;n^{T}.
-    /// ```
-    /// At a wall moving in its own plane the gradient is the wall shear alone: no-slip makes the
-    /// tangential derivatives vanish, and continuity then makes ∂u_n/∂n vanish too. So $L_f$
-    /// takes the wall's velocity on the face's plane and has no normal component off it.
+    /// The wall layer's geometry ([`wall_layer`]).
+    pub fn wall_layer(&self) -> &WallGeometry {
+        &self.wall_layer
+    }
+
+    /// The fit of wall face k of [`FoamFlow::walls`] at x and time t: the near-wall expansion
+    /// to second order, with the wall-normal velocity continuity demands ([`wall_layer`]).
     pub fn sample_wall(&self, k: usize, x: &Vec3, t: f64) -> FlowSample {
-        let centre = self.mesh.face_centres()[self.walls[k] as usize];
-        self.in_time(t, |f: &Frame| {
-            let g = f.wall_grad[k];
-            (f.wall_u[k] + g * (x - centre), g)
-        })
+        self.in_time(t, |f: &Frame| self.wall_layer.evaluate(k, &f.wall_fits[k], x))
     }
 
     /// `at` of the levels around t, linear in time between them.

@@ -5,9 +5,9 @@
 //! particle boundaries and the cell location use, so the distance is zero exactly on the faces
 //! a particle touches. The distance to a triangle is that to its closest point (Ericson 2005,
 //! *Real-Time Collision Detection*, §5.1.5: the Voronoi regions of the vertices, edges and
-//! face). The face centres are binned in bins of at least the blending radius plus the largest
+//! face). The face centres are binned in bins of at least the largest support plus the largest
 //! centre-to-vertex distance of a wall face; a query scans the centres within the largest sum of a
-//! face's cell depth and circumradius, so no face nearer than its cell's depth is missed.
+//! face's support and circumradius, so no face nearer than its support is missed.
 
 use super::grid::RadiusGrid;
 use super::mesh::PolyMesh;
@@ -16,40 +16,32 @@ use crate::tensor::Vec3;
 /// The wall faces of a mesh, as triangle fans, binned by centre.
 #[derive(Debug, Clone)]
 pub struct WallFaces {
-    /// Face centres, binned within `reach` + the largest face's circumradius.
+    /// Face centres, binned within the largest support plus the largest face's circumradius.
     centres: RadiusGrid,
     /// Vertices of wall face k: `vertices[offsets[k]..offsets[k + 1]]`.
     offsets: Vec<usize>,
     vertices: Vec<Vec3>,
-    /// Distance of wall face k's cell centre from the face's plane.
-    depths: Vec<f64>,
+    /// Distance within which wall face k's term acts.
+    supports: Vec<f64>,
     /// Largest distance from wall face k's centre to its vertices.
     circumradii: Vec<f64>,
-    /// Bound on the centre distance of any face nearer than its depth: the largest depth plus
-    /// circumradius (with a margin of 10⁻⁹ for round-off).
+    /// Bound on the centre distance of any face nearer than its support: the largest support
+    /// plus circumradius (with a margin of 10⁻⁹ for round-off).
     near: f64,
-    reach: f64,
 }
 
 impl WallFaces {
-    /// Wall faces `faces` of `mesh`, for queries within `reach` (> 0, finite); `None` if a
-    /// coordinate is not finite.
-    pub fn new(mesh: &PolyMesh, faces: &[u32], reach: f64) -> Option<Self> {
+    /// Wall faces `faces` of `mesh`, face k acting within `supports[k]` (> 0, finite) of it;
+    /// `None` if a coordinate or support is not finite, or the lengths differ.
+    pub fn new(mesh: &PolyMesh, faces: &[u32], supports: &[f64]) -> Option<Self> {
+        if supports.len() != faces.len() || supports.iter().any(|s| !s.is_finite()) {
+            return None;
+        }
         let mut offsets = Vec::with_capacity(faces.len() + 1);
         offsets.push(0);
         let mut vertices = Vec::new();
         let mut circumradii = Vec::with_capacity(faces.len());
         let centres: Vec<Vec3> = faces.iter().map(|&f| mesh.face_centres()[f as usize]).collect();
-        let depths: Vec<f64> = faces
-            .iter()
-            .map(|&f| {
-                let f = f as usize;
-                let n = mesh.face_areas()[f].normalize();
-                (mesh.face_centres()[f] - mesh.cell_centres()[mesh.owner(f)])
-                    .dot(&n)
-                    .abs()
-            })
-            .collect();
         for (&f, c) in faces.iter().zip(&centres) {
             let mut circumradius: f64 = 0.0;
             for &v in mesh.face(f as usize) {
@@ -61,39 +53,38 @@ impl WallFaces {
             offsets.push(vertices.len());
         }
         let largest = circumradii.iter().copied().fold(0.0, f64::max);
-        let near = depths
+        let widest = supports.iter().copied().fold(0.0, f64::max);
+        let near = supports
             .iter()
             .zip(&circumradii)
-            .map(|(d, c)| d.min(reach) + c)
+            .map(|(s, c)| s + c)
             .fold(0.0, f64::max)
             * (1.0 + 1e-9);
         Some(Self {
             near,
-            centres: RadiusGrid::new(&centres, reach + largest)?,
+            centres: RadiusGrid::new(&centres, (widest + largest).max(f64::MIN_POSITIVE))?,
             circumradii,
             offsets,
             vertices,
-            depths,
-            reach,
+            supports: supports.to_vec(),
         })
     }
 
-    /// Calls `visit(k, d, depth)` for every wall face k whose distance d from x is below
-    /// its cell's depth (the distance of its cell's centre from the face's plane, at most the
-    /// reach), in a fixed order.
+    /// Calls `visit(k, d, support)` for every wall face k whose distance d from x is below its
+    /// support, in a fixed order.
     pub fn for_each_within(&self, x: &Vec3, mut visit: impl FnMut(usize, f64, f64)) {
         self.centres.for_each_closer(x, self.near, |k, centre, to_centre| {
-            let depth = self.depths[k].min(self.reach);
+            let support = self.supports[k];
             // The face lies within its circumradius of its centre: no point of it is nearer.
-            if to_centre - self.circumradii[k] >= depth {
+            if to_centre - self.circumradii[k] >= support {
                 return;
             }
             let fan = &self.vertices[self.offsets[k]..self.offsets[k + 1]];
             let d = (0..fan.len())
                 .map(|i| triangle_distance(x, centre, &fan[i], &fan[(i + 1) % fan.len()]))
                 .fold(f64::INFINITY, f64::min);
-            if d < depth {
-                visit(k, d, depth);
+            if d < support {
+                visit(k, d, support);
             }
         });
     }
