@@ -7,6 +7,7 @@
 #[allow(dead_code)] // the mesh builder of the reader's tests; these tests use a part of it
 mod build;
 
+use pseudorigid::cli::CliError;
 use pseudorigid::cli::error::Source;
 use pseudorigid::cli::models::SceneLaw;
 use pseudorigid::cli::run::Job;
@@ -267,7 +268,9 @@ fn probe_reads_a_case_back() {
     let points = dir.join("points.csv");
     std::fs::write(&points, "x,y,z\n0.3,0.4,0.5\n0.77,0.21,0.9\n1.5,0.5,0.5\n").unwrap();
     let out = dir.join("probe.csv");
-    let line = pseudorigid::cli::probe::probe(&case, "latest", &points, &out).unwrap();
+    // The cellwise fits are exact for a linear field; the blended field is too away from walls,
+    // but near a wall it enforces no-slip, which this field violates.
+    let line = pseudorigid::cli::probe::probe(&case, "latest", &points, &out, true).unwrap();
     assert!(line.contains("2 of 3 points inside"), "{line}");
     let text = std::fs::read_to_string(&out).unwrap();
     let rows: Vec<Vec<f64>> = text
@@ -358,4 +361,102 @@ fn bifurcation_scene_deposits_or_escapes_through_the_outlets() {
             other => panic!("particle {}: {other:?}", r.index),
         }
     }
+}
+
+/// The OpenFOAM keys a user's own case needs, each against what it must do: `flow.time` as a
+/// list or `"latest"`, an all-zero field (an unsolved `0/U`) refused at `flow.time`, an
+/// injection disc that leaves the mesh refused at `particles.inject.region`, point contact
+/// (`contact_radius = 0`) accepted, and `flow.blend` on by default.
+#[test]
+fn openfoam_scene_keys_for_a_users_case() {
+    use pseudorigid::cli::models::SceneFlow;
+    use pseudorigid::tensor::Vec3;
+    let moving = foam_case("cli_foam_keys", |x| Vec3::new(1.0 + x[1], 0.0, 0.0));
+    // A second time directory with a doubled field, and an all-zero case.
+    let raw = build::cube(build::Shape::Hex, 6);
+    build::write_case(
+        &moving,
+        &raw,
+        &build::sampled(&raw.mesh(), |x| Vec3::new(2.0 + 2.0 * x[1], 0.0, 0.0)),
+        "1",
+        build::Format::Ascii,
+    );
+    let still = foam_case("cli_foam_zero", |_| Vec3::zeros());
+    let scene = |case: &Path, time: &str, region: &str, extra: &str| -> Result<Scene, CliError> {
+        let text = format!(
+            r#"[flow]
+type = "openfoam"
+case = "{}"
+{time}
+[fluid]
+viscosity = 1.0
+density = 1.0
+[boundary]
+type = "mesh"
+{extra}
+[particles]
+density = 1.0
+[particles.inject]
+count = 4
+semi_axes = [0.01, 0.01, 0.01]
+fluid_velocity = true
+region = {region}
+material = {{ law = "rigid" }}
+[integrator]
+type = "stokesian"
+tol = 1e-6
+dt = 1e-3
+[end]
+t_end = 0.1
+"#,
+            case.display()
+        );
+        parse(
+            &Source {
+                file: "keys.toml",
+                text: &text,
+            },
+            Path::new("."),
+        )
+    };
+    let disc = r#"{ type = "disc", centre = [0.2, 0.5, 0.5], normal = [1.0, 0.0, 0.0], radius = 0.3 }"#;
+    let key_of = |r: Result<Scene, CliError>| match r {
+        Err(CliError::Scene { key, message, .. }) => (key, message),
+        other => panic!("expected a scene error, got {:?}", other.map(|s| s.count())),
+    };
+    for time in ["", "time = \"latest\"", "time = 1", "time = [0, 1]"] {
+        let s = scene(&moving, time, disc, "contact_radius = 0.0").unwrap_or_else(|e| panic!("{time}: {e}"));
+        let SceneFlow::Blended(flow) = &s.flow else {
+            panic!("{time}: blend is not the default");
+        };
+        let expected: Vec<f64> = match time {
+            "time = [0, 1]" => vec![0.0, 1.0],
+            "time = 1" | "" | "time = \"latest\"" => vec![1.0],
+            _ => unreachable!(),
+        };
+        assert_eq!(flow.cellwise().times(), expected, "{time}");
+    }
+    let (key, message) = key_of(scene(&moving, "time = \"first\"", disc, ""));
+    assert!(key == "flow.time" && message.contains("latest"), "{key}: {message}");
+    let (key, message) = key_of(scene(&still, "", disc, ""));
+    assert!(
+        key == "flow.case" && message.contains("zero in every cell"),
+        "{key}: {message}"
+    );
+    let (key, message) = key_of(scene(&still, "time = 0", disc, ""));
+    assert!(
+        key == "flow.time" && message.contains("zero in every cell"),
+        "{key}: {message}"
+    );
+    let wide = r#"{ type = "disc", centre = [0.2, 0.5, 0.5], normal = [1.0, 0.0, 0.0], radius = 0.6 }"#;
+    let (key, message) = key_of(scene(&moving, "", wide, ""));
+    assert!(
+        key == "particles.inject.region" && message.contains("leaves the mesh"),
+        "{key}: {message}"
+    );
+    let outside = r#"{ type = "point", at = [1.5, 0.5, 0.5] }"#;
+    let (key, _) = key_of(scene(&moving, "", outside, ""));
+    assert_eq!(key, "particles.inject.region");
+    let (key, _) = key_of(scene(&moving, "", disc, "contact_radius = -1.0"));
+    assert_eq!(key, "boundary.contact_radius");
 }

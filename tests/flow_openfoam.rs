@@ -9,11 +9,11 @@ use build::{Format, Shape, cube, sampled, write_case};
 use pseudorigid::contact::{Boundary, Extent, PatchRule};
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
-use pseudorigid::flow::stagnation::Hiemenz;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
 use pseudorigid::flow::openfoam::{
     BlendedFlow, FoamCase, FoamError, FoamFlow, MeshBoundary, PatchGap, PatchRole, PatchSet, PolyMesh,
 };
+use pseudorigid::flow::stagnation::Hiemenz;
 use pseudorigid::tensor::{Mat3, Vec3};
 use std::path::PathBuf;
 
@@ -608,7 +608,10 @@ fn wall_nodes(layering: Layering, refine: u32) -> Vec<f64> {
     };
     let split = 1usize << refine;
     let mut y = vec![0.0];
-    for h in heights.iter().flat_map(|&h| std::iter::repeat_n(h / split as f64, split)) {
+    for h in heights
+        .iter()
+        .flat_map(|&h| std::iter::repeat_n(h / split as f64, split))
+    {
         y.push(y.last().unwrap() + h);
     }
     let top = *y.last().unwrap();
@@ -620,7 +623,8 @@ fn wall_nodes(layering: Layering, refine: u32) -> Vec<f64> {
 /// blended fields and the first cell's height.
 fn stagnation_box(layering: Layering, refine: u32, prisms: bool) -> (FoamFlow, BlendedFlow, f64) {
     let exact = Hiemenz::new(STRAIN, NU).unwrap();
-    let even = |lo: f64, hi: f64, n: usize| -> Vec<f64> { (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect() };
+    let even =
+        |lo: f64, hi: f64, n: usize| -> Vec<f64> { (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect() };
     let split = 1usize << refine;
     let ys = wall_nodes(layering, refine);
     let raw = build::layered_box(&even(-0.5, 0.5, 8 * split), &ys, &even(0.0, 0.25, 2 * split), prisms);
@@ -650,7 +654,12 @@ fn normal_velocity_error(flow: &dyn FlowField, y: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
-const LAYERINGS: [Layering; 4] = [Layering::Uniform, Layering::Graded, Layering::Layers(2), Layering::Layers(5)];
+const LAYERINGS: [Layering; 4] = [
+    Layering::Uniform,
+    Layering::Graded,
+    Layering::Layers(2),
+    Layering::Layers(5),
+];
 
 /// Inside the first cell (at 1/10, 1/4, 1/2 and 3/4 of its height) the blended wall-normal
 /// velocity is within 10 % of the exact one on every layering, hexahedra and prisms (the
@@ -667,7 +676,9 @@ fn hiemenz_normal_velocity_in_the_first_cell() {
             let (cells, blend, first) = stagnation_box(layering, 0, prisms);
             for fraction in [0.1, 0.25, 0.5, 0.75] {
                 let e = normal_velocity_error(&blend, fraction * first);
-                eprintln!("{layering:?} prisms {prisms}: first cell {first:.5}, |Δv|/|v| at {fraction} of its height {e:.4}");
+                eprintln!(
+                    "{layering:?} prisms {prisms}: first cell {first:.5}, |Δv|/|v| at {fraction} of its height {e:.4}"
+                );
                 assert!(e < 0.10, "{layering:?} prisms {prisms} at {fraction}: {e}");
             }
             let cellwise = normal_velocity_error(&cells, 0.25 * first);
@@ -705,7 +716,10 @@ fn hiemenz_wall_layer_converges_at_second_order() {
     let exact = Hiemenz::new(STRAIN, NU).unwrap();
     for layering in [Layering::Uniform, Layering::Layers(5)] {
         let (_, _, first) = stagnation_box(layering, 0, false);
-        let pts: Vec<Vec3> = [0.1, 0.3, 0.6, 1.0, 1.5, 2.0].iter().flat_map(|f| over_the_wall(f * first)).collect();
+        let pts: Vec<Vec3> = [0.1, 0.3, 0.6, 1.0, 1.5, 2.0]
+            .iter()
+            .flat_map(|f| over_the_wall(f * first))
+            .collect();
         let err = |refine: u32| {
             let (_, blend, _) = stagnation_box(layering, refine, false);
             pts.iter()
@@ -754,10 +768,25 @@ fn hiemenz_sphere_reaches_the_wall_when_the_exact_flow_says() {
         let plan = Plan::new(10.0 * t_exact, 1e-3).unwrap();
         let mut memory = <Stokesian as TimeIntegrator>::Memory::default();
         let start = State::at_rest(Vec3::new(0.0, y0, 0.125));
-        let out = integrate(&integrator, &particle, &blend, start, &mut memory, &plan, &[&contact], |_| {}, |_| {}).unwrap();
+        let out = integrate(
+            &integrator,
+            &particle,
+            &blend,
+            start,
+            &mut memory,
+            &plan,
+            &[&contact],
+            |_| {},
+            |_| {},
+        )
+        .unwrap();
         assert_eq!(out.stop, Stop::Event { index: 0 });
         let error = out.state.t / t_exact - 1.0;
-        eprintln!("{layering:?}: arrival at t = {:.4} against {t_exact:.4} ({:+.2} %)", out.state.t, 100.0 * error);
+        eprintln!(
+            "{layering:?}: arrival at t = {:.4} against {t_exact:.4} ({:+.2} %)",
+            out.state.t,
+            100.0 * error
+        );
         assert!(error.abs() < 0.10, "{layering:?}: {error}");
     }
 }
@@ -915,4 +944,3 @@ fn mesh_patches_as_a_contact_boundary() {
         "{gap:?}"
     );
 }
-

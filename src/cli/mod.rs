@@ -18,11 +18,12 @@
 //! | `[flow] type` | `quiescent`, `shear`, `planar_extension`, `uniaxial_extension`, `poiseuille`, `openfoam` |
 //! | `flow.rate` | γ̇ or ε̇ of the linear flows |
 //! | `flow.radius`, `flow.mean_velocity` | Poiseuille pipe along e₁: R and Ū (centreline 2Ū) |
-//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file) and time (default: latest) |
+//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file) and time: a number, a list of numbers (linear in time between them) or `"latest"` (the default); a field that is zero in every cell is refused |
+//! | `flow.blend` | `true` (default): the continuous field with the second-order no-slip wall layer (`flow::openfoam::BlendedFlow`); `false`: each cell's linear fit (discontinuous at faces, no wall-normal velocity near walls) |
 //! | `[fluid] viscosity`, `density`, `gravity` | μ_f, ρ_f, g (default 0) |
 //! | `[boundary] type` | `pipe` (needs `radius`), `planes` (needs `[[boundary.walls]]`), `mesh` (the case's patches) |
 //! | `boundary.walls` | `name`, `point`, `normal` (outward), `rule` = `stick` or `exit` |
-//! | `boundary.contact_radius` | touch at this distance from the barycentre (default: the particle's extent touches) |
+//! | `boundary.contact_radius` | touch at this distance from the barycentre, ≥ 0 (0: point contact; default: the particle's extent touches) |
 //! | `[particles] density`, `drag`, `volumetric` | ρ_s of every particle; `brenner` (default) or `stokes_sphere`; the volumetric traction `paper` (default, the literal eq. 12), `dev` or `source` (needed by `imex_adaptive` at tight tolerances: the literal eq. 12 anti-damps dilation) |
 //! | `[[particles.list]]` | `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
 //! | `[particles.inject]` | `count`, `region` (`{ type = "point", at }` or `{ type = "disc", centre, normal, radius }`), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material` |
@@ -123,6 +124,9 @@ pub enum Command {
         points: PathBuf,
         /// Output CSV.
         out: PathBuf,
+        /// The containing cell's linear fit instead of the blended field the particles see.
+        #[arg(long)]
+        cellwise: bool,
     },
 }
 
@@ -186,6 +190,7 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
             time,
             points,
             out,
-        } => probe::probe(&case, &time, &points, &out),
+            cellwise,
+        } => probe::probe(&case, &time, &points, &out, cellwise),
     }
 }

@@ -1,13 +1,16 @@
 //! `probe`: u and ∇u of an OpenFOAM case at listed points.
 //!
 //! POINTS.csv has a header line `x,y,z` and one point per line. The output has the columns
-//! `x,y,z,inside,u1,u2,u3,l11,l12,l13,l21,l22,l23,l31,l32,l33` with l_ij = ∂u_i/∂x_j from the
-//! cellwise least-squares reconstruction (`flow::openfoam::reconstruct`); `inside` is 1 or 0,
-//! and the values are NaN where the point is outside the mesh. Each query walks from the
-//! previous point's cell, so points along a line are fast.
+//! `x,y,z,inside,u1,u2,u3,l11,l12,l13,l21,l22,l23,l31,l32,l33` with l_ij = ∂u_i/∂x_j of the
+//! field the particles see by default, the blended field with its no-slip wall layer
+//! (`flow::openfoam::BlendedFlow`), or with `cellwise` of the containing cell's least-squares
+//! fit (`flow::openfoam::reconstruct`); `inside` is 1 or 0, and the values are NaN where the
+//! point is outside the mesh. Each query walks from the previous point's cell, so points along
+//! a line are fast.
 
 use super::error::CliError;
-use crate::flow::openfoam::{FoamCase, FoamError, FoamFlow};
+use crate::flow::FlowField;
+use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
 use crate::output::Csv;
 use crate::tensor::Vec3;
 use std::path::Path;
@@ -59,8 +62,8 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, CliError> {
 }
 
 /// Sample the case in `case_dir` at time `time` (`latest` or a number) at the points of
-/// `points`, write the table to `out`, and return a one-line summary.
-pub fn probe(case_dir: &Path, time: &str, points: &Path, out: &Path) -> Result<String, CliError> {
+/// `points`, blended or `cellwise`, write the table to `out`, and return a one-line summary.
+pub fn probe(case_dir: &Path, time: &str, points: &Path, out: &Path, cellwise: bool) -> Result<String, CliError> {
     let case = FoamCase::open(case_dir)?;
     let time = match time {
         "latest" => *case
@@ -74,6 +77,11 @@ pub fn probe(case_dir: &Path, time: &str, points: &Path, out: &Path) -> Result<S
             .ok_or_else(|| CliError::Input(format!("TIME `{t}` is neither `latest` nor a finite number")))?,
     };
     let flow = FoamFlow::read(&case, &[time])?;
+    let blend = if cellwise {
+        None
+    } else {
+        Some(BlendedFlow::new(flow.clone())?)
+    };
     let points = read_points(points)?;
     let mut table = Csv::new(&[
         "x", "y", "z", "inside", "u1", "u2", "u3", "l11", "l12", "l13", "l21", "l22", "l23", "l31", "l32", "l33",
@@ -82,8 +90,12 @@ pub fn probe(case_dir: &Path, time: &str, points: &Path, out: &Path) -> Result<S
     for x in &points {
         let mut row: Vec<String> = x.iter().map(|c| format!("{c:?}")).collect();
         match flow.sample_from(x, time, hint) {
-            Ok((s, cell)) => {
+            Ok((cells, cell)) => {
                 hint = Some(cell);
+                let s = match &blend {
+                    Some(b) => b.sample(x, time).map_err(|e| CliError::Input(e.to_string()))?,
+                    None => cells,
+                };
                 inside += 1;
                 row.push("1".into());
                 row.extend(s.u.iter().map(|c| format!("{c:?}")));
@@ -100,8 +112,9 @@ pub fn probe(case_dir: &Path, time: &str, points: &Path, out: &Path) -> Result<S
     }
     table.write(out)?;
     Ok(format!(
-        "probe: {} cells, t = {time}: {inside} of {} points inside, written to {}",
+        "probe: {} cells, t = {time}, {} field: {inside} of {} points inside, written to {}",
         case.mesh().n_cells(),
+        if cellwise { "cellwise" } else { "blended" },
         points.len(),
         out.display()
     ))

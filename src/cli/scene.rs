@@ -161,7 +161,16 @@ impl Builder<'_> {
         let boundary = self.boundary(raw.boundary.as_ref(), &flow)?;
         let contact = match raw.boundary.as_ref().and_then(|b| b.contact_radius.as_ref()) {
             Some(r) => ContactModel::Barycentre {
-                radius: self.positive(r, "boundary.contact_radius")?,
+                radius: match self.finite(r, "boundary.contact_radius")? {
+                    radius if radius >= 0.0 => radius,
+                    radius => {
+                        return Err(self.err(
+                            r.span(),
+                            "boundary.contact_radius",
+                            format!("must be >= 0 (0: point contact), got {radius}"),
+                        ));
+                    }
+                },
             },
             None => ContactModel::Extent,
         };

@@ -49,13 +49,31 @@ pub struct FlowSpec {
     pub mean_velocity: Option<Num>,
     /// Case folder, relative to the scene file (`openfoam`).
     pub case: Option<Spanned<String>>,
-    /// Time directory to read (`openfoam`; default: the latest).
-    pub time: Option<Num>,
-    /// Blend the cells' linear fits into a continuous field (`openfoam`; default false; see
-    /// `flow::openfoam::BlendedFlow`): adaptive steps crossing the cellwise field's jumps at
-    /// faces are rejected over and over on coarse or warped meshes.
-    #[serde(default)]
+    /// Time directories to read (`openfoam`): a time, a list of times (linear in time between
+    /// them), or `"latest"` (the default).
+    pub time: Option<Spanned<TimeSpec>>,
+    /// Blend the cells' linear fits into a continuous field with the no-slip wall layer
+    /// (`openfoam`; default true; see `flow::openfoam::BlendedFlow`). `false` gives the cellwise
+    /// field: discontinuous at faces, without the wall-normal velocity that carries slow
+    /// particles to a wall, and with an O(h²) velocity on the wall itself.
+    #[serde(default = "default_blend")]
     pub blend: bool,
+}
+
+fn default_blend() -> bool {
+    true
+}
+
+/// `flow.time`: which time directories an OpenFOAM flow reads.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum TimeSpec {
+    /// One time: a steady field.
+    One(f64),
+    /// Several times, linear in time between them.
+    Many(Vec<f64>),
+    /// `"latest"`: the last time directory.
+    Named(String),
 }
 
 /// The kinds of flow.

@@ -9,9 +9,9 @@
 //! the length over which ∇u changes ([`crate::diagnostics`]).
 
 pub mod analytic;
-pub mod stagnation;
 #[cfg(feature = "mesh")]
 pub mod openfoam;
+pub mod stagnation;
 #[cfg(feature = "mesh")]
 pub mod unstructured;
 

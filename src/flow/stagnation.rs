@@ -173,14 +173,21 @@ mod tests {
     fn gradient_is_the_derivative_and_trace_free() {
         let h = Hiemenz::new(2.0, 0.01).unwrap();
         let e = 1e-5 * h.length();
-        for x in [Vec3::new(0.3, 0.02, 0.0), Vec3::new(-1.0, 0.2, 1.0), Vec3::new(0.7, 1.5, 0.0)] {
+        for x in [
+            Vec3::new(0.3, 0.02, 0.0),
+            Vec3::new(-1.0, 0.2, 1.0),
+            Vec3::new(0.7, 1.5, 0.0),
+        ] {
             let s = h.sample(&x, 0.0).unwrap();
             assert!(s.grad_u.trace().abs() < 1e-13);
             for j in 0..3 {
                 let d = Vec3::ith(j, e);
                 let du = (h.sample(&(x + d), 0.0).unwrap().u - h.sample(&(x - d), 0.0).unwrap().u) / (2.0 * e);
                 for i in 0..3 {
-                    assert!((du[i] - s.grad_u[(i, j)]).abs() < 1e-6 * (1.0 + s.grad_u.amax()), "{x:?} {i}{j}");
+                    assert!(
+                        (du[i] - s.grad_u[(i, j)]).abs() < 1e-6 * (1.0 + s.grad_u.amax()),
+                        "{x:?} {i}{j}"
+                    );
                 }
             }
         }

@@ -220,7 +220,12 @@ pub fn layered_box(xs: &[f64], ys: &[f64], zs: &[f64], prisms: bool) -> Raw {
             for i in 0..nx - 1 {
                 // Quads on y = ys[j] (b) and y = ys[j + 1] (t), in the same order.
                 let b = [id(i, j, k), id(i + 1, j, k), id(i + 1, j, k + 1), id(i, j, k + 1)];
-                let t = [id(i, j + 1, k), id(i + 1, j + 1, k), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)];
+                let t = [
+                    id(i, j + 1, k),
+                    id(i + 1, j + 1, k),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ];
                 let sides = |l: &[usize]| -> Vec<Vec<u32>> {
                     (0..l.len())
                         .map(|e| {

@@ -41,23 +41,53 @@ impl Builder<'_> {
                 let case = self.need(&spec.case, at, "flow.case", "openfoam")?;
                 let dir = base.join(case.get_ref());
                 let foam = FoamCase::open(&dir).map_err(|e| self.err(case.span(), "flow.case", e.to_string()))?;
-                let t = match &spec.time {
-                    Some(t) => self.finite(t, "flow.time")?,
-                    None => *foam
-                        .times()
+                let latest = || {
+                    foam.times()
                         .last()
-                        .ok_or_else(|| self.err(case.span(), "flow.case", "the case has no time directories"))?,
+                        .copied()
+                        .ok_or_else(|| self.err(case.span(), "flow.case", "the case has no time directories"))
                 };
-                let (span, key) = match &spec.time {
-                    Some(t) => (t.span(), "flow.time"),
-                    None => (case.span(), "flow.case"),
+                let (times, span, key) = match &spec.time {
+                    None => (vec![latest()?], case.span(), "flow.case"),
+                    Some(t) => {
+                        let times = match t.get_ref() {
+                            TimeSpec::One(t) => vec![*t],
+                            TimeSpec::Many(ts) => ts.clone(),
+                            TimeSpec::Named(name) if name == "latest" => vec![latest()?],
+                            TimeSpec::Named(name) => {
+                                return Err(self.err(
+                                    t.span(),
+                                    "flow.time",
+                                    format!("expected a time, a list of times or \"latest\", got \"{name}\""),
+                                ));
+                            }
+                        };
+                        if times.is_empty() || times.iter().any(|t| !t.is_finite()) {
+                            return Err(self.err(
+                                t.span(),
+                                "flow.time",
+                                format!("times must be finite and at least one, got {times:?}"),
+                            ));
+                        }
+                        (times, t.span(), "flow.time")
+                    }
                 };
-                FoamFlow::read(&foam, &[t])
-                    .and_then(|f| match spec.blend {
-                        true => BlendedFlow::new(f).map(|b| SceneFlow::Blended(Box::new(b))),
-                        false => Ok(SceneFlow::Foam(Box::new(f))),
-                    })
-                    .map_err(|e| self.err(span, key, e.to_string()))
+                let cells = FoamFlow::read(&foam, &times).map_err(|e| self.err(span.clone(), key, e.to_string()))?;
+                if cells.is_zero() {
+                    return Err(self.err(
+                        span,
+                        key,
+                        format!(
+                            "U is zero in every cell at t = {times:?} (an initial condition?); the case has times {:?}",
+                            foam.times()
+                        ),
+                    ));
+                }
+                match spec.blend {
+                    true => BlendedFlow::new(cells).map(|b| SceneFlow::Blended(Box::new(b))),
+                    false => Ok(SceneFlow::Foam(Box::new(cells))),
+                }
+                .map_err(|e| self.err(span, key, e.to_string()))
             }
         }
     }

@@ -1,6 +1,9 @@
 //! `[fluid]` and `[particles]`: what the particles share, their shapes, laws and starts.
 use super::*;
 
+/// Points on an injection disc's rim checked to lie in the mesh.
+const RIM_POINTS: usize = 64;
+
 impl Builder<'_> {
     pub(super) fn template(
         &self,
@@ -139,7 +142,7 @@ impl Builder<'_> {
                     .collect::<Result<Vec<_>, _>>()?;
                 ParticleSource::List(list)
             }
-            (Some(inj), true) => self.injection(inj, template)?,
+            (Some(inj), true) => self.injection(inj, template, flow)?,
         };
         if source.count() > MAX_PARTICLES {
             return Err(self.err(
@@ -196,7 +199,12 @@ impl Builder<'_> {
         Ok(placement)
     }
 
-    fn injection(&self, inj: &InjectSpec, template: &ParticleTemplate<SceneDrag>) -> Result<ParticleSource, CliError> {
+    fn injection(
+        &self,
+        inj: &InjectSpec,
+        template: &ParticleTemplate<SceneDrag>,
+        flow: &SceneFlow,
+    ) -> Result<ParticleSource, CliError> {
         let key = "particles.inject";
         let count = *inj.count.get_ref();
         if count == 0 {
@@ -213,6 +221,7 @@ impl Builder<'_> {
         let shape = self.shape(&inj.semi_axes, axes, &format!("{key}.semi_axes"))?;
         let softness = self.material(&inj.material, &format!("{key}.material"))?;
         let region = self.region(&inj.region)?;
+        self.region_in_mesh(&region, inj.region.kind.span(), flow)?;
         let placement = Placement {
             shape,
             softness,
@@ -236,6 +245,48 @@ impl Builder<'_> {
             random_orientation: inj.random_orientation,
             placement,
         })
+    }
+
+    /// On an OpenFOAM flow, every point of the injection region lies in a cell: the point, or
+    /// the disc's centre and 64 points on its rim (a disc whose rim stays inside a convex
+    /// cross-section lies inside; a rim point outside means particles would start outside the
+    /// mesh and count as deposited or escaped at t = 0).
+    fn region_in_mesh(
+        &self,
+        region: &crate::cli::inject::Region,
+        span: Range<usize>,
+        flow: &SceneFlow,
+    ) -> Result<(), CliError> {
+        let cells = match flow {
+            SceneFlow::Foam(f) => f.as_ref(),
+            SceneFlow::Blended(b) => b.cellwise(),
+            _ => return Ok(()),
+        };
+        let points: Vec<Vec3> = match *region {
+            crate::cli::inject::Region::Point(p) => vec![p],
+            crate::cli::inject::Region::Disc { centre, normal, radius } => {
+                let n = normal.normalize();
+                let helper = if n[0].abs() < 0.9 { Vec3::x() } else { Vec3::y() };
+                let e1 = n.cross(&helper).normalize();
+                let e2 = n.cross(&e1);
+                let mut pts = vec![centre];
+                pts.extend((0..RIM_POINTS).map(|i| {
+                    let a = std::f64::consts::TAU * i as f64 / RIM_POINTS as f64;
+                    centre + (e1 * a.cos() + e2 * a.sin()) * radius
+                }));
+                pts
+            }
+        };
+        for p in points {
+            if let Err(e) = cells.locate(&p, None) {
+                return Err(self.err(
+                    span,
+                    "particles.inject.region",
+                    format!("the injection region leaves the mesh at {:?}: {e}", [p[0], p[1], p[2]]),
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn region(&self, r: &RegionSpec) -> Result<crate::cli::inject::Region, CliError> {

@@ -122,7 +122,11 @@ fn weight(s: f64) -> f64 {
 /// a cell whose vertices do not span space.
 fn support(mesh: &super::PolyMesh, c: usize) -> Option<(Mat3, f64)> {
     let centre = mesh.cell_centres()[c];
-    let mut vertices: Vec<u32> = mesh.cell_faces(c).iter().flat_map(|&f| mesh.face(f as usize).iter().copied()).collect();
+    let mut vertices: Vec<u32> = mesh
+        .cell_faces(c)
+        .iter()
+        .flat_map(|&f| mesh.face(f as usize).iter().copied())
+        .collect();
     vertices.sort_unstable();
     vertices.dedup();
     let offsets: Vec<Vec3> = vertices.iter().map(|&v| mesh.points()[v as usize] - centre).collect();
@@ -196,7 +200,10 @@ impl BlendedFlow {
             grad_u += s.grad_u;
         }
         let n = walls.len() as f64;
-        FlowSample { u: u / n, grad_u: grad_u / n }
+        FlowSample {
+            u: u / n,
+            grad_u: grad_u / n,
+        }
     }
 
     /// The cellwise field underneath.

@@ -282,6 +282,12 @@ impl FoamFlow {
         self.frames.iter().map(|f| f.time).collect()
     }
 
+    /// Whether the velocity is zero in every cell at every level (an unsolved initial
+    /// condition, as `0/U` usually is).
+    pub fn is_zero(&self) -> bool {
+        self.frames.iter().all(|f| f.u.iter().all(|u| *u == Vec3::zeros()))
+    }
+
     /// The cell containing `x` (walking from `hint` when given), or
     /// [`FoamError::Outside`] with the nearest patch.
     pub fn locate(&self, x: &Vec3, hint: Option<usize>) -> Result<usize, FoamError> {

@@ -158,7 +158,11 @@ impl WallGeometry {
                 .iter()
                 .map(|&j| {
                     let d = feet[j] - feet[k];
-                    (j, [e1.dot(&d), e2.dot(&d)], 1.0 / d.norm_squared().max(f64::MIN_POSITIVE))
+                    (
+                        j,
+                        [e1.dot(&d), e2.dot(&d)],
+                        1.0 / d.norm_squared().max(f64::MIN_POSITIVE),
+                    )
                 })
                 .collect();
             let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);

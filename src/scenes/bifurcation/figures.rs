@@ -247,10 +247,13 @@ pub fn deposits_vtp(runs: &[(Kind, u64, Vec<Deposit>)]) -> Result<PolyData, Bifu
         .with_active_tensors("V")?)
 }
 
-/// The mesh check: the same particles (same seed) of `kind` in two cases of the airway; a row
-/// per case `case,cells,mean_residence_time,max_speed,stk,n,n_deposited,de,de_stderr,
-/// fates_changed` where `fates_changed` counts the particles whose fate (deposited, escaped,
-/// suspended) differs from the first case's.
+/// The mesh check: the same particles (same seed) of `kind` in several cases of the airway; a
+/// row per case `case,cells,mean_residence_time,max_speed,stk,n,n_deposited,de,de_stderr,
+/// fates_changed,deposits_gained,deposits_lost,paired_z` where `fates_changed` counts the
+/// particles whose fate (deposited, escaped, suspended) differs from the first case's,
+/// `deposits_gained` those deposited here but not there, `deposits_lost` the reverse, and
+/// `paired_z` = (gained − lost)/√(gained + lost), McNemar's statistic (|z| > 3: the DE moved
+/// beyond what the particles' randomness explains).
 pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate::output::Csv, BifurcationError> {
     let mut csv = crate::output::Csv::new(&[
         "case",
@@ -263,18 +266,31 @@ pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate
         "de",
         "de_stderr",
         "fates_changed",
+        "deposits_gained",
+        "deposits_lost",
+        "paired_z",
     ]);
     let mut first: Option<RunOutput<NeoHooke>> = None;
     for (name, airway) in cases {
         let out = run_kind(airway, kind, n, SEED, Shard::ALL, &RunOptions::default(), None)?;
         let row = Efficiency::of(kind, &out);
-        let changed = first.as_ref().map_or(0, |f| {
-            f.records
-                .iter()
-                .zip(&out.records)
-                .filter(|(a, b)| a.fate.label() != b.fate.label())
-                .count()
-        });
+        let pairs = |keep: &dyn Fn(&str, &str) -> bool| {
+            first.as_ref().map_or(0, |f| {
+                f.records
+                    .iter()
+                    .zip(&out.records)
+                    .filter(|(a, b)| keep(a.fate.label(), b.fate.label()))
+                    .count()
+            })
+        };
+        let changed = pairs(&|a, b| a != b);
+        let gained = pairs(&|a, b| a != "deposited" && b == "deposited");
+        let lost = pairs(&|a, b| a == "deposited" && b != "deposited");
+        let z = if gained + lost > 0 {
+            (gained as f64 - lost as f64) / ((gained + lost) as f64).sqrt()
+        } else {
+            0.0
+        };
         csv.push(vec![
             (*name).to_string(),
             airway.flow().cellwise().mesh().n_cells().to_string(),
@@ -286,6 +302,9 @@ pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate
             format!("{:.4}", row.de()),
             format!("{:.4}", row.stderr()),
             changed.to_string(),
+            gained.to_string(),
+            lost.to_string(),
+            format!("{z:.2}"),
         ])?;
         first.get_or_insert(out);
     }
