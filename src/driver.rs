@@ -13,7 +13,7 @@
 //!
 //! [`Dense`]: crate::integrator::Dense
 
-use crate::error::{ParamError, StepError};
+use crate::error::{FlowError, ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
 use crate::integrator::{Dense, Step, StepInfo, TimeIntegrator};
@@ -172,6 +172,13 @@ impl Plan {
     }
 }
 
+/// Consecutive retries of a step whose trial state left the flow's domain, each with the step
+/// shortened by [`OUTSIDE_SHRINK`]: 30 shrink it by 4³⁰ ≈ 10¹⁸, below any step that could still
+/// reach the boundary from inside.
+pub const MAX_OUTSIDE_RETRIES: u32 = 30;
+/// Factor of the step after a trial state left the flow's domain.
+pub const OUTSIDE_SHRINK: f64 = 0.25;
+
 /// Times closer than this (relative to max(|t|, 1)) count as equal when landing on an output.
 const LANDING_TOL: f64 = 1e-12;
 
@@ -210,6 +217,7 @@ where
     let mut s = state;
     let mut stats = RunStats::default();
     let mut h = plan.dt0.min(plan.dt_max);
+    let mut outside_retries = 0;
     observe(&s);
     for (index, e) in events.iter().enumerate() {
         if e.gap(&s) <= 0.0 {
@@ -262,7 +270,21 @@ where
         if s.t + try_h <= s.t || try_h.is_nan() {
             return Err(StepError::NoProgress { t: s.t, dt: try_h });
         }
-        let step = integrator.step_with(particle, &s, memory, flow, try_h)?;
+        let step = match integrator.step_with(particle, &s, memory, flow, try_h) {
+            Ok(step) => step,
+            // A trial state beyond the domain: the step overshot a boundary the events have not
+            // seen yet (a point particle crossing an exit, a stage past the wall). Retry shorter,
+            // so the event can fire inside; a particle that really left fails after the retries.
+            Err(StepError::Flow(FlowError::OutsideMesh { .. } | FlowError::OutsideDomain { .. }))
+                if outside_retries < MAX_OUTSIDE_RETRIES =>
+            {
+                outside_retries += 1;
+                h = try_h * OUTSIDE_SHRINK;
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        outside_retries = 0;
         stats.record(&step.info);
         // A step shortened to hit a target or a cap says nothing about the next step size.
         h = if clamped || want < h {

@@ -12,7 +12,7 @@
 //! ```
 //! (Schlichting & Gersten, *Boundary-Layer Theory*, 9th ed., §5.2.2; White, *Viscous Fluid Flow*,
 //! 3rd ed., §3-8, whose table gives f''(0) = 1.2326). Near the wall
-//! $v ≈ −\tfrac12 \sqrt{aν}\,f''(0)\,η^2$: the wall-normal velocity grows as the square of the wall
+//! $v ≈ −\tfrac12 \sqrt{aν}\\, f^{\prime\prime}(0)\\,η^2$: the wall-normal velocity grows as the square of the wall
 //! distance, with the coefficient continuity gives from the wall shear
 //! γ = a x f''(0)/ℓ (∇ₛ·γ = a f''(0)/ℓ).
 //!

@@ -29,7 +29,7 @@
 //! the exact derivative of $L_f$ on a flat face. Its terms:
 //! - *Tangential*: the profile $u_t = γδ + qδ^2$ through the wall value and the wall cell's
 //!   value $u_o$ at depth ρ, with its normal derivative $G_o n$ there (the cell gradient):
-//!   $γ = (I − nn^T)\,[2(u_o − u_w)/ρ − G_o n]$, $q = (I − nn^T)(G_o n − γ)/(2ρ)$. Exact for a
+//!   $γ = (I − nn^T)\\,[2(u_o − u_w)/ρ − G_o n]$, $q = (I − nn^T)(G_o n − γ)/(2ρ)$. Exact for a
 //!   quadratic profile; the cell gradient alone ($G_o n$ = γ + 2qρ) would be first order.
 //! - *Normal*: continuity fixes the leading coefficient, $c_f = −\tfrac12 ∇_s·γ$, and the
 //!   solver's own value at the centre the next, $e_f = (u_{o,n} − c_f ρ^2)/ρ^3$, so the fit
