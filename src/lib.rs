@@ -94,6 +94,8 @@ pub mod theory {
     pub mod stability {}
     #[doc = include_str!("../docs/theory/paper_errata.md")]
     pub mod paper_errata {}
+    #[doc = include_str!("../docs/theory/near_wall.md")]
+    pub mod near_wall {}
 }
 
 /// The names most programs need.

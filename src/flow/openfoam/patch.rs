@@ -6,8 +6,10 @@
 //! principal directions). Its extent along a unit vector n is the support distance
 //! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2}$, so against a boundary face with centre $x_f$ and
 //! outward unit normal $n_f$ the gap is $g = (x_f − x_c)·n_f − h(n_f)$; g ≤ 0 is contact.
-//! The face that counts is the one the particle's extreme point faces: among the
-//! [`NEAREST_FACES`] faces whose centres are nearest to $x_c$, those for which the support
+//! The face that counts is the one the particle's extreme point faces: among the faces that
+//! can be nearest ([`PatchSet::nearest_gap`]: every face whose centre lies within the nearest
+//! centre's distance plus twice the largest face circumradius and twice the largest semi-axis),
+//! those for which the support
 //! point $s = x_c + b\\,n_f / h(n_f)$ ($b = Q^T \mathrm{diag}(r_a^2)\\,Q$, the point of the
 //! ellipsoid farthest along $n_f$) projects into the face polygon; the smallest of their gaps
 //! is the gap. (Taking the smallest plane gap over all nearby faces would be wrong at convex
@@ -28,9 +30,6 @@ use crate::ellipsoid::frame::support_distance;
 use crate::tensor::{Mat3, Vec3};
 use rstar::RTree;
 use rstar::primitives::GeomWithData;
-
-/// Faces tested for the nearest gap (the nearest ones by centre distance).
-pub const NEAREST_FACES: usize = 8;
 
 type FaceCentre = GeomWithData<[f64; 3], u32>;
 
@@ -85,6 +84,8 @@ pub struct PatchSet {
     /// Face polygons: vertices of face i are `vertices[offsets[i]..offsets[i + 1]]`.
     offsets: Vec<usize>,
     vertices: Vec<Vec3>,
+    /// Largest distance from a face's centre to its vertices.
+    circumradius: f64,
 }
 
 impl PatchSet {
@@ -115,6 +116,10 @@ impl PatchSet {
                 .map(|(i, c)| FaceCentre::new([c[0], c[1], c[2]], i as u32))
                 .collect(),
         );
+        let circumradius = (0..faces.len())
+            .flat_map(|i| vertices[offsets[i]..offsets[i + 1]].iter().map(move |v| (i, v)))
+            .map(|(i, v)| (v - centres[i]).norm())
+            .fold(0.0, f64::max);
         Self {
             tree,
             faces,
@@ -122,6 +127,7 @@ impl PatchSet {
             normals,
             offsets,
             vertices,
+            circumradius,
         }
     }
 
@@ -176,12 +182,21 @@ impl PatchGap for PatchSet {
         let r2 = semi_axes.component_mul(semi_axes);
         let mut covered: Option<FaceGap> = None;
         let mut nearest: Option<(f64, FaceGap)> = None;
-        for hit in self
-            .tree
-            .nearest_neighbor_iter([centre[0], centre[1], centre[2]])
-            .take(NEAREST_FACES)
-        {
+        // The support point lies within the largest semi-axis of the centre, and the face it
+        // faces within its circumradius of the support point's projection: no face whose
+        // centre is farther than the first centre's distance plus both can count. (A fixed
+        // number of nearest centres missed a long wall face among the small faces of an
+        // adjacent outlet, and let particles cross the wall unseen.)
+        let mut bound = f64::INFINITY;
+        for hit in self.tree.nearest_neighbor_iter([centre[0], centre[1], centre[2]]) {
             let i = hit.data as usize;
+            let distance = (self.centres[i] - centre).norm();
+            if distance > bound {
+                break;
+            }
+            if bound.is_infinite() {
+                bound = distance + 2.0 * (self.circumradius + semi_axes.amax());
+            }
             let n = self.normals[i];
             let h = support_distance(semi_axes, q, &n);
             let gap = (self.centres[i] - centre).dot(&n) - h;
@@ -192,8 +207,13 @@ impl PatchGap for PatchSet {
                 gap,
                 normal: n,
             };
-            // The ellipsoid's extreme point along n, projected onto the face plane.
-            let support = centre + q.transpose() * (q * n).component_mul(&r2) / h;
+            // The ellipsoid's extreme point along n (a point particle's centre), projected onto
+            // the face plane.
+            let support = if h > 0.0 {
+                centre + q.transpose() * (q * n).component_mul(&r2) / h
+            } else {
+                *centre
+            };
             let projected = support + n * (self.centres[i] - support).dot(&n);
             if self.covers(i, &projected) {
                 // Ties (a support point over a shared edge) go to the lowest face number, so
