@@ -6,10 +6,9 @@
 //! principal directions). Its extent along a unit vector n is the support distance
 //! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2}$, so against a boundary face with centre $x_f$ and
 //! outward unit normal $n_f$ the gap is $g = (x_f − x_c)·n_f − h(n_f)$; g ≤ 0 is contact.
-//! The face that counts is the one the particle's extreme point faces: among the faces that
-//! can be nearest ([`PatchSet::nearest_gap`]: every face whose centre lies within the nearest
-//! centre's distance plus twice the largest face circumradius and twice the largest semi-axis),
-//! those for which the support
+//! The face that counts is the one the particle's extreme point faces: among the faces whose
+//! bounding boxes are near enough to hold a nearer face ([`PatchSet::nearest_gap`]), those for
+//! which the support
 //! point $s = x_c + b\\,n_f / h(n_f)$ ($b = Q^T \mathrm{diag}(r_a^2)\\,Q$, the point of the
 //! ellipsoid farthest along $n_f$) projects into the face polygon; the smallest of their gaps
 //! is the gap. (Taking the smallest plane gap over all nearby faces would be wrong at convex
@@ -28,10 +27,11 @@ use super::mesh::PolyMesh;
 use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule};
 use crate::ellipsoid::frame::support_distance;
 use crate::tensor::{Mat3, Vec3};
-use rstar::RTree;
-use rstar::primitives::GeomWithData;
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{PointDistance, RTree};
 
 type FaceCentre = GeomWithData<[f64; 3], u32>;
+type FaceBox = GeomWithData<Rectangle<[f64; 3]>, u32>;
 
 /// What a patch means for a particle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -78,6 +78,9 @@ pub trait PatchGap {
 #[derive(Debug, Clone)]
 pub struct PatchSet {
     tree: RTree<FaceCentre>,
+    /// The faces' bounding boxes: visited in order of their distance, a lower bound of the
+    /// distance to the face.
+    boxes: RTree<FaceBox>,
     faces: Vec<(u32, u32)>,
     centres: Vec<Vec3>,
     normals: Vec<Vec3>,
@@ -116,12 +119,27 @@ impl PatchSet {
                 .map(|(i, c)| FaceCentre::new([c[0], c[1], c[2]], i as u32))
                 .collect(),
         );
+        let boxes = RTree::bulk_load(
+            (0..faces.len())
+                .map(|i| {
+                    let poly = &vertices[offsets[i]..offsets[i + 1]];
+                    let (lo, hi) = poly
+                        .iter()
+                        .fold((centres[i], centres[i]), |(lo, hi), v| (lo.inf(v), hi.sup(v)));
+                    FaceBox::new(
+                        Rectangle::from_corners([lo[0], lo[1], lo[2]], [hi[0], hi[1], hi[2]]),
+                        i as u32,
+                    )
+                })
+                .collect(),
+        );
         let circumradius = (0..faces.len())
             .flat_map(|i| vertices[offsets[i]..offsets[i + 1]].iter().map(move |v| (i, v)))
             .map(|(i, v)| (v - centres[i]).norm())
             .fold(0.0, f64::max);
         Self {
             tree,
+            boxes,
             faces,
             centres,
             normals,
@@ -182,20 +200,29 @@ impl PatchGap for PatchSet {
         let r2 = semi_axes.component_mul(semi_axes);
         let mut covered: Option<FaceGap> = None;
         let mut nearest: Option<(f64, FaceGap)> = None;
-        // The support point lies within the largest semi-axis of the centre, and the face it
-        // faces within its circumradius of the support point's projection: no face whose
-        // centre is farther than the first centre's distance plus both can count. (A fixed
-        // number of nearest centres missed a long wall face among the small faces of an
+        // Faces in order of their bounding box's distance from the centre, a lower bound of
+        // the distance to the face. A face that covers the support point's projection is at
+        // its plane distance, so once a box lies farther than the best covered gap plus the
+        // particle's extent (the support point is within the largest semi-axis of the centre)
+        // no later face can do better. Without a covered face the search goes on within the
+        // first box's distance plus twice the largest circumradius and semi-axis. (A fixed
+        // number of nearest face centres missed a long wall face beside the small faces of an
         // adjacent outlet, and let particles cross the wall unseen.)
-        let mut bound = f64::INFINITY;
-        for hit in self.tree.nearest_neighbor_iter([centre[0], centre[1], centre[2]]) {
+        let reach = 2.0 * semi_axes.amax();
+        let mut uncovered_bound = f64::INFINITY;
+        for hit in self.boxes.nearest_neighbor_iter([centre[0], centre[1], centre[2]]) {
             let i = hit.data as usize;
-            let distance = (self.centres[i] - centre).norm();
-            if distance > bound {
+            let distance = hit.distance_2(&[centre[0], centre[1], centre[2]]).sqrt();
+            if let Some(c) = &covered
+                && distance > c.gap.abs() + 2.0 * reach
+            {
                 break;
             }
-            if bound.is_infinite() {
-                bound = distance + 2.0 * (self.circumradius + semi_axes.amax());
+            if distance > uncovered_bound {
+                break;
+            }
+            if uncovered_bound.is_infinite() {
+                uncovered_bound = distance + 2.0 * self.circumradius + 2.0 * reach;
             }
             let n = self.normals[i];
             let h = support_distance(semi_axes, q, &n);
