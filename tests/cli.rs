@@ -370,6 +370,7 @@ fn bifurcation_scene_deposits_or_escapes_through_the_outlets() {
 #[test]
 fn openfoam_scene_keys_for_a_users_case() {
     use pseudorigid::cli::models::SceneFlow;
+    use pseudorigid::population::{Injector, particle_rng};
     use pseudorigid::tensor::Vec3;
     let moving = foam_case("cli_foam_keys", |x| Vec3::new(1.0 + x[1], 0.0, 0.0));
     // A second time directory with a doubled field, and an all-zero case.
@@ -459,4 +460,30 @@ t_end = 0.1
     assert_eq!(key, "particles.inject.region");
     let (key, _) = key_of(scene(&moving, "", disc, "contact_radius = -1.0"));
     assert_eq!(key, "boundary.contact_radius");
+    // Injection through the inlet x₁ = 0, weighted by the inflow u₁ = 1 + x₂: the mean x₂ of
+    // the particles is ∫y(1 + y)dy / ∫(1 + y)dy = 5/9 over the unit face (1/2 unweighted); the
+    // standard deviation of x₂ is below 0.29, so over 4 000 particles three standard errors are
+    // 0.014, and the unweighted 1/2 lies four times that away. Every particle starts 1.01 of its
+    // radius inside the inlet.
+    let inlet = r#"{ type = "patch", name = "inlet" }"#;
+    let s = scene(&moving, "", inlet, "").unwrap();
+    let injector = s.injector();
+    let n = 4000u64;
+    let mut mean = 0.0;
+    for k in 0..n {
+        let spec = injector.draw(k, &mut particle_rng(1, k)).unwrap();
+        assert!((spec.position[0] - 0.0101).abs() < 1e-12, "{:?}", spec.position);
+        mean += spec.position[1] / n as f64;
+    }
+    assert!((mean - 5.0 / 9.0).abs() < 0.014, "mean x₂ {mean}");
+    let (key, message) = key_of(scene(&moving, "", r#"{ type = "patch", name = "outflow" }"#, ""));
+    assert!(
+        key == "particles.inject.region.name" && message.contains("inlet"),
+        "{key}: {message}"
+    );
+    let (key, message) = key_of(scene(&moving, "", r#"{ type = "patch", name = "outlet" }"#, ""));
+    assert!(
+        key == "particles.inject.region.name" && message.contains("no inflow"),
+        "{key}: {message}"
+    );
 }

@@ -7,7 +7,7 @@ use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::material::Softness;
 use crate::particle::Particle;
-use crate::population::sampling::{haar_rotation, uniform_disc};
+use crate::population::sampling::{WeightedTriangles, haar_rotation, uniform_disc};
 use crate::population::{Injector, ParticleRng, ParticleSpec, ParticleTemplate};
 use crate::tensor::{Mat3, Vec3};
 
@@ -46,7 +46,7 @@ impl Placement {
 }
 
 /// Where injected particles start.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Region {
     /// All at one point.
     Point(Vec3),
@@ -59,6 +59,8 @@ pub enum Region {
         /// Radius.
         radius: f64,
     },
+    /// On a patch, weighted by the inflow (the triangles already moved inside the mesh).
+    Patch(WeightedTriangles),
 }
 
 /// The particles of a scene.
@@ -146,6 +148,7 @@ impl Injector for SceneInjector<'_> {
                 let position = match region {
                     Region::Point(p) => *p,
                     Region::Disc { centre, normal, radius } => uniform_disc(rng, centre, normal, *radius)?,
+                    Region::Patch(triangles) => triangles.draw(rng),
                 };
                 let mut placement = placement.clone();
                 if *random_orientation {

@@ -26,7 +26,7 @@
 //! | `boundary.contact_radius` | touch at this distance from the barycentre, ≥ 0 (0: point contact; default: the particle's extent touches) |
 //! | `[particles] density`, `drag`, `volumetric` | ρ_s of every particle; `brenner` (default) or `stokes_sphere`; the volumetric traction `paper` (default, the literal eq. 12), `dev` or `source` (needed by `imex_adaptive` at tight tolerances: the literal eq. 12 anti-damps dilation) |
 //! | `[[particles.list]]` | `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
-//! | `[particles.inject]` | `count`, `region` (`{ type = "point", at }` or `{ type = "disc", centre, normal, radius }`), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material` |
+//! | `[particles.inject]` | `count`, `region` (`{ type = "point", at }`, `{ type = "disc", centre, normal, radius }` or `{ type = "patch", name }`: on an OpenFOAM patch weighted by the inflow through each face, moved inside by the particle's largest semi-axis), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material` |
 //! | `material` | `{ law = "neo_hooke", mu, lambda }`, `{ law = "mooney_rivlin", mu1, mu2, lambda }` or `{ law = "rigid" }` |
 //! | `[integrator] type` | `imex` (the paper's, fixed `dt`), `imex_adaptive`, `stokesian` (the library's `Stokesian` default, Radau IIA), `stokesian_radau5` (Radau IIA, named), `stokesian_rosenbrock23` (the Rosenbrock-W 2(3) pair) (all three need `tol`) |
 //! | `integrator.dt`, `dt_max`, `overdamped` | first (or fixed) step, largest step, overdamped barycentre (`stokesian*`) |

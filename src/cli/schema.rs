@@ -296,6 +296,8 @@ pub struct RegionSpec {
     pub normal: Option<Num3>,
     /// Radius (`disc`).
     pub radius: Option<Num>,
+    /// The OpenFOAM patch particles enter through (`patch`).
+    pub name: Option<Spanned<String>>,
 }
 
 /// Kinds of injection region.
@@ -306,6 +308,8 @@ pub enum RegionKind {
     Point,
     /// Uniform on a disc.
     Disc,
+    /// On an OpenFOAM patch, weighted by the inflow through it.
+    Patch,
 }
 
 /// `[integrator]`.

@@ -37,3 +37,49 @@ pub fn haar_rotation(rng: &mut ParticleRng) -> Mat3 {
     let q = Quaternion::new(b * t3.cos(), a * t2.sin(), a * t2.cos(), b * t3.sin());
     UnitQuaternion::from_quaternion(q).to_rotation_matrix().into_inner()
 }
+
+/// Points drawn from a set of triangles with given weights: a triangle with probability
+/// proportional to its weight (inverse of the cumulative sums, binary search), then a point
+/// uniform by area in it (barycentric (1 − √u, √u (1 − w), √u w), Osada et al. 2002).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WeightedTriangles {
+    triangles: Vec<[Vec3; 3]>,
+    /// Cumulative weights, ending at the total.
+    cumulative: Vec<f64>,
+}
+
+impl WeightedTriangles {
+    /// The triangles with their weights (finite, ≥ 0, not all zero).
+    pub fn new(triangles: Vec<([Vec3; 3], f64)>) -> Result<Self, ParamError> {
+        let mut total = 0.0;
+        let mut cumulative = Vec::with_capacity(triangles.len());
+        for (_, w) in &triangles {
+            if !(w.is_finite() && *w >= 0.0) {
+                return Err(ParamError::NonFinite {
+                    name: "triangle weight (must be finite and >= 0)",
+                    value: *w,
+                });
+            }
+            total += w;
+            cumulative.push(total);
+        }
+        positive("total weight of the triangles", total)?;
+        Ok(Self {
+            triangles: triangles.into_iter().map(|(t, _)| t).collect(),
+            cumulative,
+        })
+    }
+
+    /// One point.
+    pub fn draw(&self, rng: &mut ParticleRng) -> Vec3 {
+        let total = self.cumulative[self.cumulative.len() - 1];
+        let (pick, u, w): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
+        let k = self
+            .cumulative
+            .partition_point(|&c| c <= pick * total)
+            .min(self.triangles.len() - 1);
+        let [a, b, c] = self.triangles[k];
+        let s = u.sqrt();
+        a * (1.0 - s) + b * (s * (1.0 - w)) + c * (s * w)
+    }
+}

@@ -1,5 +1,6 @@
 //! `[fluid]` and `[particles]`: what the particles share, their shapes, laws and starts.
 use super::*;
+use crate::population::sampling::WeightedTriangles;
 
 /// Points on an injection disc's rim checked to lie in the mesh.
 const RIM_POINTS: usize = 64;
@@ -220,7 +221,7 @@ impl Builder<'_> {
         let axes = self.rotation(inj.orientation.as_ref(), &format!("{key}.orientation"))?;
         let shape = self.shape(&inj.semi_axes, axes, &format!("{key}.semi_axes"))?;
         let softness = self.material(&inj.material, &format!("{key}.material"))?;
-        let region = self.region(&inj.region)?;
+        let region = self.region(&inj.region, flow, shape.semi_axes().iter().copied().fold(0.0, f64::max))?;
         self.region_in_mesh(&region, inj.region.kind.span(), flow)?;
         let placement = Placement {
             shape,
@@ -262,9 +263,11 @@ impl Builder<'_> {
             SceneFlow::Blended(b) => b.cellwise(),
             _ => return Ok(()),
         };
-        let points: Vec<Vec3> = match *region {
-            crate::cli::inject::Region::Point(p) => vec![p],
-            crate::cli::inject::Region::Disc { centre, normal, radius } => {
+        let points: Vec<Vec3> = match region {
+            crate::cli::inject::Region::Point(p) => vec![*p],
+            // Inside by construction (the patch's faces moved inwards).
+            crate::cli::inject::Region::Patch(_) => return Ok(()),
+            &crate::cli::inject::Region::Disc { centre, normal, radius } => {
                 let n = normal.normalize();
                 let helper = if n[0].abs() < 0.9 { Vec3::x() } else { Vec3::y() };
                 let e1 = n.cross(&helper).normalize();
@@ -289,18 +292,19 @@ impl Builder<'_> {
         Ok(())
     }
 
-    fn region(&self, r: &RegionSpec) -> Result<crate::cli::inject::Region, CliError> {
+    fn region(&self, r: &RegionSpec, flow: &SceneFlow, extent: f64) -> Result<crate::cli::inject::Region, CliError> {
         let at = r.kind.span();
         let key = "particles.inject.region";
         let k = |name: &str| format!("{key}.{name}");
         match r.kind.get_ref() {
             RegionKind::Point => {
-                let (c, n, rr) = (k("centre"), k("normal"), k("radius"));
+                let (c, n, rr, nm) = (k("centre"), k("normal"), k("radius"), k("name"));
                 self.refuse(
                     &[
                         (&c, r.centre.is_some()),
                         (&n, r.normal.is_some()),
                         (&rr, r.radius.is_some()),
+                        (&nm, r.name.is_some()),
                     ],
                     at.clone(),
                     "point",
@@ -309,8 +313,8 @@ impl Builder<'_> {
                 Ok(crate::cli::inject::Region::Point(self.vec3(p, &k("at"))?))
             }
             RegionKind::Disc => {
-                let a = k("at");
-                self.refuse(&[(&a, r.at.is_some())], at.clone(), "disc")?;
+                let (a, nm) = (k("at"), k("name"));
+                self.refuse(&[(&a, r.at.is_some()), (&nm, r.name.is_some())], at.clone(), "disc")?;
                 let centre = self.need(&r.centre, at.clone(), &k("centre"), "disc")?;
                 let normal = self.need(&r.normal, at.clone(), &k("normal"), "disc")?;
                 let radius = self.need(&r.radius, at, &k("radius"), "disc")?;
@@ -324,6 +328,76 @@ impl Builder<'_> {
                     radius: self.positive(radius, &k("radius"))?,
                 })
             }
+            RegionKind::Patch => {
+                let (a, c, n, rr) = (k("at"), k("centre"), k("normal"), k("radius"));
+                self.refuse(
+                    &[
+                        (&a, r.at.is_some()),
+                        (&c, r.centre.is_some()),
+                        (&n, r.normal.is_some()),
+                        (&rr, r.radius.is_some()),
+                    ],
+                    at.clone(),
+                    "patch",
+                )?;
+                let name = self.need(&r.name, at, &k("name"), "patch")?;
+                self.patch_region(name, flow, extent)
+            }
         }
+    }
+
+    /// The inflow through patch `name` as weighted triangles: each face's fan of triangles
+    /// around its centre, weighted by the face's inflow −u·S (u of the face's cell fit at the
+    /// face centre, the first time level) times the triangle's share of the face's area, moved
+    /// inside along the face normal by 1.01 `extent` (the particle's largest semi-axis), so a
+    /// particle does not start touching the patch it enters through (at least 10⁻⁶ of the
+    /// face's size for point particles).
+    fn patch_region(
+        &self,
+        name: &Spanned<String>,
+        flow: &SceneFlow,
+        extent: f64,
+    ) -> Result<crate::cli::inject::Region, CliError> {
+        let key = "particles.inject.region.name";
+        let cells = match flow {
+            SceneFlow::Foam(f) => f.as_ref(),
+            SceneFlow::Blended(b) => b.cellwise(),
+            _ => return Err(self.err(name.span(), key, "a `patch` region needs an `openfoam` flow")),
+        };
+        let mesh = cells.mesh();
+        let Some(patch) = mesh.patches().iter().find(|p| p.name == *name.get_ref()) else {
+            let names: Vec<&str> = mesh.patches().iter().map(|p| p.name.as_str()).collect();
+            return Err(self.err(
+                name.span(),
+                key,
+                format!("no patch `{}`; the mesh has {names:?}", name.get_ref()),
+            ));
+        };
+        let t = cells.times()[0];
+        let mut triangles = Vec::new();
+        for f in patch.start..patch.start + patch.size {
+            let (area, centre) = (mesh.face_areas()[f], mesh.face_centres()[f]);
+            let size = area.norm();
+            let inflow = -cells.sample_cell(mesh.owner(f), &centre, t).u.dot(&area);
+            let inward = -area / size * (1.01 * extent).max(1e-6 * size.sqrt());
+            let poly = mesh.face(f);
+            for (i, &v) in poly.iter().enumerate() {
+                let (a, b) = (
+                    mesh.points()[v as usize],
+                    mesh.points()[poly[(i + 1) % poly.len()] as usize],
+                );
+                let share = (a - centre).cross(&(b - centre)).norm() / 2.0 / size;
+                triangles.push(([centre + inward, a + inward, b + inward], inflow.max(0.0) * share));
+            }
+        }
+        WeightedTriangles::new(triangles)
+            .map(crate::cli::inject::Region::Patch)
+            .map_err(|e| {
+                self.err(
+                    name.span(),
+                    key,
+                    format!("no inflow through patch `{}`: {e}", name.get_ref()),
+                )
+            })
     }
 }
