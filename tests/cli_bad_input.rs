@@ -263,3 +263,28 @@ fn every_key_every_mutation() {
         }
     }
 }
+
+/// Vectors of the wrong length are errors naming the key (a four-component `semi_axes`,
+/// `position` or `gravity` used to validate, the rest dropped).
+#[test]
+fn vectors_of_the_wrong_length_are_refused() {
+    for (from, to, key) in [
+        ("semi_axes = [1.0, 0.5, 0.5]", "semi_axes = [1.0, 0.5, 0.5, 2.0]", "semi_axes"),
+        ("position = [0.0, 1.0, 0.0]", "position = [0.0, 1.0]", "position"),
+        ("gravity = [0.0, -1.0, 0.0]", "gravity = [0.0, -1.0, 0.0, 7.0]", "gravity"),
+    ] {
+        assert!(LISTED.contains(from), "{from}");
+        let text = LISTED.replace(from, to);
+        let src = Source {
+            file: "long.toml",
+            text: &text,
+        };
+        match parse(&src, Path::new(".")) {
+            Err(CliError::Scene { key: named, message, .. }) => {
+                assert!(named.contains(key) || message.contains(key), "{to}: `{named}`: {message}");
+                assert!(message.contains("expected 3 numbers"), "{to}: {message}");
+            }
+            other => panic!("{to}: {:?}", other.map(|s| s.count())),
+        }
+    }
+}

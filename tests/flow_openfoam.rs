@@ -284,6 +284,20 @@ fn inconsistent_meshes_and_fields_are_refused() {
         "{:?}",
         FoamCase::open(&dir)
     );
+    // A corrupt owner label (2³¹ − 1) sized the cell addressing by it: 8 GiB requested, and the
+    // process died under any memory limit. Now a typed error naming the label.
+    let dir = scratch("huge-label");
+    write_case(&dir, &raw, &u, "0", Format::Ascii);
+    corrupt(
+        &dir,
+        "constant/polyMesh/owner",
+        format!("{n_faces}\n(\n0\n").as_bytes(),
+        format!("{n_faces}\n(\n2147483647\n").as_bytes(),
+    );
+    match FoamCase::open(&dir) {
+        Err(FoamError::Mesh { reason }) => assert!(reason.contains("2147483647"), "{reason}"),
+        other => panic!("{:?}", other.map(|c| c.mesh().n_cells())),
+    }
     // A field with one value too many for the cells.
     let dir = scratch("inconsistent-field");
     write_case(&dir, &raw, &u, "0", Format::Ascii);

@@ -145,7 +145,7 @@ impl Builder<'_> {
     }
 
     fn vec3(&self, v: &Num3, key: &str) -> Result<Vec3, CliError> {
-        let a = *v.get_ref();
+        let a = v.get_ref().0;
         match a.iter().position(|c| !c.is_finite()) {
             Some(i) => Err(self.err(
                 v.span(),

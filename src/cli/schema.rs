@@ -8,7 +8,22 @@ use toml::Spanned;
 /// A number with its place in the file.
 pub type Num = Spanned<f64>;
 /// Three numbers with their place in the file.
-pub type Num3 = Spanned<[f64; 3]>;
+pub type Num3 = Spanned<Triple>;
+
+/// Three numbers, exactly: a longer or shorter array is an error (a fixed-size array would
+/// drop the rest of `[a, b, c, d]`).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(try_from = "Vec<f64>")]
+pub struct Triple(pub [f64; 3]);
+
+impl TryFrom<Vec<f64>> for Triple {
+    type Error = String;
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        <[f64; 3]>::try_from(v.as_slice())
+            .map(Triple)
+            .map_err(|_| format!("expected 3 numbers, got {}", v.len()))
+    }
+}
 
 /// A whole scene file.
 #[derive(Debug, Deserialize)]

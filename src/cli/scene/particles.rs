@@ -99,7 +99,7 @@ impl Builder<'_> {
     }
 
     fn shape(&self, semi_axes: &Num3, axes: Mat3, key: &str) -> Result<Ellipsoid, CliError> {
-        let r = *semi_axes.get_ref();
+        let r = semi_axes.get_ref().0;
         for (i, v) in r.iter().enumerate() {
             if !(v.is_finite() && *v > 0.0) {
                 return Err(self.err(

@@ -161,6 +161,16 @@ impl PolyMesh {
         if n_cells == 0 {
             return Err(mesh_err("the mesh has no cells".into()));
         }
+        // Every cell has at least 4 faces and a face at most 2 cells, so a mesh of F faces has at
+        // most F/2 cells: a larger cell label is corrupt, and sizing the addressing by it could
+        // ask for gigabytes (owner = 2³¹ − 1 wanted 8 GiB).
+        if n_cells > n_faces / 2 {
+            return Err(mesh_err(format!(
+                "cell label {} in owner/neighbour, but {n_faces} faces can close at most {} cells",
+                n_cells - 1,
+                n_faces / 2
+            )));
+        }
         if let Some(f) = (0..n_internal).find(|&f| owner[f] == neighbour[f]) {
             return Err(mesh_err(format!(
                 "internal face {f} has cell {} on both sides",
