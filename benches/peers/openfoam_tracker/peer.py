@@ -38,7 +38,9 @@ HEADER = """FoamFile
 # |u - v| keeps its Stokes part while Re_p = rho_f |u - v| d / mu falls by SCALE, and the
 # correction Re^(2/3)/6 by SCALE^(2/3) = 100. The only other use of rho_f in this cloud is the
 # buoyancy factor (1 - rho_f/rho_p) of the gravity force (5e-4 -> 5e-7 here).
-SCALE = 1000.0
+SCALE = float(os.environ.get("STOKES_SCALE", "1000"))
+MAX_CO = os.environ.get("MAX_CO", "0.3")
+U_INTERPOLATION = os.environ.get("U_INTERPOLATION", "cellPoint")
 
 PATCH_TYPES = re.compile(r"^\s*([A-Za-z0-9_.\-]+)\s*\{[^}]*?\btype\s+([A-Za-z]+)\s*;", re.M | re.S)
 
@@ -105,12 +107,12 @@ solution
     coupled         false;
     transient       yes;
     cellValueSourceCorrection off;
-    maxCo           0.3;
+    maxCo           {MAX_CO};
     sourceTerms {{ schemes {{ }} }}
     interpolationSchemes
     {{
         rho             cell;
-        U               cellPoint;
+        U               {U_INTERPOLATION};
         mu              cell;
     }}
     integrationSchemes
