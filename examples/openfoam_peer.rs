@@ -53,24 +53,27 @@ use std::time::Instant;
 
 /// `--check`: |DE_ours − DE_openfoam| ≤ DE_SIGMAS·√(se_ours² + se_openfoam²) + DE_SLACK. The
 /// standard errors cover the sampling noise of the injection points (5 of them: a false alarm
-/// is below 10⁻⁶, although on the same particles the DEs are positively correlated and the
-/// unpaired error overstates the noise); the slack covers what the two trackers are known to do
-/// differently on a coarse mesh: point particles on OpenFOAM's cell-point interpolation against
-/// extent contact on our blended wall layer (issue 25: 0.012–0.024 at Stk 0.4 on the 0.3 and
-/// 0.2 mm meshes; 0.035 ± 0.03 on the 0.75 mm CI mesh, see the CHANGELOG). What the check must
-/// catch moves DE by far more: drag off by the 1000 of the Stokes-limit scaling (Re_p × 1000:
-/// drag up by 1 + Re_p^(2/3)/6 ≈ 1.5–2 near the inlet, Stk down by as much, DE 0.8 → ≲ 0.5),
-/// gravity or units wrong, velocities not given to the parcels, patches misclassified
-/// (DE → 0 or 1).
+/// below 10⁻⁶; on the same particles the DEs are positively correlated, so the unpaired error
+/// overstates the noise and the bound errs on the quiet side). The slack covers what the two
+/// trackers do differently on a coarse mesh, measured on the 0.75 mm CI mesh at Stk 0.4,
+/// N = 1000: DE 0.844 (ours) against 0.773, a paired difference of 0.071 ± 0.008, every
+/// discordant particle deposited by us on a daughter wall at x₁ = 34.6–39.9 mm and escaped in
+/// OpenFOAM; it is the field near the walls, not the contact rule (barycentre contact: 0.069)
+/// nor OpenFOAM's sub-steps (maxCo 0.05 or Δt 10⁻⁵: the same 773 deposits). At N = 400 the
+/// bound is 5·0.028 + 0.05 ≈ 0.19, so the measured gap passes with room. What it catches: patches
+/// misclassified or parcels not tracked (DE → 0 or 1), a lost particle matching, a broken
+/// injection. What it does not: the drag's finite-Re correction left on (`STOKES_SCALE=1`
+/// moved OpenFOAM's DE by −0.038 at Stk 0.4 on this mesh), which is below what 400 particles
+/// resolve beside the mesh gap; `run.sh` writes the scaled ρ_f and ν itself.
 const DE_SIGMAS: f64 = 5.0;
 /// See [`DE_SIGMAS`].
 const DE_SLACK: f64 = 0.05;
-/// `--check`: the fraction of particles whose fates differ between the trackers. A particle
-/// matched to the wrong row (a broken index or origId mapping) leaves both DEs unchanged but
-/// disagrees with probability 2 DE (1 − DE) ≈ 0.3 at DE = 0.8; the coarse CI mesh measured
-/// 0.045 (see the CHANGELOG), so 0.15 separates the two by more than 5 binomial errors at
-/// N = 200 (0.045 + 5·√(0.045·0.955/200) = 0.118; 0.3 − 5·√(0.3·0.7/200) = 0.14).
-const DISCORDANT_MAX: f64 = 0.15;
+/// `--check`: the largest fraction (b + c)/n of particles whose fates differ between the
+/// trackers. A particle matched to the wrong row (a broken index or origId mapping) leaves both
+/// DEs unchanged but disagrees with probability 2 DE (1 − DE) ≈ 0.32 at DE = 0.8. The coarse CI
+/// mesh measured 0.071 (N = 1000, Stk 0.4) and 0.040 (N = 200): at N = 400, 0.18 is 8.5
+/// binomial errors above 0.071 and 6 below 0.32.
+const DISCORDANT_MAX: f64 = 0.18;
 
 fn label(dir: &Path) -> String {
     let summary = std::fs::read_to_string(dir.join("log.summary")).unwrap_or_default();

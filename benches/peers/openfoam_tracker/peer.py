@@ -41,6 +41,7 @@ HEADER = """FoamFile
 SCALE = float(os.environ.get("STOKES_SCALE", "1000"))
 MAX_CO = os.environ.get("MAX_CO", "0.3")
 U_INTERPOLATION = os.environ.get("U_INTERPOLATION", "cellPoint")
+U_INTEGRATION = os.environ.get("U_INTEGRATION", "analytical")
 
 PATCH_TYPES = re.compile(r"^\s*([A-Za-z0-9_.\-]+)\s*\{[^}]*?\btype\s+([A-Za-z]+)\s*;", re.M | re.S)
 
@@ -117,7 +118,7 @@ solution
     }}
     integrationSchemes
     {{
-        U               analytical;
+        U               {U_INTEGRATION};
     }}
 }}
 

@@ -19,7 +19,8 @@
 #   Variants for measuring what the peer's choices do (defaults are the peer):
 #   STOKES_SCALE (1000: rho_f/1000 and 1000 nu, sphereDrag in its Stokes limit; 1: the real
 #   fluid, sphereDrag with its finite-Re correction), MAX_CO (0.3: parcel sub-steps of at most
-#   0.3 of a cell), U_INTERPOLATION (cellPoint; cell: the cell value)
+#   0.3 of a cell), U_INTERPOLATION (cellPoint; cell: the cell value), U_INTEGRATION
+#   (analytical: exact over a sub-step for the frozen interpolated velocity; Euler: implicit Euler)
 # Output: OUT_DIR/fates.csv (index,fate,patch,t,x,y,z; fate deposited | escaped | suspended |
 # not_injected), OUT_DIR/summary.txt (key=value: wall times, steps, counts), logs in OUT_DIR/case.
 set -eu
