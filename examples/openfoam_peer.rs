@@ -162,7 +162,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for k in 0..n {
             let spec = injection.particle_spec(figures::SEED, k)?;
             let (x, u) = (spec.position, spec.velocity);
-            writeln!(csv, "{k},{},{},{},{},{},{},{},{}", x.x, x.y, x.z, u.x, u.y, u.z, injection.d_eq(), rho_particle())?;
+            writeln!(
+                csv,
+                "{k},{},{},{},{},{},{},{},{}",
+                x.x,
+                x.y,
+                x.z,
+                u.x,
+                u.y,
+                u.z,
+                injection.d_eq(),
+                rho_particle()
+            )?;
             points.push(x);
         }
         let particles = work.join("particles.csv");
@@ -189,8 +200,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let start = Instant::now();
         let ours = if point {
             let integ = study::integrator()?;
-            let case = Case::new(&integ, airway.flow(), airway.boundary(), &injection, study::plan(&airway)?)
-                .with_contact(ContactModel::Barycentre { radius: 0.0 });
+            let case = Case::new(
+                &integ,
+                airway.flow(),
+                airway.boundary(),
+                &injection,
+                study::plan(&airway)?,
+            )
+            .with_contact(ContactModel::Barycentre { radius: 0.0 });
             let config = RunConfig {
                 seed: figures::SEED,
                 particles: n,
@@ -198,7 +215,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             run(&case, &config, Shard::ALL, &RunOptions::default().quiet())?
         } else {
-            run_kind(&airway, kind, n, figures::SEED, Shard::ALL, &RunOptions::default().quiet(), None)?
+            run_kind(
+                &airway,
+                kind,
+                n,
+                figures::SEED,
+                Shard::ALL,
+                &RunOptions::default().quiet(),
+                None,
+            )?
         };
         let wall_ours = start.elapsed().as_secs_f64();
 
@@ -211,7 +236,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "index,ours,ours_patch,ours_t,ours_x,ours_y,ours_z,openfoam,openfoam_patch,openfoam_t,openfoam_x,openfoam_y,openfoam_z\n",
         );
         for r in &ours.records {
-            let p = peer.get(&r.index).ok_or_else(|| format!("particle {} missing from fates.csv", r.index))?;
+            let p = peer
+                .get(&r.index)
+                .ok_or_else(|| format!("particle {} missing from fates.csv", r.index))?;
             if r.spec.as_ref().map(|s| s.position) != Some(points[r.index as usize]) {
                 mismatched += 1;
             }
@@ -276,7 +303,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "{case_label},{stk},{n},{both},{only_ours},{only_of},{neither},{o_esc},{o_sus},{o_fail},{f_esc},{f_sus},{f_not},{de_ours:.5},{se_ours:.5},{de_of:.5},{se_of:.5},{:.5},{se_paired:.5},{chi2:.3},{wall_ours:.1},{threads},{wall_openfoam:.1}",
             de_ours - de_of
         );
-        let figdir = std::env::var_os("OPENFOAM_PEER_OUT").map_or_else(|| root.join("paper-figures/openfoam-peer"), Into::into);
+        let figdir =
+            std::env::var_os("OPENFOAM_PEER_OUT").map_or_else(|| root.join("paper-figures/openfoam-peer"), Into::into);
         std::fs::create_dir_all(&figdir)?;
         std::fs::write(figdir.join(format!("{name}.csv")), format!("{header}\n{row}\n"))?;
         println!("{header}\n{row}");
@@ -290,7 +318,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let bound = DE_SIGMAS * (se_ours * se_ours + se_of * se_of).sqrt() + DE_SLACK;
             let discordant = (b + c) / nn;
             if mismatched > 0 {
-                failures.push(format!("{name}: {mismatched} injection points differ from the records'"));
+                failures.push(format!(
+                    "{name}: {mismatched} injection points differ from the records'"
+                ));
             }
             if o_fail + f_not + o_sus + f_sus > 0 {
                 failures.push(format!(
@@ -298,13 +328,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 ));
             }
             if !((de_ours - de_of).abs() <= bound) {
-                failures.push(format!("{name}: |DE difference| {:.4} > {bound:.4}", (de_ours - de_of).abs()));
+                failures.push(format!(
+                    "{name}: |DE difference| {:.4} > {bound:.4}",
+                    (de_ours - de_of).abs()
+                ));
             }
             if !(discordant <= DISCORDANT_MAX) {
-                failures.push(format!("{name}: discordant fraction {discordant:.3} > {DISCORDANT_MAX}"));
+                failures.push(format!(
+                    "{name}: discordant fraction {discordant:.3} > {DISCORDANT_MAX}"
+                ));
             }
             if both == 0 || neither == 0 {
-                failures.push(format!("{name}: no particle deposited in both, or none escaped in both"));
+                failures.push(format!(
+                    "{name}: no particle deposited in both, or none escaped in both"
+                ));
             }
         }
     }
