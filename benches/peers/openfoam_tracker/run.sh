@@ -70,22 +70,13 @@ icoUncoupledKinematicParcelFoam > log.inject 2>&1 || { echo "run.sh: injection f
 # Each parcel gets its own velocity, diameter and density (matched to its row by position).
 python3 "$here/peer.py" personalise "$work" "$t0" "$particles"
 
-# Phase 2: track on the frozen field until END_TIME or until no parcel is left.
+# Phase 2: track on the frozen field until END_TIME.
 python3 "$here/peer.py" control "$work" --start "$t0" --end "$END_TIME" --dt "$dt"
 python3 "$here/peer.py" cloud "$work" --track --particles "$particles"
-icoUncoupledKinematicParcelFoam > log.track 2>&1 &
-pid=$!
-# foamEndJob's mechanism: once the cloud is empty, `stopAt writeNow` in the (runTimeModifiable)
-# controlDict ends the run with a write, which flushes the patch records.
-while kill -0 "$pid" 2>/dev/null; do
-    sleep 2
-    n=$(grep "Current number of parcels" log.track 2>/dev/null | tail -n 1 | awk '{print $NF}')
-    if [ "$n" = 0 ] && ! grep -q "^stopAt *writeNow" system/controlDict; then
-        sed -i 's/^stopAt .*/stopAt          writeNow;/' system/controlDict
-    fi
-done
-wait "$pid" || { echo "run.sh: tracking failed (see $work/log.track)" >&2; exit 1; }
+# It runs to END_TIME: the steps after the cloud has emptied cost little (0.3 mm airway,
+# 10^4 parcels at Stk 0.1: empty from t = 0.30 s, 0.4 s of the 8.1 s of CPU time).
+icoUncoupledKinematicParcelFoam > log.track 2>&1 || { echo "run.sh: tracking failed (see $work/log.track)" >&2; exit 1; }
 end=$(date +%s.%N)
 grep -q "^End" log.track || { echo "run.sh: icoUncoupledKinematicParcelFoam did not finish (see $work/log.track)" >&2; exit 1; }
-python3 "$here/peer.py" fates "$work" "$particles" "$out/fates.csv" --wall "$(echo "$end - $start" | bc)" --end-time "$END_TIME" > "$out/summary.txt"
+python3 "$here/peer.py" fates "$work" "$particles" "$out/fates.csv" --wall "$(awk "BEGIN { print $end - $start }")" --end-time "$END_TIME" > "$out/summary.txt"
 cat "$out/summary.txt"
