@@ -217,6 +217,7 @@ fn injection_is_uniform_on_the_disc_with_the_fluid_velocity() {
 /// √(p(1 − p)(1/200 − 1/N)) (a subsample against its whole); 4 of them fail by chance with
 /// probability 6e-5. No particle may fail. The deposits' left stretch satisfies V² = F̄F̄ᵀ (a
 /// symmetric square root: round-off of the 3×3 eigen-decomposition, 1e-10 of |F̄|²).
+/// `Injection::particle_spec` gives each record's particle exactly (the same draw).
 #[test]
 fn soft_spheres_at_stokes_0_4_snapshot() {
     use pseudorigid::population::{Injector, RunOptions, Shard};
@@ -265,6 +266,15 @@ fn soft_spheres_at_stokes_0_4_snapshot() {
         row.de()
     );
     let inj = Injection::new(a, kind).unwrap();
+    // `particle_spec` (what examples/openfoam_peer hands to OpenFOAM) is what the runner drew.
+    for r in &out.records {
+        assert_eq!(
+            Some(inj.particle_spec(figures::SEED, r.index).unwrap()),
+            r.spec,
+            "particle {}",
+            r.index
+        );
+    }
     for d in deposition::deposits(a, kind, &out).unwrap() {
         let r = &out.records[d.index as usize];
         let f_bar = inj

@@ -115,6 +115,13 @@ impl<'a> Injection<'a> {
     pub fn d_eq(&self) -> f64 {
         self.d_eq
     }
+
+    /// Particle `index` of a run with seed `seed`, as the population runner draws it (from
+    /// [`crate::population::particle_rng`]`(seed, index)`): what another tracker needs to
+    /// follow the same particles (`examples/openfoam_peer.rs`).
+    pub fn particle_spec(&self, seed: u64, index: u64) -> Result<ParticleSpec<NeoHooke>, StepError> {
+        self.draw(index, &mut crate::population::particle_rng(seed, index))
+    }
 }
 
 impl Injector for Injection<'_> {
