@@ -35,7 +35,7 @@ pub const FRAME_HEADER: [&str; 19] = [
 pub const TRAJECTORY_HEADER: [&str; 5] = ["id", "t", "x1", "x2", "x3"];
 
 /// The particles of `records` at `time`: (id, state, flag) of those with a state by then.
-fn at_time<'a>(records: &'a [ParticleRecord<SceneLaw>], time: f64) -> impl Iterator<Item = CloudPoint> + 'a {
+pub fn at_time<'a>(records: &'a [ParticleRecord<SceneLaw>], time: f64) -> impl Iterator<Item = CloudPoint> + 'a {
     records.iter().filter_map(move |r| {
         let spec = r.spec.as_ref()?;
         let last = r.samples.last()?;

@@ -59,10 +59,9 @@ pub mod schema;
 pub use error::CliError;
 pub use scene::{Scene, load};
 
-use crate::population::{CHECKPOINT_INTERVAL, Progress, RunOptions, Shard};
+use crate::population::{CHECKPOINT_INTERVAL, Progress, Shard};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 /// Soft ellipsoidal micro-particles in viscous flow (pseudo-rigid bodies, Wedel et al.).
 #[derive(Debug, Parser)]
@@ -159,23 +158,9 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
                 Some(k) => k,
                 None => Shard::from_env()?.unwrap_or(Shard::ALL),
             };
-            let interval = Duration::try_from_secs_f64(checkpoint_every)
-                .ok()
-                .filter(|d| !d.is_zero())
-                .ok_or_else(|| CliError::Input(format!("--checkpoint-every {checkpoint_every}: need seconds > 0")))?;
-            let options = RunOptions::default()
-                .with_progress(if quiet { Progress::Quiet } else { Progress::Auto })
-                // The folder is the runner's own (`checkpoint-<k>-of-<N>` in `out`).
-                .with_checkpoints(&out, interval)
-                .resume(resume);
-            match threads {
-                None => run::run(&s, &out, shard, options),
-                Some(n) => rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .map_err(|e| CliError::Input(format!("--threads {n}: {e}")))?
-                    .install(|| run::run(&s, &out, shard, options)),
-            }
+            let progress = if quiet { Progress::Quiet } else { Progress::Auto };
+            let options = run::run_options(&out, checkpoint_every, resume, progress)?;
+            run::run_on(&s, &out, shard, options, threads)
         }
         Command::Merge { scene, out } => {
             let s = load(&scene)?;

@@ -55,7 +55,7 @@ pub use case::{Case, RunConfig};
 pub use output::{RunOutput, checkpoint_dir, result_path};
 pub use progress::Progress;
 pub use record::{Fate, FateCounts, ParticleRecord};
-pub use runner::{CHECKPOINT_INTERVAL, RunOptions, run, run_in_dir};
+pub use runner::{CHECKPOINT_INTERVAL, RunControl, RunOptions, run, run_in_dir};
 pub use shard::Shard;
 pub use spec::{Injector, ParticleRng, ParticleSpec, ParticleTemplate, particle_rng};
 
@@ -194,6 +194,15 @@ pub enum PopulationError {
         path: Option<PathBuf>,
         /// Underlying error.
         source: serde_json::Error,
+    },
+    /// The run was asked to stop ([`RunControl::stop`]) before all its particles were done;
+    /// the finished ones are in the checkpoint, if there is one.
+    #[error("interrupted after {done} of {total} particles (the finished ones are checkpointed; resume to continue)")]
+    Interrupted {
+        /// Particles finished.
+        done: u64,
+        /// Particles of the shard.
+        total: u64,
     },
     /// Writing a file failed.
     #[error(transparent)]
