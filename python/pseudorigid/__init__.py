@@ -14,7 +14,7 @@ The Rust library does the work: scenes are validated by the same code as the
 from __future__ import annotations
 
 import os
-from typing import Any, Callable, Dict, Iterable, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -59,14 +59,14 @@ Progress = Union[None, bool, Callable[[int, int], Any]]
 class Table(Dict[str, Any]):
     """Columns by name: NumPy arrays of equal length (strings as object arrays)."""
 
-    def __len__(self) -> int:  # type: ignore[override]
+    def __len__(self) -> int:
         # Number of rows, not of columns: a table reads like a data frame.
         for v in self.values():
             return len(v)
         return 0
 
     @property
-    def columns(self) -> list:
+    def columns(self) -> List[str]:
         return list(self.keys())
 
     def to_pandas(self) -> "Any":
@@ -107,7 +107,7 @@ class Results:
         return self._native.config_hash
 
     @property
-    def patches(self) -> list:
+    def patches(self) -> List[str]:
         return self._native.patches
 
     def counts(self) -> Dict[str, int]:

@@ -1,7 +1,7 @@
 """Type stubs of the Rust extension module (``pseudorigid._native``)."""
 
 import os
-from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -9,7 +9,9 @@ import numpy.typing as npt
 _Path = Union[str, "os.PathLike[str]"]
 
 __version__: str
+__all__ = ["Scene", "Results", "FoamFlow", "run", "run_in_memory", "load_results", "__version__"]
 
+@final
 class Scene:
     @staticmethod
     def from_toml(path: _Path) -> "Scene": ...
@@ -28,6 +30,7 @@ class Scene:
     @property
     def vtk(self) -> bool: ...
 
+@final
 class Results:
     def __len__(self) -> int: ...
     @property
@@ -39,8 +42,9 @@ class Results:
     def frames(self) -> Dict[str, Any]: ...
     def trajectory(self, index: int) -> Dict[str, Any]: ...
 
+@final
 class FoamFlow:
-    def __init__(self, case: _Path, time: Optional[float] = None) -> None: ...
+    def __new__(cls, case: _Path, time: Optional[float] = None) -> "FoamFlow": ...
     @property
     def time(self) -> float: ...
     @property

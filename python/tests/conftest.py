@@ -1,0 +1,39 @@
+"""Shared fixtures: the repository, the `pseudorigid` command, a small shipped scene."""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+import pseudorigid as pr
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="session")
+def root() -> pathlib.Path:
+    return ROOT
+
+
+@pytest.fixture(scope="session")
+def cli() -> pathlib.Path:
+    """The command, built in release mode as the README says (or $PSEUDORIGID_CLI)."""
+    given = os.environ.get("PSEUDORIGID_CLI")
+    if given:
+        return pathlib.Path(given)
+    exe = ROOT / "target" / "release" / "pseudorigid"
+    if not exe.exists():
+        subprocess.run(["cargo", "build", "--release", "--bin", "pseudorigid"], cwd=ROOT, check=True)
+    return exe
+
+
+@pytest.fixture()
+def small_scene() -> dict:
+    """scenes/shear_injection.toml with 12 particles to t = 2 (about 0.1 s of work)."""
+    d = pr.Scene.from_toml(ROOT / "scenes" / "shear_injection.toml").to_dict()
+    d["particles"]["inject"]["count"] = 12
+    d["end"]["t_end"] = 2.0
+    return d

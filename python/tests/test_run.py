@@ -1,0 +1,133 @@
+"""The Python run is the command's run: the same files, byte for byte."""
+
+from __future__ import annotations
+
+import _thread
+import csv
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import pseudorigid as pr
+
+# The runner's own checkpoint chunks hold records in the order the workers finished them, which
+# differs between any two parallel runs (of the command too); every result file is compared.
+def result_files(out: pathlib.Path) -> list:
+    return sorted(
+        p.relative_to(out).as_posix()
+        for p in out.rglob("*")
+        if p.is_file() and not p.relative_to(out).as_posix().startswith("checkpoint-")
+    )
+
+
+def assert_same_files(a: pathlib.Path, b: pathlib.Path) -> None:
+    files = result_files(a)
+    assert files == result_files(b)
+    assert "results.json" in files or any(f.startswith("results-") for f in files)
+    for f in files:
+        assert (a / f).read_bytes() == (b / f).read_bytes(), f
+
+
+def cli_run(cli, scene_file, out, *extra):
+    subprocess.run([str(cli), "run", str(scene_file), "--out", str(out), "--quiet", *extra], check=True)
+
+
+def test_run_equals_cli_byte_for_byte(tmp_path, cli, small_scene):
+    scene = pr.Scene.from_dict(small_scene)
+    # The command reads the same TOML text, so the runs share their configuration hash.
+    (tmp_path / "scene.toml").write_text(scene.to_toml())
+    cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli")
+    calls = []
+    results = pr.run(scene, tmp_path / "py", threads=2, progress=lambda d, t: calls.append((d, t)))
+    assert_same_files(tmp_path / "cli", tmp_path / "py")
+    assert (tmp_path / "py" / "vtk" / "trajectories.vtp").exists()
+    assert calls[-1] == (12, 12)
+    assert len(results) == 12 and results.counts()["suspended"] == 12
+
+
+def test_shipped_scene_file_equals_cli(tmp_path, cli, root):
+    scene_file = root / "scenes" / "oblate_shear.toml"
+    cli_run(cli, scene_file, tmp_path / "cli")
+    pr.run(pr.Scene.from_toml(scene_file), tmp_path / "py")
+    assert_same_files(tmp_path / "cli", tmp_path / "py")
+
+
+def test_shard_equals_cli_shard(tmp_path, cli, small_scene):
+    scene = pr.Scene.from_dict(small_scene)
+    (tmp_path / "scene.toml").write_text(scene.to_toml())
+    cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli", "--shard", "1/3")
+    results = pr.run(scene, tmp_path / "py", shard=(1, 3), threads=1)
+    assert_same_files(tmp_path / "cli", tmp_path / "py")
+    assert list(results.records()["index"]) == [1, 4, 7, 10]
+
+
+def test_interrupted_run_resumes_to_the_cli_files(tmp_path, cli, root):
+    """Ctrl-C (a SIGINT seen between polls) stops the run; resume gives the command's files."""
+    d = pr.Scene.from_toml(root / "scenes" / "shear_injection.toml").to_dict()
+    scene = pr.Scene.from_dict(d)
+    (tmp_path / "scene.toml").write_text(scene.to_toml())
+    seen = []
+
+    def interrupt(done, total):
+        seen.append((done, total))
+        _thread.interrupt_main()  # what Ctrl-C does: the signal is checked after this call
+
+    with pytest.raises(KeyboardInterrupt):
+        # One thread: 60 particles take about a second, the first poll comes after 0.1 s.
+        pr.run(scene, tmp_path / "py", threads=1, checkpoint_every=0.05, progress=interrupt)
+    done, total = seen[0]
+    assert total == 60 and done < total
+    assert not (tmp_path / "py" / "results.json").exists()
+    pr.run(scene, tmp_path / "py", resume=True)
+    cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli")
+    assert_same_files(tmp_path / "cli", tmp_path / "py")
+
+
+def test_progress_callback_error_stops_the_run(tmp_path, small_scene):
+    def boom(done, total):
+        raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        pr.run(pr.Scene.from_dict(small_scene), tmp_path / "py", progress=boom)
+    # The output folder holds the interrupted run's checkpoint: a fresh run refuses it.
+    with pytest.raises(pr.PopulationError, match="resume"):
+        pr.run(pr.Scene.from_dict(small_scene), tmp_path / "py")
+
+
+def read_csv(path: pathlib.Path) -> dict:
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return {name: [r[i] for r in rows[1:]] for i, name in enumerate(rows[0])}
+
+
+def floats(values) -> np.ndarray:
+    return np.array([float(v) if v != "" else np.nan for v in values])
+
+
+def test_columns_equal_the_csv_files(tmp_path, small_scene):
+    """records() and frames() hold exactly the numbers of results.csv and frames.csv (written
+    with shortest round-trip formatting, so parsing them back is exact)."""
+    scene = pr.Scene.from_dict(small_scene)
+    results = pr.run(scene, tmp_path)
+    rec = results.records()
+    table = read_csv(tmp_path / "results.csv")
+    assert list(rec["index"]) == [int(i) for i in table["index"]]
+    assert list(rec["fate"]) == table["fate"]
+    for c in ["t", "x1", "x2", "x3", "r1", "r2", "r3", "x0_1", "rest_r1", "mu_s"]:
+        np.testing.assert_array_equal(rec[c], floats(table[c]), err_msg=c)
+    frames = results.frames()
+    ftable = read_csv(tmp_path / "frames.csv")
+    assert len(frames) == len(ftable["id"]) == 12 * len(scene.frame_times)
+    for c in ["time", "x1", "x2", "x3", "V11", "V12", "V23", "V33", "r1", "r2", "r3"]:
+        np.testing.assert_array_equal(frames[c], floats(ftable[c]), err_msg=c)
+    for c in ["frame", "id", "flag"]:
+        np.testing.assert_array_equal(frames[c], [int(v) for v in ftable[c]], err_msg=c)
+    # The same records in memory and from the files.
+    mem = pr.run_in_memory(scene).records()
+    for c in rec:
+        np.testing.assert_array_equal(mem[c], rec[c], err_msg=c)
+    pd = pytest.importorskip("pandas")
+    df = rec.to_pandas()
+    assert isinstance(df, pd.DataFrame) and df.shape == (12, len(rec.columns))
