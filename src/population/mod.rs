@@ -47,6 +47,7 @@ pub mod progress;
 pub mod record;
 pub mod runner;
 pub mod sampling;
+pub mod seal;
 pub mod settling_pipe;
 pub mod shard;
 pub mod spec;
@@ -178,6 +179,34 @@ pub enum PopulationError {
         found: u32,
         /// The supported version.
         expected: u32,
+    },
+    /// A checkpoint chunk or result file whose content does not match its checksum: it was
+    /// edited or corrupted after it was written ([`seal`]).
+    #[error("{path} was changed after it was written: checksum {stored} stored, {computed} computed from its content")]
+    Checksum {
+        /// File.
+        path: PathBuf,
+        /// Checksum in the file.
+        stored: String,
+        /// Checksum of its content.
+        computed: String,
+    },
+    /// A checkpoint chunk or result file without a checksum (written before checksums, or
+    /// stripped of it).
+    #[error("{path} has no checksum (written by a pseudorigid older than 0.1.0's checksummed files); rerun it")]
+    Unsealed {
+        /// File.
+        path: PathBuf,
+    },
+    /// A checkpoint chunk or result file written by another version of the code.
+    #[error("{path} was written by pseudorigid {found}, this is {expected}; its records may differ, rerun it")]
+    Version {
+        /// File.
+        path: PathBuf,
+        /// The version that wrote it.
+        found: String,
+        /// This version.
+        expected: String,
     },
     /// Reading a file failed.
     #[error("cannot read {path}: {source}")]
