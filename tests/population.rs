@@ -294,9 +294,16 @@ fn edited_chunk_and_shard_are_refused_by_their_checksum() {
     let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
     let config = config(6);
     let dir = scratch("checksum");
-    let opts = RunOptions::default().quiet().with_checkpoints(dir.join("cp"), Duration::ZERO);
+    let opts = RunOptions::default()
+        .quiet()
+        .with_checkpoints(dir.join("cp"), Duration::ZERO);
     let first = run(&case, &config, Shard::ALL, &opts).unwrap();
-    let chunk = std::fs::read_dir(dir.join("cp")).unwrap().next().unwrap().unwrap().path();
+    let chunk = std::fs::read_dir(dir.join("cp"))
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
     let text = std::fs::read_to_string(&chunk).unwrap();
     let resume = || run(&case, &config, Shard::ALL, &opts.clone().resume(true));
     for edited in [

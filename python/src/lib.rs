@@ -151,7 +151,11 @@ fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> Result<Option<toml::Value>, (St
             let name: String = k
                 .extract()
                 .map_err(|_| err(format!("keys must be strings, got {}", type_name(&k))))?;
-            let path = if key.is_empty() { name.clone() } else { format!("{key}.{name}") };
+            let path = if key.is_empty() {
+                name.clone()
+            } else {
+                format!("{key}.{name}")
+            };
             if let Some(v) = to_toml(&v, &path)? {
                 let _ = table.insert(name, v);
             }
@@ -267,7 +271,8 @@ impl PyScene {
 
     /// The scene as nested dicts.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let table: toml::Table = toml::from_str(&self.inner.text).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        let table: toml::Table =
+            toml::from_str(&self.inner.text).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
         from_toml(py, &toml::Value::Table(table))
     }
 
@@ -378,7 +383,9 @@ fn drive<T: Send>(
                 report(&mut failure);
                 failure.map_or(Ok(value), Err)
             }
-            (None, Err(_)) => Err(PyRuntimeError::new_err("pseudorigid: the run panicked (a bug; please report it)")),
+            (None, Err(_)) => Err(PyRuntimeError::new_err(
+                "pseudorigid: the run panicked (a bug; please report it)",
+            )),
         }
     })
 }
@@ -411,8 +418,10 @@ fn run(
         .map_err(|e| cli_error(py, &e))?
         .with_control(control.clone());
     let scene = &scene.get().inner;
-    drive(py, &control, progress.as_ref(), || run_on(scene, &out, shard, options, threads))?
-        .map_err(|e| cli_error(py, &e))
+    drive(py, &control, progress.as_ref(), || {
+        run_on(scene, &out, shard, options, threads)
+    })?
+    .map_err(|e| cli_error(py, &e))
 }
 
 /// Run `scene` in memory (no files): its results.
@@ -666,7 +675,14 @@ impl Results {
             .binary_search_by_key(&index, |r| r.index)
             .ok()
             .map(|i| &self.output.records[i])
-            .ok_or_else(|| typed(py, "ParameterError", &format!("no particle {index} in these results"), &[]))?;
+            .ok_or_else(|| {
+                typed(
+                    py,
+                    "ParameterError",
+                    &format!("no particle {index} in these results"),
+                    &[],
+                )
+            })?;
         let n = record.samples.len();
         let (mut t, mut x, mut v, mut r, mut f, mut q) = (
             Vec::with_capacity(n),
@@ -738,7 +754,12 @@ impl PyFoamFlow {
         if let Some(t) = time
             && !t.is_finite()
         {
-            return Err(typed(py, "ParameterError", &format!("time must be finite, got {t}"), &[]));
+            return Err(typed(
+                py,
+                "ParameterError",
+                &format!("time must be finite, got {t}"),
+                &[],
+            ));
         }
         let opened = py.detach(|| -> Result<(FoamFlow, f64, usize), FoamError> {
             let foam = FoamCase::open(&case)?;
@@ -793,7 +814,11 @@ impl PyFoamFlow {
         let time = self.time;
         type Columns = (Vec<f64>, Vec<f64>, Vec<bool>);
         let sampled = py.detach(|| -> Result<Columns, FoamError> {
-            let (mut u, mut g, mut inside) = (Vec::with_capacity(3 * n), Vec::with_capacity(9 * n), Vec::with_capacity(n));
+            let (mut u, mut g, mut inside) = (
+                Vec::with_capacity(3 * n),
+                Vec::with_capacity(9 * n),
+                Vec::with_capacity(n),
+            );
             let mut hint = None;
             for x in &pts {
                 match self.flow.sample_from(x, time, hint) {

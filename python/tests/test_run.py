@@ -131,3 +131,20 @@ def test_columns_equal_the_csv_files(tmp_path, small_scene):
     pd = pytest.importorskip("pandas")
     df = rec.to_pandas()
     assert isinstance(df, pd.DataFrame) and df.shape == (12, len(rec.columns))
+
+
+def test_edited_checkpoint_chunk_is_refused(tmp_path, small_scene):
+    """A digit changed in a checkpoint chunk (valid JSON still) stops the resume with a
+    PopulationError naming the chunk, instead of resuming into different results."""
+    scene = pr.Scene.from_dict(small_scene)
+    pr.run(scene, tmp_path)
+    chunk = next((tmp_path / "checkpoint-0000-of-0001").glob("chunk-*.json"))
+    text = chunk.read_text()
+    at = text.index('"steps":') + len('"steps":')
+    digit = "1" if text[at] == "9" else str(int(text[at]) + 1)
+    chunk.write_text(text[:at] + digit + text[at + 1 :])
+    with pytest.raises(pr.PopulationError, match="checksum") as info:
+        pr.run(scene, tmp_path, resume=True)
+    assert str(chunk) in str(info.value)
+    chunk.write_text(text)
+    assert len(pr.run(scene, tmp_path, resume=True)) == 12

@@ -95,7 +95,12 @@ impl Scene {
 
 /// The options of the command's `run`: checkpoints in `out` every `checkpoint_every` seconds
 /// (> 0), resumed if `resume`, progress as `progress` says.
-pub fn run_options(out: &Path, checkpoint_every: f64, resume: bool, progress: Progress) -> Result<RunOptions, CliError> {
+pub fn run_options(
+    out: &Path,
+    checkpoint_every: f64,
+    resume: bool,
+    progress: Progress,
+) -> Result<RunOptions, CliError> {
     let interval = Duration::try_from_secs_f64(checkpoint_every)
         .ok()
         .filter(|d| !d.is_zero())
