@@ -148,3 +148,30 @@ def test_edited_checkpoint_chunk_is_refused(tmp_path, small_scene):
     assert str(chunk) in str(info.value)
     chunk.write_text(text)
     assert len(pr.run(scene, tmp_path, resume=True)) == 12
+
+
+def bits(values) -> np.ndarray:
+    """The f64 bit patterns (null read back as NaN, as the columns hold it)."""
+    return np.array([np.nan if v is None else v for v in values], dtype=np.float64).view(np.int64)
+
+
+def test_parquet_tables_hold_the_records_bit_for_bit(tmp_path, small_scene):
+    pq = pytest.importorskip("pyarrow.parquet")
+    results = pr.run(pr.Scene.from_dict(small_scene), tmp_path)
+    rec = results.records()
+    table = pq.read_table(tmp_path / "records.parquet").to_pydict()
+    assert table["index"] == list(rec["index"]) and table["fate"] == list(rec["fate"])
+    floats = [c for c in rec if rec[c].dtype == np.float64]
+    assert {"t", "x1", "r3", "F23", "x0_2", "rest_r1", "mu_s"} <= set(floats)
+    for c in floats:
+        np.testing.assert_array_equal(bits(table[c]), rec[c].view(np.int64), err_msg=c)
+    for c in ["steps", "rejected", "rhs_evals", "jac_evals"]:
+        assert table[c] == list(rec[c]), c
+    assert table["patch"] == [None] * 12 and table["error"] == [None] * 12
+    frames = results.frames()
+    ft = pq.read_table(tmp_path / "frames.parquet").to_pydict()
+    assert len(ft["id"]) == len(frames)
+    for c in ["frame", "id", "flag"]:
+        assert ft[c] == list(frames[c]), c
+    for c in ["time", "x1", "x2", "x3", "V11", "V12", "V13", "V22", "V23", "V33", "r1", "r2", "r3"]:
+        np.testing.assert_array_equal(bits(ft[c]), frames[c].view(np.int64), err_msg=c)

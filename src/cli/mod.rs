@@ -36,7 +36,8 @@
 //! (*deposited*) or an `exit` (*escaped*), or when a step fails (*failed*, with the error).
 //!
 //! # Output (in `--out DIR`)
-//! `results.json` (every record, f64 exact), `results.csv` (one row per particle),
+//! `results.json` (every record, f64 exact), `results.csv` (one row per particle), with the
+//! feature `parquet` also `records.parquet` and `frames.parquet` ([`parquet`]),
 //! `particles.pvd` with `vtk/particles_NNNNNN.vtp` (one per output time: the particles with
 //! `V` = √(F̄F̄ᵀ) for ParaView's Tensor Glyph, `r1`..`r3`, `id`, `flag` 0 moving, 1 deposited,
 //! 2 escaped, 3 suspended, 4 failed), `vtk/trajectories.vtp` (polylines), and `frames.csv`,
@@ -51,6 +52,8 @@ pub mod error;
 pub mod frames;
 pub mod inject;
 pub mod models;
+#[cfg(feature = "parquet")]
+pub mod parquet;
 pub mod probe;
 pub mod run;
 pub mod scene;
