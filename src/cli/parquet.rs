@@ -8,6 +8,7 @@
 
 use super::error::CliError;
 use super::frames::at_time;
+use super::models::SceneLaw;
 use crate::material::{Hyperelastic, Softness};
 use crate::output::vtk::stretch;
 use crate::output::{OutputError, write_atomic};
@@ -160,7 +161,7 @@ pub const FRAME_COLUMNS: [&str; 16] = [
 
 /// `frames.parquet`: every particle at every frame time (the numbers of `frames.csv`, V by its
 /// six independent components).
-pub fn write_frames<L>(output: &RunOutput<L>, times: &[f64], path: &Path) -> Result<(), CliError> {
+pub fn write_frames(output: &RunOutput<SceneLaw>, times: &[f64], path: &Path) -> Result<(), CliError> {
     let (mut frame, mut time, mut id, mut flag) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 12];
     for (k, &t) in times.iter().enumerate() {
