@@ -132,7 +132,9 @@ pub fn run_on(
 
 /// Run `scene` (or one shard of it) into `out`: the shard's result file and checkpoint
 /// ([`crate::population::result_path`], [`crate::population::checkpoint_dir`]); a whole run
-/// also writes `results.json`, `results.csv` and its frames. Returns a one-line summary.
+/// also writes `results.json`, `results.csv` and its frames. With the feature `parquet`, a
+/// whole run writes `records.parquet` and `frames.parquet`, and shard k of N writes
+/// `records/part-k-of-N.parquet` and `frames/part-k-of-N.parquet`. Returns a one-line summary.
 pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Result<String, CliError> {
     let output = scene.population(&Job::Run {
         shard,
@@ -152,6 +154,14 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Resu
         let frames = write_run(&output, &scene.frame_times(), scene.vtk, out)?;
         Ok(format!("{what}; {frames} frames in {}", out.display()))
     } else {
+        // A shard's tables go into `records/` and `frames/`: each folder reads as one dataset
+        // (pyarrow, polars, pandas) over all shards without a merge.
+        #[cfg(feature = "parquet")]
+        {
+            let name = format!("part-{:04}-of-{:04}.parquet", shard.index(), shard.count());
+            super::parquet::write_records(&output, &out.join("records").join(&name))?;
+            super::parquet::write_frames(&output, &scene.frame_times(), &out.join("frames").join(&name))?;
+        }
         Ok(format!(
             "shard {shard}: {what}; written to {}",
             result_path(out, shard).display()
