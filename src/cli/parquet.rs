@@ -68,9 +68,7 @@ impl Table {
     fn write(self, path: &Path) -> Result<(), CliError> {
         let schema = Arc::new(Schema::new(self.fields));
         let batch = RecordBatch::try_new(schema.clone(), self.columns).map_err(failed)?;
-        let props = WriterProperties::builder()
-            .set_compression(Compression::SNAPPY)
-            .build();
+        let props = WriterProperties::builder().set_compression(Compression::SNAPPY).build();
         let mut bytes = Vec::new();
         let mut writer = ArrowWriter::try_new(&mut bytes, schema, Some(props)).map_err(failed)?;
         writer.write(&batch).map_err(failed)?;
@@ -94,7 +92,11 @@ pub fn write_records<L: Hyperelastic + Serialize + DeserializeOwned>(
     t.text(
         "patch_name",
         recs.iter()
-            .map(|r| r.fate.patch().map(|p| output.patches.get(p).cloned().unwrap_or_default()))
+            .map(|r| {
+                r.fate
+                    .patch()
+                    .map(|p| output.patches.get(p).cloned().unwrap_or_default())
+            })
             .collect(),
     );
     let end = |f: &dyn Fn(&crate::particle::State) -> f64| -> Vec<Option<f64>> {
@@ -172,7 +174,18 @@ pub fn write_frames(output: &RunOutput<SceneLaw>, times: &[f64], path: &Path) ->
             id.push(p.id);
             flag.push(p.flag);
             let row = [
-                p.x[0], p.x[1], p.x[2], v[(0, 0)], v[(0, 1)], v[(0, 2)], v[(1, 1)], v[(1, 2)], v[(2, 2)], r[0], r[1], r[2],
+                p.x[0],
+                p.x[1],
+                p.x[2],
+                v[(0, 0)],
+                v[(0, 1)],
+                v[(0, 2)],
+                v[(1, 1)],
+                v[(1, 2)],
+                v[(2, 2)],
+                r[0],
+                r[1],
+                r[2],
             ];
             for (c, x) in cols.iter_mut().zip(row) {
                 c.push(x);
