@@ -9,6 +9,7 @@ use pseudorigid::material::NeoHooke;
 use pseudorigid::population::settling_pipe::sphere_deposition;
 use pseudorigid::population::{
     Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng, result_path, run, run_in_dir,
+    seal,
 };
 use std::time::Duration;
 
@@ -268,6 +269,88 @@ fn checkpoint_guards_and_resume_of_a_finished_run() {
         matches!(err, PopulationError::ConflictingRecords { index: 3, .. }),
         "{err}"
     );
+}
+
+/// Change the first digit of the first `"key":<integer>` in `text` (a different value, the JSON
+/// still valid).
+fn edit_digit(text: &str, key: &str) -> String {
+    let at = text.find(&format!("\"{key}\":")).unwrap() + key.len() + 3;
+    let digit = text.as_bytes()[at];
+    assert!(digit.is_ascii_digit(), "{key} is not followed by a number");
+    let new = if digit == b'9' { '1' } else { (digit + 1) as char };
+    format!("{}{new}{}", &text[..at], &text[at + 1..])
+}
+
+/// A checkpoint chunk or a shard file edited after it was written (one digit, valid JSON, no
+/// structural guard fires) is refused by its checksum, naming the file; another code
+/// version's or an unsealed file is refused as such; the untouched files resume and merge.
+#[test]
+fn edited_chunk_and_shard_are_refused_by_their_checksum() {
+    let (stokes, pipe) = (integrator(), soft_pipe());
+    let faulty = Faulty {
+        inner: pipe.clone(),
+        delay: None,
+    };
+    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let config = config(6);
+    let dir = scratch("checksum");
+    let opts = RunOptions::default()
+        .quiet()
+        .with_checkpoints(dir.join("cp"), Duration::ZERO);
+    let first = run(&case, &config, Shard::ALL, &opts).unwrap();
+    let chunk = std::fs::read_dir(dir.join("cp"))
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let text = std::fs::read_to_string(&chunk).unwrap();
+    let resume = || run(&case, &config, Shard::ALL, &opts.clone().resume(true));
+    for edited in [
+        edit_digit(&text, "steps"),
+        edit_digit(&text, "rhs_evals"),
+        // The stored checksum itself.
+        {
+            let at = text.find("\"checksum\":\"").unwrap() + 12;
+            let c = if &text[at..=at] == "0" { "1" } else { "0" };
+            format!("{}{c}{}", &text[..at], &text[at + 1..])
+        },
+    ] {
+        assert_ne!(edited, text);
+        std::fs::write(&chunk, &edited).unwrap();
+        let err = resume().unwrap_err();
+        assert!(
+            matches!(&err, PopulationError::Checksum { path, .. } if *path == chunk),
+            "{err}"
+        );
+        assert!(err.to_string().contains(&chunk.display().to_string()), "{err}");
+    }
+    std::fs::write(&chunk, text.replace(seal::VERSION, "0.0.0-other")).unwrap();
+    assert!(matches!(resume().unwrap_err(), PopulationError::Version { path, .. } if path == chunk));
+    let unsealed = &text[..text.find(",\"version\"").unwrap()];
+    std::fs::write(&chunk, format!("{unsealed}}}")).unwrap();
+    assert!(matches!(resume().unwrap_err(), PopulationError::Unsealed { path } if path == chunk));
+    std::fs::write(&chunk, &text).unwrap();
+    assert!(resume().unwrap().to_json().unwrap() == first.to_json().unwrap());
+
+    let opts = RunOptions::default().quiet();
+    let paths: Vec<_> = (0..2u64)
+        .map(|k| {
+            let shard = Shard::new(k, 2).unwrap();
+            let _ = run_in_dir(&case, &config, shard, &dir, &opts).unwrap();
+            result_path(&dir, shard)
+        })
+        .collect();
+    let text = std::fs::read_to_string(&paths[1]).unwrap();
+    std::fs::write(&paths[1], edit_digit(&text, "steps")).unwrap();
+    let err = RunOutput::<NeoHooke>::merge_files(&paths).unwrap_err();
+    assert!(
+        matches!(&err, PopulationError::Checksum { path, .. } if *path == paths[1]),
+        "{err}"
+    );
+    std::fs::write(&paths[1], &text).unwrap();
+    let merged = RunOutput::<NeoHooke>::merge_files(&paths).unwrap();
+    assert!(merged.to_json().unwrap() == first.to_json().unwrap());
 }
 
 /// Records are written and read back bit for bit, including subnormal, huge and negative-zero

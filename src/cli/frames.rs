@@ -35,7 +35,7 @@ pub const FRAME_HEADER: [&str; 19] = [
 pub const TRAJECTORY_HEADER: [&str; 5] = ["id", "t", "x1", "x2", "x3"];
 
 /// The particles of `records` at `time`: (id, state, flag) of those with a state by then.
-fn at_time<'a>(records: &'a [ParticleRecord<SceneLaw>], time: f64) -> impl Iterator<Item = CloudPoint> + 'a {
+pub fn at_time<'a>(records: &'a [ParticleRecord<SceneLaw>], time: f64) -> impl Iterator<Item = CloudPoint> + 'a {
     records.iter().filter_map(move |r| {
         let spec = r.spec.as_ref()?;
         let last = r.samples.last()?;
@@ -50,12 +50,18 @@ fn at_time<'a>(records: &'a [ParticleRecord<SceneLaw>], time: f64) -> impl Itera
     })
 }
 
-/// Write `results.json`, `results.csv`, and, with `vtk`, the frames at `times` (`vtk/particles_*.vtp`,
+/// Write `results.json`, `results.csv` (with the feature `parquet`, `records.parquet` and
+/// `frames.parquet`), and, with `vtk`, the frames at `times` (`vtk/particles_*.vtp`,
 /// `particles.pvd`, `frames.csv`) and the trajectories (`vtk/trajectories.vtp`,
 /// `trajectories.csv`) into `dir`. Returns the number of frames.
 pub fn write_run(output: &RunOutput<SceneLaw>, times: &[f64], vtk: bool, dir: &Path) -> Result<usize, CliError> {
     output.write_json(dir.join("results.json"))?;
     output.table()?.write(dir.join("results.csv"))?;
+    #[cfg(feature = "parquet")]
+    {
+        super::parquet::write_records(output, &dir.join("records.parquet"))?;
+        super::parquet::write_frames(output, times, &dir.join("frames.parquet"))?;
+    }
     if !vtk {
         return Ok(0);
     }

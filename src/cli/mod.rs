@@ -37,7 +37,8 @@
 //! (*deposited*) or an `exit` (*escaped*), or when a step fails (*failed*, with the error).
 //!
 //! # Output (in `--out DIR`)
-//! `results.json` (every record, f64 exact), `results.csv` (one row per particle),
+//! `results.json` (every record, f64 exact), `results.csv` (one row per particle), with the
+//! feature `parquet` also `records.parquet` and `frames.parquet` ([`parquet`]),
 //! `particles.pvd` with `vtk/particles_NNNNNN.vtp` (one per output time: the particles with
 //! `V` = √(F̄F̄ᵀ) for ParaView's Tensor Glyph, `r1`..`r3`, `id`, `flag` 0 moving, 1 deposited,
 //! 2 escaped, 3 suspended, 4 failed), `vtk/trajectories.vtp` (polylines), and `frames.csv`,
@@ -52,6 +53,8 @@ pub mod error;
 pub mod frames;
 pub mod inject;
 pub mod models;
+#[cfg(feature = "parquet")]
+pub mod parquet;
 pub mod probe;
 pub mod run;
 pub mod scene;
@@ -60,10 +63,9 @@ pub mod schema;
 pub use error::CliError;
 pub use scene::{Scene, load};
 
-use crate::population::{CHECKPOINT_INTERVAL, Progress, RunOptions, Shard};
+use crate::population::{CHECKPOINT_INTERVAL, Progress, Shard};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 /// Soft ellipsoidal micro-particles in viscous flow (pseudo-rigid bodies, Wedel et al.).
 #[derive(Debug, Parser)]
@@ -163,23 +165,9 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
                 Some(k) => k,
                 None => Shard::from_env()?.unwrap_or(Shard::ALL),
             };
-            let interval = Duration::try_from_secs_f64(checkpoint_every)
-                .ok()
-                .filter(|d| !d.is_zero())
-                .ok_or_else(|| CliError::Input(format!("--checkpoint-every {checkpoint_every}: need seconds > 0")))?;
-            let options = RunOptions::default()
-                .with_progress(if quiet { Progress::Quiet } else { Progress::Auto })
-                // The folder is the runner's own (`checkpoint-<k>-of-<N>` in `out`).
-                .with_checkpoints(&out, interval)
-                .resume(resume);
-            match threads {
-                None => run::run(&s, &out, shard, options),
-                Some(n) => rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .map_err(|e| CliError::Input(format!("--threads {n}: {e}")))?
-                    .install(|| run::run(&s, &out, shard, options)),
-            }
+            let progress = if quiet { Progress::Quiet } else { Progress::Auto };
+            let options = run::run_options(&out, checkpoint_every, resume, progress)?;
+            run::run_on(&s, &out, shard, options, threads)
         }
         Command::Merge { scene, out } => {
             let s = load(&scene)?;

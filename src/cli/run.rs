@@ -6,8 +6,11 @@ use super::frames::write_run;
 use super::models::SceneLaw;
 use super::scene::{Scene, SceneIntegrator};
 use crate::integrator::TimeIntegrator;
-use crate::population::{Case, PopulationError, RunConfig, RunOptions, RunOutput, Shard, result_path, run_in_dir};
+use crate::population::{
+    Case, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard, result_path, run_in_dir,
+};
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 /// What to do with a scene's population.
 #[derive(Debug, Clone)]
@@ -21,6 +24,13 @@ pub enum Job {
         options: RunOptions,
         /// Output folder.
         dir: PathBuf,
+    },
+    /// Run shard `shard` with `options` in memory: no files (a notebook's small runs).
+    Memory {
+        /// The shard ([`Shard::ALL`]: the whole run).
+        shard: Shard,
+        /// Parallelism and progress (checkpoints are not used).
+        options: RunOptions,
     },
     /// Merge the shard result files in `dir`.
     Merge {
@@ -65,6 +75,7 @@ impl Scene {
         let config = self.config();
         match job {
             Job::Run { shard, options, dir } => Ok(run_in_dir(&case, &config, *shard, dir, options)?),
+            Job::Memory { shard, options } => Ok(crate::population::run(&case, &config, *shard, options)?),
             Job::Merge { dir } => {
                 let merged = RunOutput::merge_dir(dir)?;
                 let expected = case.config_hash(&config);
@@ -82,9 +93,48 @@ impl Scene {
     }
 }
 
+/// The options of the command's `run`: checkpoints in `out` every `checkpoint_every` seconds
+/// (> 0), resumed if `resume`, progress as `progress` says.
+pub fn run_options(
+    out: &Path,
+    checkpoint_every: f64,
+    resume: bool,
+    progress: Progress,
+) -> Result<RunOptions, CliError> {
+    let interval = Duration::try_from_secs_f64(checkpoint_every)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .ok_or_else(|| CliError::Input(format!("--checkpoint-every {checkpoint_every}: need seconds > 0")))?;
+    Ok(RunOptions::default()
+        .with_progress(progress)
+        // The folder is the runner's own (`checkpoint-<k>-of-<N>` in `out`).
+        .with_checkpoints(out, interval)
+        .resume(resume))
+}
+
+/// [`run`] on `threads` worker threads (`None`: rayon's global pool, all cores).
+pub fn run_on(
+    scene: &Scene,
+    out: &Path,
+    shard: Shard,
+    options: RunOptions,
+    threads: Option<usize>,
+) -> Result<String, CliError> {
+    match threads {
+        None => run(scene, out, shard, options),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| CliError::Input(format!("--threads {n}: {e}")))?
+            .install(|| run(scene, out, shard, options)),
+    }
+}
+
 /// Run `scene` (or one shard of it) into `out`: the shard's result file and checkpoint
 /// ([`crate::population::result_path`], [`crate::population::checkpoint_dir`]); a whole run
-/// also writes `results.json`, `results.csv` and its frames. Returns a one-line summary.
+/// also writes `results.json`, `results.csv` and its frames. With the feature `parquet`, a
+/// whole run writes `records.parquet` and `frames.parquet`, and shard k of N writes
+/// `records/part-k-of-N.parquet` and `frames/part-k-of-N.parquet`. Returns a one-line summary.
 pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Result<String, CliError> {
     let output = scene.population(&Job::Run {
         shard,
@@ -104,6 +154,14 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Resu
         let frames = write_run(&output, &scene.frame_times(), scene.vtk, out)?;
         Ok(format!("{what}; {frames} frames in {}", out.display()))
     } else {
+        // A shard's tables go into `records/` and `frames/`: each folder reads as one dataset
+        // (pyarrow, polars, pandas) over all shards without a merge.
+        #[cfg(feature = "parquet")]
+        {
+            let name = format!("part-{:04}-of-{:04}.parquet", shard.index(), shard.count());
+            super::parquet::write_records(&output, &out.join("records").join(&name))?;
+            super::parquet::write_frames(&output, &scene.frame_times(), &out.join("frames").join(&name))?;
+        }
         Ok(format!(
             "shard {shard}: {what}; written to {}",
             result_path(out, shard).display()

@@ -43,6 +43,10 @@ pub enum OutputError {
     #[cfg(feature = "plot")]
     #[error("plotting failed: {0}")]
     Plot(String),
+    /// The Parquet writer failed.
+    #[cfg(feature = "parquet")]
+    #[error("Parquet: {0}")]
+    Parquet(String),
 }
 
 /// `<crate root>/paper-figures/<figure>/<file>`: where the examples put their results.

@@ -169,8 +169,9 @@ where
         }
     }
 
-    /// A hash (16 hex digits) of what determines the results of a run with `config`: the seed,
-    /// the number of particles, the caller's fingerprint, the integrator (its settings), the
+    /// A hash (16 hex digits) of what determines the results of a run with `config`: the code
+    /// version ([`super::seal::VERSION`]), the seed, the number of particles, the caller's
+    /// fingerprint, the integrator (its settings), the
     /// plan and the contact model (their `Debug` forms print every f64 exactly). A checkpoint or shard
     /// file carries it, so a resumed run or a merge refuses files of a different run.
     ///
@@ -180,6 +181,9 @@ where
         let mut h = fnv::FnvHasher::default();
         for part in [
             "pseudorigid population v1",
+            // Another version of the code may give other records: its checkpoints, shards and
+            // caches are not this run's.
+            super::seal::VERSION,
             &config.seed.to_string(),
             &config.particles.to_string(),
             &config.fingerprint,

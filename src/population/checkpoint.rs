@@ -14,6 +14,10 @@
 //! mid-flight integrator states would bound the loss further but would make the record depend
 //! on where the run was cut: the driver's step-size proposal and output schedule live in its
 //! loop, not in the step memory.
+//!
+//! Each chunk is sealed with the code version and a checksum of its content ([`super::seal`]):
+//! a resumed run refuses a chunk that was edited after it was written
+//! ([`PopulationError::Checksum`]) or written by another version.
 
 use super::record::ParticleRecord;
 use super::shard::Shard;
@@ -96,7 +100,7 @@ impl Checkpoint {
                     found: chunk.shard,
                 });
             }
-            for record in chunk.records {
+            for record in &chunk.records {
                 if !(record.index < particles && shard.owns(record.index)) {
                     return Err(PopulationError::ForeignRecord {
                         path: path.clone(),
@@ -105,15 +109,20 @@ impl Checkpoint {
                     });
                 }
                 if let Some(old) = done.get(&record.index)
-                    && *old != record
+                    && old != record
                 {
                     return Err(PopulationError::ConflictingRecords {
                         path: path.clone(),
                         index: record.index,
                     });
                 }
-                let _ = done.insert(record.index, record);
             }
+            // The checks above name what is wrong; the seal catches any other change of the
+            // chunk's content.
+            super::seal::verify(path, &text, || {
+                chunk_body(&chunk.config_hash, chunk.shard, &chunk.records)
+            })?;
+            done.extend(chunk.records.into_iter().map(|r| (r.index, r)));
         }
         let next = files.last().map_or(0, |(n, _)| n + 1);
         Ok((
@@ -129,24 +138,33 @@ impl Checkpoint {
 
     /// Write `records` as the next chunk (atomically).
     pub(crate) fn write<L: Serialize>(&mut self, records: &[ParticleRecord<L>]) -> Result<(), PopulationError> {
-        #[derive(Serialize)]
-        struct ChunkRef<'a, L> {
-            format: u32,
-            config_hash: &'a str,
-            shard: Shard,
-            records: &'a [ParticleRecord<L>],
-        }
-        let chunk = ChunkRef {
-            format: FORMAT,
-            config_hash: &self.config_hash,
-            shard: self.shard,
-            records,
-        };
-        let text = serde_json::to_vec(&chunk).map_err(|source| PopulationError::Json { path: None, source })?;
+        let text = super::seal::seal(chunk_body(&self.config_hash, self.shard, records)?);
         write_atomic(self.dir.join(format!("{PREFIX}{:08}{SUFFIX}", self.next)), &text)?;
         self.next += 1;
         Ok(())
     }
+}
+
+/// The JSON text of a chunk, without its seal.
+fn chunk_body<L: Serialize>(
+    config_hash: &str,
+    shard: Shard,
+    records: &[ParticleRecord<L>],
+) -> Result<Vec<u8>, PopulationError> {
+    #[derive(Serialize)]
+    struct ChunkRef<'a, L> {
+        format: u32,
+        config_hash: &'a str,
+        shard: Shard,
+        records: &'a [ParticleRecord<L>],
+    }
+    let chunk = ChunkRef {
+        format: FORMAT,
+        config_hash,
+        shard,
+        records,
+    };
+    serde_json::to_vec(&chunk).map_err(|source| PopulationError::Json { path: None, source })
 }
 
 /// The chunk files in `dir` (absent folder: none), by ascending number.

@@ -47,6 +47,7 @@ pub mod progress;
 pub mod record;
 pub mod runner;
 pub mod sampling;
+pub mod seal;
 pub mod settling_pipe;
 pub mod shard;
 pub mod spec;
@@ -55,7 +56,7 @@ pub use case::{Case, RunConfig};
 pub use output::{RunOutput, checkpoint_dir, result_path};
 pub use progress::Progress;
 pub use record::{Fate, FateCounts, ParticleRecord};
-pub use runner::{CHECKPOINT_INTERVAL, RunOptions, run, run_in_dir};
+pub use runner::{CHECKPOINT_INTERVAL, RunControl, RunOptions, run, run_in_dir};
 pub use shard::Shard;
 pub use spec::{Injector, ParticleRng, ParticleSpec, ParticleTemplate, particle_rng};
 
@@ -179,6 +180,34 @@ pub enum PopulationError {
         /// The supported version.
         expected: u32,
     },
+    /// A checkpoint chunk or result file whose content does not match its checksum: it was
+    /// edited or corrupted after it was written ([`seal`]).
+    #[error("{path} was changed after it was written: checksum {stored} stored, {computed} computed from its content")]
+    Checksum {
+        /// File.
+        path: PathBuf,
+        /// Checksum in the file.
+        stored: String,
+        /// Checksum of its content.
+        computed: String,
+    },
+    /// A checkpoint chunk or result file without a checksum (written before checksums, or
+    /// stripped of it).
+    #[error("{path} has no checksum (written by a pseudorigid older than 0.1.0's checksummed files); rerun it")]
+    Unsealed {
+        /// File.
+        path: PathBuf,
+    },
+    /// A checkpoint chunk or result file written by another version of the code.
+    #[error("{path} was written by pseudorigid {found}, this is {expected}; its records may differ, rerun it")]
+    Version {
+        /// File.
+        path: PathBuf,
+        /// The version that wrote it.
+        found: String,
+        /// This version.
+        expected: String,
+    },
     /// Reading a file failed.
     #[error("cannot read {path}: {source}")]
     Io {
@@ -194,6 +223,15 @@ pub enum PopulationError {
         path: Option<PathBuf>,
         /// Underlying error.
         source: serde_json::Error,
+    },
+    /// The run was asked to stop ([`RunControl::stop`]) before all its particles were done;
+    /// the finished ones are in the checkpoint, if there is one.
+    #[error("interrupted after {done} of {total} particles (the finished ones are checkpointed; resume to continue)")]
+    Interrupted {
+        /// Particles finished.
+        done: u64,
+        /// Particles of the shard.
+        total: u64,
     },
     /// Writing a file failed.
     #[error(transparent)]

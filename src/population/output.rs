@@ -36,8 +36,13 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
     }
 
     /// The JSON text (compact; shortest round-trip f64, parsed back exactly with serde_json's
-    /// `float_roundtrip`).
+    /// `float_roundtrip`), sealed with the code version and a checksum ([`super::seal`]).
     pub fn to_json(&self) -> Result<Vec<u8>, PopulationError> {
+        Ok(super::seal::seal(self.body()?))
+    }
+
+    /// The JSON text without the seal.
+    fn body(&self) -> Result<Vec<u8>, PopulationError> {
         serde_json::to_vec(self).map_err(|source| PopulationError::Json { path: None, source })
     }
 
@@ -46,7 +51,8 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
         Ok(write_atomic(path, &self.to_json()?)?)
     }
 
-    /// Read a JSON file written by [`RunOutput::write_json`].
+    /// Read a JSON file written by [`RunOutput::write_json`], checking its seal (an edited
+    /// file is [`PopulationError::Checksum`]).
     pub fn read_json(path: impl AsRef<Path>) -> Result<Self, PopulationError> {
         let path = path.as_ref();
         let text = std::fs::read(path).map_err(|source| PopulationError::Io {
@@ -64,6 +70,7 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
                 expected: FORMAT,
             });
         }
+        super::seal::verify(path, &text, || out.body())?;
         Ok(out)
     }
 

@@ -16,8 +16,8 @@ use crate::integrator::TimeIntegrator;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 /// How to run: in parallel or serially, with which progress report, with or without
@@ -28,6 +28,41 @@ pub struct RunOptions {
     progress: Progress,
     checkpoint: Option<(PathBuf, Duration)>,
     resume: bool,
+    control: Option<Arc<RunControl>>,
+}
+
+/// A handle on a running population from another thread: how far it is, and a request to
+/// stop (a caller's Ctrl-C). A stopped run starts no new particle, checkpoints the finished
+/// ones and returns [`PopulationError::Interrupted`]; `resume` continues it.
+#[derive(Debug, Default)]
+pub struct RunControl {
+    done: AtomicU64,
+    total: AtomicU64,
+    stop: AtomicBool,
+}
+
+impl RunControl {
+    /// Particles of the run's shard finished so far (resumed ones included), and its total.
+    pub fn progress(&self) -> (u64, u64) {
+        (self.done.load(Ordering::Relaxed), self.total.load(Ordering::Relaxed))
+    }
+
+    /// Ask the run to stop after the particles in flight.
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether a stop was asked for.
+    pub fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+}
+
+/// Two handles are equal when they are the same handle.
+impl PartialEq for RunControl {
+    fn eq(&self, other: &Self) -> bool {
+        std::ptr::eq(self, other)
+    }
 }
 
 impl Default for RunOptions {
@@ -38,6 +73,7 @@ impl Default for RunOptions {
             progress: Progress::Auto,
             checkpoint: None,
             resume: false,
+            control: None,
         }
     }
 }
@@ -78,6 +114,12 @@ impl RunOptions {
         self.resume = resume;
         self
     }
+
+    /// Report progress to, and take stop requests from, `control` (besides [`Progress`]).
+    pub fn with_control(mut self, control: Arc<RunControl>) -> Self {
+        self.control = Some(control);
+        self
+    }
 }
 
 /// Run shard `shard` of the population `config` of `case` and return its records by
@@ -116,12 +158,18 @@ where
     let label = format!("population shard {shard}");
     let reporter = Reporter::start(options.progress, &label, total, done.len() as u64);
     let abort = AtomicBool::new(false);
+    let control = options.control.as_deref();
+    if let Some(c) = control {
+        c.total.store(total, Ordering::Relaxed);
+        c.done.store(done.len() as u64, Ordering::Relaxed);
+    }
+    let stopped = || control.is_some_and(RunControl::stopped);
     let (tx, rx) = mpsc::channel::<ParticleRecord<J::Law>>();
     let collected = std::thread::scope(|scope| {
-        let collector = scope.spawn(|| collect(rx, done, checkpoint, reporter, &abort));
+        let collector = scope.spawn(|| collect(rx, done, checkpoint, reporter, &abort, control));
         let work = |tx: &mut mpsc::Sender<ParticleRecord<J::Law>>, j: u64| {
             let k = first + j * stride;
-            if abort.load(Ordering::Relaxed) || finished.contains(&k) {
+            if abort.load(Ordering::Relaxed) || stopped() || finished.contains(&k) {
                 return;
             }
             // A closed channel means the collector failed; its error is reported below.
@@ -139,6 +187,12 @@ where
         Ok(result) => result?,
         Err(panic) => std::panic::resume_unwind(panic),
     };
+    if (records.len() as u64) < total && stopped() {
+        return Err(PopulationError::Interrupted {
+            done: records.len() as u64,
+            total,
+        });
+    }
     let patches = match records.iter().filter_map(|r| r.fate.patch()).max() {
         Some(max) => (0..=max).map(|p| case.boundary().patch_name(p).to_string()).collect(),
         None => Vec::new(),
@@ -190,6 +244,7 @@ fn collect<L: serde::Serialize>(
     mut checkpoint: Option<(Checkpoint, Duration)>,
     mut reporter: Reporter,
     abort: &AtomicBool,
+    control: Option<&RunControl>,
 ) -> Result<Vec<ParticleRecord<L>>, PopulationError> {
     let mut pending: Vec<ParticleRecord<L>> = Vec::new();
     let mut next_flush = checkpoint.as_ref().map(|(_, interval)| Instant::now() + *interval);
@@ -233,7 +288,11 @@ fn collect<L: serde::Serialize>(
             }
             next_flush = checkpoint.as_ref().map(|(_, interval)| Instant::now() + *interval);
         }
-        reporter.update((done.len() + pending.len()) as u64);
+        let finished = (done.len() + pending.len()) as u64;
+        reporter.update(finished);
+        if let Some(c) = control {
+            c.done.store(finished, Ordering::Relaxed);
+        }
     };
     if result.is_err() {
         abort.store(true, Ordering::Relaxed);

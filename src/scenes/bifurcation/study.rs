@@ -14,7 +14,7 @@ use crate::error::ParamError;
 use crate::integrator::{BarycentreModel, Scheme, Stokesian, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
-use crate::population::{Case, Fate, FateCounts, RunConfig, RunOptions, RunOutput, Shard, run};
+use crate::population::{Case, Fate, FateCounts, PopulationError, RunConfig, RunOptions, RunOutput, Shard, run};
 use serde::Serialize;
 use std::path::Path;
 
@@ -95,7 +95,12 @@ pub fn run_kind(
     if let Some(file) = &file
         && file.is_file()
     {
-        return Ok(RunOutput::read_json(file)?);
+        match RunOutput::read_json(file) {
+            // A cache written before checksums, or by another code version, is rerun; an
+            // edited one is an error.
+            Err(PopulationError::Unsealed { .. } | PopulationError::Version { .. }) => {}
+            read => return Ok(read?),
+        }
     }
     let out = run(&case, &config, shard, options)?;
     if let Some(file) = &file {

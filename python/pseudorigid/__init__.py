@@ -1,0 +1,275 @@
+"""pseudorigid from Python: soft ellipsoidal micro-particles in viscous flow (pseudo-rigid
+bodies, Wedel et al.).
+
+>>> import pseudorigid as pr
+>>> scene = pr.Scene.from_toml("scenes/shear_injection.toml")
+>>> results = pr.run(scene, out="shear-out", progress=True)   # the command's `run`
+>>> df = results.records().to_pandas()                        # one row per particle
+
+The Rust library does the work: scenes are validated by the same code as the
+``pseudorigid`` command's, and :func:`run` writes bitwise the files of
+``pseudorigid run SCENE --out DIR``.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from .errors import (
+    FlowError,
+    MeshError,
+    ParameterError,
+    PopulationError,
+    PseudorigidError,
+    SceneError,
+    StepError,
+)
+
+__version__: str = _native.__version__
+
+Scene = _native.Scene
+FoamFlow = _native.FoamFlow
+
+__all__ = [
+    "Scene",
+    "FoamFlow",
+    "Table",
+    "Results",
+    "run",
+    "run_in_memory",
+    "load_results",
+    "integrate",
+    "PseudorigidError",
+    "ParameterError",
+    "SceneError",
+    "StepError",
+    "FlowError",
+    "MeshError",
+    "PopulationError",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+Progress = Union[None, bool, Callable[[int, int], Any]]
+
+
+class Table(Dict[str, Any]):
+    """Columns by name: NumPy arrays of equal length (strings as object arrays)."""
+
+    def __len__(self) -> int:
+        # Number of rows, not of columns: a table reads like a data frame.
+        for v in self.values():
+            return len(v)
+        return 0
+
+    @property
+    def columns(self) -> List[str]:
+        return list(self.keys())
+
+    def to_pandas(self) -> "Any":
+        """A pandas DataFrame of the columns (needs pandas)."""
+        import pandas as pd
+
+        return pd.DataFrame({k: v for k, v in self.items()})
+
+    def to_polars(self) -> "Any":
+        """A polars DataFrame of the columns (needs polars)."""
+        import polars as pl
+
+        return pl.DataFrame({k: v for k, v in self.items()})
+
+
+def _table(columns: Mapping[str, Any]) -> Table:
+    out = Table()
+    for k, v in columns.items():
+        out[k] = v if isinstance(v, np.ndarray) else np.asarray(v, dtype=object)
+    return out
+
+
+class Results:
+    """The records of a run: :meth:`records` (one row per particle), :meth:`frames` (a long
+    table, one row per particle per output time) and :meth:`trajectory` (one particle)."""
+
+    def __init__(self, native: "_native.Results") -> None:
+        self._native = native
+
+    def __len__(self) -> int:
+        return len(self._native)
+
+    def __repr__(self) -> str:
+        return f"Results({len(self)} particles, {self.counts()})"
+
+    @property
+    def config_hash(self) -> str:
+        return self._native.config_hash
+
+    @property
+    def patches(self) -> List[str]:
+        return self._native.patches
+
+    def counts(self) -> Dict[str, int]:
+        """Particles per fate: deposited, escaped, suspended, failed."""
+        return dict(self._native.counts())
+
+    def records(self) -> Table:
+        """One row per particle: the columns of ``results.csv`` plus the end state's F
+        (``F11`` .. ``F33``) and step statistics; NaN, -1 or "" where a value does not exist."""
+        return _table(self._native.records())
+
+    def frames(self) -> Table:
+        """Every particle at every frame time (0 and the output times): the columns of
+        ``frames.csv``."""
+        return _table(self._native.frames())
+
+    def trajectory(self, index: int = 0) -> Dict[str, Any]:
+        """Kept states of particle ``index``: ``t``, ``x``, ``v``, ``r`` (r1 >= r2 >= r3),
+        ``F``, ``axes`` and its ``fate``."""
+        return self._native.trajectory(index)
+
+
+def _callback(progress: Progress, total_hint: int) -> Tuple[Optional[Callable[[int, int], Any]], Any]:
+    """A ``(done, total)`` callback for ``progress``: a callable as is, ``True`` a tqdm bar."""
+    if progress is None or progress is False:
+        return None, None
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:  # no bar without tqdm; the run is the same
+            return None, None
+        bar = tqdm(total=total_hint, unit="particle")
+
+        def update(done: int, total: int) -> None:
+            bar.total = total
+            bar.n = done
+            bar.refresh()
+
+        return update, bar
+    if callable(progress):
+        return progress, None
+    raise ParameterError(f"progress must be None, a bool or a callable (done, total), got {type(progress).__name__}")
+
+
+def _scene(scene: Union["Scene", PathLike, Mapping[str, Any]]) -> "Scene":
+    if isinstance(scene, _native.Scene):
+        return scene
+    if isinstance(scene, Mapping):
+        return Scene.from_dict(dict(scene))
+    if isinstance(scene, (str, os.PathLike)):
+        return Scene.from_toml(os.fspath(scene))
+    raise ParameterError(f"scene must be a Scene, a path or a dict, got {type(scene).__name__}")
+
+
+def run(
+    scene: Union["Scene", PathLike, Mapping[str, Any]],
+    out: PathLike,
+    *,
+    threads: Optional[int] = None,
+    shard: Optional[Tuple[int, int]] = None,
+    resume: bool = False,
+    checkpoint_every: float = 60.0,
+    progress: Progress = None,
+) -> Results:
+    """The command's ``run``: bitwise the files of ``pseudorigid run SCENE --out OUT`` (with
+    ``--shard k/n``, ``--resume``, ``--threads``). The GIL is released while Rust works;
+    Ctrl-C stops the run after the particles in flight (they are checkpointed, and
+    ``resume=True`` continues). ``progress``: ``True`` for a tqdm bar, or a callable
+    ``(done, total)``. Returns the run's (or the shard's) results."""
+    s = _scene(scene)
+    callback, bar = _callback(progress, s.count)
+    try:
+        _native.run(
+            s,
+            os.fspath(out),
+            threads=threads,
+            shard=shard,
+            resume=resume,
+            checkpoint_every=checkpoint_every,
+            progress=callback,
+        )
+    finally:
+        if bar is not None:
+            bar.close()
+    return load_results(out, s, shard=shard)
+
+
+def run_in_memory(
+    scene: Union["Scene", PathLike, Mapping[str, Any]],
+    *,
+    threads: Optional[int] = None,
+    shard: Optional[Tuple[int, int]] = None,
+    progress: Progress = None,
+) -> Results:
+    """Run a scene without writing files (the same records as :func:`run`)."""
+    s = _scene(scene)
+    callback, bar = _callback(progress, s.count)
+    try:
+        return Results(_native.run_in_memory(s, threads=threads, shard=shard, progress=callback))
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def load_results(out: PathLike, scene: Optional["Scene"] = None, *, shard: Optional[Tuple[int, int]] = None) -> Results:
+    """The results in output folder ``out``: ``results.json``, or shard ``(k, n)``'s file.
+    Frames need the ``scene`` (its output times)."""
+    return Results(_native.load_results(os.fspath(out), scene, shard))
+
+
+def integrate(
+    flow: Mapping[str, Any],
+    semi_axes: Sequence[float],
+    *,
+    material: Optional[Mapping[str, Any]] = None,
+    t_end: float,
+    every: Optional[float] = None,
+    position: Sequence[float] = (0.0, 0.0, 0.0),
+    orientation: Optional[Mapping[str, Any]] = None,
+    velocity: Optional[Sequence[float]] = None,
+    fluid: Optional[Mapping[str, Any]] = None,
+    density: float = 1.0,
+    integrator: Optional[Mapping[str, Any]] = None,
+    boundary: Optional[Mapping[str, Any]] = None,
+    max_steps: Optional[int] = None,
+    base: Optional[PathLike] = None,
+) -> Dict[str, Any]:
+    """Integrate one particle and return its states as arrays: ``t`` (n), ``x``, ``v``,
+    ``r`` (n x 3), ``F``, ``axes`` (n x 3 x 3), its ``fate`` and ``error``.
+
+    ``flow`` is a scene's ``[flow]`` table (``{"type": "shear", "rate": 1.0}``, or
+    ``{"type": "openfoam", "case": "path"}``); ``material`` a scene material
+    (``{"law": "neo_hooke", "mu": 2.5, "lambda": 2500.0}``; default rigid). The scene goes
+    through the same validation as a file; a failed step raises :class:`StepError`.
+    """
+    particle: Dict[str, Any] = {
+        "semi_axes": [float(a) for a in semi_axes],
+        "position": [float(c) for c in position],
+        "material": dict(material) if material is not None else {"law": "rigid"},
+    }
+    if orientation is not None:
+        particle["orientation"] = dict(orientation)
+    if velocity is not None:
+        particle["velocity"] = [float(c) for c in velocity]
+    d: Dict[str, Any] = {
+        "flow": dict(flow),
+        "fluid": dict(fluid) if fluid is not None else {"viscosity": 1.0, "density": 1.0},
+        "particles": {"density": density, "list": [particle]},
+        "integrator": dict(integrator)
+        if integrator is not None
+        else {"type": "stokesian", "tol": 1e-8, "dt": 1e-3, "overdamped": True},
+        "end": {"t_end": t_end},
+        "output": {"vtk": False},
+    }
+    if every is not None:
+        d["output"]["every"] = every
+    if max_steps is not None:
+        d["end"]["max_steps"] = max_steps
+    if boundary is not None:
+        d["boundary"] = dict(boundary)
+    scene = Scene.from_dict(d, None if base is None else os.fspath(base))
+    out = Results(_native.run_in_memory(scene, threads=1)).trajectory(0)
+    if out["fate"] == "failed":
+        raise StepError(out["error"])
+    return out

@@ -1,0 +1,202 @@
+"""The Python run is the command's run: the same files, byte for byte."""
+
+from __future__ import annotations
+
+import _thread
+import csv
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import pseudorigid as pr
+
+# The runner's own checkpoint chunks hold records in the order the workers finished them, which
+# differs between any two parallel runs (of the command too); every result file is compared.
+def result_files(out: pathlib.Path) -> list:
+    return sorted(
+        p.relative_to(out).as_posix()
+        for p in out.rglob("*")
+        if p.is_file() and not p.relative_to(out).as_posix().startswith("checkpoint-")
+    )
+
+
+PARQUET = {"records.parquet", "frames.parquet"}
+
+
+def assert_same_files(cli: pathlib.Path, py: pathlib.Path) -> None:
+    """Every file of the command's run is in the Python run, byte for byte; the Python run has
+    the Parquet tables too (the command has them only when built with the feature
+    `parquet`)."""
+    files = result_files(cli)
+    mine = set(result_files(py))
+    extra = mine - set(files)
+    assert set(files) <= mine and all(f.endswith(".parquet") for f in extra), mine ^ set(files)
+    if (py / "results.json").exists():
+        assert PARQUET <= mine
+    assert "results.json" in files or any(f.startswith("results-") for f in files)
+    for f in files:
+        assert (cli / f).read_bytes() == (py / f).read_bytes(), f
+
+
+def cli_run(cli, scene_file, out, *extra):
+    subprocess.run([str(cli), "run", str(scene_file), "--out", str(out), "--quiet", *extra], check=True)
+
+
+def test_run_equals_cli_byte_for_byte(tmp_path, cli, small_scene):
+    scene = pr.Scene.from_dict(small_scene)
+    # The command reads the same TOML text, so the runs share their configuration hash.
+    (tmp_path / "scene.toml").write_text(scene.to_toml())
+    cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli")
+    calls = []
+    results = pr.run(scene, tmp_path / "py", threads=2, progress=lambda d, t: calls.append((d, t)))
+    assert_same_files(tmp_path / "cli", tmp_path / "py")
+    assert (tmp_path / "py" / "vtk" / "trajectories.vtp").exists()
+    assert calls[-1] == (12, 12)
+    assert len(results) == 12 and results.counts()["suspended"] == 12
+
+
+def test_shipped_scene_file_equals_cli(tmp_path, cli, root):
+    scene_file = root / "scenes" / "oblate_shear.toml"
+    cli_run(cli, scene_file, tmp_path / "cli")
+    pr.run(pr.Scene.from_toml(scene_file), tmp_path / "py")
+    assert_same_files(tmp_path / "cli", tmp_path / "py")
+
+
+def test_shard_equals_cli_shard(tmp_path, cli, small_scene):
+    scene = pr.Scene.from_dict(small_scene)
+    (tmp_path / "scene.toml").write_text(scene.to_toml())
+    cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli", "--shard", "1/3")
+    results = pr.run(scene, tmp_path / "py", shard=(1, 3), threads=1)
+    assert_same_files(tmp_path / "cli", tmp_path / "py")
+    assert list(results.records()["index"]) == [1, 4, 7, 10]
+
+
+def test_interrupted_run_resumes_to_the_cli_files(tmp_path, cli, root):
+    """Ctrl-C (a SIGINT seen between polls) stops the run; resume gives the command's files."""
+    d = pr.Scene.from_toml(root / "scenes" / "shear_injection.toml").to_dict()
+    scene = pr.Scene.from_dict(d)
+    (tmp_path / "scene.toml").write_text(scene.to_toml())
+    seen = []
+
+    def interrupt(done, total):
+        seen.append((done, total))
+        _thread.interrupt_main()  # what Ctrl-C does: the signal is checked after this call
+
+    with pytest.raises(KeyboardInterrupt):
+        # One thread: 60 particles take about a second, the first poll comes after 0.1 s.
+        pr.run(scene, tmp_path / "py", threads=1, checkpoint_every=0.05, progress=interrupt)
+    done, total = seen[0]
+    assert total == 60 and done < total
+    assert not (tmp_path / "py" / "results.json").exists()
+    pr.run(scene, tmp_path / "py", resume=True)
+    cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli")
+    assert_same_files(tmp_path / "cli", tmp_path / "py")
+
+
+def test_progress_callback_error_stops_the_run(tmp_path, small_scene):
+    def boom(done, total):
+        raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        pr.run(pr.Scene.from_dict(small_scene), tmp_path / "py", progress=boom)
+    # The output folder holds the interrupted run's checkpoint: a fresh run refuses it.
+    with pytest.raises(pr.PopulationError, match="resume"):
+        pr.run(pr.Scene.from_dict(small_scene), tmp_path / "py")
+
+
+def read_csv(path: pathlib.Path) -> dict:
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return {name: [r[i] for r in rows[1:]] for i, name in enumerate(rows[0])}
+
+
+def floats(values) -> np.ndarray:
+    return np.array([float(v) if v != "" else np.nan for v in values])
+
+
+def test_columns_equal_the_csv_files(tmp_path, small_scene):
+    """records() and frames() hold exactly the numbers of results.csv and frames.csv (written
+    with shortest round-trip formatting, so parsing them back is exact)."""
+    scene = pr.Scene.from_dict(small_scene)
+    results = pr.run(scene, tmp_path)
+    rec = results.records()
+    table = read_csv(tmp_path / "results.csv")
+    assert list(rec["index"]) == [int(i) for i in table["index"]]
+    assert list(rec["fate"]) == table["fate"]
+    for c in ["t", "x1", "x2", "x3", "r1", "r2", "r3", "x0_1", "rest_r1", "mu_s"]:
+        np.testing.assert_array_equal(rec[c], floats(table[c]), err_msg=c)
+    frames = results.frames()
+    ftable = read_csv(tmp_path / "frames.csv")
+    assert len(frames) == len(ftable["id"]) == 12 * len(scene.frame_times)
+    for c in ["time", "x1", "x2", "x3", "V11", "V12", "V23", "V33", "r1", "r2", "r3"]:
+        np.testing.assert_array_equal(frames[c], floats(ftable[c]), err_msg=c)
+    for c in ["frame", "id", "flag"]:
+        np.testing.assert_array_equal(frames[c], [int(v) for v in ftable[c]], err_msg=c)
+    # The same records in memory and from the files.
+    mem = pr.run_in_memory(scene).records()
+    for c in rec:
+        np.testing.assert_array_equal(mem[c], rec[c], err_msg=c)
+    pd = pytest.importorskip("pandas")
+    df = rec.to_pandas()
+    assert isinstance(df, pd.DataFrame) and df.shape == (12, len(rec.columns))
+
+
+def test_edited_checkpoint_chunk_is_refused(tmp_path, small_scene):
+    """A digit changed in a checkpoint chunk (valid JSON still) stops the resume with a
+    PopulationError naming the chunk, instead of resuming into different results."""
+    scene = pr.Scene.from_dict(small_scene)
+    pr.run(scene, tmp_path)
+    chunk = next((tmp_path / "checkpoint-0000-of-0001").glob("chunk-*.json"))
+    text = chunk.read_text()
+    at = text.index('"steps":') + len('"steps":')
+    digit = "1" if text[at] == "9" else str(int(text[at]) + 1)
+    chunk.write_text(text[:at] + digit + text[at + 1 :])
+    with pytest.raises(pr.PopulationError, match="checksum") as info:
+        pr.run(scene, tmp_path, resume=True)
+    assert str(chunk) in str(info.value)
+    chunk.write_text(text)
+    assert len(pr.run(scene, tmp_path, resume=True)) == 12
+
+
+def bits(values) -> np.ndarray:
+    """The f64 bit patterns (null read back as NaN, as the columns hold it)."""
+    return np.array([np.nan if v is None else v for v in values], dtype=np.float64).view(np.int64)
+
+
+def test_parquet_tables_hold_the_records_bit_for_bit(tmp_path, small_scene):
+    pq = pytest.importorskip("pyarrow.parquet")
+    results = pr.run(pr.Scene.from_dict(small_scene), tmp_path)
+    rec = results.records()
+    table = pq.read_table(tmp_path / "records.parquet").to_pydict()
+    assert table["index"] == list(rec["index"]) and table["fate"] == list(rec["fate"])
+    floats = [c for c in rec if rec[c].dtype == np.float64]
+    assert {"t", "x1", "r3", "F23", "x0_2", "rest_r1", "mu_s"} <= set(floats)
+    for c in floats:
+        np.testing.assert_array_equal(bits(table[c]), rec[c].view(np.int64), err_msg=c)
+    for c in ["steps", "rejected", "rhs_evals", "jac_evals"]:
+        assert table[c] == list(rec[c]), c
+    assert table["patch"] == [None] * 12 and table["error"] == [None] * 12
+    frames = results.frames()
+    ft = pq.read_table(tmp_path / "frames.parquet").to_pydict()
+    assert len(ft["id"]) == len(frames)
+    for c in ["frame", "id", "flag"]:
+        assert ft[c] == list(frames[c]), c
+    for c in ["time", "x1", "x2", "x3", "V11", "V12", "V13", "V22", "V23", "V33", "r1", "r2", "r3"]:
+        np.testing.assert_array_equal(bits(ft[c]), frames[c].view(np.int64), err_msg=c)
+
+
+def test_parquet_shards_read_as_one_dataset(tmp_path, small_scene):
+    """Three shards' tables, read as one folder each, are the whole run's tables (sorted by
+    particle, and by frame and particle)."""
+    pq = pytest.importorskip("pyarrow.parquet")
+    scene = pr.Scene.from_dict(small_scene)
+    for k in range(3):
+        pr.run(scene, tmp_path / "shards", shard=(k, 3))
+    whole = pr.run(scene, tmp_path / "whole")
+    records = pq.read_table(tmp_path / "shards" / "records").sort_by("index")
+    assert records.equals(pq.read_table(tmp_path / "whole" / "records.parquet"))
+    frames = pq.read_table(tmp_path / "shards" / "frames").sort_by([("frame", "ascending"), ("id", "ascending")])
+    assert frames.equals(pq.read_table(tmp_path / "whole" / "frames.parquet"))
+    assert frames.num_rows == len(whole.frames())
