@@ -269,9 +269,17 @@ fn every_key_every_mutation() {
 #[test]
 fn vectors_of_the_wrong_length_are_refused() {
     for (from, to, key) in [
-        ("semi_axes = [1.0, 0.5, 0.5]", "semi_axes = [1.0, 0.5, 0.5, 2.0]", "semi_axes"),
+        (
+            "semi_axes = [1.0, 0.5, 0.5]",
+            "semi_axes = [1.0, 0.5, 0.5, 2.0]",
+            "semi_axes",
+        ),
         ("position = [0.0, 1.0, 0.0]", "position = [0.0, 1.0]", "position"),
-        ("gravity = [0.0, -1.0, 0.0]", "gravity = [0.0, -1.0, 0.0, 7.0]", "gravity"),
+        (
+            "gravity = [0.0, -1.0, 0.0]",
+            "gravity = [0.0, -1.0, 0.0, 7.0]",
+            "gravity",
+        ),
     ] {
         assert!(LISTED.contains(from), "{from}");
         let text = LISTED.replace(from, to);
@@ -280,8 +288,13 @@ fn vectors_of_the_wrong_length_are_refused() {
             text: &text,
         };
         match parse(&src, Path::new(".")) {
-            Err(CliError::Scene { key: named, message, .. }) => {
-                assert!(named.contains(key) || message.contains(key), "{to}: `{named}`: {message}");
+            Err(CliError::Scene {
+                key: named, message, ..
+            }) => {
+                assert!(
+                    named.contains(key) || message.contains(key),
+                    "{to}: `{named}`: {message}"
+                );
                 assert!(message.contains("expected 3 numbers"), "{to}: {message}");
             }
             other => panic!("{to}: {:?}", other.map(|s| s.count())),
