@@ -10,7 +10,8 @@ use pseudorigid::cli::models::SceneLaw;
 use pseudorigid::cli::run::{Job, run_on, run_options};
 use pseudorigid::cli::{CliError, Scene};
 use pseudorigid::ellipsoid::PrincipalFrame;
-use pseudorigid::flow::openfoam::{FoamCase, FoamError, FoamFlow};
+use pseudorigid::flow::FlowField;
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
 use pseudorigid::material::Softness;
 use pseudorigid::output::vtk::stretch;
 use pseudorigid::population::{Fate, PopulationError, Progress, RunControl, RunOptions, RunOutput, Shard, result_path};
@@ -734,10 +735,13 @@ impl Results {
 // ---------------------------------------------------------------------------------------------
 // OpenFOAM probe
 
-/// u and ∇u of an OpenFOAM case at one time (see `pseudorigid.FoamFlow`).
+/// u and ∇u of an OpenFOAM case at one time (see `pseudorigid.FoamFlow`): the blended field
+/// with the no-slip wall layer that particles see (the default of scene files and `probe`), or
+/// with `cellwise` each cell's linear fit.
 #[pyclass(name = "FoamFlow", module = "pseudorigid._native", frozen)]
 struct PyFoamFlow {
     flow: FoamFlow,
+    blend: Option<BlendedFlow>,
     time: f64,
     cells: usize,
 }
@@ -745,8 +749,8 @@ struct PyFoamFlow {
 #[pymethods]
 impl PyFoamFlow {
     #[new]
-    #[pyo3(signature = (case, time = None))]
-    fn new(py: Python<'_>, case: PathBuf, time: Option<f64>) -> PyResult<Self> {
+    #[pyo3(signature = (case, time = None, cellwise = false))]
+    fn new(py: Python<'_>, case: PathBuf, time: Option<f64>, cellwise: bool) -> PyResult<Self> {
         if !case.exists() {
             let name = case.display().to_string();
             return Err(not_found(&name, &format!("{name}: no such OpenFOAM case folder")));
@@ -761,7 +765,8 @@ impl PyFoamFlow {
                 &[],
             ));
         }
-        let opened = py.detach(|| -> Result<(FoamFlow, f64, usize), FoamError> {
+        type Opened = (FoamFlow, Option<BlendedFlow>, f64, usize);
+        let opened = py.detach(|| -> Result<Opened, FoamError> {
             let foam = FoamCase::open(&case)?;
             let t = match time {
                 Some(t) => t,
@@ -772,10 +777,17 @@ impl PyFoamFlow {
                 })?,
             };
             let cells = foam.mesh().n_cells();
-            Ok((FoamFlow::read(&foam, &[t])?, t, cells))
+            let flow = FoamFlow::read(&foam, &[t])?;
+            let blend = if cellwise { None } else { Some(BlendedFlow::new(flow.clone())?) };
+            Ok((flow, blend, t, cells))
         });
-        let (flow, time, cells) = opened.map_err(|e| foam_error(py, &e))?;
-        Ok(Self { flow, time, cells })
+        let (flow, blend, time, cells) = opened.map_err(|e| foam_error(py, &e))?;
+        Ok(Self {
+            flow,
+            blend,
+            time,
+            cells,
+        })
     }
 
     /// The time read.
@@ -822,8 +834,12 @@ impl PyFoamFlow {
             let mut hint = None;
             for x in &pts {
                 match self.flow.sample_from(x, time, hint) {
-                    Ok((s, cell)) => {
+                    Ok((cellwise, cell)) => {
                         hint = Some(cell);
+                        let s = match &self.blend {
+                            Some(b) => b.sample(x, time).map_err(|e| FoamError::Mesh { reason: e.to_string() })?,
+                            None => cellwise,
+                        };
                         inside.push(true);
                         u.extend(s.u.iter());
                         g.extend(s.grad_u.transpose().iter());

@@ -55,9 +55,10 @@ def test_failed_step_raises_step_error():
         )
 
 
-def test_foam_flow_equals_the_probe_command(tmp_path, root, cli):
+@pytest.mark.parametrize("cellwise", [False, True])
+def test_foam_flow_equals_the_probe_command(tmp_path, root, cli, cellwise):
     case = root / "reference-data" / "bifurcation"
-    flow = pr.FoamFlow(case)
+    flow = pr.FoamFlow(case, cellwise=cellwise)
     assert flow.time == 190.0 and flow.cells > 0
     # Along the inlet's axis into the airway, and one point far outside.
     pts = np.array([[2e-4 + 1e-3 * k, 1e-4, -2e-4] for k in range(20)] + [[1.0, 1.0, 1.0]])
@@ -65,7 +66,8 @@ def test_foam_flow_equals_the_probe_command(tmp_path, root, cli):
     assert u.shape == (21, 3) and grad.shape == (21, 3, 3) and inside.dtype == bool
     assert inside[:3].all() and not inside[-1] and np.isnan(u[-1]).all()
     (tmp_path / "p.csv").write_text("x,y,z\n" + "\n".join(",".join(repr(float(c)) for c in p) for p in pts))
-    subprocess.run([str(cli), "probe", str(case), "latest", str(tmp_path / "p.csv"), str(tmp_path / "o.csv")], check=True)
+    command = [str(cli), "probe", str(case), "latest", str(tmp_path / "p.csv"), str(tmp_path / "o.csv")]
+    subprocess.run(command + (["--cellwise"] if cellwise else []), check=True)
     table = np.genfromtxt(tmp_path / "o.csv", delimiter=",", names=True)
     np.testing.assert_array_equal(table["inside"] == 1, inside)
     for i in range(3):
