@@ -778,7 +778,11 @@ impl PyFoamFlow {
             };
             let cells = foam.mesh().n_cells();
             let flow = FoamFlow::read(&foam, &[t])?;
-            let blend = if cellwise { None } else { Some(BlendedFlow::new(flow.clone())?) };
+            let blend = if cellwise {
+                None
+            } else {
+                Some(BlendedFlow::new(flow.clone())?)
+            };
             Ok((flow, blend, t, cells))
         });
         let (flow, blend, time, cells) = opened.map_err(|e| foam_error(py, &e))?;
@@ -837,7 +841,9 @@ impl PyFoamFlow {
                     Ok((cellwise, cell)) => {
                         hint = Some(cell);
                         let s = match &self.blend {
-                            Some(b) => b.sample(x, time).map_err(|e| FoamError::Mesh { reason: e.to_string() })?,
+                            Some(b) => b
+                                .sample(x, time)
+                                .map_err(|e| FoamError::Mesh { reason: e.to_string() })?,
                             None => cellwise,
                         };
                         inside.push(true);
