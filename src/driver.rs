@@ -436,6 +436,36 @@ where
     run(integrator, particle, state, flow, dt, &[t_end], |_| {}, |_, _| {})
 }
 
+/// Convenience: [`integrate`] with fresh step memory and no observers, to the end of `plan` or
+/// the first of `events` that fires.
+pub fn until_event<I, M, D, F>(
+    integrator: &I,
+    particle: &Particle<M, D>,
+    flow: &F,
+    state: State,
+    plan: &Plan,
+    events: &[&dyn Event],
+) -> Result<Outcome, StepError>
+where
+    I: TimeIntegrator,
+    M: Response,
+    D: DragModel,
+    F: FlowField + ?Sized,
+{
+    let mut memory = I::Memory::default();
+    integrate(
+        integrator,
+        particle,
+        flow,
+        state,
+        &mut memory,
+        plan,
+        events,
+        |_| {},
+        |_| {},
+    )
+}
+
 /// Evenly spaced output times n·Δ for n = 1..=N with NΔ = t_end.
 pub fn output_times(t_end: f64, count: usize) -> Vec<f64> {
     (1..=count).map(|n| t_end * n as f64 / count as f64).collect()

@@ -101,8 +101,7 @@ fn integrator_settings_validate_themselves() {
 #[test]
 fn a_step_past_an_exit_is_retried_and_the_particle_escapes() {
     use pseudorigid::contact::{ContactEvent, ContactModel, PatchRule, Plane, Planes};
-    use pseudorigid::driver::{Stop, integrate};
-    use pseudorigid::integrator::TimeIntegrator;
+    use pseudorigid::driver::{Stop, until_event};
     use pseudorigid::material::Rigid;
     struct Channel;
     impl FlowField for Channel {
@@ -132,20 +131,8 @@ fn a_step_past_an_exit_is_retried_and_the_particle_escapes() {
     let integrator = Stokesian::overdamped(1e-8).unwrap();
     let contact = ContactEvent::new(&exit, &p, &Channel, ContactModel::Barycentre { radius: 0.0 });
     let plan = Plan::new(10.0, 0.5).unwrap().with_dt_max(0.5).unwrap();
-    let mut memory = <Stokesian as TimeIntegrator>::Memory::default();
     let start = State::at_rest(Vec3::new(0.1, 0.0, 0.0));
-    let out = integrate(
-        &integrator,
-        &p,
-        &Channel,
-        start,
-        &mut memory,
-        &plan,
-        &[&contact],
-        |_| {},
-        |_| {},
-    )
-    .unwrap();
+    let out = until_event(&integrator, &p, &Channel, start, &plan, &[&contact]).unwrap();
     assert_eq!(out.stop, Stop::Event { index: 0 });
     assert!((out.state.t - 0.9).abs() < 1e-6, "escaped at {}", out.state.t);
 }

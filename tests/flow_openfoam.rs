@@ -755,9 +755,9 @@ fn hiemenz_wall_layer_converges_at_second_order() {
 #[test]
 fn hiemenz_sphere_reaches_the_wall_when_the_exact_flow_says() {
     use pseudorigid::contact::{ContactEvent, ContactModel};
-    use pseudorigid::driver::{Plan, Stop, integrate};
+    use pseudorigid::driver::{Plan, Stop, until_event};
     use pseudorigid::ellipsoid::Ellipsoid;
-    use pseudorigid::integrator::{Stokesian, TimeIntegrator};
+    use pseudorigid::integrator::Stokesian;
     use pseudorigid::material::Rigid;
     use pseudorigid::particle::{Fluid, Particle, State};
     let exact = Hiemenz::new(STRAIN, NU).unwrap();
@@ -780,20 +780,8 @@ fn hiemenz_sphere_reaches_the_wall_when_the_exact_flow_says() {
         let integrator = Stokesian::overdamped(1e-8).unwrap();
         let contact = ContactEvent::new(&boundary, &particle, &blend, ContactModel::Extent);
         let plan = Plan::new(10.0 * t_exact, 1e-3).unwrap();
-        let mut memory = <Stokesian as TimeIntegrator>::Memory::default();
         let start = State::at_rest(Vec3::new(0.0, y0, 0.125));
-        let out = integrate(
-            &integrator,
-            &particle,
-            &blend,
-            start,
-            &mut memory,
-            &plan,
-            &[&contact],
-            |_| {},
-            |_| {},
-        )
-        .unwrap();
+        let out = until_event(&integrator, &particle, &blend, start, &plan, &[&contact]).unwrap();
         assert_eq!(out.stop, Stop::Event { index: 0 });
         let error = out.state.t / t_exact - 1.0;
         eprintln!(
@@ -839,9 +827,9 @@ fn pich_formula_limits() {
 #[test]
 fn pich_deposition_on_meshed_pipes() {
     use pseudorigid::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
-    use pseudorigid::driver::{Plan, Stop, integrate};
+    use pseudorigid::driver::{Plan, Stop, until_event};
     use pseudorigid::ellipsoid::Ellipsoid;
-    use pseudorigid::integrator::{Stokesian, TimeIntegrator};
+    use pseudorigid::integrator::Stokesian;
     use pseudorigid::material::Rigid;
     use pseudorigid::particle::{Fluid, Particle, State};
     let (radius, length, mean, mu, a, rho) = (1.0, 4.0, 1.0, 1.0, 0.01, 1.0);
@@ -885,19 +873,8 @@ fn pich_deposition_on_meshed_pipes() {
                 let theta = std::f64::consts::TAU * halton(k + 1, 3);
                 let start = State::at_rest(Vec3::new(r * theta.cos(), r * theta.sin(), 1e-3 * length));
                 let contact = ContactEvent::new(&boundary, &particle, &flow, ContactModel::Barycentre { radius: 0.0 });
-                let mut memory = <Stokesian as TimeIntegrator>::Memory::default();
-                let out = integrate(
-                    &integrator,
-                    &particle,
-                    &flow,
-                    start,
-                    &mut memory,
-                    &plan,
-                    &[&contact],
-                    |_| {},
-                    |_| {},
-                )
-                .unwrap_or_else(|e| panic!("particle {k}: {e}"));
+                let out = until_event(&integrator, &particle, &flow, start, &plan, &[&contact])
+                    .unwrap_or_else(|e| panic!("particle {k}: {e}"));
                 assert_eq!(out.stop, Stop::Event { index: 0 }, "particle {k} suspended");
                 boundary.rule(contact.nearest(&out.state).patch) == PatchRule::Stick
             };
