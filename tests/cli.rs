@@ -398,7 +398,7 @@ type = "mesh"
 [particles]
 density = 1.0
 [particles.inject]
-count = 4
+count = 4000
 semi_axes = [0.01, 0.01, 0.01]
 fluid_velocity = true
 region = {region}
@@ -486,4 +486,90 @@ t_end = 0.1
         key == "particles.inject.region.name" && message.contains("no inflow"),
         "{key}: {message}"
     );
+}
+
+/// Two injection groups with their own density settle in a quiescent fluid as Stokes' law
+/// says for each: a rigid sphere of diameter d and density ρ_s under reduced gravity with
+/// drag 3πμd (Brenner's resistance of a sphere) falls by
+/// z(t) = v_t (t − τ(1 − e^{−t/τ})), v_t = (ρ_s − ρ_f) g d²/(18μ), τ = ρ_s d²/(18μ),
+/// the closed form of m v̇ = m(1 − ρ_f/ρ_s) g − 3πμd v from rest. Group 0 (particles 0..3)
+/// has ρ_s = 2000 from `particles.density`, group 1 (3..5) its own ρ_s = 3000: their terminal
+/// velocities differ by a factor 2, so a particle built with the other group's density misses
+/// by 50 % or more. The 10⁻⁴ tolerance is the Radau integrator's error at tol 10⁻⁸ over
+/// t/τ ≈ 900 relaxation times with room to spare, far below that factor. A single
+/// `[particles.inject]` table and a one-element `[[particles.inject]]` array are the same
+/// scene, and a group without any density is refused at its own key.
+#[test]
+fn injection_groups_carry_their_own_density() {
+    let (mu, rho_f, g, d) = (1e-3, 1000.0, 9.81, 10e-6);
+    let text = |groups: &str, shared: &str| {
+        format!(
+            r#"[flow]
+type = "quiescent"
+[fluid]
+viscosity = {mu}
+density = {rho_f}
+gravity = [0.0, 0.0, -{g}]
+[particles]
+{shared}
+{groups}
+[integrator]
+type = "stokesian"
+tol = 1e-8
+dt = 1e-7
+[end]
+t_end = 1e-2
+[output]
+vtk = false
+"#
+        )
+    };
+    let group = |header: &str, count: u32, density: &str, x: f64| {
+        format!(
+            "{header}\ncount = {count}\n{density}\nsemi_axes = [{r}, {r}, {r}]\nregion = {{ type = \"point\", at = [{x}, 0.0, 0.0] }}\nmaterial = {{ law = \"rigid\" }}\n",
+            r = d / 2.0
+        )
+    };
+    let parse_text = |t: &str| {
+        parse(
+            &Source {
+                file: "groups.toml",
+                text: t,
+            },
+            Path::new("."),
+        )
+    };
+    let two = format!(
+        "{}{}",
+        group("[[particles.inject]]", 3, "", 0.0),
+        group("[[particles.inject]]", 2, "density = 3000.0", 1.0)
+    );
+    let s = parse_text(&text(&two, "density = 2000.0")).unwrap();
+    assert_eq!(s.count(), 5);
+    let out = run(&s, "cli_groups");
+    let t_end = 1e-2;
+    for r in &out.records {
+        let spec = r.spec.as_ref().unwrap();
+        let (rho_s, x0) = if r.index < 3 { (2000.0, 0.0) } else { (3000.0, 1.0) };
+        assert_eq!((spec.density, spec.position[0]), (rho_s, x0), "particle {}", r.index);
+        let v_t = (rho_s - rho_f) * g * d * d / (18.0 * mu);
+        let tau = rho_s * d * d / (18.0 * mu);
+        let fall = v_t * (t_end - tau * (1.0 - (-t_end / tau).exp()));
+        let end = r.end.as_ref().unwrap();
+        let z = -end.x[2];
+        assert!(
+            (z - fall).abs() <= 1e-4 * fall,
+            "particle {} (ρ_s {rho_s}): fell {z:e}, Stokes {fall:e}",
+            r.index
+        );
+    }
+    // One group written either way is the same scene.
+    let one_table = parse_text(&text(&group("[particles.inject]", 3, "", 0.0), "density = 2000.0")).unwrap();
+    let one_array = parse_text(&text(&group("[[particles.inject]]", 3, "", 0.0), "density = 2000.0")).unwrap();
+    assert_eq!(one_table.particles, one_array.particles);
+    // No density anywhere: refused at the group's own key.
+    match parse_text(&text(&two, "")) {
+        Err(CliError::Scene { key, .. }) => assert_eq!(key, "particles.inject[0].density"),
+        other => panic!("expected a scene error, got {:?}", other.map(|s| s.count())),
+    }
 }

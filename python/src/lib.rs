@@ -549,7 +549,7 @@ impl Results {
         let mut patch = Vec::with_capacity(n);
         let mut flt: Vec<(String, Vec<f64>)> = [
             "t", "x1", "x2", "x3", "r1", "r2", "r3", "F11", "F12", "F13", "F21", "F22", "F23", "F31", "F32", "F33",
-            "x0_1", "x0_2", "x0_3", "rest_r1", "rest_r2", "rest_r3", "mu_s",
+            "x0_1", "x0_2", "x0_3", "rest_r1", "rest_r2", "rest_r3", "mu_s", "rho_s",
         ]
         .iter()
         .map(|c| (c.to_string(), Vec::with_capacity(n)))
@@ -580,8 +580,9 @@ impl Results {
                         Softness::Rigid => nan,
                         Softness::Elastic(law) => pseudorigid::material::Hyperelastic::shear_modulus(law),
                     });
+                    row.push(spec.density);
                 }
-                None => row.extend([nan; 7]),
+                None => row.extend([nan; 8]),
             }
             for ((_, col), v) in flt.iter_mut().zip(row) {
                 col.push(v);

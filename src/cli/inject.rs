@@ -1,5 +1,6 @@
 //! The particles of a scene as a population [`Injector`]: an explicit list (particle k is
-//! entry k) or an injection rule drawn from particle k's own generator.
+//! entry k) or injection groups, each drawing its particles from their own generators
+//! (particle k of the scene, in whichever group, draws from stream k).
 
 use super::models::{SceneDrag, SceneFlow, SceneLaw};
 use crate::ellipsoid::Ellipsoid;
@@ -20,13 +21,15 @@ pub enum Velocity {
     Fluid,
 }
 
-/// One particle's shape, response, start point and velocity rule.
+/// One particle's shape, response, density, start point and velocity rule.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Placement {
     /// Stress-free ellipsoid (with its orientation).
     pub shape: Ellipsoid,
     /// Shape response.
     pub softness: Softness<SceneLaw>,
+    /// Solid density ρ_s.
+    pub density: f64,
     /// Start point (ignored for injection, which draws it).
     pub position: Vec3,
     /// Start velocity.
@@ -39,6 +42,7 @@ impl Placement {
         ParticleSpec {
             shape: self.shape,
             softness: self.softness,
+            density: self.density,
             position: self.position,
             velocity,
         }
@@ -63,33 +67,45 @@ pub enum Region {
     Patch(WeightedTriangles),
 }
 
+/// One injection group: `count` particles drawn from their own generators.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Group {
+    /// Number of particles.
+    pub count: u64,
+    /// Start region.
+    pub region: Region,
+    /// Orientation uniform on SO(3) (else the placement's).
+    pub random_orientation: bool,
+    /// Shape (rest semi-axes and fixed orientation), response, density and velocity rule.
+    pub placement: Placement,
+}
+
 /// The particles of a scene.
 #[derive(Debug, Clone, PartialEq)]
-#[allow(clippy::large_enum_variant)] // one value per scene
 pub enum Source {
     /// Particle k is entry k.
     List(Vec<Placement>),
-    /// `count` particles drawn from their own generators.
-    Inject {
-        /// Number of particles.
-        count: u64,
-        /// Start region.
-        region: Region,
-        /// Orientation uniform on SO(3) (else the placement's).
-        random_orientation: bool,
-        /// Shape (rest semi-axes and fixed orientation), response and velocity rule.
-        placement: Placement,
-    },
+    /// Groups in order: group g holds the particles after those of groups 0..g.
+    Inject(Vec<Group>),
 }
 
 impl Source {
-    /// Number of particles.
+    /// Number of particles (saturating: a sum beyond u64 is refused by the scene's cap).
     pub fn count(&self) -> u64 {
         match self {
             Source::List(l) => l.len() as u64,
-            Source::Inject { count, .. } => *count,
+            Source::Inject(groups) => groups.iter().fold(0, |n, g| n.saturating_add(g.count)),
         }
     }
+}
+
+/// The group particle `index` belongs to: the first whose cumulative count exceeds it.
+fn group_of(groups: &[Group], index: u64) -> Option<&Group> {
+    let mut end = 0u64;
+    groups.iter().find(|g| {
+        end = end.saturating_add(g.count);
+        index < end
+    })
 }
 
 /// A scene's particles over its flow, as the population runner draws them.
@@ -137,12 +153,18 @@ impl Injector for SceneInjector<'_> {
                         })?;
                 self.start(placement, placement.position)
             }
-            Source::Inject {
-                region,
-                random_orientation,
-                placement,
-                ..
-            } => {
+            Source::Inject(groups) => {
+                let Group {
+                    region,
+                    random_orientation,
+                    placement,
+                    ..
+                } = group_of(groups, index).ok_or(ParamError::OutOfRange {
+                    name: "particle index",
+                    value: index as f64,
+                    min: 0.0,
+                    max: self.source.count() as f64 - 1.0,
+                })?;
                 // Fixed draw order (position, then orientation): particle k's numbers depend
                 // on its stream alone.
                 let position = match region {

@@ -24,9 +24,9 @@
 //! | `[boundary] type` | `pipe` (needs `radius`), `planes` (needs `[[boundary.walls]]`), `mesh` (the case's patches) |
 //! | `boundary.walls` | `name`, `point`, `normal` (outward), `rule` = `stick` or `exit` |
 //! | `boundary.contact_radius` | touch at this distance from the barycentre, ≥ 0 (0: point contact; default: the particle's extent touches) |
-//! | `[particles] density`, `drag`, `volumetric` | ρ_s of every particle; `brenner` (default) or `stokes_sphere`; the volumetric traction `paper` (default, the literal eq. 12), `dev` or `source` (needed by `imex_adaptive` at tight tolerances: the literal eq. 12 anti-damps dilation) |
-//! | `[[particles.list]]` | `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
-//! | `[particles.inject]` | `count`, `region` (`{ type = "point", at }`, `{ type = "disc", centre, normal, radius }` or `{ type = "patch", name }`: on an OpenFOAM patch weighted by the inflow through each face, moved inside by the particle's largest semi-axis), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material` |
+//! | `[particles] density`, `drag`, `volumetric` | ρ_s of every entry and group that gives no `density` of its own; `brenner` (default) or `stokes_sphere`; the volumetric traction `paper` (default, the literal eq. 12), `dev` or `source` (needed by `imex_adaptive` at tight tolerances: the literal eq. 12 anti-damps dilation) |
+//! | `[[particles.list]]` | `density` (default `particles.density`), `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
+//! | `[particles.inject]` or several `[[particles.inject]]` groups | `count`, `density` (default `particles.density`), `region` (`{ type = "point", at }`, `{ type = "disc", centre, normal, radius }` or `{ type = "patch", name }`: on an OpenFOAM patch weighted by the inflow through each face, moved inside by the particle's largest semi-axis), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material`; group g's particles follow those of groups 0..g in the index, and particle k draws from stream k whichever group it is in |
 //! | `material` | `{ law = "neo_hooke", mu, lambda }`, `{ law = "mooney_rivlin", mu1, mu2, lambda }` or `{ law = "rigid" }` |
 //! | `[integrator] type` | `imex` (the paper's, fixed `dt`), `imex_adaptive`, `stokesian` (the library's `Stokesian` default, Radau IIA), `stokesian_radau5` (Radau IIA, named), `stokesian_rosenbrock23` (the Rosenbrock-W 2(3) pair) (all three need `tol`) |
 //! | `integrator.dt`, `dt_max`, `overdamped` | first (or fixed) step, largest step, overdamped barycentre (`stokesian*`) |
@@ -37,7 +37,8 @@
 //! (*deposited*) or an `exit` (*escaped*), or when a step fails (*failed*, with the error).
 //!
 //! # Output (in `--out DIR`)
-//! `results.json` (every record, f64 exact), `results.csv` (one row per particle), with the
+//! `results.json` (every record, f64 exact), `results.csv` (one row per particle, with its spec's
+//! injection point, rest semi-axes, μ_s and ρ_s), with the
 //! feature `parquet` also `records.parquet` and `frames.parquet` ([`parquet`]),
 //! `particles.pvd` with `vtk/particles_NNNNNN.vtp` (one per output time: the particles with
 //! `V` = √(F̄F̄ᵀ) for ParaView's Tensor Glyph, `r1`..`r3`, `id`, `flag` 0 moving, 1 deposited,

@@ -140,6 +140,10 @@ pub fn write_records<L: Hyperelastic + Serialize + DeserializeOwned>(
             })
             .collect(),
     );
+    t.f64_or_null(
+        "rho_s",
+        recs.iter().map(|r| r.spec.as_ref().map(|s| s.density)).collect(),
+    );
     t.u64("steps", recs.iter().map(|r| r.stats.steps).collect());
     t.u64("rejected", recs.iter().map(|r| r.stats.rejected).collect());
     t.u64("rhs_evals", recs.iter().map(|r| r.stats.rhs_evals).collect());

@@ -7,7 +7,7 @@ mod particles;
 mod timing;
 
 use super::error::{CliError, Source};
-use super::inject::{Placement, SceneInjector, Source as ParticleSource, Velocity};
+use super::inject::{Group, Placement, SceneInjector, Source as ParticleSource, Velocity};
 use super::models::{SceneBoundary, SceneDrag, SceneFlow, SceneLaw};
 use super::schema::*;
 use crate::contact::{ContactModel, PatchRule, PipeWall, Plane, Planes};
@@ -174,7 +174,7 @@ impl Builder<'_> {
             },
             None => ContactModel::Extent,
         };
-        let template = self.template(&raw.fluid, &raw.particles)?;
+        let template = self.template(&raw.fluid, raw.particles.get_ref())?;
         let particles = self.particles(&raw.particles, &template, &flow)?;
         let integrator = self.integrator(&raw.integrator)?;
         let (plan, outputs) = self.plan(&raw.integrator, &raw.end, &raw.output, particles.count())?;

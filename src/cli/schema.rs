@@ -39,7 +39,7 @@ pub struct SceneFile {
     /// Walls and exits; none: the particles run to the end time.
     pub boundary: Option<BoundarySpec>,
     /// The particles.
-    pub particles: ParticlesSpec,
+    pub particles: Spanned<ParticlesSpec>,
     /// The time integrator.
     pub integrator: IntegratorSpec,
     /// When each particle's run ends.
@@ -173,12 +173,12 @@ pub enum RuleSpec {
     Exit,
 }
 
-/// `[particles]`: what all particles share, and either a list or an injection rule.
+/// `[particles]`: what all particles share, and either a list or injection groups.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticlesSpec {
-    /// Solid density ρ_s.
-    pub density: Num,
+    /// Solid density ρ_s of every entry or group that gives none of its own.
+    pub density: Option<Num>,
     /// Drag model (default `brenner`).
     #[serde(default)]
     pub drag: DragSpec,
@@ -189,8 +189,34 @@ pub struct ParticlesSpec {
     /// Explicit particles.
     #[serde(default)]
     pub list: Vec<ParticleEntry>,
-    /// Random injection.
-    pub inject: Option<InjectSpec>,
+    /// Random injection: one group (`[particles.inject]`) or several (`[[particles.inject]]`).
+    #[serde(default)]
+    pub inject: Groups,
+}
+
+/// The injection groups: a single `[particles.inject]` table or an array of
+/// `[[particles.inject]]` tables, in the order written (group g's particles follow group
+/// g − 1's).
+#[derive(Debug, Default)]
+pub struct Groups(pub Vec<InjectSpec>);
+
+impl<'de> Deserialize<'de> for Groups {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct OneOrMany;
+        impl<'de> serde::de::Visitor<'de> for OneOrMany {
+            type Value = Groups;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an injection table or an array of injection tables")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Groups, A::Error> {
+                InjectSpec::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(|g| Groups(vec![g]))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Groups, A::Error> {
+                Vec::deserialize(serde::de::value::SeqAccessDeserializer::new(seq)).map(Groups)
+            }
+        }
+        d.deserialize_any(OneOrMany)
+    }
 }
 
 /// Volumetric tractions by name (`crate::hydro::VolumetricTraction`).
@@ -221,6 +247,8 @@ pub enum DragSpec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticleEntry {
+    /// Solid density ρ_s of this particle (default `particles.density`).
+    pub density: Option<Num>,
     /// Rest semi-axes R₁, R₂, R₃.
     pub semi_axes: Num3,
     /// Initial orientation (default: the axes along e₁, e₂, e₃).
@@ -274,12 +302,14 @@ pub enum LawKind {
     Rigid,
 }
 
-/// `[particles.inject]`.
+/// `[particles.inject]`: one injection group.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InjectSpec {
     /// Number of particles.
     pub count: Spanned<u64>,
+    /// Solid density ρ_s of this group (default `particles.density`).
+    pub density: Option<Num>,
     /// Where they start.
     pub region: RegionSpec,
     /// A fixed initial orientation (default: the axes along e₁, e₂, e₃).

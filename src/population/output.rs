@@ -222,7 +222,7 @@ fn parse_result_name(name: &str) -> Option<(u64, u64)> {
 }
 
 /// Columns of [`RunOutput::table`].
-pub const TABLE_HEADER: [&str; 20] = [
+pub const TABLE_HEADER: [&str; 21] = [
     "index",
     "fate",
     "patch",
@@ -241,13 +241,15 @@ pub const TABLE_HEADER: [&str; 20] = [
     "rest_r2",
     "rest_r3",
     "mu_s",
+    "rho_s",
     "steps",
     "error",
 ];
 
 impl<L: Hyperelastic + Serialize + DeserializeOwned> RunOutput<L> {
     /// One row per particle: fate, patch, end time and barycentre, current semi-axes r₁ ≥ r₂ ≥
-    /// r₃ at the end, injection point, rest semi-axes, shear modulus μ_s (empty: rigid), steps
+    /// r₃ at the end, injection point, rest semi-axes, shear modulus μ_s (empty: rigid), solid
+    /// density ρ_s, steps
     /// and the error of a failed particle (commas and line breaks replaced by spaces). Empty
     /// fields where a quantity does not exist.
     pub fn table(&self) -> Result<Csv, PopulationError> {
@@ -275,8 +277,9 @@ impl<L: Hyperelastic + Serialize + DeserializeOwned> RunOutput<L> {
                         crate::material::Softness::Rigid => String::new(),
                         crate::material::Softness::Elastic(law) => num(law.shear_modulus()),
                     });
+                    row.push(num(spec.density));
                 }
-                None => row.extend([const { String::new() }; 7]),
+                None => row.extend([const { String::new() }; 8]),
             }
             row.push(r.stats.steps.to_string());
             row.push(match &r.fate {

@@ -27,6 +27,9 @@ use crate::tensor::{Mat3, Vec3};
 /// λ_s/μ_s of the elastic particles (the inertialess model keeps J = 1, so it never acts).
 const BULK_RATIO: f64 = 1e3;
 
+/// Solid density in these units (so m = π/6 for d_eq = 1).
+const DENSITY: f64 = 1.0;
+
 /// The settling pipe: flow, boundary (outlet plane, then the wall) and injection rule.
 #[derive(Debug, Clone)]
 pub struct SettlingPipe {
@@ -75,7 +78,7 @@ impl SettlingPipe {
         Ok(Self {
             flow: Poiseuille::new(radius, positive("mean velocity", mean_velocity)?)?,
             boundary: Composite::new(outlet, PipeWall::new(radius)?),
-            template: ParticleTemplate::new(Brenner, Fluid::new(1.0, 0.0)?, 1.0, gravity)?,
+            template: ParticleTemplate::new(Brenner, Fluid::new(1.0, 0.0)?, gravity)?,
             length,
             inlet_radius,
             aspect_ratio: 1.0,
@@ -153,6 +156,7 @@ impl Injector for SettlingPipe {
         Ok(ParticleSpec {
             shape,
             softness,
+            density: DENSITY,
             position,
             velocity: self.flow.sample(&position, 0.0)?.u,
         })

@@ -32,14 +32,16 @@ pub fn particle_rng(seed: u64, index: u64) -> ParticleRng {
 }
 
 /// Everything that differs between the particles of a population: the stress-free ellipsoid
-/// (semi-axes and initial orientation), the shape response, and the injection point and
-/// velocity. The injection time is 0.
+/// (semi-axes and initial orientation), the shape response, the solid density, and the
+/// injection point and velocity. The injection time is 0.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ParticleSpec<L> {
     /// Stress-free ellipsoid B₀: semi-axes along its initial axes (the orientation).
     pub shape: Ellipsoid,
     /// Rigid, or elastic with a hyperelastic law.
     pub softness: Softness<L>,
+    /// Solid density ρ_s (> 0; checked when the particle is built).
+    pub density: f64,
     /// Injection point x_c(0).
     pub position: Vec3,
     /// Injection velocity v_c(0).
@@ -73,28 +75,26 @@ pub trait Injector: Sync {
     -> Result<Particle<Softness<Self::Law>, Self::Drag>, ParamError>;
 }
 
-/// What the particles of a population share: drag model, carrier fluid, solid density and
-/// gravity. [`ParticleTemplate::build`] adds a [`ParticleSpec`]'s shape and response.
+/// What the particles of a population share: drag model, carrier fluid, gravity and the
+/// volumetric traction. [`ParticleTemplate::build`] adds a [`ParticleSpec`]'s shape, response
+/// and density.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParticleTemplate<D> {
     drag: D,
     fluid: Fluid,
-    rho_solid: f64,
     gravity: Vec3,
     volumetric: VolumetricTraction,
 }
 
 impl<D: DragModel + Clone> ParticleTemplate<D> {
-    /// Particles with drag `drag` in `fluid`, of density `rho_solid` (> 0) under `gravity`
-    /// (finite).
-    pub fn new(drag: D, fluid: Fluid, rho_solid: f64, gravity: Vec3) -> Result<Self, ParamError> {
+    /// Particles with drag `drag` in `fluid` under `gravity` (finite).
+    pub fn new(drag: D, fluid: Fluid, gravity: Vec3) -> Result<Self, ParamError> {
         for g in gravity.iter() {
             crate::error::finite("gravity", *g)?;
         }
         Ok(Self {
             drag,
             fluid,
-            rho_solid: crate::error::positive("rho_s", rho_solid)?,
             gravity,
             volumetric: VolumetricTraction::default(),
         })
@@ -115,7 +115,7 @@ impl<D: DragModel + Clone> ParticleTemplate<D> {
             spec.softness.clone(),
             self.drag.clone(),
             self.fluid,
-            self.rho_solid,
+            spec.density,
         )?
         .with_gravity(self.gravity)
         .map(|p| p.with_volumetric(self.volumetric))

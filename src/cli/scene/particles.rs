@@ -19,7 +19,6 @@ impl Builder<'_> {
             Some(g) => self.vec3(g, "fluid.gravity")?,
             None => Vec3::zeros(),
         };
-        let rho_s = self.positive(&particles.density, "particles.density")?;
         let drag = match particles.drag {
             DragSpec::Brenner => SceneDrag::Brenner,
             DragSpec::StokesSphere => SceneDrag::StokesSphere,
@@ -29,9 +28,20 @@ impl Builder<'_> {
             VolumetricSpec::Dev => VolumetricTraction::Dev,
             VolumetricSpec::Source => VolumetricTraction::Source,
         };
-        ParticleTemplate::new(drag, fluid_model, rho_s, gravity)
+        let at = fluid.gravity.as_ref().map_or(fluid.viscosity.span(), Spanned::span);
+        ParticleTemplate::new(drag, fluid_model, gravity)
             .map(|t| t.with_volumetric(volumetric))
-            .map_err(|e| self.param(particles.density.span(), "particles.density, fluid.gravity", e))
+            .map_err(|e| self.param(at, "fluid.gravity", e))
+    }
+
+    /// The solid density of an entry or group: its own `density` (`key`), else
+    /// `particles.density`; `at` is where the entry or group is written.
+    fn density(&self, own: Option<&Num>, shared: Option<&Num>, key: &str, at: Range<usize>) -> Result<f64, CliError> {
+        match (own, shared) {
+            (Some(v), _) => self.positive(v, key),
+            (None, Some(v)) => self.positive(v, "particles.density"),
+            (None, None) => Err(self.err(at, key, format!("give `{key}` or `particles.density`"))),
+        }
     }
 
     fn material(&self, m: &MaterialSpec, key: &str) -> Result<Softness<SceneLaw>, CliError> {
@@ -114,42 +124,57 @@ impl Builder<'_> {
 
     pub(super) fn particles(
         &self,
-        spec: &ParticlesSpec,
+        spanned: &Spanned<ParticlesSpec>,
         template: &ParticleTemplate<SceneDrag>,
         flow: &SceneFlow,
     ) -> Result<ParticleSource, CliError> {
-        let span = spec.density.span();
-        let source = match (&spec.inject, spec.list.is_empty()) {
-            (Some(_), false) => {
+        let (spec, span) = (spanned.get_ref(), spanned.span());
+        let shared = spec.density.as_ref();
+        let source = match (spec.inject.0.is_empty(), spec.list.is_empty()) {
+            (false, false) => {
                 return Err(self.err(
                     span,
                     "particles",
                     "give either `[[particles.list]]` or `[particles.inject]`, not both",
                 ));
             }
-            (None, true) => {
+            (true, true) => {
                 return Err(self.err(
                     span,
                     "particles",
                     "give `[[particles.list]]` entries or `[particles.inject]`",
                 ));
             }
-            (None, false) => {
+            (true, false) => {
                 let list = spec
                     .list
                     .iter()
                     .enumerate()
-                    .map(|(i, p)| self.listed(p, &format!("particles.list[{i}]"), template, flow))
+                    .map(|(i, p)| self.listed(p, &format!("particles.list[{i}]"), shared, template, flow))
                     .collect::<Result<Vec<_>, _>>()?;
                 ParticleSource::List(list)
             }
-            (Some(inj), true) => self.injection(inj, template, flow)?,
+            (false, true) => {
+                let groups = &spec.inject.0;
+                // A single `[particles.inject]` keeps its plain key in messages.
+                let key = |g: usize| match groups.len() {
+                    1 => "particles.inject".to_string(),
+                    _ => format!("particles.inject[{g}]"),
+                };
+                ParticleSource::Inject(
+                    groups
+                        .iter()
+                        .enumerate()
+                        .map(|(g, inj)| self.injection(inj, &key(g), shared, template, flow))
+                        .collect::<Result<Vec<_>, _>>()?,
+                )
+            }
         };
         if source.count() > MAX_PARTICLES {
             return Err(self.err(
                 span,
                 "particles.inject.count",
-                format!("at most {MAX_PARTICLES} particles"),
+                format!("at most {MAX_PARTICLES} particles in all"),
             ));
         }
         Ok(source)
@@ -159,9 +184,16 @@ impl Builder<'_> {
         &self,
         p: &ParticleEntry,
         key: &str,
+        shared: Option<&Num>,
         template: &ParticleTemplate<SceneDrag>,
         flow: &SceneFlow,
     ) -> Result<Placement, CliError> {
+        let density = self.density(
+            p.density.as_ref(),
+            shared,
+            &format!("{key}.density"),
+            p.semi_axes.span(),
+        )?;
         let axes = self.rotation(p.orientation.as_ref(), &format!("{key}.orientation"))?;
         let shape = self.shape(&p.semi_axes, axes, &format!("{key}.semi_axes"))?;
         let softness = self.material(&p.material, &format!("{key}.material"))?;
@@ -185,6 +217,7 @@ impl Builder<'_> {
         let placement = Placement {
             shape,
             softness,
+            density,
             position,
             velocity,
         };
@@ -193,7 +226,7 @@ impl Builder<'_> {
         template.build(&placement.spec(Vec3::zeros())).map_err(|e| {
             self.param(
                 p.semi_axes.span(),
-                &format!("{key}.semi_axes, {key}.material, particles.density"),
+                &format!("{key}.semi_axes, {key}.material, {key}.density"),
                 e,
             )
         })?;
@@ -203,29 +236,39 @@ impl Builder<'_> {
     fn injection(
         &self,
         inj: &InjectSpec,
+        key: &str,
+        shared: Option<&Num>,
         template: &ParticleTemplate<SceneDrag>,
         flow: &SceneFlow,
-    ) -> Result<ParticleSource, CliError> {
-        let key = "particles.inject";
+    ) -> Result<Group, CliError> {
         let count = *inj.count.get_ref();
         if count == 0 {
-            return Err(self.err(inj.count.span(), "particles.inject.count", "must be at least 1"));
+            return Err(self.err(inj.count.span(), &format!("{key}.count"), "must be at least 1"));
         }
         if inj.random_orientation && inj.orientation.is_some() {
             return Err(self.err(
                 inj.semi_axes.span(),
-                "particles.inject.orientation",
+                &format!("{key}.orientation"),
                 "give `orientation` or `random_orientation = true`, not both",
             ));
         }
+        let density = self.density(
+            inj.density.as_ref(),
+            shared,
+            &format!("{key}.density"),
+            inj.count.span(),
+        )?;
         let axes = self.rotation(inj.orientation.as_ref(), &format!("{key}.orientation"))?;
         let shape = self.shape(&inj.semi_axes, axes, &format!("{key}.semi_axes"))?;
         let softness = self.material(&inj.material, &format!("{key}.material"))?;
-        let region = self.region(&inj.region, flow, shape.semi_axes().iter().copied().fold(0.0, f64::max))?;
-        self.region_in_mesh(&region, inj.region.kind.span(), flow)?;
+        let key_region = format!("{key}.region");
+        let extent = shape.semi_axes().iter().copied().fold(0.0, f64::max);
+        let region = self.region(&inj.region, &key_region, flow, extent)?;
+        self.region_in_mesh(&region, &key_region, inj.region.kind.span(), flow)?;
         let placement = Placement {
             shape,
             softness,
+            density,
             position: Vec3::zeros(),
             velocity: if inj.fluid_velocity {
                 Velocity::Fluid
@@ -236,11 +279,11 @@ impl Builder<'_> {
         template.build(&placement.spec(Vec3::zeros())).map_err(|e| {
             self.param(
                 inj.semi_axes.span(),
-                "particles.inject.semi_axes, particles.inject.material, particles.density",
+                &format!("{key}.semi_axes, {key}.material, {key}.density"),
                 e,
             )
         })?;
-        Ok(ParticleSource::Inject {
+        Ok(Group {
             count,
             region,
             random_orientation: inj.random_orientation,
@@ -255,6 +298,7 @@ impl Builder<'_> {
     fn region_in_mesh(
         &self,
         region: &crate::cli::inject::Region,
+        key: &str,
         span: Range<usize>,
         flow: &SceneFlow,
     ) -> Result<(), CliError> {
@@ -284,7 +328,7 @@ impl Builder<'_> {
             if let Err(e) = cells.locate(&p, None) {
                 return Err(self.err(
                     span,
-                    "particles.inject.region",
+                    key,
                     format!("the injection region leaves the mesh at {:?}: {e}", [p[0], p[1], p[2]]),
                 ));
             }
@@ -292,9 +336,14 @@ impl Builder<'_> {
         Ok(())
     }
 
-    fn region(&self, r: &RegionSpec, flow: &SceneFlow, extent: f64) -> Result<crate::cli::inject::Region, CliError> {
+    fn region(
+        &self,
+        r: &RegionSpec,
+        key: &str,
+        flow: &SceneFlow,
+        extent: f64,
+    ) -> Result<crate::cli::inject::Region, CliError> {
         let at = r.kind.span();
-        let key = "particles.inject.region";
         let k = |name: &str| format!("{key}.{name}");
         match r.kind.get_ref() {
             RegionKind::Point => {
@@ -341,7 +390,7 @@ impl Builder<'_> {
                     "patch",
                 )?;
                 let name = self.need(&r.name, at, &k("name"), "patch")?;
-                self.patch_region(name, flow, extent)
+                self.patch_region(name, &k("name"), flow, extent)
             }
         }
     }
@@ -355,10 +404,10 @@ impl Builder<'_> {
     fn patch_region(
         &self,
         name: &Spanned<String>,
+        key: &str,
         flow: &SceneFlow,
         extent: f64,
     ) -> Result<crate::cli::inject::Region, CliError> {
-        let key = "particles.inject.region.name";
         let cells = match flow {
             SceneFlow::Foam(f) => f.as_ref(),
             SceneFlow::Blended(b) => b.cellwise(),

@@ -96,7 +96,7 @@ pub struct Injection<'a> {
 impl<'a> Injection<'a> {
     /// Particles of `kind` injected into `airway`.
     pub fn new(airway: &'a Airway, kind: Kind) -> Result<Self, ParamError> {
-        let template = ParticleTemplate::new(Brenner, fluid(), rho_particle(), Vec3::new(GRAVITY, 0.0, 0.0))?;
+        let template = ParticleTemplate::new(Brenner, fluid(), Vec3::new(GRAVITY, 0.0, 0.0))?;
         Ok(Self {
             airway,
             kind,
@@ -137,6 +137,7 @@ impl Injector for Injection<'_> {
         Ok(ParticleSpec {
             shape,
             softness: self.softness,
+            density: rho_particle(),
             position,
             velocity,
         })
