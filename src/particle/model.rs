@@ -15,6 +15,12 @@ use crate::material::{Hyperelastic, Response};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 
+/// Largest rest-state rate (1/time, in the particle's units) a particle may have: 10¹⁵⁰, so
+/// that its square, which error norms and Jacobian products form, stays below f64's 1.8·10³⁰⁸.
+/// Physical rates are nowhere near it in any unit system (a 1 nm particle of 1 kg/m³ in a
+/// fluid of 10⁶ Pa s has μ_f/(ρ_s R²) = 10²⁴ s⁻¹).
+pub const MAX_RATE: f64 = 1e150;
+
 /// Carrier fluid: dynamic viscosity μ_f and density ρ_f.
 ///
 /// The fields are public for reading; deserialisation goes through [`Fluid::new`], and
@@ -130,6 +136,38 @@ impl<M: Response, D: DragModel> Particle<M, D> {
                 name: "rest traction coefficients",
                 value: f64::NAN,
                 inputs: self.shape.semi_axes().iter().copied().collect(),
+            }),
+            None => self.check_rates(drag.amax()),
+        }
+    }
+
+    /// The rest state's rates must stay below [`MAX_RATE`]: the drag rate μ_f |K|/m, and the
+    /// viscous and elastic rates μ_f/(ρ_s R²) and (μ_s + |λ_s|)/(ρ_s R²) over the smallest
+    /// semi-axis R. Each parameter can be representable while these products are not, and an
+    /// integrator forms their squares (error norms, Jacobian products), so a larger rate ends
+    /// a step in a non-finite number instead of here.
+    fn check_rates(&self, drag_max: f64) -> Result<(), ParamError> {
+        let r_min = self.shape.semi_axes().iter().copied().fold(f64::INFINITY, f64::min);
+        let inertia = self.rho_solid * r_min * r_min;
+        let elastic = self
+            .material
+            .elastic()
+            .map_or(0.0, |law| law.shear_modulus() + law.lame_lambda().abs());
+        let mu = self.fluid.mu;
+        let rates = [
+            ("rest drag rate mu_f |K|/m", mu / self.mass * drag_max),
+            ("rest viscous rate mu_f/(rho_s R_min^2)", mu / inertia),
+            (
+                "rest elastic rate (mu_s + |lambda_s|)/(rho_s R_min^2)",
+                elastic / inertia,
+            ),
+        ];
+        match rates.into_iter().find(|(_, rate)| !(*rate <= MAX_RATE)) {
+            Some((name, value)) => Err(ParamError::OutOfRange {
+                name,
+                value,
+                min: 0.0,
+                max: MAX_RATE,
             }),
             None => Ok(()),
         }
