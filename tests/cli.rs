@@ -255,6 +255,81 @@ vtk = false
     assert!((time - 0.85).abs() < 1e-9, "t = {time}");
 }
 
+/// Every file under `dir` with its length and modification time.
+fn listing(dir: &Path) -> Vec<(PathBuf, u64, std::time::SystemTime)> {
+    let mut files = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for entry in std::fs::read_dir(&d).unwrap() {
+            let entry = entry.unwrap();
+            let meta = entry.metadata().unwrap();
+            if meta.is_dir() {
+                todo.push(entry.path());
+            } else {
+                files.push((entry.path(), meta.len(), meta.modified().unwrap()));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// The command reads a case wherever `flow.case` points (here an absolute path outside the
+/// scene's folder) and writes only under `--out`: the case and the scene's folder are
+/// unchanged, file for file, after `validate` and `run`.
+#[test]
+fn run_writes_only_under_out() {
+    let case = foam_case("cli_foam_readonly", |_| pseudorigid::tensor::Vec3::x());
+    let scene_dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_readonly_scene");
+    let _ = std::fs::remove_dir_all(&scene_dir);
+    std::fs::create_dir_all(&scene_dir).unwrap();
+    let scene = format!(
+        r#"[flow]
+type = "openfoam"
+case = "{}"
+[fluid]
+viscosity = 1.0
+density = 1.0
+[boundary]
+type = "mesh"
+[particles]
+density = 1.0
+[particles.inject]
+count = 3
+semi_axes = [0.05, 0.05, 0.05]
+fluid_velocity = true
+region = {{ type = "point", at = [0.2, 0.5, 0.5] }}
+material = {{ law = "rigid" }}
+[integrator]
+type = "stokesian"
+tol = 1e-6
+dt = 1e-3
+[end]
+t_end = 2.0
+[output]
+every = 0.5
+"#,
+        case.canonicalize().unwrap().display()
+    );
+    std::fs::write(scene_dir.join("scene.toml"), scene).unwrap();
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_readonly_out");
+    let _ = std::fs::remove_dir_all(&out);
+    let (case_before, scene_before) = (listing(&case), listing(&scene_dir));
+    for args in [vec!["validate"], vec!["run", "--quiet", "--out", out.to_str().unwrap()]] {
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_pseudorigid"))
+            .args(&args[..1])
+            .arg(scene_dir.join("scene.toml"))
+            .args(&args[1..])
+            .current_dir(&scene_dir)
+            .status()
+            .unwrap();
+        assert!(status.success(), "{args:?}");
+    }
+    assert!(out.join("results.csv").is_file());
+    assert_eq!(listing(&case), case_before);
+    assert_eq!(listing(&scene_dir), scene_before);
+}
+
 /// `probe` on a linear field: the reconstruction is exact for linear fields, so u and ∇u come
 /// back to round-off (1e-12 of |u| ~ 1); a point outside is flagged and NaN.
 #[test]

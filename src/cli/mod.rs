@@ -18,7 +18,7 @@
 //! | `[flow] type` | `quiescent`, `shear`, `planar_extension`, `uniaxial_extension`, `poiseuille`, `openfoam` |
 //! | `flow.rate` | γ̇ or ε̇ of the linear flows |
 //! | `flow.radius`, `flow.mean_velocity` | Poiseuille pipe along e₁: R and Ū (centreline 2Ū) |
-//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file) and time: a number, a list of numbers (linear in time between them) or `"latest"` (the default); a field that is zero in every cell is refused |
+//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file; an absolute path or one climbing with `..` is read as given: the command reads what the scene names, and writes nothing but under `--out`) and time: a number, a list of numbers (linear in time between them) or `"latest"` (the default); a field that is zero in every cell is refused |
 //! | `flow.blend` | `true` (default): the continuous field with the second-order no-slip wall layer (`flow::openfoam::BlendedFlow`); `false`: each cell's linear fit (discontinuous at faces, no wall-normal velocity near walls) |
 //! | `[fluid] viscosity`, `density`, `gravity` | μ_f, ρ_f, g (default 0) |
 //! | `[boundary] type` | `pipe` (needs `radius`), `planes` (needs `[[boundary.walls]]`), `mesh` (the case's patches) |
