@@ -170,3 +170,40 @@ fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
     // The cap re-uses the gap found for the same state, and agrees with a fresh query.
     assert_eq!(any.gap(&s), planes.nearest(&s.x, &any.extent(&s)).gap);
 }
+
+/// The layers (ARCHITECTURE.md): the flow layer uses only what lies below it (tensor algebra,
+/// ellipsoid geometry, errors). Contact with mesh patches lives in `contact::mesh`, above the
+/// mesh. The one exception, the legacy compact-field writer of `flow::unstructured` (and its
+/// error conversion), uses the crate's atomic file writes; it goes with that reader.
+#[test]
+fn flow_imports_nothing_above_itself() {
+    let below = ["tensor", "ellipsoid", "error", "flow"];
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/flow");
+    let mut todo = vec![root];
+    let mut upward = Vec::new();
+    while let Some(dir) = todo.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                todo.push(path);
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("");
+                for (i, _) in code.match_indices("crate::") {
+                    let module: String = code[i + 7..]
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect();
+                    let legacy = module == "output"
+                        && (path.ends_with("unstructured/compact.rs") || path.ends_with("unstructured/error.rs"));
+                    if !below.contains(&module.as_str()) && !legacy {
+                        upward.push(format!("{}:{}: crate::{module}", path.display(), n + 1));
+                    }
+                }
+            }
+        }
+    }
+    assert!(upward.is_empty(), "flow imports from above: {upward:#?}");
+}

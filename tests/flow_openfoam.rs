@@ -7,12 +7,11 @@ mod build;
 
 use build::{Format, Shape, cube, sampled, write_case};
 use pseudorigid::contact::{Boundary, Extent, PatchRule};
+use pseudorigid::contact::{MeshBoundary, PatchGap};
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
-use pseudorigid::flow::openfoam::{
-    BlendedFlow, FoamCase, FoamError, FoamFlow, MeshBoundary, PatchGap, PatchRole, PatchSet, PolyMesh,
-};
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, PatchRole, PatchSet, PolyMesh};
 use pseudorigid::flow::stagnation::Hiemenz;
 use pseudorigid::tensor::{Mat3, Vec3};
 use std::path::PathBuf;

@@ -1,11 +1,12 @@
 //! The models a scene file can name, each one type over the library's choices, so that one
 //! scene mixes laws and picks its flow and boundary at run time.
 
+use crate::contact::MeshBoundary;
 use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Planes};
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
-use crate::flow::openfoam::{BlendedFlow, FoamFlow, MeshBoundary};
+use crate::flow::openfoam::{BlendedFlow, FoamFlow};
 use crate::flow::{FlowField, FlowSample};
 use crate::hydro::{Brenner, DragModel, StokesSphere};
 use crate::material::{Hyperelastic, MooneyRivlin, NeoHooke};

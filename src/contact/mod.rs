@@ -9,43 +9,25 @@
 //! gap g = d − h(n) ≤ 0. Each patch carries a rule: the particle deposits ([`PatchRule::Stick`])
 //! or leaves the domain ([`PatchRule::Exit`]).
 //!
-//! # Contact as an event
-//! [`ContactEvent`] turns a [`Boundary`] into a terminal [`Event`] of the driver: g is the gap to
-//! the nearest patch, located on the dense output to |g| ≤ 10⁻⁹ of the particle's equivalent
-//! diameter. It caps every step so that the gap to the nearest patch can close by at most
-//! g + δ_s, with δ_s half the particle's smallest rest semi-axis, at the current rates: the
-//! barycentre approaches at |v·n| and a tip at distance ≤ r₁ sweeps at ≤ r₁|∇u| (rotation and
-//! stretching by the flow), so $(|v·n| + r_1 |\nabla u|)\\,\Delta t \le g + \delta_s$. A tumbling tip
-//! then cannot touch and leave the wall within one step.
-//!
-//! Only the nearest patch is watched, so the cap must also keep the particle off every other
-//! patch. How it does depends on the boundary's [`Approach`]: along one smooth wall (a pipe)
-//! only the normal velocity closes the gap, $|v·n|$ above. At corners and ridges (mesh walls)
-//! the particle may reach another patch while moving along the nearest one; there the cap uses
-//! the full speed |v|, $(|v| + r_1 |\nabla u|)\\,\Delta t \le g + \delta_s$, which keeps the
-//! particle within the gap of where it was in every direction. The gap to the nearest face is a
-//! lower bound of the distance to every other face: exactly so on a plane, and at a convex
-//! ridge because each face's plane supports the wall. Planar walls keep the normal cap; in
-//! their corners a scene caps the step by its flow speed ([`crate::driver::Plan::with_dt_max`]),
-//! as the cavity does.
+//! [`ContactEvent`] (in [`event`]) makes a boundary a terminal event of the driver.
 
 pub mod composite;
+pub mod event;
+#[cfg(feature = "mesh")]
+pub mod mesh;
 pub mod pipe;
 pub mod planes;
 
 pub use composite::Composite;
+pub use event::{ContactEvent, ContactModel};
+#[cfg(feature = "mesh")]
+pub use mesh::{FaceGap, MeshBoundary, PatchGap};
 pub use pipe::PipeWall;
 pub use planes::{Plane, Planes};
 
-use crate::driver::Event;
 use crate::ellipsoid::PrincipalFrame;
-use crate::flow::FlowField;
-use crate::hydro::DragModel;
-use crate::material::Response;
-use crate::particle::{Particle, State};
-use crate::tensor::{Mat3, Vec3};
+use crate::tensor::Vec3;
 use serde::{Deserialize, Serialize};
-use std::cell::Cell;
 
 /// What happens to a particle that touches a patch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -138,133 +120,5 @@ impl Boundary for Unbounded {
 
     fn rule(&self, _patch: usize) -> PatchRule {
         PatchRule::Stick
-    }
-}
-
-/// Which extent a [`ContactEvent`] uses.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ContactModel {
-    /// The current ellipsoid.
-    Extent,
-    /// The barycentre with a fixed contact distance δ (not tied to the current shape, so it
-    /// cannot collapse as a soft particle thins).
-    Barycentre {
-        /// Contact distance δ.
-        radius: f64,
-    },
-}
-
-/// Wall contact of one particle with a boundary, as a terminal driver event.
-pub struct ContactEvent<'a, B: ?Sized, M, D, F: ?Sized> {
-    boundary: &'a B,
-    particle: &'a Particle<M, D>,
-    flow: &'a F,
-    model: ContactModel,
-    slack: f64,
-    scale: f64,
-    /// The last state asked about and what was found there. The driver asks for the gap at a
-    /// step's end and then for the cap of the next step from that same state: one boundary
-    /// query and one principal frame per step instead of two of each.
-    seen: Cell<Option<Seen>>,
-}
-
-/// A state's barycentre and F, with its nearest patch and longest semi-axis.
-#[derive(Debug, Clone, Copy)]
-struct Seen {
-    x: Vec3,
-    f: Mat3,
-    near: Gap,
-    r1: f64,
-}
-
-impl<'a, B, M, D, F> ContactEvent<'a, B, M, D, F>
-where
-    B: Boundary + ?Sized,
-    M: Response,
-    D: DragModel,
-    F: FlowField + ?Sized,
-{
-    /// Contact of `particle` in `flow` with `boundary` under `model`.
-    pub fn new(boundary: &'a B, particle: &'a Particle<M, D>, flow: &'a F, model: ContactModel) -> Self {
-        let rest = particle.shape().semi_axes();
-        Self {
-            boundary,
-            particle,
-            flow,
-            model,
-            slack: 0.5 * rest.min(),
-            scale: 2.0 * rest.product().cbrt(),
-            seen: Cell::new(None),
-        }
-    }
-
-    /// The extent of the particle in `state`.
-    pub fn extent(&self, state: &State) -> Extent {
-        self.extent_in(self.frame(state))
-    }
-
-    /// The nearest patch and its gap in `state`.
-    pub fn nearest(&self, state: &State) -> Gap {
-        self.seen(state).near
-    }
-
-    fn frame(&self, state: &State) -> PrincipalFrame {
-        PrincipalFrame::from_total_distortion(&self.particle.total_distortion(&state.f))
-    }
-
-    fn extent_in(&self, frame: PrincipalFrame) -> Extent {
-        match self.model {
-            ContactModel::Extent => Extent::Ellipsoid(frame),
-            ContactModel::Barycentre { radius } => Extent::Point { radius },
-        }
-    }
-
-    fn seen(&self, state: &State) -> Seen {
-        if let Some(seen) = self.seen.get()
-            && seen.x == state.x
-            && seen.f == state.f
-        {
-            return seen;
-        }
-        let frame = self.frame(state);
-        let seen = Seen {
-            x: state.x,
-            f: state.f,
-            near: self.boundary.nearest(&state.x, &self.extent_in(frame)),
-            r1: frame.r[0],
-        };
-        self.seen.set(Some(seen));
-        seen
-    }
-}
-
-impl<B, M, D, F> Event for ContactEvent<'_, B, M, D, F>
-where
-    B: Boundary + ?Sized,
-    M: Response,
-    D: DragModel,
-    F: FlowField + ?Sized,
-{
-    fn gap(&self, state: &State) -> f64 {
-        self.nearest(state).gap
-    }
-
-    fn scale(&self, _state: &State) -> f64 {
-        self.scale
-    }
-
-    fn max_step(&self, state: &State) -> f64 {
-        let sweep = match self.flow.sample(&state.x, state.t) {
-            Ok(s) => s.grad_u.norm(),
-            // Outside the flow the step fails anyway; do not cap.
-            Err(_) => return f64::INFINITY,
-        };
-        let Seen { near, r1, .. } = self.seen(state);
-        let approach = match self.boundary.approach() {
-            Approach::Normal => state.v.dot(&near.normal).abs(),
-            Approach::AnyDirection => state.v.norm(),
-        };
-        let rate = approach + r1 * sweep;
-        (near.gap.max(0.0) + self.slack) / rate.max(f64::MIN_POSITIVE)
     }
 }

@@ -66,7 +66,7 @@
 //!
 //! # Just outside the mesh
 //! A point inside some cell's support is evaluated even if it lies outside the mesh: the fits
-//! extrapolate linearly, exactly for linear fields. Particle boundaries ([`super::MeshBoundary`])
+//! extrapolate linearly, exactly for linear fields. Particle boundaries (`contact::MeshBoundary`)
 //! measure the gap to the face planes, while location uses the faces' tetrahedral
 //! decomposition; on warped snapped faces the two differ by a fraction of the warp, and a
 //! particle touching the plane could otherwise have its integrator's trial stages refused tens

@@ -48,7 +48,7 @@ pub use error::FoamError;
 pub use field::{VolField, read_vol_field};
 pub use locate::CellLocator;
 pub use mesh::{Patch, PolyMesh};
-pub use patch::{FaceGap, MeshBoundary, PatchGap, PatchRole, PatchSet};
+pub use patch::{PatchRole, PatchSet, SetFace};
 pub use reconstruct::Stencils;
 pub use wall_layer::{WallFit, WallGeometry};
 

@@ -34,7 +34,7 @@
 //! - *Normal*: continuity fixes the leading coefficient, $c_f = −\tfrac12 ∇_s·γ$, and the
 //!   solver's own value at the centre the next, $e_f = (u_{o,n} − c_f ρ^2)/ρ^3$, so the fit
 //!   passes through the cell's value. The cubic is limited to $|e_f| ρ ≤ |c_f|$
-//!   ([`MAX_CUBIC`]): a finite-volume value of $u_n$ at a thin cell's centre has an O(1)
+//!   (`MAX_CUBIC`): a finite-volume value of $u_n$ at a thin cell's centre has an O(1)
 //!   relative error of its own (it is O(ρ²), like $u_n$ itself), and the limit keeps the sign
 //!   of continuity's term below the centre, so no spurious stagnation layer appears.
 //! - *Trace*: $\operatorname{tr}∇L_f = 3e_f δ^2$: divergence-free to the order of the

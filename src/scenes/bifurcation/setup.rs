@@ -12,8 +12,9 @@
 //! pairs (Stk 0.1 ↔ 8.06 µm, 0.4 ↔ 16.12 µm, 0.5 ↔ 18.03 µm) all hold, to the printed
 //! digits, for ρ_p/ρ_f ∈ [1993.7, 1994.4]; we take [`DENSITY_RATIO`] = 1994.
 
+use crate::contact::MeshBoundary;
 use crate::error::{ParamError, positive};
-use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, MeshBoundary};
+use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
 use crate::particle::Fluid;
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,190 @@
+//! OpenFOAM boundary patches as particle boundaries: the gap between a particle's extent and
+//! the nearest face of a set of patches.
+//!
+//! # Physics
+//! A particle is an ellipsoid with barycentre $x_c$, semi-axes $r_a$ and rotation Q (rows: the
+//! principal directions). Its extent along a unit vector n is the support distance
+//! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2}$, so against a boundary face with centre $x_f$ and
+//! outward unit normal $n_f$ the gap is $g = (x_f − x_c)·n_f − h(n_f)$; g ≤ 0 is contact.
+//! The face that counts is the one the particle's extreme point faces: among the faces whose
+//! bounding boxes are near enough to hold a nearer face ([`PatchGap::nearest_gap`]), those for
+//! which the support point $s = x_c + b\\,n_f / h(n_f)$ ($b = Q^T \mathrm{diag}(r_a^2)\\,Q$,
+//! the point of the ellipsoid farthest along $n_f$) projects into the face polygon; the
+//! smallest of their gaps is the gap. (Taking the smallest plane gap over all nearby faces
+//! would be wrong at convex walls, where the planes of neighbouring faces cut into the fluid.)
+//! If the support point projects into none of them (over an edge between faces), the face
+//! nearest to it is used. Exact for planar walls; on a curved wall meshed with faces of size h
+//! whose vertices lie on the surface, within the sagitta O(h²κ) of the gap to the surface (κ
+//! the curvature). Wall patches (`type wall`) deposit; generic patches (`type patch`: inlets
+//! and outlets) let the particle exit; constraint patches (`empty`, `symmetry*`, `wedge`,
+//! `cyclic`, ...) are not particle boundaries ([`PatchRole`]). [`MeshBoundary`] presents the
+//! wall and exit patches as a [`Boundary`], so [`super::ContactEvent`] detects deposition and
+//! escape on any mesh.
+
+use super::{Approach, Boundary, Extent, Gap, PatchRule};
+use crate::ellipsoid::frame::support_distance;
+use crate::flow::openfoam::{FoamError, PatchRole, PatchSet, PolyMesh, SetFace};
+use crate::tensor::{Mat3, Vec3};
+
+/// The nearest boundary face to a particle and the gap to it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceGap {
+    /// Mesh face index.
+    pub face: usize,
+    /// Patch index in [`PolyMesh::patches`].
+    pub patch: usize,
+    /// Gap $g$ (negative: overlap depth).
+    pub gap: f64,
+    /// Outward unit normal of the face.
+    pub normal: Vec3,
+}
+
+/// Gap between an ellipsoidal particle and a boundary.
+pub trait PatchGap {
+    /// The smallest gap over the boundary's faces near the particle, `None` if it has none.
+    fn nearest_gap(&self, centre: &Vec3, semi_axes: &Vec3, q: &Mat3) -> Option<FaceGap>;
+}
+
+impl PatchGap for PatchSet {
+    fn nearest_gap(&self, centre: &Vec3, semi_axes: &Vec3, q: &Mat3) -> Option<FaceGap> {
+        let r2 = semi_axes.component_mul(semi_axes);
+        let mut covered: Option<FaceGap> = None;
+        let mut nearest: Option<(f64, FaceGap)> = None;
+        // Faces in order of their bounding box's distance from the centre, a lower bound of
+        // the distance to the face. A face that covers the support point's projection is at
+        // its plane distance, so once a box lies farther than the best covered gap plus the
+        // particle's extent (the support point is within the largest semi-axis of the centre)
+        // no later face can do better. Without a covered face the search goes on within the
+        // first box's distance plus twice the largest circumradius and semi-axis. (A fixed
+        // number of nearest face centres missed a long wall face beside the small faces of an
+        // adjacent outlet, and let particles cross the wall unseen.)
+        let reach = 2.0 * semi_axes.amax();
+        let mut uncovered_bound = f64::INFINITY;
+        for (i, distance) in self.by_box_distance(centre) {
+            if let Some(c) = &covered
+                && distance > c.gap.abs() + 2.0 * reach
+            {
+                break;
+            }
+            if distance > uncovered_bound {
+                break;
+            }
+            if uncovered_bound.is_infinite() {
+                uncovered_bound = distance + 2.0 * self.circumradius() + 2.0 * reach;
+            }
+            let SetFace {
+                face,
+                patch,
+                centre: face_centre,
+                normal: n,
+            } = self.face(i);
+            let h = support_distance(semi_axes, q, &n);
+            let gap = (face_centre - centre).dot(&n) - h;
+            let candidate = FaceGap {
+                face,
+                patch,
+                gap,
+                normal: n,
+            };
+            // The ellipsoid's extreme point along n (a point particle's centre), projected onto
+            // the face plane.
+            let support = if h > 0.0 {
+                centre + q.transpose() * (q * n).component_mul(&r2) / h
+            } else {
+                *centre
+            };
+            let projected = support + n * (face_centre - support).dot(&n);
+            if self.covers(i, &projected) {
+                // Ties (a support point over a shared edge) go to the lowest face number, so
+                // the answer does not depend on the index's traversal order.
+                if covered.is_none_or(|c| (gap, candidate.face) < (c.gap, c.face)) {
+                    covered = Some(candidate);
+                }
+            } else {
+                let d = (face_centre - projected).norm();
+                if nearest.is_none_or(|(dn, c)| (d, candidate.face) < (dn, c.face)) {
+                    nearest = Some((d, candidate));
+                }
+            }
+        }
+        covered.or(nearest.map(|(_, c)| c))
+    }
+}
+
+/// The wall and exit patches of a mesh as a contact boundary: walls deposit
+/// ([`PatchRule::Stick`]), exits let the particle leave ([`PatchRule::Exit`]). Patch indices in
+/// [`Gap::patch`] count these patches only, in mesh order.
+#[derive(Debug, Clone)]
+pub struct MeshBoundary {
+    set: PatchSet,
+    /// Mesh patch index of each boundary patch.
+    mesh_patches: Vec<usize>,
+    names: Vec<String>,
+    rules: Vec<PatchRule>,
+}
+
+impl MeshBoundary {
+    /// The particle boundaries of `mesh`; it needs at least one wall or exit patch with faces.
+    pub fn new(mesh: &PolyMesh) -> Result<Self, FoamError> {
+        let mut mesh_patches = Vec::new();
+        let mut rules = Vec::new();
+        for (p, patch) in mesh.patches().iter().enumerate() {
+            let rule = match PatchRole::of(&patch.kind) {
+                PatchRole::Wall => PatchRule::Stick,
+                PatchRole::Exit => PatchRule::Exit,
+                PatchRole::Constraint => continue,
+            };
+            if patch.size > 0 {
+                mesh_patches.push(p);
+                rules.push(rule);
+            }
+        }
+        if mesh_patches.is_empty() {
+            return Err(FoamError::Mesh {
+                reason: "no wall or patch-type patch with faces: nothing for particles to touch".into(),
+            });
+        }
+        Ok(Self {
+            set: PatchSet::new(mesh, &mesh_patches),
+            names: mesh_patches.iter().map(|&p| mesh.patches()[p].name.clone()).collect(),
+            mesh_patches,
+            rules,
+        })
+    }
+}
+
+impl Boundary for MeshBoundary {
+    fn nearest(&self, x: &Vec3, extent: &Extent) -> Gap {
+        // A point particle of contact radius δ is the sphere of radius δ.
+        let (axes, q) = match extent {
+            Extent::Ellipsoid(frame) => (frame.r, frame.q),
+            Extent::Point { radius } => (Vec3::repeat(*radius), Mat3::identity()),
+        };
+        let hit = self
+            .set
+            .nearest_gap(x, &axes, &q)
+            .expect("MeshBoundary::new keeps at least one face");
+        Gap {
+            patch: self
+                .mesh_patches
+                .iter()
+                .position(|&p| p == hit.patch)
+                .expect("faces come from the listed patches"),
+            gap: hit.gap,
+            normal: hit.normal,
+        }
+    }
+
+    fn patch_name(&self, patch: usize) -> &str {
+        &self.names[patch]
+    }
+
+    fn rule(&self, patch: usize) -> PatchRule {
+        self.rules[patch]
+    }
+
+    /// Mesh walls have ridges (a carina) and corners.
+    fn approach(&self) -> Approach {
+        Approach::AnyDirection
+    }
+}
