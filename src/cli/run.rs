@@ -40,12 +40,20 @@ pub enum Job {
 }
 
 impl Scene {
-    /// The population's identity: seed, size and the scene text.
+    /// The population's identity: seed, size, the scene text and the fingerprints of the flow
+    /// and the boundary as loaded ([`super::models::SceneFlow::fingerprint`], [`super::models::SceneBoundary::fingerprint`]):
+    /// the scene text names an OpenFOAM case by path and time, which may hold another field
+    /// by the next run; the fingerprints say what was read.
     pub fn config(&self) -> RunConfig {
         RunConfig {
             seed: self.seed,
             particles: self.count(),
-            fingerprint: self.text.clone(),
+            fingerprint: format!(
+                "{}\nflow: {}\nboundary: {}",
+                self.text,
+                self.flow.fingerprint(),
+                self.boundary.fingerprint()
+            ),
         }
     }
 
