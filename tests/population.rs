@@ -259,7 +259,7 @@ fn checkpoint_guards_and_resume_of_a_finished_run() {
     // A chunk that is not ours: cut short (not something write_atomic leaves, but a copy
     // gone wrong), or holding a particle of another shard.
     let chunk = std::fs::read_dir(&dir).unwrap().next().unwrap().unwrap().path();
-    let text = std::fs::read_to_string(&chunk).unwrap();
+    let text = chunk_text(&chunk);
     std::fs::write(dir.join("chunk-90000000.json"), &text[..text.len() / 2]).unwrap();
     let err = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
     assert!(
@@ -279,6 +279,19 @@ fn checkpoint_guards_and_resume_of_a_finished_run() {
         matches!(err, PopulationError::ConflictingRecords { index: 3, .. }),
         "{err}"
     );
+}
+
+/// The JSON text of a checkpoint chunk (written gzipped). The tests write edited chunks back
+/// as plain text, which the reader takes too (it goes by gzip's magic number, not the name).
+fn chunk_text(path: &std::path::Path) -> String {
+    use std::io::Read as _;
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..2], [0x1f, 0x8b], "{} is not gzipped", path.display());
+    let mut text = String::new();
+    flate2::read::GzDecoder::new(bytes.as_slice())
+        .read_to_string(&mut text)
+        .unwrap();
+    text
 }
 
 /// Change the first digit of the first `"key":<integer>` in `text` (a different value, the JSON
@@ -314,7 +327,7 @@ fn edited_chunk_and_shard_are_refused_by_their_checksum() {
         .unwrap()
         .unwrap()
         .path();
-    let text = std::fs::read_to_string(&chunk).unwrap();
+    let text = chunk_text(&chunk);
     let resume = || run(&case, &config, Shard::ALL, &opts.clone().resume(true));
     for edited in [
         edit_digit(&text, "steps"),
@@ -351,7 +364,7 @@ fn edited_chunk_and_shard_are_refused_by_their_checksum() {
     }
     let folder = checkpoint_dir(&shards, Shard::new(1, 2).unwrap());
     let shard_chunk = std::fs::read_dir(&folder).unwrap().next().unwrap().unwrap().path();
-    let text = std::fs::read_to_string(&shard_chunk).unwrap();
+    let text = chunk_text(&shard_chunk);
     std::fs::write(&shard_chunk, edit_digit(&text, "steps")).unwrap();
     let err = RunOutput::<NeoHooke>::merge_dir(&shards).unwrap_err();
     assert!(

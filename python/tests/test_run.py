@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import _thread
 import csv
+import gzip
 import pathlib
 import subprocess
 
@@ -149,15 +150,15 @@ def test_edited_checkpoint_chunk_is_refused(tmp_path, small_scene):
     PopulationError naming the chunk, instead of resuming into different results."""
     scene = pr.Scene.from_dict(small_scene)
     pr.run(scene, tmp_path)
-    chunk = next((tmp_path / "checkpoint-0000-of-0001").glob("chunk-*.json"))
-    text = chunk.read_text()
+    chunk = next((tmp_path / "checkpoint-0000-of-0001").glob("chunk-*.json.gz"))
+    text = gzip.decompress(chunk.read_bytes()).decode()
     at = text.index('"steps":') + len('"steps":')
     digit = "1" if text[at] == "9" else str(int(text[at]) + 1)
-    chunk.write_text(text[:at] + digit + text[at + 1 :])
+    chunk.write_bytes(gzip.compress((text[:at] + digit + text[at + 1 :]).encode()))
     with pytest.raises(pr.PopulationError, match="checksum") as info:
         pr.run(scene, tmp_path, resume=True)
     assert str(chunk) in str(info.value)
-    chunk.write_text(text)
+    chunk.write_bytes(gzip.compress(text.encode()))
     assert len(pr.run(scene, tmp_path, resume=True)) == 12
 
 

@@ -38,7 +38,7 @@
 //!
 //! # Output (in `--out DIR`)
 //! Every result is written once. `checkpoint-<k>-of-<N>/` holds the records of shard k of N
-//! (the whole run: `checkpoint-0000-of-0001/`) as sealed JSON chunks, every f64 exact: after a
+//! (the whole run: `checkpoint-0000-of-0001/`) as sealed, gzipped JSON chunks, every f64 exact: after a
 //! kill, `run --resume` continues and gives bitwise the results of an uninterrupted run, and
 //! `merge` reads the shards' checkpoints. With the feature `parquet` the tables are
 //! `records.parquet` (one row per particle) and `frames.parquet` ([`parquet`]); a shard writes
