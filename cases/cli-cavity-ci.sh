@@ -13,7 +13,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 sed -e 's|^case = .*|case = "'"$repo"'/cases/cavity-ci"|' -e 's|^t_end = .*|t_end = 2.0|' scenes/cavity.toml > "$work/cavity.toml"
 "$target/release/pseudorigid" validate "$work/cavity.toml"
-"$target/release/pseudorigid" run --quiet "$work/cavity.toml" --out "$work/out"
+"$target/release/pseudorigid" run --quiet --csv "$work/cavity.toml" --out "$work/out"
 if grep -q '^0,failed,' "$work/out/results.csv"; then
     cat "$work/out/results.csv" >&2
     echo "cli-cavity-ci: the particle's run failed" >&2

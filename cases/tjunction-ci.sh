@@ -17,7 +17,7 @@ cd "$repo"
 cargo build --release --bin pseudorigid
 target="${CARGO_TARGET_DIR:-$repo/target}"
 "$target/release/pseudorigid" validate "$work/scene.toml"
-"$target/release/pseudorigid" run --quiet "$work/scene.toml" --out "$work/out"
+"$target/release/pseudorigid" run --quiet --csv "$work/scene.toml" --out "$work/out"
 python3 - "$work/flux.txt" "$work/out/results.csv" <<'PY'
 import csv, math, sys
 flux = dict(line.split() for line in open(sys.argv[1]) if line.strip())

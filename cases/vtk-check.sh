@@ -16,7 +16,7 @@ trap 'rm -rf "$out"' EXIT
 cd "$root"
 cargo build --release --bin pseudorigid
 target="${CARGO_TARGET_DIR:-$root/target}"
-"$target/release/pseudorigid" run --quiet scenes/shear_injection.toml --out "$out/run"
+"$target/release/pseudorigid" run --quiet --csv scenes/shear_injection.toml --out "$out/run"
 set -- /usr/bin/python3 "$root/cases/vtk-check.py" "$out/run"
 if [ -n "$png" ]; then
     set -- "$@" --png "$png" --frame 15

@@ -330,6 +330,62 @@ every = 0.5
     assert_eq!(listing(&scene_dir), scene_before);
 }
 
+/// The configuration hash of a scene on an OpenFOAM case covers the field as read, not only
+/// the scene text: the same scene file (same case path and time) over a case whose velocity
+/// was solved again differently gets another hash, so its checkpoints, shards and caches are
+/// never taken for this run's; the same field read again gets the same hash; an analytic flow
+/// with another rate does too (its text differs). Blended and cellwise fields differ.
+#[test]
+fn config_hash_covers_the_flow_field_and_boundary() {
+    let text = |case: &Path, blend: bool| {
+        format!(
+            "[flow]\ntype = \"openfoam\"\ncase = \"{}\"\nblend = {blend}\n[fluid]\nviscosity = 1.0\ndensity = 1.0\n\
+             [boundary]\ntype = \"mesh\"\n[particles]\ndensity = 1.0\n[[particles.list]]\n\
+             semi_axes = [0.05, 0.05, 0.05]\nposition = [0.1, 0.5, 0.5]\nfluid_velocity = true\n\
+             material = {{ law = \"rigid\" }}\n[integrator]\ntype = \"stokesian\"\ntol = 1e-8\ndt = 1e-3\n\
+             [end]\nt_end = 0.1\n",
+            case.display()
+        )
+    };
+    let hash = |case: &Path, blend: bool| {
+        let text = text(case, blend);
+        let s = parse(
+            &Source {
+                file: "foam.toml",
+                text: &text,
+            },
+            Path::new("."),
+        )
+        .unwrap();
+        let config = s.config();
+        assert!(config.fingerprint.starts_with(&text));
+        run(&s, "cli_foam_hash").config_hash
+    };
+    use pseudorigid::tensor::Vec3;
+    let case = foam_case("cli_foam_hash_case", |_| Vec3::x());
+    let first = hash(&case, true);
+    assert_eq!(hash(&case, true), first, "the same field read again");
+    assert_ne!(hash(&case, false), first, "cellwise and blended");
+    // Solved again: the same path, time and mesh, the velocity changed by 1e-300 in half the
+    // cells (a change no summary statistic of the field would show).
+    let again = foam_case("cli_foam_hash_case", |x| {
+        Vec3::new(1.0, 0.0, if x[0] > 0.5 { 1e-300 } else { 0.0 })
+    });
+    assert_eq!(again, case);
+    let second = hash(&case, true);
+    assert_ne!(second, first, "another field under the same scene text");
+    let shear = |rate: &str| {
+        let s = scene(
+            "shear_injection.toml",
+            &[("count = 60", "count = 2"), ("rate = 1.0", rate)],
+        );
+        (s.config().fingerprint.clone(), run(&s, "cli_shear_hash").config_hash)
+    };
+    let (a, b) = (shear("rate = 1.0"), shear("rate = 2.0"));
+    assert!(a.0.contains("\nflow: ") && a.0.contains("\nboundary: open"), "{}", a.0);
+    assert_ne!(a.1, b.1);
+}
+
 /// `probe` on a linear field: the reconstruction is exact for linear fields, so u and ∇u come
 /// back to round-off (1e-12 of |u| ~ 1); a point outside is flagged and NaN.
 #[test]

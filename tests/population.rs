@@ -8,8 +8,8 @@ use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
 use pseudorigid::population::settling_pipe::sphere_deposition;
 use pseudorigid::population::{
-    Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng, result_path, run, run_in_dir,
-    seal,
+    Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir, particle_rng, run,
+    run_in_dir, seal,
 };
 use std::time::Duration;
 
@@ -156,27 +156,37 @@ fn merged_shards_equal_the_whole_run() {
         assert_eq!(shard, format!("{k}/3").parse().unwrap());
         let out = run_in_dir(&case, &config, shard, &dir, &opts).unwrap();
         assert_eq!(out.records.len() as u64, shard.len(31));
-        paths.push(result_path(&dir, shard));
+        // The checkpoint is the shard's only file of records, and it reads back as the output.
+        assert_eq!(RunOutput::<NeoHooke>::read_checkpoint(&dir, shard).unwrap(), out);
+        paths.push(checkpoint_dir(&dir, shard));
     }
+    let mut written: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    written.sort();
+    assert_eq!(
+        written,
+        [
+            "checkpoint-0000-of-0003",
+            "checkpoint-0001-of-0003",
+            "checkpoint-0002-of-0003"
+        ]
+    );
     // Merge order does not matter.
     paths.reverse();
-    let merged = RunOutput::<NeoHooke>::merge_files(&paths).unwrap();
-    assert!(merged.to_json().unwrap() == whole.to_json().unwrap());
-    assert_eq!(merged.table().unwrap().to_text(), whole.table().unwrap().to_text());
-    assert_eq!(RunOutput::<NeoHooke>::merge_in_dir(&dir).unwrap(), merged);
-    assert!(std::fs::read(dir.join("results.json")).unwrap() == whole.to_json().unwrap());
-    assert_eq!(
-        std::fs::read_to_string(dir.join("results.csv")).unwrap(),
-        whole.table().unwrap().to_text()
-    );
-
     let parts = || {
         paths
             .iter()
-            .map(RunOutput::<NeoHooke>::read_json)
+            .map(RunOutput::<NeoHooke>::read_checkpoint_dir)
             .collect::<Result<Vec<_>, _>>()
             .unwrap()
     };
+    let merged = RunOutput::<NeoHooke>::merge(parts()).unwrap();
+    assert!(merged.to_json().unwrap() == whole.to_json().unwrap());
+    assert_eq!(merged.table().unwrap().to_text(), whole.table().unwrap().to_text());
+    assert_eq!(RunOutput::<NeoHooke>::merge_dir(&dir).unwrap(), merged);
+
     let mut missing = parts();
     missing.pop();
     assert!(matches!(
@@ -249,7 +259,7 @@ fn checkpoint_guards_and_resume_of_a_finished_run() {
     // A chunk that is not ours: cut short (not something write_atomic leaves, but a copy
     // gone wrong), or holding a particle of another shard.
     let chunk = std::fs::read_dir(&dir).unwrap().next().unwrap().unwrap().path();
-    let text = std::fs::read_to_string(&chunk).unwrap();
+    let text = chunk_text(&chunk);
     std::fs::write(dir.join("chunk-90000000.json"), &text[..text.len() / 2]).unwrap();
     let err = run(&case, &config, Shard::ALL, &opts.clone().resume(true)).unwrap_err();
     assert!(
@@ -269,6 +279,19 @@ fn checkpoint_guards_and_resume_of_a_finished_run() {
         matches!(err, PopulationError::ConflictingRecords { index: 3, .. }),
         "{err}"
     );
+}
+
+/// The JSON text of a checkpoint chunk (written gzipped). The tests write edited chunks back
+/// as plain text, which the reader takes too (it goes by gzip's magic number, not the name).
+fn chunk_text(path: &std::path::Path) -> String {
+    use std::io::Read as _;
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..2], [0x1f, 0x8b], "{} is not gzipped", path.display());
+    let mut text = String::new();
+    flate2::read::GzDecoder::new(bytes.as_slice())
+        .read_to_string(&mut text)
+        .unwrap();
+    text
 }
 
 /// Change the first digit of the first `"key":<integer>` in `text` (a different value, the JSON
@@ -304,7 +327,7 @@ fn edited_chunk_and_shard_are_refused_by_their_checksum() {
         .unwrap()
         .unwrap()
         .path();
-    let text = std::fs::read_to_string(&chunk).unwrap();
+    let text = chunk_text(&chunk);
     let resume = || run(&case, &config, Shard::ALL, &opts.clone().resume(true));
     for edited in [
         edit_digit(&text, "steps"),
@@ -333,23 +356,26 @@ fn edited_chunk_and_shard_are_refused_by_their_checksum() {
     std::fs::write(&chunk, &text).unwrap();
     assert!(resume().unwrap().to_json().unwrap() == first.to_json().unwrap());
 
+    // Shards are merged from their checkpoints: an edited chunk of shard 1 stops the merge.
     let opts = RunOptions::default().quiet();
-    let paths: Vec<_> = (0..2u64)
-        .map(|k| {
-            let shard = Shard::new(k, 2).unwrap();
-            let _ = run_in_dir(&case, &config, shard, &dir, &opts).unwrap();
-            result_path(&dir, shard)
-        })
-        .collect();
-    let text = std::fs::read_to_string(&paths[1]).unwrap();
-    std::fs::write(&paths[1], edit_digit(&text, "steps")).unwrap();
-    let err = RunOutput::<NeoHooke>::merge_files(&paths).unwrap_err();
+    let shards = dir.join("shards");
+    for k in 0..2u64 {
+        let _ = run_in_dir(&case, &config, Shard::new(k, 2).unwrap(), &shards, &opts).unwrap();
+    }
+    let folder = checkpoint_dir(&shards, Shard::new(1, 2).unwrap());
+    let shard_chunk = std::fs::read_dir(&folder).unwrap().next().unwrap().unwrap().path();
+    let text = chunk_text(&shard_chunk);
+    std::fs::write(&shard_chunk, edit_digit(&text, "steps")).unwrap();
+    let err = RunOutput::<NeoHooke>::merge_dir(&shards).unwrap_err();
     assert!(
-        matches!(&err, PopulationError::Checksum { path, .. } if *path == paths[1]),
+        matches!(&err, PopulationError::Checksum { path, .. } if *path == shard_chunk),
         "{err}"
     );
-    std::fs::write(&paths[1], &text).unwrap();
-    let merged = RunOutput::<NeoHooke>::merge_files(&paths).unwrap();
+    // The run's size is sealed too: a shard cannot pass as complete by claiming fewer particles.
+    std::fs::write(&shard_chunk, edit_digit(&text, "particles")).unwrap();
+    assert!(RunOutput::<NeoHooke>::merge_dir(&shards).is_err());
+    std::fs::write(&shard_chunk, &text).unwrap();
+    let merged = RunOutput::<NeoHooke>::merge_dir(&shards).unwrap();
     assert!(merged.to_json().unwrap() == first.to_json().unwrap());
 }
 

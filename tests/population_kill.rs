@@ -34,7 +34,10 @@ fn checkpointed(dir: &Path) -> (usize, usize) {
         let name = entry.file_name().to_string_lossy().into_owned();
         if name.starts_with("chunk-") {
             chunks += 1;
-            let text = std::fs::read_to_string(entry.path()).unwrap();
+            // Chunks are gzipped JSON.
+            let mut text = String::new();
+            let file = std::fs::File::open(entry.path()).unwrap();
+            std::io::Read::read_to_string(&mut flate2::read::GzDecoder::new(file), &mut text).unwrap();
             let value: serde_json::Value = serde_json::from_str(&text).unwrap();
             records += value["records"].as_array().unwrap().len();
         }

@@ -171,9 +171,13 @@ def run(
     resume: bool = False,
     checkpoint_every: float = 60.0,
     progress: Progress = None,
+    csv: bool = False,
 ) -> Results:
     """The command's ``run``: bitwise the files of ``pseudorigid run SCENE --out OUT`` (with
-    ``--shard k/n``, ``--resume``, ``--threads``). The GIL is released while Rust works;
+    ``--shard k/n``, ``--resume``, ``--threads``, ``--csv``). Records are written once: the
+    checkpoint (sealed JSON, for resume and merge) and ``records.parquet`` /
+    ``frames.parquet`` (a shard: ``records/`` and ``frames/``); CSV tables only with
+    ``csv=True``. The GIL is released while Rust works;
     Ctrl-C stops the run after the particles in flight (they are checkpointed, and
     ``resume=True`` continues). ``progress``: ``True`` for a tqdm bar, or a callable
     ``(done, total)``. Returns the run's (or the shard's) results."""
@@ -188,6 +192,7 @@ def run(
             resume=resume,
             checkpoint_every=checkpoint_every,
             progress=callback,
+            csv=csv,
         )
     finally:
         if bar is not None:
@@ -213,8 +218,10 @@ def run_in_memory(
 
 
 def load_results(out: PathLike, scene: Optional["Scene"] = None, *, shard: Optional[Tuple[int, int]] = None) -> Results:
-    """The results in output folder ``out``: ``results.json``, or shard ``(k, n)``'s file.
-    Frames need the ``scene`` (its output times)."""
+    """The results in output folder ``out``, read from its checkpoint: shard ``(k, n)``'s,
+    or without ``shard`` the whole run's, or else the merge of every shard's checkpoint in
+    ``out``. Every chunk's checksum is verified. Frames need the ``scene`` (its output
+    times)."""
     return Results(_native.load_results(os.fspath(out), scene, shard))
 
 

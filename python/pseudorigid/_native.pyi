@@ -62,6 +62,7 @@ def run(
     resume: bool = False,
     checkpoint_every: float = 60.0,
     progress: Optional[Callable[[int, int], Any]] = None,
+    csv: bool = False,
 ) -> str: ...
 def run_in_memory(
     scene: Scene,

@@ -14,7 +14,9 @@ use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
 use pseudorigid::material::Softness;
 use pseudorigid::output::vtk::stretch;
-use pseudorigid::population::{Fate, PopulationError, Progress, RunControl, RunOptions, RunOutput, Shard, result_path};
+use pseudorigid::population::{
+    Fate, PopulationError, Progress, RunControl, RunOptions, RunOutput, Shard, checkpoint_dir,
+};
 use pseudorigid::tensor::Vec3;
 use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError};
 use pyo3::prelude::*;
@@ -398,10 +400,10 @@ fn shard_of(py: Python<'_>, shard: Option<(u64, u64)>) -> PyResult<Shard> {
     }
 }
 
-/// The command's `run` of `scene` into `out`: the same files, bitwise. Returns the command's
-/// summary line.
+/// The command's `run` of `scene` into `out` (`csv`: as `--csv`): the same files, bitwise.
+/// Returns the command's summary line.
 #[pyfunction]
-#[pyo3(signature = (scene, out, *, threads = None, shard = None, resume = false, checkpoint_every = 60.0, progress = None))]
+#[pyo3(signature = (scene, out, *, threads = None, shard = None, resume = false, checkpoint_every = 60.0, progress = None, csv = false))]
 #[allow(clippy::too_many_arguments)]
 fn run(
     py: Python<'_>,
@@ -412,6 +414,7 @@ fn run(
     resume: bool,
     checkpoint_every: f64,
     progress: Option<Bound<'_, PyAny>>,
+    csv: bool,
 ) -> PyResult<String> {
     let shard = shard_of(py, shard)?;
     let control = Arc::new(RunControl::default());
@@ -420,7 +423,7 @@ fn run(
         .with_control(control.clone());
     let scene = &scene.get().inner;
     drive(py, &control, progress.as_ref(), || {
-        run_on(scene, &out, shard, options, threads)
+        run_on(scene, &out, shard, options, threads, csv)
     })?
     .map_err(|e| cli_error(py, &e))
 }
@@ -457,7 +460,8 @@ fn run_in_memory(
     })
 }
 
-/// `scene`'s results from its output folder `out` (`results.json`, or the shard's file).
+/// `scene`'s results from its output folder `out`: the checkpoint of shard `shard`, or without
+/// `shard` the whole run's (`checkpoint-0000-of-0001`) or else the merge of the shards'.
 #[pyfunction]
 #[pyo3(signature = (out, scene = None, shard = None))]
 fn load_results(
@@ -467,13 +471,14 @@ fn load_results(
     shard: Option<(u64, u64)>,
 ) -> PyResult<Results> {
     let shard = shard_of(py, shard)?;
-    let path = if shard == Shard::ALL {
-        out.join("results.json")
-    } else {
-        result_path(&out, shard)
-    };
     let output = py
-        .detach(|| RunOutput::<SceneLaw>::read_json(&path))
+        .detach(|| {
+            if shard != Shard::ALL || checkpoint_dir(&out, Shard::ALL).is_dir() {
+                RunOutput::<SceneLaw>::read_checkpoint(&out, shard)
+            } else {
+                RunOutput::<SceneLaw>::merge_dir(&out)
+            }
+        })
         .map_err(|e| population_error(py, &e))?;
     Ok(Results {
         output,

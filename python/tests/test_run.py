@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import _thread
 import csv
+import gzip
 import pathlib
 import subprocess
 
@@ -33,9 +34,10 @@ def assert_same_files(cli: pathlib.Path, py: pathlib.Path) -> None:
     mine = set(result_files(py))
     extra = mine - set(files)
     assert set(files) <= mine and all(f.endswith(".parquet") for f in extra), mine ^ set(files)
-    if (py / "results.json").exists():
+    if (py / "results.csv").exists():
         assert PARQUET <= mine
-    assert "results.json" in files or any(f.startswith("results-") for f in files)
+    assert "results.csv" in files or any(f.startswith("results-") for f in files)
+    assert not any(f.endswith(".json") for f in mine), "records are written once: the checkpoint"
     for f in files:
         assert (cli / f).read_bytes() == (py / f).read_bytes(), f
 
@@ -50,7 +52,7 @@ def test_run_equals_cli_byte_for_byte(tmp_path, cli, small_scene):
     (tmp_path / "scene.toml").write_text(scene.to_toml())
     cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli")
     calls = []
-    results = pr.run(scene, tmp_path / "py", threads=2, progress=lambda d, t: calls.append((d, t)))
+    results = pr.run(scene, tmp_path / "py", threads=2, progress=lambda d, t: calls.append((d, t)), csv=True)
     assert_same_files(tmp_path / "cli", tmp_path / "py")
     assert (tmp_path / "py" / "vtk" / "trajectories.vtp").exists()
     assert calls[-1] == (12, 12)
@@ -60,7 +62,7 @@ def test_run_equals_cli_byte_for_byte(tmp_path, cli, small_scene):
 def test_shipped_scene_file_equals_cli(tmp_path, cli, root):
     scene_file = root / "scenes" / "oblate_shear.toml"
     cli_run(cli, scene_file, tmp_path / "cli")
-    pr.run(pr.Scene.from_toml(scene_file), tmp_path / "py")
+    pr.run(pr.Scene.from_toml(scene_file), tmp_path / "py", csv=True)
     assert_same_files(tmp_path / "cli", tmp_path / "py")
 
 
@@ -68,7 +70,7 @@ def test_shard_equals_cli_shard(tmp_path, cli, small_scene):
     scene = pr.Scene.from_dict(small_scene)
     (tmp_path / "scene.toml").write_text(scene.to_toml())
     cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli", "--shard", "1/3")
-    results = pr.run(scene, tmp_path / "py", shard=(1, 3), threads=1)
+    results = pr.run(scene, tmp_path / "py", shard=(1, 3), threads=1, csv=True)
     assert_same_files(tmp_path / "cli", tmp_path / "py")
     assert list(results.records()["index"]) == [1, 4, 7, 10]
 
@@ -89,8 +91,8 @@ def test_interrupted_run_resumes_to_the_cli_files(tmp_path, cli, root):
         pr.run(scene, tmp_path / "py", threads=1, checkpoint_every=0.05, progress=interrupt)
     done, total = seen[0]
     assert total == 60 and done < total
-    assert not (tmp_path / "py" / "results.json").exists()
-    pr.run(scene, tmp_path / "py", resume=True)
+    assert not (tmp_path / "py" / "records.parquet").exists()
+    pr.run(scene, tmp_path / "py", resume=True, csv=True)
     cli_run(cli, tmp_path / "scene.toml", tmp_path / "cli")
     assert_same_files(tmp_path / "cli", tmp_path / "py")
 
@@ -120,7 +122,7 @@ def test_columns_equal_the_csv_files(tmp_path, small_scene):
     """records() and frames() hold exactly the numbers of results.csv and frames.csv (written
     with shortest round-trip formatting, so parsing them back is exact)."""
     scene = pr.Scene.from_dict(small_scene)
-    results = pr.run(scene, tmp_path)
+    results = pr.run(scene, tmp_path, csv=True)
     rec = results.records()
     table = read_csv(tmp_path / "results.csv")
     assert list(rec["index"]) == [int(i) for i in table["index"]]
@@ -148,15 +150,15 @@ def test_edited_checkpoint_chunk_is_refused(tmp_path, small_scene):
     PopulationError naming the chunk, instead of resuming into different results."""
     scene = pr.Scene.from_dict(small_scene)
     pr.run(scene, tmp_path)
-    chunk = next((tmp_path / "checkpoint-0000-of-0001").glob("chunk-*.json"))
-    text = chunk.read_text()
+    chunk = next((tmp_path / "checkpoint-0000-of-0001").glob("chunk-*.json.gz"))
+    text = gzip.decompress(chunk.read_bytes()).decode()
     at = text.index('"steps":') + len('"steps":')
     digit = "1" if text[at] == "9" else str(int(text[at]) + 1)
-    chunk.write_text(text[:at] + digit + text[at + 1 :])
+    chunk.write_bytes(gzip.compress((text[:at] + digit + text[at + 1 :]).encode()))
     with pytest.raises(pr.PopulationError, match="checksum") as info:
         pr.run(scene, tmp_path, resume=True)
     assert str(chunk) in str(info.value)
-    chunk.write_text(text)
+    chunk.write_bytes(gzip.compress(text.encode()))
     assert len(pr.run(scene, tmp_path, resume=True)) == 12
 
 
@@ -200,3 +202,18 @@ def test_parquet_shards_read_as_one_dataset(tmp_path, small_scene):
     frames = pq.read_table(tmp_path / "shards" / "frames").sort_by([("frame", "ascending"), ("id", "ascending")])
     assert frames.equals(pq.read_table(tmp_path / "whole" / "frames.parquet"))
     assert frames.num_rows == len(whole.frames())
+
+
+def test_results_are_written_once(tmp_path, small_scene):
+    """Without csv=True a run writes its records once as a table (Parquet) beside the
+    checkpoint, and no JSON outside it; a sharded folder loads as the merged run."""
+    scene = pr.Scene.from_dict(small_scene)
+    whole = pr.run(scene, tmp_path / "whole")
+    top = {p.name for p in (tmp_path / "whole").iterdir() if p.is_file()}
+    assert top == {"records.parquet", "frames.parquet", "particles.pvd"}, top
+    for k in range(2):
+        pr.run(scene, tmp_path / "shards", shard=(k, 2))
+    merged = pr.load_results(tmp_path / "shards", scene)
+    for c, values in whole.records().items():
+        np.testing.assert_array_equal(merged.records()[c], values, err_msg=c)
+    assert merged.config_hash == whole.config_hash

@@ -50,13 +50,28 @@ pub fn at_time<'a>(records: &'a [ParticleRecord<SceneLaw>], time: f64) -> impl I
     })
 }
 
-/// Write `results.json`, `results.csv` (with the feature `parquet`, `records.parquet` and
-/// `frames.parquet`), and, with `vtk`, the frames at `times` (`vtk/particles_*.vtp`,
-/// `particles.pvd`, `frames.csv`) and the trajectories (`vtk/trajectories.vtp`,
-/// `trajectories.csv`) into `dir`. Returns the number of frames.
-pub fn write_run(output: &RunOutput<SceneLaw>, times: &[f64], vtk: bool, dir: &Path) -> Result<usize, CliError> {
-    output.write_json(dir.join("results.json"))?;
-    output.table()?.write(dir.join("results.csv"))?;
+/// Whether a run writes CSV tables: when `asked`, and always without the feature `parquet`
+/// (CSV is then the only table format).
+pub fn csv_tables(asked: bool) -> bool {
+    asked || !cfg!(feature = "parquet")
+}
+
+/// Write a run's tables into `dir`: with the feature `parquet`, `records.parquet` and
+/// `frames.parquet` at `times`; with CSV ([`csv_tables`]`(csv)`), `results.csv`. With `vtk`,
+/// the frames at `times` (`vtk/particles_*.vtp`, `particles.pvd`; `frames.csv` with CSV) and
+/// the trajectories (`vtk/trajectories.vtp`; `trajectories.csv` with CSV). The records
+/// themselves are in the run's checkpoint. Returns the number of frames.
+pub fn write_run(
+    output: &RunOutput<SceneLaw>,
+    times: &[f64],
+    vtk: bool,
+    csv: bool,
+    dir: &Path,
+) -> Result<usize, CliError> {
+    let csv = csv_tables(csv);
+    if csv {
+        output.table()?.write(dir.join("results.csv"))?;
+    }
     #[cfg(feature = "parquet")]
     {
         super::parquet::write_records(output, &dir.join("records.parquet"))?;
@@ -69,7 +84,7 @@ pub fn write_run(output: &RunOutput<SceneLaw>, times: &[f64], vtk: bool, dir: &P
     let mut table = Csv::new(&FRAME_HEADER);
     for (frame, &t) in times.iter().enumerate() {
         let points: Vec<CloudPoint> = at_time(&output.records, t).collect();
-        for p in &points {
+        for p in points.iter().filter(|_| csv) {
             let (v, r) = stretch(&p.f_bar);
             let mut row = vec![frame.to_string(), format!("{t:?}"), p.id.to_string()];
             row.extend(p.x.iter().map(|c| format!("{c:?}")));
@@ -85,13 +100,15 @@ pub fn write_run(output: &RunOutput<SceneLaw>, times: &[f64], vtk: bool, dir: &P
         index.push((t, name));
     }
     write_pvd(dir.join("particles.pvd"), &index)?;
-    table.write(dir.join("frames.csv"))?;
-    write_trajectories(&output.records, dir)?;
+    if csv {
+        table.write(dir.join("frames.csv"))?;
+    }
+    write_trajectories(&output.records, dir, csv)?;
     Ok(times.len())
 }
 
 /// One polyline per particle through its kept states, with point arrays `id` and `t`.
-fn write_trajectories(records: &[ParticleRecord<SceneLaw>], dir: &Path) -> Result<(), CliError> {
+fn write_trajectories(records: &[ParticleRecord<SceneLaw>], dir: &Path, csv: bool) -> Result<(), CliError> {
     let mut points: Vec<Vec3> = Vec::new();
     let (mut ids, mut ts, mut lines) = (Vec::new(), Vec::new(), Vec::new());
     let mut table = Csv::new(&TRAJECTORY_HEADER);
@@ -101,6 +118,9 @@ fn write_trajectories(records: &[ParticleRecord<SceneLaw>], dir: &Path) -> Resul
             points.push(s.x);
             ids.push(r.index as i64);
             ts.push(s.t);
+            if !csv {
+                continue;
+            }
             let mut row = vec![r.index.to_string(), format!("{:?}", s.t)];
             row.extend(s.x.iter().map(|c| format!("{c:?}")));
             table.push(row)?;
@@ -112,6 +132,8 @@ fn write_trajectories(records: &[ParticleRecord<SceneLaw>], dir: &Path) -> Resul
         .and_then(|d| d.with_array("t", 1, Values::Float64(ts)))
         .map_err(OutputError::from)?;
     data.write(dir.join("vtk/trajectories.vtp"))?;
-    table.write(dir.join("trajectories.csv"))?;
+    if csv {
+        table.write(dir.join("trajectories.csv"))?;
+    }
     Ok(())
 }

@@ -3,8 +3,8 @@
 //!
 //! ```text
 //! pseudorigid validate SCENE.toml
-//! pseudorigid run SCENE.toml [--out DIR] [--shard k/N] [--resume] [--checkpoint-every S] [--threads N] [--quiet]
-//! pseudorigid merge SCENE.toml [--out DIR]
+//! pseudorigid run SCENE.toml [--out DIR] [--shard k/N] [--resume] [--checkpoint-every S] [--threads N] [--quiet] [--csv]
+//! pseudorigid merge SCENE.toml [--out DIR] [--csv]
 //! pseudorigid probe CASE_DIR TIME|latest POINTS.csv OUT.csv
 //! ```
 //!
@@ -37,17 +37,20 @@
 //! (*deposited*) or an `exit` (*escaped*), or when a step fails (*failed*, with the error).
 //!
 //! # Output (in `--out DIR`)
-//! `results.json` (every record, f64 exact), `results.csv` (one row per particle, with its spec's
-//! injection point, rest semi-axes, μ_s and ρ_s), with the
-//! feature `parquet` also `records.parquet` and `frames.parquet` ([`parquet`]),
-//! `particles.pvd` with `vtk/particles_NNNNNN.vtp` (one per output time: the particles with
-//! `V` = √(F̄F̄ᵀ) for ParaView's Tensor Glyph, `r1`..`r3`, `id`, `flag` 0 moving, 1 deposited,
-//! 2 escaped, 3 suspended, 4 failed), `vtk/trajectories.vtp` (polylines), and `frames.csv`,
-//! `trajectories.csv` with the same numbers. The population runner's own files are there
-//! too: `checkpoint-<k>-of-<N>/` holds finished particles (after a kill, `run --resume`
-//! continues and gives bitwise the results of an uninterrupted run) and
-//! `results-<k>-of-<N>.json` the shard's records. `--shard k/N` (or
-//! `SLURM_ARRAY_TASK_ID`/`SLURM_ARRAY_TASK_COUNT`) runs one shard; `merge` joins the shards
+//! Every result is written once. `checkpoint-<k>-of-<N>/` holds the records of shard k of N
+//! (the whole run: `checkpoint-0000-of-0001/`) as sealed, gzipped JSON chunks, every f64 exact: after a
+//! kill, `run --resume` continues and gives bitwise the results of an uninterrupted run, and
+//! `merge` reads the shards' checkpoints. With the feature `parquet` the tables are
+//! `records.parquet` (one row per particle) and `frames.parquet` ([`parquet`]); a shard writes
+//! `records/part-<k>-of-<N>.parquet` and `frames/part-<k>-of-<N>.parquet`, so each folder
+//! reads as one dataset. CSV tables (`results.csv`, one row per particle with its spec's injection point, rest
+//! semi-axes, μ_s and ρ_s, `frames.csv`,
+//! `trajectories.csv`; a shard's `results-<k>-of-<N>.csv`) are written with `--csv`, and
+//! always without the feature `parquet`. With `vtk` (the default), `particles.pvd` with
+//! `vtk/particles_NNNNNN.vtp` (one per output time: the particles with `V` = √(F̄F̄ᵀ) for
+//! ParaView's Tensor Glyph, `r1`..`r3`, `id`, `flag` 0 moving, 1 deposited, 2 escaped, 3
+//! suspended, 4 failed) and `vtk/trajectories.vtp` (polylines), binary (raw, appended). `--shard k/N`
+//! (or `SLURM_ARRAY_TASK_ID`/`SLURM_ARRAY_TASK_COUNT`) runs one shard; `merge` joins the shards
 //! into the files of the whole run.
 
 pub mod error;
@@ -108,14 +111,21 @@ pub enum Command {
         /// No progress report.
         #[arg(long)]
         quiet: bool,
+        /// Write the tables as CSV too (`results.csv`, `frames.csv`, `trajectories.csv`;
+        /// always, without the feature `parquet`).
+        #[arg(long)]
+        csv: bool,
     },
     /// Merge the shard files of a run into the whole run's files.
     Merge {
         /// Scene file (TOML) of the sharded run.
         scene: PathBuf,
-        /// Folder holding the shards' `results-<k>-of-<N>.json` (default as for `run`).
+        /// Folder holding the shards' `checkpoint-<k>-of-<N>` (default as for `run`).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Write the tables as CSV too (always, without the feature `parquet`).
+        #[arg(long)]
+        csv: bool,
     },
     /// u and ∇u of an OpenFOAM case at listed points.
     Probe {
@@ -159,6 +169,7 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
             checkpoint_every,
             threads,
             quiet,
+            csv,
         } => {
             let s = load(&scene)?;
             let out = out.unwrap_or_else(|| default_out(&scene));
@@ -168,11 +179,11 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
             };
             let progress = if quiet { Progress::Quiet } else { Progress::Auto };
             let options = run::run_options(&out, checkpoint_every, resume, progress)?;
-            run::run_on(&s, &out, shard, options, threads)
+            run::run_on(&s, &out, shard, options, threads, csv)
         }
-        Command::Merge { scene, out } => {
+        Command::Merge { scene, out, csv } => {
             let s = load(&scene)?;
-            run::merge(&s, &out.unwrap_or_else(|| default_out(&scene)))
+            run::merge(&s, &out.unwrap_or_else(|| default_out(&scene)), csv)
         }
         Command::Probe {
             case,

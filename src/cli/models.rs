@@ -89,6 +89,35 @@ pub enum SceneFlow {
     Blended(Box<BlendedFlow>),
 }
 
+impl SceneFlow {
+    /// What identifies the flow for a run's configuration hash: an analytic flow's parameters
+    /// (every f64 exact in its `Debug` form), an OpenFOAM field's content
+    /// ([`FoamFlow::fingerprint`]).
+    pub fn fingerprint(&self) -> String {
+        match self {
+            SceneFlow::Quiescent => "quiescent".into(),
+            SceneFlow::Linear(f) => format!("{f:?}"),
+            SceneFlow::Poiseuille(f) => format!("{f:?}"),
+            SceneFlow::Foam(f) => f.fingerprint(),
+            SceneFlow::Blended(f) => f.fingerprint(),
+        }
+    }
+}
+
+impl SceneBoundary {
+    /// What identifies the boundary for a run's configuration hash: walls' parameters in
+    /// their `Debug` form, a mesh boundary's patches and mesh content
+    /// ([`MeshBoundary::fingerprint`]).
+    pub fn fingerprint(&self) -> String {
+        match self {
+            SceneBoundary::Open => "open".into(),
+            SceneBoundary::Pipe(b) => format!("{b:?}"),
+            SceneBoundary::Planes(b) => format!("{b:?}"),
+            SceneBoundary::Mesh(b) => b.fingerprint().to_string(),
+        }
+    }
+}
+
 impl FlowField for SceneFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         match self {

@@ -2,12 +2,12 @@
 //! checkpointed, resumable, shardable), then its files.
 
 use super::error::CliError;
-use super::frames::write_run;
+use super::frames::{csv_tables, write_run};
 use super::models::SceneLaw;
 use super::scene::{Scene, SceneIntegrator};
 use crate::integrator::TimeIntegrator;
 use crate::population::{
-    Case, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard, result_path, run_in_dir,
+    Case, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir, run_in_dir,
 };
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -32,7 +32,7 @@ pub enum Job {
         /// Parallelism and progress (checkpoints are not used).
         options: RunOptions,
     },
-    /// Merge the shard result files in `dir`.
+    /// Merge the shard checkpoints in `dir`.
     Merge {
         /// Output folder of the shards.
         dir: PathBuf,
@@ -40,12 +40,20 @@ pub enum Job {
 }
 
 impl Scene {
-    /// The population's identity: seed, size and the scene text.
+    /// The population's identity: seed, size, the scene text and the fingerprints of the flow
+    /// and the boundary as loaded ([`super::models::SceneFlow::fingerprint`], [`super::models::SceneBoundary::fingerprint`]):
+    /// the scene text names an OpenFOAM case by path and time, which may hold another field
+    /// by the next run; the fingerprints say what was read.
     pub fn config(&self) -> RunConfig {
         RunConfig {
             seed: self.seed,
             particles: self.count(),
-            fingerprint: self.text.clone(),
+            fingerprint: format!(
+                "{}\nflow: {}\nboundary: {}",
+                self.text,
+                self.flow.fingerprint(),
+                self.boundary.fingerprint()
+            ),
         }
     }
 
@@ -119,23 +127,24 @@ pub fn run_on(
     shard: Shard,
     options: RunOptions,
     threads: Option<usize>,
+    csv: bool,
 ) -> Result<String, CliError> {
     match threads {
-        None => run(scene, out, shard, options),
+        None => run(scene, out, shard, options, csv),
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
             .map_err(|e| CliError::Input(format!("--threads {n}: {e}")))?
-            .install(|| run(scene, out, shard, options)),
+            .install(|| run(scene, out, shard, options, csv)),
     }
 }
 
-/// Run `scene` (or one shard of it) into `out`: the shard's result file and checkpoint
-/// ([`crate::population::result_path`], [`crate::population::checkpoint_dir`]); a whole run
-/// also writes `results.json`, `results.csv` and its frames. With the feature `parquet`, a
-/// whole run writes `records.parquet` and `frames.parquet`, and shard k of N writes
-/// `records/part-k-of-N.parquet` and `frames/part-k-of-N.parquet`. Returns a one-line summary.
-pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Result<String, CliError> {
+/// Run `scene` (or one shard of it) into `out`: the shard's checkpoint
+/// ([`crate::population::checkpoint_dir`]: the only file of its records) and tables. A whole
+/// run writes its tables and frames ([`write_run`]). Shard k of N writes, with the feature
+/// `parquet`, `records/part-k-of-N.parquet` and `frames/part-k-of-N.parquet`, and with CSV
+/// ([`csv_tables`]) `results-k-of-N.csv`. Returns a one-line summary.
+pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bool) -> Result<String, CliError> {
     let output = scene.population(&Job::Run {
         shard,
         options,
@@ -151,7 +160,7 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Resu
         counts.failed
     );
     if shard == Shard::ALL {
-        let frames = write_run(&output, &scene.frame_times(), scene.vtk, out)?;
+        let frames = write_run(&output, &scene.frame_times(), scene.vtk, csv, out)?;
         Ok(format!("{what}; {frames} frames in {}", out.display()))
     } else {
         // A shard's tables go into `records/` and `frames/`: each folder reads as one dataset
@@ -162,17 +171,21 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions) -> Resu
             super::parquet::write_records(&output, &out.join("records").join(&name))?;
             super::parquet::write_frames(&output, &scene.frame_times(), &out.join("frames").join(&name))?;
         }
+        if csv_tables(csv) {
+            let name = format!("results-{:04}-of-{:04}.csv", shard.index(), shard.count());
+            output.table()?.write(out.join(name))?;
+        }
         Ok(format!(
-            "shard {shard}: {what}; written to {}",
-            result_path(out, shard).display()
+            "shard {shard}: {what}; records in {}",
+            checkpoint_dir(out, shard).display()
         ))
     }
 }
 
-/// Merge the shard result files in `out` into the whole run's files and frames.
-pub fn merge(scene: &Scene, out: &Path) -> Result<String, CliError> {
+/// Merge the shard checkpoints in `out` into the whole run's tables and frames.
+pub fn merge(scene: &Scene, out: &Path, csv: bool) -> Result<String, CliError> {
     let output = scene.population(&Job::Merge { dir: out.to_path_buf() })?;
-    let frames = write_run(&output, &scene.frame_times(), scene.vtk, out)?;
+    let frames = write_run(&output, &scene.frame_times(), scene.vtk, csv, out)?;
     Ok(format!(
         "merged {} particles; {frames} frames in {}",
         output.records.len(),

@@ -116,6 +116,8 @@ impl PatchGap for PatchSet {
 /// [`Gap::patch`] count these patches only, in mesh order.
 #[derive(Debug, Clone)]
 pub struct MeshBoundary {
+    /// [`MeshBoundary::fingerprint`].
+    fingerprint: String,
     set: PatchSet,
     /// Mesh patch index of each boundary patch.
     mesh_patches: Vec<usize>,
@@ -144,12 +146,30 @@ impl MeshBoundary {
                 reason: "no wall or patch-type patch with faces: nothing for particles to touch".into(),
             });
         }
+        let names: Vec<String> = mesh_patches.iter().map(|&p| mesh.patches()[p].name.clone()).collect();
+        let fingerprint = format!(
+            "mesh boundary: {} of mesh {}",
+            names
+                .iter()
+                .zip(&rules)
+                .map(|(n, r)| format!("{n} {r:?}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            mesh.content_hash()
+        );
         Ok(Self {
+            fingerprint,
             set: PatchSet::new(mesh, &mesh_patches),
-            names: mesh_patches.iter().map(|&p| mesh.patches()[p].name.clone()).collect(),
+            names,
             mesh_patches,
             rules,
         })
+    }
+
+    /// What identifies this boundary for a run's configuration hash: its patches with their
+    /// rules and the mesh's [`PolyMesh::content_hash`] (the faces are the mesh's).
+    pub fn fingerprint(&self) -> &str {
+        &self.fingerprint
     }
 }
 

@@ -13,11 +13,17 @@
 //! [`write_pvd`] lists one file per output time with its time value, which ParaView reads as a
 //! time series.
 //!
-//! The files are ASCII XML with every float in Rust's shortest round-trip form, so a reader
-//! recovers the f64 values bit for bit (`cases/vtk-check.py` compares them with the CSV
-//! output). Every file is written atomically ([`super::write_atomic`]). Written by hand rather
-//! than with a crate: the format needed here is three XML elements, and the Rust VTK crates
-//! either lack XML writing without a large dependency tree or have not been released for years.
+//! [`PolyData::write`] writes the arrays in binary, as VTK's own XML writers do by default: raw
+//! little-endian values in the file's `<AppendedData encoding="raw">` section, each block
+//! preceded by its byte count as a UInt64 (`header_type="UInt64"`), the `<DataArray>` elements
+//! pointing into it with `format="appended"` and `offset`. A f64 takes 8 bytes instead of the
+//! 18–24 characters of its shortest decimal form, and a reader gets the values bit for bit
+//! (`cases/vtk-check.py` reads the files with VTK and compares them with the CSV output).
+//! [`PolyData::to_xml`] is the same data set as ASCII XML (every float in Rust's shortest
+//! round-trip form), for reading by eye. Every file is written atomically
+//! ([`super::write_atomic`]). Written by hand rather than with a crate: the format needed here
+//! is three XML elements, and the Rust VTK crates either lack XML writing without a large
+//! dependency tree or have not been released for years.
 
 use super::{OutputError, write_atomic};
 use crate::ellipsoid::PrincipalFrame;
@@ -204,11 +210,34 @@ impl PolyData {
         Ok(self)
     }
 
-    /// The file's text.
+    /// The data set as ASCII XML (every value in the text).
     pub fn to_xml(&self) -> String {
+        let mut s = String::new();
+        self.render(&mut s, &mut None);
+        s
+    }
+
+    /// The data set as the bytes of a binary `.vtp` file (what [`PolyData::write`] writes):
+    /// XML with every array's values raw in the appended section.
+    pub fn to_binary(&self) -> Vec<u8> {
+        let mut s = String::new();
+        let mut appended = Some(Vec::new());
+        self.render(&mut s, &mut appended);
+        let data = appended.unwrap_or_default();
+        let mut bytes = s.into_bytes();
+        bytes.reserve(data.len() + 64);
+        // `_` marks the start of the raw data; the byte counts and offsets need no delimiter.
+        bytes.extend_from_slice(b"<AppendedData encoding=\"raw\">\n_");
+        bytes.extend_from_slice(&data);
+        bytes.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
+        bytes
+    }
+
+    /// The XML of the data set; with `appended`, every array's values go there (a UInt64 byte
+    /// count, then the raw little-endian values) and the XML refers to them by offset.
+    fn render(&self, s: &mut String, appended: &mut Option<Vec<u8>>) {
         let n = self.points.len();
         let n_verts = if self.verts { n } else { 0 };
-        let mut s = String::new();
         s.push_str("<?xml version=\"1.0\"?>\n");
         s.push_str("<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
         s.push_str("<PolyData>\n");
@@ -224,37 +253,49 @@ impl PolyData {
             None => s.push_str("<PointData>\n"),
         }
         for a in &self.arrays {
-            write_array(&mut s, &a.name, a.components, &a.values);
+            write_array(s, appended, &a.name, a.components, &a.values);
         }
         s.push_str("</PointData>\n<Points>\n");
         let coords: Vec<f64> = self.points.iter().flat_map(|p| p.iter().copied()).collect();
-        write_array(&mut s, "Points", 3, &Values::Float64(coords));
+        write_array(s, appended, "Points", 3, &Values::Float64(coords));
         s.push_str("</Points>\n");
         if self.verts {
-            write_cells(&mut s, "Verts", (0..n).map(|p| vec![p]));
+            write_cells(s, appended, "Verts", (0..n).map(|p| vec![p]));
         }
         if !self.lines.is_empty() {
-            write_cells(&mut s, "Lines", self.lines.iter().cloned());
+            write_cells(s, appended, "Lines", self.lines.iter().cloned());
         }
-        s.push_str("</Piece>\n</PolyData>\n</VTKFile>\n");
-        s
+        s.push_str("</Piece>\n</PolyData>\n");
+        if appended.is_none() {
+            s.push_str("</VTKFile>\n");
+        }
     }
 
-    /// Write atomically to `path` (a `.vtp` file).
+    /// Write atomically to `path` (a `.vtp` file), binary ([`PolyData::to_binary`]).
     pub fn write(&self, path: impl AsRef<Path>) -> Result<(), OutputError> {
-        write_atomic(path, self.to_xml().as_bytes())
+        write_atomic(path, &self.to_binary())
     }
 }
 
-fn write_array(s: &mut String, name: &str, components: usize, values: &Values) {
+fn write_array(s: &mut String, appended: &mut Option<Vec<u8>>, name: &str, components: usize, values: &Values) {
     let kind = match values {
         Values::Float64(_) => "Float64",
         Values::Int64(_) => "Int64",
     };
     let _ = write!(
         s,
-        "<DataArray type=\"{kind}\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"ascii\">"
+        "<DataArray type=\"{kind}\" Name=\"{name}\" NumberOfComponents=\"{components}\" "
     );
+    if let Some(data) = appended {
+        let _ = writeln!(s, "format=\"appended\" offset=\"{}\"/>", data.len());
+        data.extend_from_slice(&(8 * values.len() as u64).to_le_bytes());
+        match values {
+            Values::Float64(v) => v.iter().for_each(|x| data.extend_from_slice(&x.to_le_bytes())),
+            Values::Int64(v) => v.iter().for_each(|x| data.extend_from_slice(&x.to_le_bytes())),
+        }
+        return;
+    }
+    s.push_str("format=\"ascii\">");
     match values {
         // `{:?}` is the shortest representation that parses back to the same f64.
         Values::Float64(v) => v.iter().for_each(|x| {
@@ -267,15 +308,15 @@ fn write_array(s: &mut String, name: &str, components: usize, values: &Values) {
     s.push_str("</DataArray>\n");
 }
 
-fn write_cells(s: &mut String, kind: &str, cells: impl Iterator<Item = Vec<usize>>) {
+fn write_cells(s: &mut String, appended: &mut Option<Vec<u8>>, kind: &str, cells: impl Iterator<Item = Vec<usize>>) {
     let (mut connectivity, mut offsets) = (Vec::new(), Vec::new());
     for cell in cells {
         connectivity.extend(cell.iter().map(|&p| p as i64));
         offsets.push(connectivity.len() as i64);
     }
     let _ = writeln!(s, "<{kind}>");
-    write_array(s, "connectivity", 1, &Values::Int64(connectivity));
-    write_array(s, "offsets", 1, &Values::Int64(offsets));
+    write_array(s, appended, "connectivity", 1, &Values::Int64(connectivity));
+    write_array(s, appended, "offsets", 1, &Values::Int64(offsets));
     let _ = writeln!(s, "</{kind}>");
 }
 

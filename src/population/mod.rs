@@ -14,10 +14,10 @@
 //! let config = RunConfig { seed, particles: n, fingerprint: scene_text };
 //! let shard = Shard::from_env()?.unwrap_or(Shard::ALL);                   // or "k/N".parse()
 //! let options = RunOptions::default().resume(true);                      // runner.rs
-//! let result = run_in_dir(&case, &config, shard, &out, &options)?;       // checkpoints, JSON, CSV
-//! let whole = RunOutput::<NeoHooke>::merge_in_dir(&out)?;                // == the unsharded run
+//! let result = run_in_dir(&case, &config, shard, &out, &options)?;       // the checkpoint only
+//! let whole = RunOutput::<NeoHooke>::merge_dir(&out)?;                   // == the unsharded run
 //! // or by hand: run(&case, &config, shard, &options.with_checkpoints(dir, interval)),
-//! // RunOutput::{write_json, table, merge, merge_files, merge_dir}, result_path, checkpoint_dir
+//! // RunOutput::{read_checkpoint, table, merge, write_json, read_json}, checkpoint_dir
 //! ```
 //! - [`spec`]: [`ParticleSpec`] (shape and orientation, softness, injection point and
 //!   velocity), the [`Injector`] trait, [`ParticleTemplate`], per-particle generators
@@ -53,7 +53,7 @@ pub mod shard;
 pub mod spec;
 
 pub use case::{Case, RunConfig};
-pub use output::{RunOutput, checkpoint_dir, result_path};
+pub use output::{RunOutput, checkpoint_dir};
 pub use progress::Progress;
 pub use record::{Fate, FateCounts, ParticleRecord};
 pub use runner::{CHECKPOINT_INTERVAL, RunControl, RunOptions, run, run_in_dir};
@@ -63,8 +63,8 @@ pub use spec::{Injector, ParticleRng, ParticleSpec, ParticleTemplate, particle_r
 use std::path::PathBuf;
 use thiserror::Error;
 
-/// Version of the result and checkpoint files.
-pub const FORMAT: u32 = 1;
+/// Version of the result and checkpoint files (2: chunks carry seed, size and patch names).
+pub const FORMAT: u32 = 2;
 
 /// Failures of a population run, its files and their merge. (A particle that fails is not
 /// one of these: it is recorded as [`Fate::Failed`].)

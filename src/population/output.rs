@@ -1,5 +1,6 @@
-//! The results of a run or a shard: one JSON file that round-trips every f64 exactly, a CSV
-//! table for reading, and the merge of shard files.
+//! The results of a run or a shard: read from its checkpoint (the only file of records a run
+//! writes), merged over shards, as a CSV table, or as one JSON file that round-trips every f64
+//! exactly (a cache of results, as the bifurcation studies keep).
 
 use super::record::{FateCounts, ParticleRecord};
 use super::shard::Shard;
@@ -162,8 +163,53 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
         })
     }
 
-    /// [`RunOutput::merge`] of every shard result file ([`result_path`]) in `dir`.
-    pub fn merge_dir(dir: impl AsRef<Path>) -> Result<Self, PopulationError> {
+    /// The results of shard `shard` of the run in output folder `dir`, read from its
+    /// checkpoint ([`checkpoint_dir`]): every chunk's seal checked, and the shard complete
+    /// (every particle it owns has a record; else [`PopulationError::IncompleteShard`]).
+    pub fn read_checkpoint(dir: impl AsRef<Path>, shard: Shard) -> Result<Self, PopulationError>
+    where
+        L: PartialEq,
+    {
+        Self::read_checkpoint_dir(checkpoint_dir(dir, shard))
+    }
+
+    /// [`RunOutput::read_checkpoint`] of the checkpoint folder `folder` (any name).
+    pub fn read_checkpoint_dir(folder: impl AsRef<Path>) -> Result<Self, PopulationError>
+    where
+        L: PartialEq,
+    {
+        let folder = folder.as_ref();
+        let loaded = super::checkpoint::load::<L>(folder, None)?;
+        let Some((config_hash, seed, particles, shard)) = loaded.run else {
+            return Err(PopulationError::Io {
+                path: folder.to_path_buf(),
+                source: std::io::Error::new(std::io::ErrorKind::NotFound, "no checkpoint chunks"),
+            });
+        };
+        let expected = shard.len(particles);
+        if loaded.records.len() as u64 != expected {
+            return Err(PopulationError::IncompleteShard {
+                shard,
+                records: loaded.records.len() as u64,
+                expected,
+            });
+        }
+        Ok(Self {
+            format: FORMAT,
+            config_hash,
+            seed,
+            particles,
+            shard,
+            patches: loaded.patches,
+            records: loaded.records.into_values().collect(),
+        })
+    }
+
+    /// [`RunOutput::merge`] of every shard checkpoint ([`checkpoint_dir`]) in `dir`.
+    pub fn merge_dir(dir: impl AsRef<Path>) -> Result<Self, PopulationError>
+    where
+        L: PartialEq,
+    {
         let dir = dir.as_ref();
         let io = |source| PopulationError::Io {
             path: dir.to_path_buf(),
@@ -173,51 +219,26 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
         for entry in std::fs::read_dir(dir).map_err(io)? {
             let entry = entry.map_err(io)?;
             let name = entry.file_name();
-            if name.to_str().and_then(parse_result_name).is_some() {
+            if name.to_str().and_then(parse_checkpoint_name).is_some() {
                 paths.push(entry.path());
             }
         }
         paths.sort();
-        Self::merge_files(&paths)
-    }
-
-    /// [`RunOutput::merge_dir`], written to `dir/results.json` and `dir/results.csv`.
-    pub fn merge_in_dir(dir: impl AsRef<Path>) -> Result<Self, PopulationError>
-    where
-        L: Hyperelastic,
-    {
-        let dir = dir.as_ref();
-        let merged = Self::merge_dir(dir)?;
-        merged.write_json(dir.join("results.json"))?;
-        merged.table()?.write(dir.join("results.csv"))?;
-        Ok(merged)
-    }
-
-    /// [`RunOutput::merge`] of the JSON files at `paths`.
-    pub fn merge_files<P: AsRef<Path>>(paths: &[P]) -> Result<Self, PopulationError> {
-        Self::merge(paths.iter().map(Self::read_json).collect::<Result<_, _>>()?)
+        Self::merge(paths.iter().map(Self::read_checkpoint_dir).collect::<Result<_, _>>()?)
     }
 }
 
-/// Where shard `shard` of a run in `dir` writes its results:
-/// `dir/results-<k>-of-<N>.json` (k, N zero-padded to 4 digits, so the files sort by shard).
-pub fn result_path(dir: impl AsRef<Path>, shard: Shard) -> PathBuf {
-    dir.as_ref()
-        .join(format!("results-{:04}-of-{:04}.json", shard.index(), shard.count()))
-}
-
-/// Where shard `shard` of a run in `dir` keeps its checkpoint: `dir/checkpoint-<k>-of-<N>`.
+/// Where shard `shard` of a run in `dir` keeps its checkpoint: `dir/checkpoint-<k>-of-<N>`
+/// (k, N zero-padded to 4 digits, so the folders sort by shard). A finished shard's checkpoint
+/// holds all its records: it is the shard's result file.
 pub fn checkpoint_dir(dir: impl AsRef<Path>, shard: Shard) -> PathBuf {
     dir.as_ref()
         .join(format!("checkpoint-{:04}-of-{:04}", shard.index(), shard.count()))
 }
 
-/// The shard of a [`result_path`] file name.
-fn parse_result_name(name: &str) -> Option<(u64, u64)> {
-    let (k, n) = name
-        .strip_prefix("results-")?
-        .strip_suffix(".json")?
-        .split_once("-of-")?;
+/// The shard of a [`checkpoint_dir`] folder name.
+fn parse_checkpoint_name(name: &str) -> Option<(u64, u64)> {
+    let (k, n) = name.strip_prefix("checkpoint-")?.split_once("-of-")?;
     Some((k.parse().ok()?, n.parse().ok()?))
 }
 

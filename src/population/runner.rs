@@ -5,7 +5,7 @@ use super::FORMAT;
 use super::PopulationError;
 use super::case::{Case, RunConfig};
 use super::checkpoint::Checkpoint;
-use super::output::{RunOutput, checkpoint_dir, result_path};
+use super::output::{RunOutput, checkpoint_dir};
 use super::progress::{Progress, Reporter};
 use super::record::ParticleRecord;
 use super::shard::Shard;
@@ -145,7 +145,7 @@ where
     let hash = case.config_hash(config);
     let (checkpoint, done) = match &options.checkpoint {
         Some((dir, interval)) => {
-            let (cp, done) = Checkpoint::open(dir, &hash, shard, config.particles, options.resume)?;
+            let (cp, done) = Checkpoint::open(dir, &hash, (config.seed, config.particles), shard, options.resume)?;
             (Some((cp, *interval)), done)
         }
         None => (None, BTreeMap::new()),
@@ -165,8 +165,9 @@ where
     }
     let stopped = || control.is_some_and(RunControl::stopped);
     let (tx, rx) = mpsc::channel::<ParticleRecord<J::Law>>();
+    let names = |records: &[ParticleRecord<J::Law>]| patch_names(case.boundary(), records);
     let collected = std::thread::scope(|scope| {
-        let collector = scope.spawn(|| collect(rx, done, checkpoint, reporter, &abort, control));
+        let collector = scope.spawn(|| collect(rx, done, checkpoint, &names, reporter, &abort, control));
         let work = |tx: &mut mpsc::Sender<ParticleRecord<J::Law>>, j: u64| {
             let k = first + j * stride;
             if abort.load(Ordering::Relaxed) || stopped() || finished.contains(&k) {
@@ -193,10 +194,7 @@ where
             total,
         });
     }
-    let patches = match records.iter().filter_map(|r| r.fate.patch()).max() {
-        Some(max) => (0..=max).map(|p| case.boundary().patch_name(p).to_string()).collect(),
-        None => Vec::new(),
-    };
+    let patches = names(&records);
     Ok(RunOutput {
         format: FORMAT,
         config_hash: hash,
@@ -208,10 +206,20 @@ where
     })
 }
 
+/// Names of patches 0..=p, p the largest patch index of `records` (none: empty).
+fn patch_names<B: Boundary + ?Sized, L>(boundary: &B, records: &[ParticleRecord<L>]) -> Vec<String> {
+    match records.iter().filter_map(|r| r.fate.patch()).max() {
+        Some(max) => (0..=max).map(|p| boundary.patch_name(p).to_string()).collect(),
+        None => Vec::new(),
+    }
+}
+
 /// [`run`] in the standard layout of an output folder `dir`: checkpoints in
 /// [`checkpoint_dir`]`(dir, shard)` (every [`CHECKPOINT_INTERVAL`], or the interval `options`
-/// set; resumed if `options` say so), results in [`result_path`]`(dir, shard)` and the same
-/// path with `.csv` ([`RunOutput::table`]). [`RunOutput::merge_in_dir`] merges such a folder.
+/// set; resumed if `options` say so). The checkpoint is the shard's only record file: a
+/// finished shard's folder holds every record ([`RunOutput::read_checkpoint`]), and
+/// [`RunOutput::merge_dir`] merges the shards of `dir`. Tables are the caller's
+/// ([`RunOutput::table`], the command's Parquet files).
 pub fn run_in_dir<I, F, B, J>(
     case: &Case<'_, I, F, B, J>,
     config: &RunConfig,
@@ -228,20 +236,18 @@ where
     let dir = dir.as_ref();
     let interval = options.checkpoint.as_ref().map_or(CHECKPOINT_INTERVAL, |(_, i)| *i);
     let options = options.clone().with_checkpoints(checkpoint_dir(dir, shard), interval);
-    let out = run(case, config, shard, &options)?;
-    let path = result_path(dir, shard);
-    out.write_json(&path)?;
-    out.table()?.write(path.with_extension("csv"))?;
-    Ok(out)
+    run(case, config, shard, &options)
 }
 
 /// Receive records until every worker is done: report progress, write a checkpoint chunk
-/// every interval and at the end, and return all records by index. On a write error, ask the
-/// workers to stop and return the error.
+/// every interval and at the end (an empty one if the folder has none yet: a finished shard
+/// always leaves a chunk naming its run), and return all records by index. On a write error,
+/// ask the workers to stop and return the error.
 fn collect<L: serde::Serialize>(
     rx: mpsc::Receiver<ParticleRecord<L>>,
     mut done: BTreeMap<u64, ParticleRecord<L>>,
     mut checkpoint: Option<(Checkpoint, Duration)>,
+    names: &(dyn Fn(&[ParticleRecord<L>]) -> Vec<String> + Sync),
     mut reporter: Reporter,
     abort: &AtomicBool,
     control: Option<&RunControl>,
@@ -250,12 +256,13 @@ fn collect<L: serde::Serialize>(
     let mut next_flush = checkpoint.as_ref().map(|(_, interval)| Instant::now() + *interval);
     let flush = |pending: &mut Vec<ParticleRecord<L>>,
                  done: &mut BTreeMap<u64, ParticleRecord<L>>,
-                 checkpoint: &mut Option<(Checkpoint, Duration)>|
+                 checkpoint: &mut Option<(Checkpoint, Duration)>,
+                 last: bool|
      -> Result<(), PopulationError> {
         if let Some((cp, _)) = checkpoint
-            && !pending.is_empty()
+            && (!pending.is_empty() || (last && cp.is_empty()))
         {
-            cp.write(pending)?;
+            cp.write(pending, &names(pending))?;
         }
         done.extend(pending.drain(..).map(|r| (r.index, r)));
         Ok(())
@@ -278,12 +285,12 @@ fn collect<L: serde::Serialize>(
         match received {
             Ok(record) => pending.push(record),
             Err(mpsc::RecvTimeoutError::Timeout) => {}
-            Err(mpsc::RecvTimeoutError::Disconnected) => break flush(&mut pending, &mut done, &mut checkpoint),
+            Err(mpsc::RecvTimeoutError::Disconnected) => break flush(&mut pending, &mut done, &mut checkpoint, true),
         }
         if let Some(t) = next_flush
             && Instant::now() >= t
         {
-            if let Err(e) = flush(&mut pending, &mut done, &mut checkpoint) {
+            if let Err(e) = flush(&mut pending, &mut done, &mut checkpoint, false) {
                 break Err(e);
             }
             next_flush = checkpoint.as_ref().map(|(_, interval)| Instant::now() + *interval);

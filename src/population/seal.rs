@@ -1,9 +1,10 @@
-//! Checksums of checkpoint chunks and result (shard) files.
+//! Checksums of checkpoint chunks (a run's only files of records; resume and merge read them)
+//! and of result caches ([`super::RunOutput::write_json`]).
 //!
 //! A file's JSON object ends with `"version"` (the code version that wrote it) and
 //! `"checksum"`: 64-bit FNV-1a over a tag, the version and the canonical JSON of the rest of
-//! the object, which holds the records, the configuration hash (seed, size, scene text,
-//! integrator, plan) and the shard. A reader parses the rest, serialises it again and compares:
+//! the object, which holds the records, the configuration hash (code version, seed, size, scene
+//! text, flow and boundary fingerprints, integrator, plan), the seed, size and shard. A reader parses the rest, serialises it again and compares:
 //! f64 values round-trip exactly and the serialisation is deterministic, so any change of a
 //! value (a digit of a coordinate, a fate, an index) changes the checksum, while the file's
 //! own formatting does not matter. A file of another code version is refused with that

@@ -140,6 +140,12 @@ fn support(mesh: &super::PolyMesh, c: usize) -> Option<(Mat3, f64)> {
 }
 
 impl BlendedFlow {
+    /// The cellwise field's [`FoamFlow::fingerprint`], marked as blended (the blend is
+    /// computed from it by the code).
+    pub fn fingerprint(&self) -> String {
+        format!("blended {}", self.flow.fingerprint())
+    }
+
     /// Blend `flow` (module docs); an error if a cell's vertices do not span space or a
     /// coordinate is not finite (near f64::MAX).
     pub fn new(flow: FoamFlow) -> Result<Self, FoamError> {

@@ -185,7 +185,65 @@ thread_local! {
     static LAST_CELL: Cell<usize> = const { Cell::new(usize::MAX) };
 }
 
+/// FNV-1a (64 bit) over a fixed byte layout: the content hashes of meshes and fields (stable
+/// across Rust releases and platforms, unlike `std`'s `DefaultHasher`; no dependency, as the
+/// `fnv` crate is not part of the feature `mesh`). It guards against mistakes, not forgery.
+pub(crate) struct Fnv(u64);
+
+impl Fnv {
+    pub(crate) fn new(tag: &[u8]) -> Self {
+        let mut h = Self(0xcbf2_9ce4_8422_2325);
+        h.bytes(tag);
+        h
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    /// A length-prefixed byte string.
+    pub(crate) fn bytes(&mut self, bytes: &[u8]) {
+        self.u64(bytes.len() as u64);
+        self.write(bytes);
+    }
+    pub(crate) fn u64(&mut self, v: u64) {
+        self.write(&v.to_le_bytes());
+    }
+    pub(crate) fn f64s(&mut self, values: impl Iterator<Item = f64>) {
+        values.for_each(|v| self.u64(v.to_bits()));
+    }
+    pub(crate) fn hex(&self) -> String {
+        format!("{:016x}", self.0)
+    }
+}
+
 impl FoamFlow {
+    /// What identifies this field for a run's configuration hash
+    /// ([`crate::population::Case::config_hash`]): the mesh's [`PolyMesh::content_hash`], and
+    /// a hash of every time level's time and velocity values (the f64 bits as read) and of the
+    /// no-slip wall faces (from the boundary conditions of `U`). Gradients, wall fits and the
+    /// locator are computed from these by the code, whose version the configuration hash holds
+    /// too. By content, not by path or file times: a copy of the case elsewhere (another node
+    /// of a sharded run) gives the same fingerprint, and a field solved again gives another.
+    pub fn fingerprint(&self) -> String {
+        let mut h = Fnv::new(b"pseudorigid FoamFlow v1");
+        h.u64(self.frames.len() as u64);
+        for f in &self.frames {
+            h.u64(f.time.to_bits());
+            h.u64(f.u.len() as u64);
+            h.f64s(f.u.iter().flat_map(|u| u.iter().copied()));
+        }
+        h.u64(self.walls.len() as u64);
+        self.walls.iter().for_each(|&w| h.u64(u64::from(w)));
+        format!(
+            "openfoam field: {} cells, {} time levels, mesh {}, U {}",
+            self.mesh.n_cells(),
+            self.frames.len(),
+            self.mesh.content_hash(),
+            h.hex()
+        )
+    }
+
     /// Velocity `U` of `case` at the given times (one time: steady).
     pub fn read(case: &FoamCase, times: &[f64]) -> Result<Self, FoamError> {
         let fields = times

@@ -85,10 +85,12 @@ pub fn run_kind(
         seed,
         particles: n,
         fingerprint: format!(
-            "bifurcation {kind:?}; residence time {:e}; cells {}; blend radius {:e}",
+            "bifurcation {kind:?}; residence time {:e}; cells {}; blend radius {:e}; {}; {}",
             airway.mean_residence_time(),
             airway.flow().cellwise().mesh().n_cells(),
-            airway.flow().radius()
+            airway.flow().radius(),
+            airway.flow().fingerprint(),
+            airway.boundary().fingerprint()
         ),
     };
     let file = cache.map(|dir| dir.join(format!("{}-{shard}.json", case.config_hash(&config)).replace('/', "of")));
@@ -98,7 +100,9 @@ pub fn run_kind(
         match RunOutput::read_json(file) {
             // A cache written before checksums, or by another code version, is rerun; an
             // edited one is an error.
-            Err(PopulationError::Unsealed { .. } | PopulationError::Version { .. }) => {}
+            Err(
+                PopulationError::Unsealed { .. } | PopulationError::Version { .. } | PopulationError::Format { .. },
+            ) => {}
             read => return Ok(read?),
         }
     }
