@@ -34,7 +34,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         args.next()
             .unwrap_or("reference-data/cavity_re1000_albensoeder_kuhlmann.csv".into()),
     );
-    let out = PathBuf::from(args.next().unwrap_or("paper-figures/cavity-validation".into()));
+    let out = args.next().map_or_else(
+        || pseudorigid::output::paper_figure_path("cavity-validation", ""),
+        PathBuf::from,
+    );
     std::fs::create_dir_all(&out)?;
 
     let flow = MeshedFlow::load(&field)?;

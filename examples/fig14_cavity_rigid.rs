@@ -4,7 +4,7 @@
 //! Run: `cargo run --release --example fig14_cavity_rigid`
 
 use pseudorigid::flow::unstructured::MeshedFlow;
-use pseudorigid::output::Figure;
+use pseudorigid::output::{Figure, paper_figure_path};
 use pseudorigid::scenes::cavity::{Cavity, Contact, Release, Shape, outcome_table, trajectory_panel, trajectory_table};
 use pseudorigid::scenes::particles::Softness;
 use rayon::prelude::*;
@@ -37,10 +37,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             run.stats.steps
         );
     }
-    trajectory_table(&runs)?.write("paper-figures/fig14/trajectories.csv")?;
-    outcome_table(&runs)?.write("paper-figures/fig14/outcomes.csv")?;
+    trajectory_table(&runs)?.write(paper_figure_path("fig14", "trajectories.csv"))?;
+    outcome_table(&runs)?.write(paper_figure_path("fig14", "outcomes.csv"))?;
     Figure::single(trajectory_panel(&runs, "Fig. 14: rigid prolates, 5 s"))
-        .write("paper-figures/fig14/trajectories.svg")?;
+        .write(paper_figure_path("fig14", "trajectories.svg"))?;
     println!("fig14_cavity_rigid: wall time {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }

@@ -39,11 +39,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     if inertialess {
-        outcome_table(&runs)?.write("paper-figures/fig15_fig16/outcomes_inertialess.csv")?;
+        outcome_table(&runs)?.write(pseudorigid::output::paper_figure_path(
+            "fig15_fig16",
+            "outcomes_inertialess.csv",
+        ))?;
         return Ok(());
     }
-    trajectory_table(&runs)?.write("paper-figures/fig15_fig16/trajectories.csv")?;
-    outcome_table(&runs)?.write("paper-figures/fig15_fig16/outcomes.csv")?;
+    trajectory_table(&runs)?.write(pseudorigid::output::paper_figure_path(
+        "fig15_fig16",
+        "trajectories.csv",
+    ))?;
+    outcome_table(&runs)?.write(pseudorigid::output::paper_figure_path("fig15_fig16", "outcomes.csv"))?;
     // One panel per initial shape, in the order of the releases.
     let mut shapes: Vec<Shape> = Vec::new();
     for r in &releases {
@@ -58,7 +64,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             trajectory_panel(&mine, &s.label())
         })
         .collect();
-    Figure::grid(panels, 4, (420, 420)).write("paper-figures/fig15_fig16/trajectories.svg")?;
+    Figure::grid(panels, 4, (420, 420)).write(pseudorigid::output::paper_figure_path(
+        "fig15_fig16",
+        "trajectories.svg",
+    ))?;
     println!(
         "fig15_fig16_cavity_soft: wall time {:.1} s",
         start.elapsed().as_secs_f64()

@@ -86,7 +86,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             r.stats.jac_evals.to_string(),
         ])?;
     }
-    csv.write("paper-figures/work-precision/work_precision.csv")?;
+    csv.write(pseudorigid::output::paper_figure_path(
+        "work-precision",
+        "work_precision.csv",
+    ))?;
 
     let mut integrators: Vec<&str> = Vec::new();
     for r in &records {
@@ -118,7 +121,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             panels.push(panel);
         }
     }
-    Figure::grid(panels, 2, (520, 380)).write("paper-figures/work-precision/work_precision.svg")?;
+    Figure::grid(panels, 2, (520, 380)).write(pseudorigid::output::paper_figure_path(
+        "work-precision",
+        "work_precision.svg",
+    ))?;
 
     // Equal error: the best error each inertial scheme reaches on the oblate case, and the
     // work the inertialess integrator needs for the same error.
@@ -180,7 +186,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 format!("{:.4e}", r.ratio),
             ])?;
         }
-        csv.write("paper-figures/work-precision/peer_ratios.csv")?;
+        csv.write(pseudorigid::output::paper_figure_path(
+            "work-precision",
+            "peer_ratios.csv",
+        ))?;
     }
     println!("work_precision finished in {:.1} s", start.elapsed().as_secs_f64());
     Ok(())

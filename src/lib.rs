@@ -105,7 +105,7 @@ pub mod prelude {
     pub use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
     pub use crate::flow::{FlowField, FlowSample};
     pub use crate::hydro::{Brenner, DragModel, JefferyRoscoe, StokesSphere, VolumetricTraction};
-    pub use crate::integrator::{ImexPaper, StepInfo, TimeIntegrator};
+    pub use crate::integrator::{ImexPaper, StepInfo, Stokesian, TimeIntegrator};
     pub use crate::material::{Hyperelastic, MooneyRivlin, NeoHooke};
     pub use crate::particle::{Fluid, Particle, ShearScaling, State};
     pub use crate::tensor::{Mat3, Vec3};

@@ -51,7 +51,7 @@ use crate::hydro::DragModel;
 use crate::material::{Hyperelastic, Response};
 use crate::particle::dynamics::{Geometry, Model, traction_load};
 use crate::particle::{Particle, State};
-use crate::tensor::{Mat3, Mat9, Vec9, inv_transpose, mat3, vec9};
+use crate::tensor::{Mat3, Mat9, inv_transpose, mat3, vec9};
 use nalgebra::{Const, SVector, Schur};
 use num_dual::DualVec;
 use serde::{Deserialize, Serialize};
@@ -512,17 +512,4 @@ impl TimeIntegrator for ImexPaper {
             info,
         })
     }
-}
-
-/// Flattened residual helper for tests: R(F) of the Newton problem at `f`.
-pub fn imex_residual<M: Response, D: DragModel>(
-    particle: &Particle<M, D>,
-    state: &State,
-    sigma_star: &Mat3,
-    dt: f64,
-    f: &Mat3,
-) -> Vec9 {
-    let c = dt * dt * particle.volume0();
-    let p = particle.elastic().map_or_else(Mat3::zeros, |law| law.piola(f));
-    vec9(&(f - state.f - state.a * dt - (traction_load(f, sigma_star) - p) * particle.theta_inv() * c))
 }

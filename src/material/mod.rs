@@ -24,7 +24,7 @@ pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hooke::NeoHooke;
 pub use response::{NoLaw, Response, Rigid, Softness};
 
-use crate::tensor::{Mat3, Mat9, Scalar, Vec9, mat3, vec9};
+use crate::tensor::{Mat3, Mat9, Scalar, mat3, vec9};
 use nalgebra::{Const, SVector};
 use num_dual::{Dual2Vec, DualVec, hessian};
 
@@ -112,9 +112,4 @@ pub fn piola_ad<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Mat3 {
 pub fn tangent_ad<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Mat9 {
     let (_, _, h) = hessian(|v: SVector<Dual2Vec<f64, Const<9>>, 9>| law.energy(&mat3(&v)), &vec9(f));
     h
-}
-
-/// Flattened P, for callers that work on 9-vectors.
-pub fn piola_vec<M: Hyperelastic + ?Sized>(law: &M, f: &Mat3) -> Vec9 {
-    vec9(&law.piola(f))
 }

@@ -12,8 +12,3 @@ use crate::tensor::{Mat3, Vec3};
 pub fn material_line(shape: &Ellipsoid, f: &Mat3, a: usize) -> Vec3 {
     f * shape.axis_point(a)
 }
-
-/// Lengths (l₁, l₂, l₃) of the three material lines of the initial semi-axes.
-pub fn material_line_lengths(shape: &Ellipsoid, f: &Mat3) -> Vec3 {
-    Vec3::from_fn(|a, _| material_line(shape, f, a).norm())
-}
