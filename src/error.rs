@@ -45,6 +45,17 @@ pub enum ParamError {
         /// The inputs it was computed from, in the order of the docs.
         inputs: Vec<f64>,
     },
+    /// A stored energy written as an expression that does not parse, names an unknown
+    /// symbol, or whose reference state is not a stress-free stable solid.
+    #[error("energy `{energy}`, at character {position}: {message}")]
+    Expression {
+        /// Byte offset in the energy's text.
+        position: usize,
+        /// What is wrong.
+        message: String,
+        /// The energy's text.
+        energy: String,
+    },
     /// Arguments outside the domain of a special function (Carlson's R_F, R_D).
     #[error("{function}({x:e}, {y:e}, {z:e}) is undefined: {reason}")]
     OutOfDomain {

@@ -704,3 +704,43 @@ vtk = false
         other => panic!("expected a scene error, got {:?}", other.map(|s| s.count())),
     }
 }
+
+/// A law written in the scene file runs like the built-in law it writes: `yeoh_oblate.toml`
+/// with c20 = 0 is Neo-Hooke with μ_s = 2 c10 = 2.5 and λ_s = 2500, the material of
+/// `oblate_shear.toml`; over 2 time units of shear the two give the same F to 10⁻⁷ (the
+/// integrator's tolerance is 10⁻⁸ per step; the two energies differ by round-off, which the
+/// step-size controller may answer with slightly different steps). With c20 = 0.5 the Yeoh
+/// solid is stiffer in stretch: its largest semi-axis grows less than Neo-Hooke's. A symbol the
+/// energy does not know is refused at the material's key.
+#[test]
+fn a_law_written_in_the_scene_runs_like_the_built_in_law() {
+    let short = [("t_end = 30.0", "t_end = 2.0"), ("every = 0.25", "every = 2.0")];
+    let end = |s: &Scene, name: &str| {
+        let out = run(s, name);
+        let state = out.records[0].end.clone().unwrap();
+        (state.f, out.records[0].end_frame().unwrap().r[0])
+    };
+    let (f_nh, r_nh) = end(&scene("oblate_shear.toml", &short), "cli_law_nh");
+    let mut edits = short.to_vec();
+    edits.push(("c20 = 0.5", "c20 = 0.0"));
+    let (f_text, _) = end(&scene("yeoh_oblate.toml", &edits), "cli_law_text");
+    assert!((f_text - f_nh).amax() <= 1e-7, "{:?}", (f_text - f_nh).amax());
+    let (_, r_yeoh) = end(&scene("yeoh_oblate.toml", &short), "cli_law_yeoh");
+    assert!(r_yeoh < r_nh, "Yeoh r1 {r_yeoh} against Neo-Hooke {r_nh}");
+    let text = std::fs::read_to_string(scene_path("yeoh_oblate.toml"))
+        .unwrap()
+        .replace("c20*(", "k*(");
+    match parse(
+        &Source {
+            file: "yeoh.toml",
+            text: &text,
+        },
+        Path::new("."),
+    ) {
+        Err(CliError::Scene { key, message, .. }) => {
+            assert_eq!(key, "particles.list[0].material.energy");
+            assert!(message.contains("unknown name `k`"), "{message}");
+        }
+        other => panic!("expected a scene error, got {:?}", other.map(|s| s.count())),
+    }
+}

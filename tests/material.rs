@@ -3,7 +3,7 @@ mod common;
 
 use common::strategies;
 use proptest::prelude::*;
-use pseudorigid::material::{piola_ad, tangent_ad};
+use pseudorigid::material::{ExpressionLaw, piola_ad, tangent_ad};
 use pseudorigid::prelude::*;
 use pseudorigid::tensor::Scalar;
 
@@ -100,4 +100,36 @@ fn energy_is_generic() {
         (got - expected).abs() <= 64.0 * f64::EPSILON * 45.0,
         "{got} vs {expected}"
     );
+}
+
+proptest! {
+    /// A law written as text (`material::ExpressionLaw`) is the built-in law it writes: the
+    /// paper's Neo-Hooke (eq. 9) and Mooney–Rivlin, W, P and the tangent on random F, to the
+    /// round-off of the closed forms (the same bounds as above; the expression evaluates the
+    /// invariants through C = FᵀF instead of |F|², a few more roundings of the same size). Its
+    /// small-strain moduli, read off the AD tangent at F = 1, are the laws' own.
+    #[test]
+    fn expression_law_is_the_built_in_law(f in strategies::deformation(), mu in 0.1f64..10.0, ratio in 1.0f64..1e3, beta in 0.0f64..1.0) {
+        let lambda = mu * ratio;
+        let params = |pairs: &[(&str, f64)]| pairs.iter().map(|&(k, v)| (k.to_string(), v)).collect();
+        let nh = NeoHooke::new(mu, lambda).unwrap();
+        let text = ExpressionLaw::new(
+            "mu/2*(I1 - 3) - mu*ln(J) + lambda/2*ln(J)^2",
+            params(&[("mu", mu), ("lambda", lambda)]),
+        ).unwrap();
+        prop_assert!((text.shear_modulus() - mu).abs() <= 1e-12 * mu);
+        prop_assert!((text.lame_lambda() - lambda).abs() <= 1e-12 * lambda);
+        prop_assert!((text.energy(&f) - nh.energy(&f)).abs() <= 1e-12 * (1.0 + nh.energy(&f).abs()));
+        prop_assert!((text.piola(&f) - nh.piola(&f)).abs().max() <= round_off(piola_bound(mu, lambda)));
+        prop_assert!((text.tangent(&f) - nh.tangent(&f)).abs().max() <= round_off(tangent_bound(mu, lambda)));
+        let (mu1, mu2) = ((1.0 - beta) * mu, beta * mu);
+        let mr = MooneyRivlin::new(mu1, mu2, lambda).unwrap();
+        let text = ExpressionLaw::new(
+            "mu1/2*(I1 - 3 - 2*ln(J)) + mu2/2*(I2 - 3 - 4*ln(J)) + lambda/2*ln(J)^2",
+            params(&[("mu1", mu1), ("mu2", mu2), ("lambda", lambda)]),
+        ).unwrap();
+        prop_assert!((text.shear_modulus() - mr.shear_modulus()).abs() <= 1e-12 * mu);
+        prop_assert!((text.piola(&f) - mr.piola(&f)).abs().max() <= round_off(piola_bound(mu, lambda)));
+        prop_assert!((text.tangent(&f) - mr.tangent(&f)).abs().max() <= round_off(tangent_bound(mu, lambda)));
+    }
 }

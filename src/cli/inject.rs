@@ -41,7 +41,7 @@ impl Placement {
     pub fn spec(&self, velocity: Vec3) -> ParticleSpec<SceneLaw> {
         ParticleSpec {
             shape: self.shape,
-            softness: self.softness,
+            softness: self.softness.clone(),
             density: self.density,
             position: self.position,
             velocity,

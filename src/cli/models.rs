@@ -9,17 +9,19 @@ use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
 use crate::flow::openfoam::{BlendedFlow, FoamFlow};
 use crate::flow::{FlowField, FlowSample};
 use crate::hydro::{Brenner, DragModel, StokesSphere};
-use crate::material::{Hyperelastic, MooneyRivlin, NeoHooke};
+use crate::material::{ExpressionLaw, Hyperelastic, MooneyRivlin, NeoHooke};
 use crate::tensor::{Mat3, Mat9, Scalar, Vec3};
 use serde::{Deserialize, Serialize};
 
 /// A hyperelastic law named in a scene.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum SceneLaw {
     /// Neo-Hooke (paper eq. 9).
     NeoHooke(NeoHooke),
     /// Mooney–Rivlin.
     MooneyRivlin(MooneyRivlin),
+    /// A stored energy written in the scene.
+    Expression(Box<ExpressionLaw>),
 }
 
 impl Hyperelastic for SceneLaw {
@@ -27,18 +29,21 @@ impl Hyperelastic for SceneLaw {
         match self {
             SceneLaw::NeoHooke(l) => l.energy(f),
             SceneLaw::MooneyRivlin(l) => l.energy(f),
+            SceneLaw::Expression(l) => l.energy(f),
         }
     }
     fn shear_modulus(&self) -> f64 {
         match self {
             SceneLaw::NeoHooke(l) => l.shear_modulus(),
             SceneLaw::MooneyRivlin(l) => l.shear_modulus(),
+            SceneLaw::Expression(l) => l.shear_modulus(),
         }
     }
     fn lame_lambda(&self) -> f64 {
         match self {
             SceneLaw::NeoHooke(l) => l.lame_lambda(),
             SceneLaw::MooneyRivlin(l) => l.lame_lambda(),
+            SceneLaw::Expression(l) => l.lame_lambda(),
         }
     }
     // The laws' own closed forms, where they have them, stay in use.
@@ -46,12 +51,14 @@ impl Hyperelastic for SceneLaw {
         match self {
             SceneLaw::NeoHooke(l) => l.piola(f),
             SceneLaw::MooneyRivlin(l) => l.piola(f),
+            SceneLaw::Expression(l) => l.piola(f),
         }
     }
     fn tangent(&self, f: &Mat3) -> Mat9 {
         match self {
             SceneLaw::NeoHooke(l) => l.tangent(f),
             SceneLaw::MooneyRivlin(l) => l.tangent(f),
+            SceneLaw::Expression(l) => l.tangent(f),
         }
     }
 }

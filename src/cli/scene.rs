@@ -20,7 +20,7 @@ use crate::flow::analytic::{LinearFlow, Poiseuille};
 use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow};
 use crate::hydro::VolumetricTraction;
 use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian};
-use crate::material::{MooneyRivlin, NeoHooke, Softness};
+use crate::material::{ExpressionLaw, MooneyRivlin, NeoHooke, Softness};
 use crate::particle::Fluid;
 use crate::population::ParticleTemplate;
 use crate::tensor::{Mat3, Vec3};

@@ -288,6 +288,10 @@ pub struct MaterialSpec {
     pub mu2: Option<Num>,
     /// First Lamé parameter λ_s (`neo_hooke`, `mooney_rivlin`).
     pub lambda: Option<Num>,
+    /// Stored energy W(I1, I2, J) as text (`expression`; `crate::material::expression`).
+    pub energy: Option<Spanned<String>>,
+    /// Named values the energy uses (`expression`).
+    pub parameters: Option<Spanned<std::collections::BTreeMap<String, f64>>>,
 }
 
 /// Laws by name.
@@ -300,6 +304,8 @@ pub enum LawKind {
     MooneyRivlin,
     /// Rigid (Ca → 0): Jeffery rotation, no elasticity.
     Rigid,
+    /// A stored energy written in the scene (`energy`, `parameters`).
+    Expression,
 }
 
 /// `[particles.inject]`: one injection group.

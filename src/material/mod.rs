@@ -16,10 +16,12 @@
 //! leave F = 1 stress-free and be objective (W a function of C = FᵀF); its small-strain shear
 //! modulus μ_s sets Ca = μ_f γ̇/μ_s (eq. 23), its λ_s the compressibility J − 1 = O(σ/λ_s).
 
+pub mod expression;
 pub mod mooney_rivlin;
 pub mod neo_hooke;
 pub mod response;
 
+pub use expression::ExpressionLaw;
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hooke::NeoHooke;
 pub use response::{NoLaw, Response, Rigid, Softness};

@@ -47,6 +47,14 @@ impl Builder<'_> {
     fn material(&self, m: &MaterialSpec, key: &str) -> Result<Softness<SceneLaw>, CliError> {
         let at = m.law.span();
         let k = |name: &str| format!("{key}.{name}");
+        if !matches!(m.law.get_ref(), LawKind::Expression) {
+            let (e, p) = (k("energy"), k("parameters"));
+            self.refuse(
+                &[(&e, m.energy.is_some()), (&p, m.parameters.is_some())],
+                at.clone(),
+                "a built-in law",
+            )?;
+        }
         match m.law.get_ref() {
             LawKind::Rigid => {
                 let keys = [k("mu"), k("mu1"), k("mu2"), k("lambda")];
@@ -54,6 +62,17 @@ impl Builder<'_> {
                 let given: Vec<(&str, bool)> = keys.iter().map(String::as_str).zip(flags).collect();
                 self.refuse(&given, at, "rigid")?;
                 Ok(Softness::Rigid)
+            }
+            LawKind::Expression => {
+                let keys = [k("mu"), k("mu1"), k("mu2"), k("lambda")];
+                let flags = [m.mu.is_some(), m.mu1.is_some(), m.mu2.is_some(), m.lambda.is_some()];
+                let given: Vec<(&str, bool)> = keys.iter().map(String::as_str).zip(flags).collect();
+                self.refuse(&given, at.clone(), "expression")?;
+                let energy = self.need(&m.energy, at, &k("energy"), "expression")?;
+                let parameters = m.parameters.as_ref().map(|p| p.get_ref().clone()).unwrap_or_default();
+                ExpressionLaw::new(energy.get_ref(), parameters)
+                    .map(|law| Softness::Elastic(SceneLaw::Expression(Box::new(law))))
+                    .map_err(|e| self.param(energy.span(), &k("energy"), e))
             }
             LawKind::NeoHooke => {
                 let (k1, k2) = (k("mu1"), k("mu2"));
