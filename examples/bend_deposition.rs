@@ -5,6 +5,17 @@
 //! cargo run --release --example bend_deposition -- [--tol T] [--residence-times R] [--no-blend] [N] [CASE_DIR] [STK...]
 //! ```
 //! The options change the dataset's [`Settings`] to measure their effect (same particles).
+//!
+//! `--peer`: instead, OpenFOAM's own tracker (`benches/peers/openfoam_tracker/run.sh`:
+//! `icoUncoupledKinematicParcelFoam`, sphereDrag in its Stokes limit, cellPoint interpolation,
+//! no gravity, the same tracking time) follows the same N spheres per Stk (drawn by the scene's
+//! injector, written as `particles.csv` in `target/bend-peer/<cells>_stk<STK>/`), and the fates
+//! are paired one by one (`population::peer`): deposition on the bend's wall by both, by one,
+//! by neither. Output: `peer_<cells>_stk<STK>.csv` (columns `cells,stk,n,both,only_ours,
+//! only_openfoam,neither,de_ours,de_openfoam,de_difference,se_paired,mcnemar_chi2,ours_tubes,
+//! ours_escaped,ours_suspended,ours_failed,openfoam_tubes,openfoam_escaped,openfoam_suspended,
+//! openfoam_not_injected,wall_ours_s,wall_openfoam_s`) in the output folder and `pairs.csv`
+//! (per particle) in the work folder.
 //! N spheres per Stokes number (default 2 000), tracked through the solved case `CASE_DIR`
 //! (default `target/bend/case`, made by `cases/bend/Allrun` with its default mesh if it has no
 //! `bend.summary`) at the Stokes numbers [`STOKES`] (or those given). Set-up and definitions:
@@ -12,9 +23,13 @@
 //! de_stderr,reference_de`), `fates.csv` (every fate per Stk) and `deposition.svg` to
 //! `paper-figures/bend/`, or to the folder `$BEND_OUT` if set (the CI check's reduced study).
 
-use pseudorigid::population::RunOptions;
-use pseudorigid::scenes::bend::{BendCase, SEED, Settings, deposition_figure, deposition_table};
-use std::path::PathBuf;
+use pseudorigid::population::peer::{Pairing, read_peer_fates};
+use pseudorigid::population::{Fate, RunOptions};
+use pseudorigid::scenes::bend::{
+    BEND_WALL, BendCase, FLUID_DENSITY, PARTICLE_DENSITY, SEED, Settings, deposition_figure, deposition_table,
+};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
@@ -45,6 +60,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         settings.blend = false;
         args.remove(i);
     }
+    let peer = args
+        .iter()
+        .position(|a| a == "--peer")
+        .map(|i| args.remove(i))
+        .is_some();
     let n: u64 = args.first().map(|s| s.parse()).transpose()?.unwrap_or(2000);
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let dir = args
@@ -76,6 +96,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         case.mean_velocity,
         case.residence_time
     );
+    if peer {
+        for &stk in &stokes {
+            compare_with_openfoam(&case, &root, &out, stk, n)?;
+        }
+        return Ok(());
+    }
     let mut rows = Vec::new();
     let mut fates = String::from("stk,d_m,n_injected,bend,tubes,escaped,suspended,failed,wall_s\n");
     for &stk in &stokes {
@@ -112,5 +138,117 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &format!("90° bend, Re = {:.0}, R_o/a = 5.6: N = {n} per Stk", case.reynolds()),
     )
     .write(out.join("deposition.svg"))?;
+    Ok(())
+}
+
+/// `--peer`: OpenFOAM's tracker and ours on the same `n` spheres of Stokes number `stk`.
+fn compare_with_openfoam(
+    case: &BendCase,
+    root: &Path,
+    out: &Path,
+    stk: f64,
+    n: u64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let name = format!("{}_stk{stk}", case.cells);
+    let work = root.join("target/bend-peer").join(&name);
+    std::fs::create_dir_all(&work)?;
+    let d = case.diameter_for_stokes(stk)?;
+    let specs = case.particle_specs(stk, n, SEED)?;
+    let mut csv = String::from("index,x,y,z,u,v,w,d,rho\n");
+    for (k, spec) in specs.iter().enumerate() {
+        let (x, u) = (spec.position, spec.velocity);
+        writeln!(
+            csv,
+            "{k},{},{},{},{},{},{},{d},{PARTICLE_DENSITY}",
+            x.x, x.y, x.z, u.x, u.y, u.z
+        )?;
+    }
+    let particles = work.join("particles.csv");
+    std::fs::write(&particles, csv)?;
+    let end_time = Settings::default().residence_times * case.residence_time;
+    let status = Command::new("sh")
+        .arg(root.join("benches/peers/openfoam_tracker/run.sh"))
+        .arg(&case.dir)
+        .arg(&particles)
+        .arg(work.join("openfoam"))
+        .env("END_TIME", format!("{end_time:e}"))
+        .env("GRAVITY", "(0 0 0)")
+        .env("FLUID_RHO", format!("{FLUID_DENSITY:e}"))
+        .status()?;
+    if !status.success() {
+        return Err(format!("run.sh: {status}").into());
+    }
+    let peer = read_peer_fates(&work.join("openfoam/fates.csv"))?;
+    let summary = std::fs::read_to_string(work.join("openfoam/summary.txt"))?;
+    let wall_openfoam: f64 = summary
+        .lines()
+        .find_map(|l| l.strip_prefix("wall_seconds="))
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or(f64::NAN);
+
+    let start = Instant::now();
+    let ours = case.run_output(stk, n, SEED, Settings::default(), RunOptions::default().quiet())?;
+    let wall_ours = start.elapsed().as_secs_f64();
+
+    let mut pairing = Pairing::default();
+    let mut counts = [0u64; 8];
+    let mut pairs = String::from("index,ours,ours_patch,openfoam,openfoam_patch,openfoam_t\n");
+    for r in &ours.records {
+        let p = peer
+            .get(&r.index)
+            .ok_or_else(|| format!("particle {} missing from fates.csv", r.index))?;
+        let patch = r.fate.patch().map_or("", |i| ours.patches[i].as_str());
+        let ours_bend = matches!(r.fate, Fate::Deposited { .. }) && patch == BEND_WALL;
+        let peer_bend = p.fate == "deposited" && p.patch == BEND_WALL;
+        pairing.add(ours_bend, peer_bend);
+        match (&r.fate, ours_bend) {
+            (Fate::Deposited { .. }, false) => counts[0] += 1,
+            (Fate::Escaped { .. }, _) => counts[1] += 1,
+            (Fate::Suspended, _) => counts[2] += 1,
+            (Fate::Failed { .. }, _) => counts[3] += 1,
+            _ => {}
+        }
+        match p.fate.as_str() {
+            "deposited" if !peer_bend => counts[4] += 1,
+            "escaped" => counts[5] += 1,
+            "suspended" => counts[6] += 1,
+            "not_injected" => counts[7] += 1,
+            _ => {}
+        }
+        writeln!(
+            pairs,
+            "{},{},{patch},{},{},{}",
+            r.index,
+            r.fate.label(),
+            p.fate,
+            p.patch,
+            p.t
+        )?;
+    }
+    std::fs::write(work.join("pairs.csv"), pairs)?;
+    let m = pairing.n() as f64;
+    let de_ours = (pairing.both + pairing.only_ours) as f64 / m;
+    let de_of = (pairing.both + pairing.only_peer) as f64 / m;
+    let (diff, se) = pairing.difference();
+    let header = "cells,stk,n,both,only_ours,only_openfoam,neither,de_ours,de_openfoam,de_difference,se_paired,mcnemar_chi2,ours_tubes,ours_escaped,ours_suspended,ours_failed,openfoam_tubes,openfoam_escaped,openfoam_suspended,openfoam_not_injected,wall_ours_s,wall_openfoam_s";
+    let row = format!(
+        "{},{stk},{n},{},{},{},{},{de_ours:.5},{de_of:.5},{diff:.5},{se:.5},{:.3},{},{},{},{},{},{},{},{},{wall_ours:.1},{wall_openfoam:.1}",
+        case.cells,
+        pairing.both,
+        pairing.only_ours,
+        pairing.only_peer,
+        pairing.neither,
+        pairing.mcnemar_chi2(),
+        counts[0],
+        counts[1],
+        counts[2],
+        counts[3],
+        counts[4],
+        counts[5],
+        counts[6],
+        counts[7]
+    );
+    std::fs::write(out.join(format!("peer_{name}.csv")), format!("{header}\n{row}\n"))?;
+    println!("{header}\n{row}");
     Ok(())
 }

@@ -28,12 +28,13 @@
 //! developed entrance flow has no wall-normal velocity, so few if any deposit there). Each
 //! particle deposits independently, so the count is binomial: standard error √(DE(1 − DE)/N).
 
+use crate::cli::models::SceneLaw;
 use crate::cli::run::Job;
 use crate::cli::{CliError, Scene};
 use crate::error::ParamError;
 use crate::output::plot::{Figure, Panel, Series};
 use crate::output::{Csv, OutputError};
-use crate::population::{Fate, RunOptions, Shard};
+use crate::population::{Fate, Injector, ParticleSpec, RunOptions, RunOutput, Shard, particle_rng};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -96,6 +97,9 @@ pub enum BendError {
     /// A dataset or figure could not be written.
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// A particle could not be drawn.
+    #[error("drawing a particle: {0}")]
+    Draw(String),
 }
 
 /// A solved bend case: its folder and what `Allrun` measured (`bend.summary`).
@@ -225,8 +229,24 @@ impl BendCase {
     }
 
     /// Track `n` spheres of Stokes number `stokes` with run seed `seed` (in memory, on rayon's
-    /// pool) and count their fates. Sphere k is the same for any `settings` (stream k of the
+    /// pool): every particle's record. Sphere k is the same for any `settings` (stream k of the
     /// seed), so two settings compare particle by particle.
+    pub fn run_output(
+        &self,
+        stokes: f64,
+        n: u64,
+        seed: u64,
+        settings: Settings,
+        options: RunOptions,
+    ) -> Result<RunOutput<SceneLaw>, BendError> {
+        let scene = self.scene(stokes, n, seed, settings)?;
+        Ok(scene.population(&Job::Memory {
+            shard: Shard::ALL,
+            options,
+        })?)
+    }
+
+    /// [`Self::run_output`], counted ([`BendDeposition::of`]).
     pub fn run(
         &self,
         stokes: f64,
@@ -235,31 +255,22 @@ impl BendCase {
         settings: Settings,
         options: RunOptions,
     ) -> Result<BendDeposition, BendError> {
-        let scene = self.scene(stokes, n, seed, settings)?;
-        let out = scene.population(&Job::Memory {
-            shard: Shard::ALL,
-            options,
-        })?;
-        let mut row = BendDeposition {
-            stokes,
-            injected: n,
-            ..BendDeposition::default()
-        };
-        for record in &out.records {
-            match &record.fate {
-                Fate::Deposited { patch, .. } => {
-                    if out.patches.get(*patch).map(String::as_str) == Some(BEND_WALL) {
-                        row.bend += 1;
-                    } else {
-                        row.tubes += 1;
-                    }
-                }
-                Fate::Escaped { .. } => row.escaped += 1,
-                Fate::Suspended => row.suspended += 1,
-                Fate::Failed { .. } => row.failed += 1,
-            }
-        }
-        Ok(row)
+        let out = self.run_output(stokes, n, seed, settings, options)?;
+        Ok(BendDeposition::of(stokes, &out))
+    }
+
+    /// Spheres 0..n of [`Self::run_output`] as the runner draws them (injection point, initial
+    /// velocity): what another tracker needs to follow the same particles.
+    pub fn particle_specs(&self, stokes: f64, n: u64, seed: u64) -> Result<Vec<ParticleSpec<SceneLaw>>, BendError> {
+        let scene = self.scene(stokes, n, seed, Settings::default())?;
+        let injector = scene.injector();
+        (0..n)
+            .map(|k| {
+                injector
+                    .draw(k, &mut particle_rng(seed, k))
+                    .map_err(|e| BendError::Draw(e.to_string()))
+            })
+            .collect()
     }
 }
 
@@ -283,6 +294,30 @@ pub struct BendDeposition {
 }
 
 impl BendDeposition {
+    /// Count the fates of a run of spheres of Stokes number `stokes`.
+    pub fn of(stokes: f64, out: &RunOutput<SceneLaw>) -> Self {
+        let mut row = Self {
+            stokes,
+            injected: out.records.len() as u64,
+            ..Self::default()
+        };
+        for record in &out.records {
+            match &record.fate {
+                Fate::Deposited { patch, .. } => {
+                    if out.patches.get(*patch).map(String::as_str) == Some(BEND_WALL) {
+                        row.bend += 1;
+                    } else {
+                        row.tubes += 1;
+                    }
+                }
+                Fate::Escaped { .. } => row.escaped += 1,
+                Fate::Suspended => row.suspended += 1,
+                Fate::Failed { .. } => row.failed += 1,
+            }
+        }
+        row
+    }
+
     /// DE = deposited on the bend / injected (0 if none injected).
     pub fn de(&self) -> f64 {
         if self.injected == 0 {
