@@ -11,7 +11,7 @@
 //! entering through an area is proportional to its flux), with the local fluid velocity, and
 //! tracked by the `pseudorigid` command's scene machinery on the library's defaults: the
 //! blended field with the second-order wall layer, Radau IIA, extent contact, no gravity
-//! (settling at τ_p g during the bend's transit πR_o/(4U) ≈ 7 ms moves a sphere by at most
+//! (settling at τ_p g during the bend's transit πR_o/(2U) ≈ 7 ms moves a sphere by at most
 //! 0.06 mm = 0.023 a, at Stk = 1; the reference is inertial deposition). A sphere deposits
 //! when it touches a wall and escapes through the outlet (or back through the inlet); after
 //! [`RESIDENCE_TIMES`] mean residence times it is suspended.
