@@ -2,7 +2,7 @@
 //! Romay-Novas & Liu (1987): DE against Stk with binomial errors beside the reference.
 //!
 //! ```text
-//! cargo run --release --example bend_deposition -- [--tol T] [--residence-times R] [--no-blend] [N] [CASE_DIR] [STK...]
+//! cargo run --release --example bend_deposition -- [--tol T] [--residence-times R] [--no-blend] [--point-contact] [N] [CASE_DIR] [STK...]
 //! ```
 //! The options change the dataset's [`Settings`] to measure their effect (same particles).
 //!
@@ -58,6 +58,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Some(i) = args.iter().position(|a| a == "--no-blend") {
         settings.blend = false;
+        args.remove(i);
+    }
+    if let Some(i) = args.iter().position(|a| a == "--point-contact") {
+        settings.point_contact = true;
         args.remove(i);
     }
     let peer = args

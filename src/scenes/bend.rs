@@ -66,6 +66,9 @@ pub struct Settings {
     pub residence_times: f64,
     /// `flow.blend` (default true: the library's default field).
     pub blend: bool,
+    /// `boundary.contact_radius = 0`: deposit when the centre reaches a wall (as OpenFOAM's
+    /// parcels do) instead of the sphere's extent (default false).
+    pub point_contact: bool,
 }
 
 impl Default for Settings {
@@ -74,6 +77,7 @@ impl Default for Settings {
             tol: TOL,
             residence_times: RESIDENCE_TIMES,
             blend: true,
+            point_contact: false,
         }
     }
 }
@@ -200,6 +204,9 @@ impl BendCase {
             FLUID_DENSITY * self.nu
         );
         let _ = writeln!(s, "[boundary]\ntype = \"mesh\"");
+        if settings.point_contact {
+            let _ = writeln!(s, "contact_radius = 0.0");
+        }
         let _ = writeln!(s, "[particles]\ndensity = {PARTICLE_DENSITY:e}");
         let _ = writeln!(
             s,
