@@ -116,7 +116,10 @@ fn peer_pairing_by_hand() {
     }
     assert_eq!((p.both, p.only_ours, p.only_peer, p.neither, p.n()), (2, 3, 1, 4, 10));
     let (d, se) = p.difference();
-    assert!((d - 0.2).abs() < 1e-15 && (se - 3.6f64.sqrt() / 10.0).abs() < 1e-15, "{d} {se}");
+    assert!(
+        (d - 0.2).abs() < 1e-15 && (se - 3.6f64.sqrt() / 10.0).abs() < 1e-15,
+        "{d} {se}"
+    );
     assert!((p.mcnemar_chi2() - 1.0).abs() < 1e-15);
     let dir = std::env::temp_dir().join(format!("pseudorigid-peer-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
