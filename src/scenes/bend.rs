@@ -124,7 +124,8 @@ pub struct BendCase {
     pub residence_time: f64,
 }
 
-/// Straight entrance and exit lengths in diameters and curvature ratio of `cases/bend`.
+/// Straight entrance (default; `entrance_d` in `bend.summary`) and exit lengths in diameters
+/// of `cases/bend`.
 const ENTRANCE_D: f64 = 2.0;
 const EXIT_D: f64 = 3.0;
 /// Curvature ratio R_o/a of `cases/bend` (Pui et al.: 5.6–5.7).
@@ -159,8 +160,14 @@ impl BendCase {
         let nu = get("nu")?;
         let mean_velocity = get("mean_velocity")?;
         let cells = get("cells")? as u64;
+        // Written since the entrance became adjustable; older summaries are the default's.
+        let entrance = if text.lines().any(|l| l.starts_with("entrance_d=")) {
+            get("entrance_d")?
+        } else {
+            ENTRANCE_D
+        };
         let diameter = 2.0 * radius;
-        let length = (ENTRANCE_D + EXIT_D) * diameter + BEND_ANGLE * CURVATURE_RATIO * radius;
+        let length = (entrance + EXIT_D) * diameter + BEND_ANGLE * CURVATURE_RATIO * radius;
         Ok(Self {
             dir,
             radius,
