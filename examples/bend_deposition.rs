@@ -2,7 +2,7 @@
 //! Romay-Novas & Liu (1987): DE against Stk with binomial errors beside the reference.
 //!
 //! ```text
-//! cargo run --release --example bend_deposition -- [--tol T] [--residence-times R] [--no-blend] [--point-contact] [N] [CASE_DIR] [STK...]
+//! cargo run --release --example bend_deposition -- [--tol T] [--residence-times R] [--no-blend] [--point-contact | --contact-radius R] [N] [CASE_DIR] [STK...]
 //! ```
 //! The options change the dataset's [`Settings`] to measure their effect (same particles).
 //!
@@ -53,6 +53,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(t) = value("--tol")? {
         settings.tol = t;
     }
+    if let Some(r) = value("--contact-radius")? {
+        settings.contact_radius = Some(r);
+    }
     if let Some(r) = value("--residence-times")? {
         settings.residence_times = r;
     }
@@ -61,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         args.remove(i);
     }
     if let Some(i) = args.iter().position(|a| a == "--point-contact") {
-        settings.point_contact = true;
+        settings.contact_radius = Some(0.0);
         args.remove(i);
     }
     let peer = args

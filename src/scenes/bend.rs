@@ -66,9 +66,10 @@ pub struct Settings {
     pub residence_times: f64,
     /// `flow.blend` (default true: the library's default field).
     pub blend: bool,
-    /// `boundary.contact_radius = 0`: deposit when the centre reaches a wall (as OpenFOAM's
-    /// parcels do) instead of the sphere's extent (default false).
-    pub point_contact: bool,
+    /// `boundary.contact_radius`: deposit when the centre comes this close to a wall (0: point
+    /// contact, as OpenFOAM's parcels) instead of when the sphere's extent touches (default
+    /// `None`, the library's default).
+    pub contact_radius: Option<f64>,
 }
 
 impl Default for Settings {
@@ -77,7 +78,7 @@ impl Default for Settings {
             tol: TOL,
             residence_times: RESIDENCE_TIMES,
             blend: true,
-            point_contact: false,
+            contact_radius: None,
         }
     }
 }
@@ -211,8 +212,8 @@ impl BendCase {
             FLUID_DENSITY * self.nu
         );
         let _ = writeln!(s, "[boundary]\ntype = \"mesh\"");
-        if settings.point_contact {
-            let _ = writeln!(s, "contact_radius = 0.0");
+        if let Some(radius) = settings.contact_radius {
+            let _ = writeln!(s, "contact_radius = {radius:e}");
         }
         let _ = writeln!(s, "[particles]\ndensity = {PARTICLE_DENSITY:e}");
         let _ = writeln!(
