@@ -42,11 +42,11 @@
 //! fraction (b + c)/n is at most [`DISCORDANT_MAX`].
 
 use pseudorigid::contact::ContactModel;
+use pseudorigid::population::peer::read_peer_fates;
 use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, Shard, run};
 use pseudorigid::scenes::bifurcation::setup::{GRAVITY, RHO_FLUID, rho_particle};
 use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, run_kind, study};
 use pseudorigid::scenes::cavity::Shape;
-use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
@@ -87,39 +87,6 @@ fn label(dir: &Path) -> String {
             .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
             .unwrap_or_else(|| "case".into()),
     }
-}
-
-/// OpenFOAM's fate of one particle: (fate, patch, t, x).
-struct Peer {
-    fate: String,
-    patch: String,
-    t: String,
-    x: [String; 3],
-}
-
-fn read_fates(path: &Path) -> Result<HashMap<u64, Peer>, Box<dyn std::error::Error>> {
-    let text = std::fs::read_to_string(path)?;
-    let mut lines = text.lines();
-    if lines.next() != Some("index,fate,patch,t,x,y,z") {
-        return Err(format!("{}: unexpected header", path.display()).into());
-    }
-    let mut out = HashMap::new();
-    for line in lines {
-        let f: Vec<&str> = line.split(',').collect();
-        let [k, fate, patch, t, x, y, z] = f.as_slice() else {
-            return Err(format!("{}: bad line {line}", path.display()).into());
-        };
-        out.insert(
-            k.parse()?,
-            Peer {
-                fate: fate.to_string(),
-                patch: patch.to_string(),
-                t: t.to_string(),
-                x: [x.to_string(), y.to_string(), z.to_string()],
-            },
-        );
-    }
-    Ok(out)
 }
 
 fn summary_value(text: &str, key: &str) -> Option<f64> {
@@ -193,7 +160,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if !status.success() {
             return Err(format!("{}: {status}", script.display()).into());
         }
-        let peer = read_fates(&work.join("openfoam/fates.csv"))?;
+        let peer = read_peer_fates(&work.join("openfoam/fates.csv"))?;
         let summary = std::fs::read_to_string(work.join("openfoam/summary.txt"))?;
         let wall_openfoam = summary_value(&summary, "wall_seconds").unwrap_or(f64::NAN);
 

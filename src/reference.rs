@@ -134,3 +134,28 @@ pub fn zhang_deposition_efficiency(stokes: f64, reynolds: f64, theta: f64) -> Re
     };
     Ok(shape * reynolds.cbrt() * theta.sin())
 }
+
+/// Inertial deposition efficiency of a bend of circular cross-section in laminar flow, the fit
+/// of Pui, Romay-Novas & Liu (Aerosol Sci. Technol. 7 (1987) 301–315) to their Re = 1000
+/// measurements (curvature ratio R_o/a = 5.6 and 5.7), which agree with the theory of Cheng &
+/// Wang (Atmos. Environ. 15 (1981) 301–306):
+/// ```math
+/// DE = 1 − \Big[1 + \Big(\frac{Stk}{0.171}\Big)^{0.452\,Stk/0.171 + 2.242}\Big]^{−2θ/π}
+/// ```
+/// with Stk = ρ_p d² C_c U/(9 μ_f D) = τ_p U/a (τ_p = ρ_p d² C_c/(18 μ_f) the particle's
+/// response time, U the mean velocity, D = 2a the tube diameter) and θ the bend angle
+/// (0 < θ ≤ π; 90°: DE = y/(1 + y) with y the power above). DE(0.171) = ½ at θ = π/2.
+pub fn pui_bend_deposition_efficiency(stokes: f64, theta: f64) -> Result<f64, ParamError> {
+    let stokes = crate::error::positive("Stokes number", stokes)?;
+    if !(theta.is_finite() && theta > 0.0 && theta <= PI) {
+        return Err(ParamError::OutOfRange {
+            name: "bend angle theta (rad)",
+            value: theta,
+            min: 0.0,
+            max: PI,
+        });
+    }
+    let x = stokes / 0.171;
+    let y = x.powf(0.452 * x + 2.242);
+    Ok(1.0 - (1.0 + y).powf(-2.0 * theta / PI))
+}

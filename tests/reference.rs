@@ -89,3 +89,31 @@ fn zhang_correlation_values() {
     assert!(zhang_deposition_efficiency(0.1, f64::NAN, theta).is_err());
     assert!(zhang_deposition_efficiency(0.1, 500.0, 2.0).is_err());
 }
+
+/// The Pui et al. (1987) laminar bend fit against its values evaluated by hand from the formula
+/// (five significant digits, double precision in Python: at 90° DE = y/(1 + y), y =
+/// x^{0.452x + 2.242}, x = Stk/0.171; e.g. Stk = 0.1: x = 0.58480, y = 0.26064, DE = 0.20675),
+/// so 5e-5 relative covers the rounding of the hand values; DE(0.171) = ½ exactly at 90°; a
+/// 45° bend: 1 − (1 + y)^{−1/2}; bad arguments are typed errors.
+#[test]
+fn pui_bend_fit_values() {
+    use pseudorigid::reference::pui_bend_deposition_efficiency;
+    use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
+    for (stk, de90, de45) in [
+        (0.05, 0.051204, 0.025939),
+        (0.1, 0.20675, 0.10935),
+        (0.3, 0.84632, 0.60798),
+        (0.5, 0.97862, 0.85377),
+        (1.0, 0.99982, 0.98662),
+    ] {
+        let got = pui_bend_deposition_efficiency(stk, FRAC_PI_2).unwrap();
+        assert!((got / de90 - 1.0).abs() < 5e-5, "Stk {stk}: {got} vs {de90}");
+        let got = pui_bend_deposition_efficiency(stk, FRAC_PI_4).unwrap();
+        assert!((got / de45 - 1.0).abs() < 5e-5, "Stk {stk} at 45°: {got} vs {de45}");
+    }
+    assert!((pui_bend_deposition_efficiency(0.171, FRAC_PI_2).unwrap() - 0.5).abs() < 1e-15);
+    assert!(pui_bend_deposition_efficiency(0.0, FRAC_PI_2).is_err());
+    assert!(pui_bend_deposition_efficiency(f64::NAN, FRAC_PI_2).is_err());
+    assert!(pui_bend_deposition_efficiency(0.1, 0.0).is_err());
+    assert!(pui_bend_deposition_efficiency(0.1, 4.0).is_err());
+}

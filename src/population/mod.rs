@@ -43,6 +43,7 @@
 pub mod case;
 pub mod checkpoint;
 pub mod output;
+pub mod peer;
 pub mod progress;
 pub mod record;
 pub mod runner;

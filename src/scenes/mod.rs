@@ -18,6 +18,8 @@
 //! oblate, triaxial), and its particle model from [`particles::ParticleModel`].
 //!
 //! Real flow fields:
+//! - `bend` (features `cli`, `plot`): inertial deposition of spheres in a 90° bend at
+//!   Re = 1000 against Pui et al. (1987) (`cases/bend`);
 //! - `bifurcation` (features `mesh`, `parallel`): deposition of soft ellipsoids in an airway
 //!   bifurcation (§6.4);
 //! - [`pipe`]: the Tian/Cui laminar pipe flow (§6.2): orientation and deposition of soft
@@ -26,6 +28,8 @@
 //! - `cavity_benchmark` (feature `mesh`): the cavity flow field against Albensoeder & Kuhlmann
 //!   (2005).
 
+#[cfg(all(feature = "cli", feature = "plot"))]
+pub mod bend;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 pub mod bifurcation;
 #[cfg(feature = "mesh")]

@@ -1,0 +1,128 @@
+//! Another tracker's fates of the same particles, and the paired comparison of deposition.
+//!
+//! The peer's file is `index,fate,patch,t,x,y,z` (the `fates.csv` of
+//! `benches/peers/openfoam_tracker/run.sh`: fate `deposited`, `escaped`, `suspended` or
+//! `not_injected`). Pairing particle by particle: b = deposited by us only, c = by the peer
+//! only; the paired (McNemar) standard error of DE_ours − DE_peer is √(b + c − (b − c)²/n)/n and
+//! the statistic (b − c)²/(b + c) is χ²₁ under "both deposit with the same probability"
+//! (McNemar 1947).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// A peer file that cannot be read.
+#[derive(Debug, Error)]
+pub enum PeerError {
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A malformed header or line.
+    #[error("{path}: {reason}")]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// One particle's fate in the peer: `fate`, the patch met (empty if none), time and point as
+/// the peer wrote them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeerFate {
+    /// `deposited`, `escaped`, `suspended` or `not_injected`.
+    pub fate: String,
+    /// Patch name.
+    pub patch: String,
+    /// Time (as written).
+    pub t: String,
+    /// Point (as written).
+    pub x: [String; 3],
+}
+
+/// Read a peer's `index,fate,patch,t,x,y,z` file, by particle index.
+pub fn read_peer_fates(path: &Path) -> Result<HashMap<u64, PeerFate>, PeerError> {
+    let text = std::fs::read_to_string(path).map_err(|source| PeerError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let bad = |reason: String| PeerError::Format {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let mut lines = text.lines();
+    if lines.next() != Some("index,fate,patch,t,x,y,z") {
+        return Err(bad("unexpected header (want index,fate,patch,t,x,y,z)".into()));
+    }
+    let mut out = HashMap::new();
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let [k, fate, patch, t, x, y, z] = f.as_slice() else {
+            return Err(bad(format!("bad line {line}")));
+        };
+        let k: u64 = k.parse().map_err(|e| bad(format!("index `{k}`: {e}")))?;
+        out.insert(
+            k,
+            PeerFate {
+                fate: fate.to_string(),
+                patch: patch.to_string(),
+                t: t.to_string(),
+                x: [x.to_string(), y.to_string(), z.to_string()],
+            },
+        );
+    }
+    Ok(out)
+}
+
+/// The 2×2 table of deposition by us and by the peer over the same particles.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Pairing {
+    /// Deposited by both.
+    pub both: u64,
+    /// Deposited by us only (b).
+    pub only_ours: u64,
+    /// Deposited by the peer only (c).
+    pub only_peer: u64,
+    /// Deposited by neither.
+    pub neither: u64,
+}
+
+impl Pairing {
+    /// Add one particle: deposited by us, by the peer.
+    pub fn add(&mut self, ours: bool, peer: bool) {
+        match (ours, peer) {
+            (true, true) => self.both += 1,
+            (true, false) => self.only_ours += 1,
+            (false, true) => self.only_peer += 1,
+            (false, false) => self.neither += 1,
+        }
+    }
+
+    /// Particles paired.
+    pub fn n(&self) -> u64 {
+        self.both + self.only_ours + self.only_peer + self.neither
+    }
+
+    /// Paired difference DE_ours − DE_peer over the paired particles and its (McNemar) standard
+    /// error √(b + c − (b − c)²/n)/n (module docs); (0, 0) if none.
+    pub fn difference(&self) -> (f64, f64) {
+        let n = self.n() as f64;
+        if n == 0.0 {
+            return (0.0, 0.0);
+        }
+        let (b, c) = (self.only_ours as f64, self.only_peer as f64);
+        ((b - c) / n, (b + c - (b - c).powi(2) / n).max(0.0).sqrt() / n)
+    }
+
+    /// McNemar's χ² = (b − c)²/(b + c) without continuity correction (0 if b + c = 0).
+    pub fn mcnemar_chi2(&self) -> f64 {
+        let (b, c) = (self.only_ours as f64, self.only_peer as f64);
+        if b + c > 0.0 { (b - c).powi(2) / (b + c) } else { 0.0 }
+    }
+}
