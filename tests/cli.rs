@@ -607,6 +607,11 @@ t_end = 0.1
         mean += spec.position[1] / n as f64;
     }
     assert!((mean - 5.0 / 9.0).abs() < 0.014, "mean x₂ {mean}");
+    // With barycentre contact at 0.05 (five radii), the particles start beyond it: 1.01 of the
+    // contact radius inside the inlet, not touching it at t = 0.
+    let s = scene(&moving, "", inlet, "contact_radius = 0.05").unwrap();
+    let spec = s.injector().draw(0, &mut particle_rng(1, 0)).unwrap();
+    assert!((spec.position[0] - 0.0505).abs() < 1e-12, "{:?}", spec.position);
     let (key, message) = key_of(scene(&moving, "", r#"{ type = "patch", name = "outflow" }"#, ""));
     assert!(
         key == "particles.inject.region.name" && message.contains("inlet"),

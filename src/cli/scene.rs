@@ -176,7 +176,13 @@ impl Builder<'_> {
             None => ContactModel::Extent,
         };
         let template = self.template(&raw.fluid, raw.particles.get_ref())?;
-        let particles = self.particles(&raw.particles, &template, &flow)?;
+        // How far from its barycentre a particle touches a wall when it is not its extent:
+        // injection through a patch starts particles beyond it.
+        let contact_radius = match contact {
+            ContactModel::Barycentre { radius } => radius,
+            ContactModel::Extent => 0.0,
+        };
+        let particles = self.particles(&raw.particles, &template, &flow, contact_radius)?;
         let integrator = self.integrator(&raw.integrator)?;
         let (plan, outputs) = self.plan(&raw.integrator, &raw.end, &raw.output, particles.count())?;
         Ok(Scene {

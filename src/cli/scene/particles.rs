@@ -146,6 +146,7 @@ impl Builder<'_> {
         spanned: &Spanned<ParticlesSpec>,
         template: &ParticleTemplate<SceneDrag>,
         flow: &SceneFlow,
+        contact_radius: f64,
     ) -> Result<ParticleSource, CliError> {
         let (spec, span) = (spanned.get_ref(), spanned.span());
         let shared = spec.density.as_ref();
@@ -184,7 +185,7 @@ impl Builder<'_> {
                     groups
                         .iter()
                         .enumerate()
-                        .map(|(g, inj)| self.injection(inj, &key(g), shared, template, flow))
+                        .map(|(g, inj)| self.injection(inj, &key(g), shared, template, flow, contact_radius))
                         .collect::<Result<Vec<_>, _>>()?,
                 )
             }
@@ -259,6 +260,7 @@ impl Builder<'_> {
         shared: Option<&Num>,
         template: &ParticleTemplate<SceneDrag>,
         flow: &SceneFlow,
+        contact_radius: f64,
     ) -> Result<Group, CliError> {
         let count = *inj.count.get_ref();
         if count == 0 {
@@ -281,7 +283,9 @@ impl Builder<'_> {
         let shape = self.shape(&inj.semi_axes, axes, &format!("{key}.semi_axes"))?;
         let softness = self.material(&inj.material, &format!("{key}.material"))?;
         let key_region = format!("{key}.region");
-        let extent = shape.semi_axes().iter().copied().fold(0.0, f64::max);
+        // A particle touches at its largest semi-axis, or at the contact radius of barycentre
+        // contact if that is larger.
+        let extent = shape.semi_axes().iter().copied().fold(contact_radius, f64::max);
         let region = self.region(&inj.region, &key_region, flow, extent)?;
         self.region_in_mesh(&region, &key_region, inj.region.kind.span(), flow)?;
         let placement = Placement {
@@ -417,7 +421,8 @@ impl Builder<'_> {
     /// The inflow through patch `name` as weighted triangles: each face's fan of triangles
     /// around its centre, weighted by the face's inflow −u·S (u of the face's cell fit at the
     /// face centre, the first time level) times the triangle's share of the face's area, moved
-    /// inside along the face normal by 1.01 `extent` (the particle's largest semi-axis), so a
+    /// inside along the face normal by 1.01 `extent` (the particle's largest semi-axis, or the
+    /// contact radius of barycentre contact if larger), so a
     /// particle does not start touching the patch it enters through (at least 10⁻⁶ of the
     /// face's size for point particles).
     fn patch_region(
