@@ -243,14 +243,34 @@ impl Builder<'_> {
         };
         // Build it once now, so a particle the model refuses (too slender, too heavy) is
         // reported at its entry rather than as a failed particle of the run.
-        template.build(&placement.spec(Vec3::zeros())).map_err(|e| {
-            self.param(
-                p.semi_axes.span(),
-                &format!("{key}.semi_axes, {key}.material, {key}.density"),
-                e,
-            )
-        })?;
+        template
+            .build(&placement.spec(Vec3::zeros()))
+            .map_err(|e| self.param(p.semi_axes.span(), &self.built_from(key, &p.material), e))?;
         Ok(placement)
+    }
+
+    /// The keys a particle of entry or group `key` is built from, as a refusal names them: its
+    /// shape, density and the material's given parameters, and the fluid's viscosity (the
+    /// rest-state rates combine them).
+    fn built_from(&self, key: &str, m: &MaterialSpec) -> String {
+        let given = [
+            ("mu", m.mu.is_some()),
+            ("mu1", m.mu1.is_some()),
+            ("mu2", m.mu2.is_some()),
+            ("lambda", m.lambda.is_some()),
+            ("energy", m.energy.is_some()),
+        ];
+        let material: Vec<String> = given
+            .iter()
+            .filter(|(_, g)| *g)
+            .map(|(name, _)| format!("{key}.material.{name}"))
+            .collect();
+        let material = if material.is_empty() {
+            format!("{key}.material")
+        } else {
+            material.join(", ")
+        };
+        format!("{key}.semi_axes, {key}.density, {material}, fluid.viscosity")
     }
 
     fn injection(
@@ -299,13 +319,9 @@ impl Builder<'_> {
                 Velocity::Given(Vec3::zeros())
             },
         };
-        template.build(&placement.spec(Vec3::zeros())).map_err(|e| {
-            self.param(
-                inj.semi_axes.span(),
-                &format!("{key}.semi_axes, {key}.material, {key}.density"),
-                e,
-            )
-        })?;
+        template
+            .build(&placement.spec(Vec3::zeros()))
+            .map_err(|e| self.param(inj.semi_axes.span(), &self.built_from(key, &inj.material), e))?;
         Ok(Group {
             count,
             region,
