@@ -3,8 +3,10 @@
 //! # Physics
 //! An isotropic hyperelastic solid is a stored energy of the invariants of the right
 //! Cauchy–Green tensor $C = F^T F$:
-//! $$W = W(I_1, I_2, J), \qquad I_1 = \operatorname{tr} C,\quad
-//! I_2 = \tfrac12\big((\operatorname{tr} C)^2 - \operatorname{tr} C^2\big),\quad J = \det F .$$
+//! ```math
+//! W = W(I_1, I_2, J), \qquad I_1 = \operatorname{tr} C,\quad
+//! I_2 = \tfrac12\big((\operatorname{tr} C)^2 - \operatorname{tr} C^2\big),\quad J = \det F .
+//! ```
 //! [`ExpressionLaw`] parses W once into a postfix program and evaluates it for any num-dual
 //! scalar, so P = ∂W/∂F and the tangent come by automatic differentiation exactly as for the
 //! built-in laws. Its small-strain moduli are read off the tangent at F = 1: for an isotropic
