@@ -202,15 +202,10 @@ fn foam_case(name: &str, u: impl Fn(&pseudorigid::tensor::Vec3) -> pseudorigid::
     dir
 }
 
-/// A scene on an OpenFOAM case with its patches as the boundary: a sphere of radius 0.05
-/// carried by the uniform flow u = e₁ from x₁ = 0.1 leaves through `outlet` when its front
-/// reaches x₁ = 1, at t = 0.85. The cellwise-linear reconstruction of a uniform field is
-/// uniform to round-off, so the particle moves exactly with the fluid; the event is located
-/// to 1e-9 of the particle's diameter in gap, i.e. in time at unit speed.
-#[test]
-fn openfoam_scene_with_mesh_patches() {
-    let case = foam_case("cli_foam_uniform", |_| pseudorigid::tensor::Vec3::x());
-    let text = format!(
+/// A rigid sphere of radius 0.05 released at x = (0.1, 0.5, 0.5) with the fluid's velocity,
+/// on the OpenFOAM case `case` with its patches as the boundary, output every 0.5 to t = 2.
+fn sphere_on_case_scene(case: &Path) -> String {
+    format!(
         r#"[flow]
 type = "openfoam"
 case = "{}"
@@ -237,7 +232,18 @@ every = 0.5
 vtk = false
 "#,
         case.display()
-    );
+    )
+}
+
+/// A scene on an OpenFOAM case with its patches as the boundary: a sphere of radius 0.05
+/// carried by the uniform flow u = e₁ from x₁ = 0.1 leaves through `outlet` when its front
+/// reaches x₁ = 1, at t = 0.85. The cellwise-linear reconstruction of a uniform field is
+/// uniform to round-off, so the particle moves exactly with the fluid; the event is located
+/// to 1e-9 of the particle's diameter in gap, i.e. in time at unit speed.
+#[test]
+fn openfoam_scene_with_mesh_patches() {
+    let case = foam_case("cli_foam_uniform", |_| pseudorigid::tensor::Vec3::x());
+    let text = sphere_on_case_scene(&case);
     let s = parse(
         &Source {
             file: "foam.toml",
@@ -283,34 +289,8 @@ fn run_writes_only_under_out() {
     let scene_dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_readonly_scene");
     let _ = std::fs::remove_dir_all(&scene_dir);
     std::fs::create_dir_all(&scene_dir).unwrap();
-    let scene = format!(
-        r#"[flow]
-type = "openfoam"
-case = "{}"
-[fluid]
-viscosity = 1.0
-density = 1.0
-[boundary]
-type = "mesh"
-[particles]
-density = 1.0
-[particles.inject]
-count = 3
-semi_axes = [0.05, 0.05, 0.05]
-fluid_velocity = true
-region = {{ type = "point", at = [0.2, 0.5, 0.5] }}
-material = {{ law = "rigid" }}
-[integrator]
-type = "stokesian"
-tol = 1e-6
-dt = 1e-3
-[end]
-t_end = 2.0
-[output]
-every = 0.5
-"#,
-        case.canonicalize().unwrap().display()
-    );
+    // ParaView files too: every writer the command has.
+    let scene = sphere_on_case_scene(&case.canonicalize().unwrap()).replace("vtk = false", "vtk = true");
     std::fs::write(scene_dir.join("scene.toml"), scene).unwrap();
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_readonly_out");
     let _ = std::fs::remove_dir_all(&out);
