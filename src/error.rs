@@ -70,6 +70,16 @@ pub enum ParamError {
         /// Which condition fails.
         reason: &'static str,
     },
+    /// A model, or a model's parameter, selected by a name nobody registered.
+    #[error("unknown {kind} `{name}`; known: {known:?}")]
+    Unknown {
+        /// What was looked up.
+        kind: &'static str,
+        /// The name given.
+        name: String,
+        /// The names that exist.
+        known: Vec<&'static str>,
+    },
     /// The initial axes are not a right-handed orthonormal triad.
     #[error("initial axes are not a rotation: |QᵀQ − 1| = {orthogonality_defect:.3e}, det = {det}")]
     NotARotation {
@@ -219,6 +229,17 @@ pub enum StepError {
         t: f64,
         /// Step that vanished against t.
         dt: f64,
+    },
+    /// The overdamped barycentre's slip did not settle: a force term that depends on the
+    /// slip has no fixed point the iteration reaches.
+    #[error("overdamped slip not converged after {iters} iterations (last change {change:.3e} m/s) at t = {t}")]
+    SlipNotConverged {
+        /// Iterations performed.
+        iters: u32,
+        /// Last change of the velocity.
+        change: f64,
+        /// Time.
+        t: f64,
     },
     /// An event's zero crossing was not located on the dense output.
     #[error("event not located: gap {gap:.3e} at t = {t}")]

@@ -113,10 +113,7 @@ fn a_step_past_an_exit_is_retried_and_the_particle_escapes() {
                     distance: x[0] - 1.001,
                 });
             }
-            Ok(FlowSample {
-                u: Vec3::x(),
-                grad_u: Mat3::zeros(),
-            })
+            Ok(FlowSample::steady(Vec3::x(), Mat3::zeros()))
         }
     }
     let exit = Planes::new(vec![Plane {

@@ -20,10 +20,7 @@ pub struct Quiescent;
 impl FlowField for Quiescent {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         check_query(x, t)?;
-        Ok(FlowSample {
-            u: Vec3::zeros(),
-            grad_u: Mat3::zeros(),
-        })
+        Ok(FlowSample::steady(Vec3::zeros(), Mat3::zeros()))
     }
 }
 
@@ -115,10 +112,7 @@ impl LinearFlow {
 impl FlowField for LinearFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         check_query(x, t)?;
-        let sample = FlowSample {
-            u: self.u0 + self.grad_u * x,
-            grad_u: self.grad_u,
-        };
+        let sample = FlowSample::steady(self.u0 + self.grad_u * x, self.grad_u);
         finite_sample(sample, x, t)
     }
 }
@@ -181,10 +175,7 @@ impl FlowField for Poiseuille {
         let mut grad_u = Mat3::zeros();
         grad_u[(0, 1)] = -wall_rate * y;
         grad_u[(0, 2)] = -wall_rate * z;
-        let sample = FlowSample {
-            u: Vec3::new(umax * (1.0 - rho2), 0.0, 0.0),
-            grad_u,
-        };
+        let sample = FlowSample::steady(Vec3::new(umax * (1.0 - rho2), 0.0, 0.0), grad_u);
         finite_sample(sample, x, t)
     }
 }

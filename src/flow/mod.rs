@@ -18,13 +18,32 @@ pub mod unstructured;
 use crate::error::FlowError;
 use crate::tensor::{Mat3, Vec3};
 
-/// Velocity and velocity gradient of the undisturbed flow at one point.
+/// Velocity, velocity gradient and local acceleration of the undisturbed flow at one point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlowSample {
     /// Fluid velocity u.
     pub u: Vec3,
     /// Velocity gradient l_f, `(l_f)_ij = ∂u_i/∂x_j`.
     pub grad_u: Mat3,
+    /// Local acceleration ∂u/∂t (zero in a steady flow). The fluid-inertia force terms
+    /// ([`crate::hydro::forces`]) need the material acceleration Du/Dt = ∂u/∂t + (∇u)u.
+    pub du_dt: Vec3,
+}
+
+impl FlowSample {
+    /// A sample of a steady flow: ∂u/∂t = 0.
+    pub fn steady(u: Vec3, grad_u: Mat3) -> Self {
+        Self {
+            u,
+            grad_u,
+            du_dt: Vec3::zeros(),
+        }
+    }
+
+    /// Material acceleration of the fluid, Du/Dt = ∂u/∂t + (∇u)u.
+    pub fn material_acceleration(&self) -> Vec3 {
+        self.du_dt + self.grad_u * self.u
+    }
 }
 
 /// A carrier flow field: u and ∇u at (x, t).

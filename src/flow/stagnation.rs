@@ -148,7 +148,7 @@ impl FlowField for Hiemenz {
         grad_u[(0, 0)] = a * fp;
         grad_u[(0, 1)] = a * x[0] * fpp / l;
         grad_u[(1, 1)] = -a * fp;
-        Ok(FlowSample { u, grad_u })
+        Ok(FlowSample::steady(u, grad_u))
     }
 }
 

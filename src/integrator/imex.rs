@@ -457,7 +457,7 @@ impl ImexPaper {
         )?;
         let f_new = mat3(&sol.x);
         let geo_new = model.geometry(&f_new, t_new)?;
-        let forcing = model.forcing(&geo_new, f_new.determinant());
+        let forcing = model.forcing(&geo_new, f_new.determinant(), &sample, &state.v, t_new)?;
         let (x, v) = barycentre_update(state, &sample.u, &forcing, dt)?;
         let next = State {
             t: t_new,

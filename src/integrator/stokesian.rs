@@ -158,10 +158,13 @@ pub(crate) fn evaluate<M: Response, D: DragModel, F: FlowField + ?Sized>(
     let geo = model.geometry(&f, t)?;
     let sample = model.sample(&x, t)?;
     let (l_s, solver) = model.inertialess_rate(&geo, &f, &sample.grad_u, t)?;
-    let forcing = model.forcing(&geo, f.determinant());
+    let forcing = model.forcing(&geo, f.determinant(), &sample, &v, t)?;
     let (x_dot, v_dot) = match barycentre {
         BarycentreModel::Inertial => (v, forcing.acceleration(&sample.u, &v)),
-        BarycentreModel::Overdamped => (forcing.overdamped_velocity(&sample.u, t)?, Vec3::zeros()),
+        BarycentreModel::Overdamped => (
+            model.overdamped_velocity(&geo, f.determinant(), &sample, &forcing, t)?,
+            Vec3::zeros(),
+        ),
     };
     Ok(Evaluation {
         f_dot: l_s * f,

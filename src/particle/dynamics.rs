@@ -10,7 +10,9 @@
 //!   Ḟ = l_s F ([`Model::inertialess_rate`]); for a rigid particle Jeffery's (1922) torque-free
 //!   spin ([`crate::hydro::traction::jeffery_spin`]);
 //! - the barycentre forcing (eqs. 13, 14, 17): drag rate μ_f K̂/m (the paper's 1/τ_D, eq. 17,
-//!   read as μ_f π r_min/m) and reduced gravity a_G = β_t g ([`Model::forcing`]).
+//!   read as μ_f π r_min/m) and reduced gravity a_G = β_t g ([`Model::forcing`]), with the
+//!   particle's optional force terms (fluid inertia, slip, finite-Re drag, lift:
+//!   [`crate::hydro::forces`]) folded into the same two quantities.
 //!
 //! # Counting work
 //! [`Model`] wraps a particle and a flow for one step and counts what it computes, as argmin
@@ -24,6 +26,7 @@ use super::Particle;
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::error::StepError;
 use crate::flow::{FlowField, FlowSample};
+use crate::hydro::forces::ForceContext;
 use crate::hydro::gravity::reduced_gravity;
 use crate::hydro::{DragModel, InertialessSolver, JefferyRoscoe, jeffery_spin};
 use crate::material::{Hyperelastic, Response};
@@ -65,22 +68,25 @@ pub struct Work {
     pub flow_samples: u32,
 }
 
-/// Barycentre forcing of eq. 17: v̇ = a_G + R(u − v) with the drag rate R = μ_f K̂/m.
+/// Barycentre forcing of eq. 17: v̇ = a + R(u − v). With the paper's terms only, R = μ_f K̂/m
+/// and a = a_G; force terms ([`crate::hydro::forces`]) make R = M⁻¹ c μ_f K̂ and
+/// a = M⁻¹(m a_G + Σ f_k) with the effective mass M = m 1 + M_a.
 #[derive(Debug, Clone, Copy)]
 pub struct Forcing {
-    /// Drag rate R = μ_f K̂/m (eq. 14 over the mass).
+    /// Drag rate R = μ_f K̂/m (eq. 14 over the mass), or M⁻¹ c μ_f K̂ with force terms.
     pub drag_rate: Mat3,
-    /// Reduced gravity a_G = β_t g (eq. 13).
+    /// Every acceleration but the drag's: the reduced gravity a_G = β_t g (eq. 13), with force
+    /// terms M⁻¹(m a_G + Σ f_k).
     pub a_g: Vec3,
 }
 
 impl Forcing {
-    /// Acceleration a_G + R(u − v) of eq. 17.
+    /// Acceleration a + R(u − v) of eq. 17.
     pub fn acceleration(&self, u: &Vec3, v: &Vec3) -> Vec3 {
         self.a_g + self.drag_rate * (u - v)
     }
 
-    /// Overdamped (St → 0) velocity: R(u − v) + a_G = 0 ⇒ v = u + R⁻¹a_G.
+    /// Overdamped (St → 0) velocity: R(u − v) + a = 0 ⇒ v = u + R⁻¹a.
     pub fn overdamped_velocity(&self, u: &Vec3, t: f64) -> Result<Vec3, StepError> {
         let drift = self
             .drag_rate
@@ -90,6 +96,17 @@ impl Forcing {
         Ok(u + drift)
     }
 }
+
+/// Cap on the fixed-point iterations of the overdamped slip with slip-dependent force terms.
+/// The drag corrections make the map v ↦ u + R(v)⁻¹a(v) a contraction of factor at most 0.687
+/// (Schiller–Naumann's exponent; Cunningham's factor does not depend on the slip), so 200
+/// iterations reduce any start error by 10⁻³² ; a lift whose rotation of the slip is not a
+/// contraction is outside its model (Saffman's lift is weaker than the drag for Re_ω ≪ 1).
+pub const MAX_SLIP_ITERATIONS: u32 = 200;
+
+/// Relative change of the overdamped velocity at which its iteration stops: a few ulps of
+/// the slip.
+const SLIP_TOLERANCE: f64 = 4.0 * f64::EPSILON;
 
 /// A particle in a flow for the duration of one step, counting the work it does.
 pub struct Model<'a, M, D, F: ?Sized> {
@@ -169,13 +186,78 @@ impl<'a, M: Response, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
         Ok((solver.velocity_gradient(&law.cauchy(f)), Some(solver)))
     }
 
-    /// Barycentre forcing at the shape `geo` with det F = `det_f` (eqs. 13, 14, 17).
-    pub fn forcing(&self, geo: &Geometry, det_f: f64) -> Forcing {
+    /// Barycentre forcing at the shape `geo` with det F = `det_f`, velocity `v` and the flow
+    /// `sample` at the barycentre, at time t (eqs. 13, 14, 17, and the particle's force terms).
+    pub fn forcing(
+        &self,
+        geo: &Geometry,
+        det_f: f64,
+        sample: &FlowSample,
+        v: &Vec3,
+        t: f64,
+    ) -> Result<Forcing, StepError> {
         let p = self.particle;
-        Forcing {
-            drag_rate: p.drag().resistance(&geo.frame, &geo.ints) * (p.fluid().mu / p.mass()),
-            a_g: reduced_gravity(p.gravity(), p.rho_solid(), p.fluid().rho, det_f),
+        let resistance = p.drag().resistance(&geo.frame, &geo.ints);
+        let a_g = reduced_gravity(p.gravity(), p.rho_solid(), p.fluid().rho, det_f);
+        if p.forces().is_empty() {
+            return Ok(Forcing {
+                drag_rate: resistance * (p.fluid().mu / p.mass()),
+                a_g,
+            });
         }
+        let ctx = ForceContext {
+            frame: &geo.frame,
+            ints: &geo.ints,
+            mu_f: p.fluid().mu,
+            rho_f: p.fluid().rho,
+            mass: p.mass(),
+            v: *v,
+            flow: sample,
+        };
+        let total = p.forces().total(&ctx);
+        let effective_mass = Mat3::identity() * p.mass() + total.added_mass;
+        // M = m 1 + M_a is symmetric positive definite (M_a is a Gram form ρ_f V Qᵀ diag(k) Q, k > 0).
+        let mass = effective_mass.cholesky().ok_or(StepError::NonFinite {
+            what: "effective mass m 1 + M_a",
+            t,
+        })?;
+        Ok(Forcing {
+            drag_rate: mass.solve(&(resistance * (p.fluid().mu * total.drag_factor))),
+            a_g: mass.solve(&(a_g * p.mass() + total.force)),
+        })
+    }
+
+    /// The overdamped barycentre velocity at the shape `geo` (St → 0: drag balances every
+    /// other force), given the `forcing` there at any velocity. Force terms that depend on the
+    /// slip are iterated to their fixed point from v = u (at most [`MAX_SLIP_ITERATIONS`]
+    /// times); without force terms the forcing does not depend on v and one solve is exact.
+    pub fn overdamped_velocity(
+        &self,
+        geo: &Geometry,
+        det_f: f64,
+        sample: &FlowSample,
+        forcing: &Forcing,
+        t: f64,
+    ) -> Result<Vec3, StepError> {
+        if self.particle.forces().is_empty() {
+            return forcing.overdamped_velocity(&sample.u, t);
+        }
+        let mut v = sample.u;
+        let mut next = self.forcing(geo, det_f, sample, &v, t)?.overdamped_velocity(&sample.u, t)?;
+        let mut change = (next - v).norm();
+        for _ in 0..MAX_SLIP_ITERATIONS {
+            if change <= SLIP_TOLERANCE * (next - sample.u).norm() {
+                return Ok(next);
+            }
+            v = next;
+            next = self.forcing(geo, det_f, sample, &v, t)?.overdamped_velocity(&sample.u, t)?;
+            change = (next - v).norm();
+        }
+        Err(StepError::SlipNotConverged {
+            iters: MAX_SLIP_ITERATIONS,
+            change,
+            t,
+        })
     }
 }
 

@@ -10,7 +10,7 @@
 use super::dynamics::Geometry;
 use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use crate::error::{ParamError, derived, finite, positive};
-use crate::hydro::{Brenner, DragModel, JefferyRoscoe, VolumetricTraction};
+use crate::hydro::{Brenner, DragModel, ForceTerms, JefferyRoscoe, VolumetricTraction};
 use crate::material::{Hyperelastic, Response};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -74,6 +74,7 @@ pub struct Particle<M, D = Brenner> {
     rho_solid: f64,
     gravity: Vec3,
     volumetric: VolumetricTraction,
+    forces: ForceTerms,
     // Derived, cached: S, m, vol(B₀), Θ⁻¹.
     s: Mat3,
     mass: f64,
@@ -110,6 +111,7 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             rho_solid,
             gravity: Vec3::zeros(),
             volumetric: VolumetricTraction::default(),
+            forces: ForceTerms::default(),
             s,
             mass,
             volume0,
@@ -186,6 +188,22 @@ impl<M: Response, D: DragModel> Particle<M, D> {
     pub fn with_volumetric(mut self, vol: VolumetricTraction) -> Self {
         self.volumetric = vol;
         self
+    }
+
+    /// Add force terms beyond the paper's drag and reduced gravity ([`crate::hydro::forces`]);
+    /// each term checks that it has a model for this particle's rest shape.
+    pub fn with_forces(mut self, forces: ForceTerms) -> Result<Self, ParamError> {
+        let semi_axes = self.shape.semi_axes();
+        for term in forces.iter() {
+            term.admits(&semi_axes)?;
+        }
+        self.forces = forces;
+        Ok(self)
+    }
+
+    /// The force terms beyond the paper's (none by default).
+    pub fn forces(&self) -> &ForceTerms {
+        &self.forces
     }
 
     /// Stress-free ellipsoid B₀.

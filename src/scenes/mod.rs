@@ -32,6 +32,7 @@
 pub mod bend;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 pub mod bifurcation;
+pub mod forces;
 #[cfg(feature = "mesh")]
 pub mod cavity;
 #[cfg(feature = "mesh")]

@@ -199,16 +199,18 @@ impl BlendedFlow {
         if walls.is_empty() {
             return self.flow.sample_cell(c, x, t);
         }
-        let (mut u, mut grad_u) = (Vec3::zeros(), Mat3::zeros());
+        let mut sum = FlowSample::steady(Vec3::zeros(), Mat3::zeros());
         for &k in walls {
             let s = self.flow.sample_wall(k as usize, x, t);
-            u += s.u;
-            grad_u += s.grad_u;
+            sum.u += s.u;
+            sum.grad_u += s.grad_u;
+            sum.du_dt += s.du_dt;
         }
         let n = walls.len() as f64;
         FlowSample {
-            u: u / n,
-            grad_u: grad_u / n,
+            u: sum.u / n,
+            grad_u: sum.grad_u / n,
+            du_dt: sum.du_dt / n,
         }
     }
 
@@ -221,11 +223,12 @@ impl BlendedFlow {
 impl FlowField for BlendedFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         crate::flow::check_query(x, t)?;
-        let (mut w_sum, mut u, mut g) = (0.0, Vec3::zeros(), Mat3::zeros());
+        let (mut w_sum, mut u, mut g, mut du_dt) = (0.0, Vec3::zeros(), Mat3::zeros(), Vec3::zeros());
         let mut add = |w: f64, s: FlowSample| {
             w_sum += w;
             u += s.u * w;
             g += s.grad_u * w;
+            du_dt += s.du_dt * w;
         };
         self.centres.for_each_within(x, |c, centre, d| {
             let (metric, radius) = &self.supports[c];
@@ -246,6 +249,7 @@ impl FlowField for BlendedFlow {
             Ok(FlowSample {
                 u: u / w_sum,
                 grad_u: g / w_sum,
+                du_dt: du_dt / w_sum,
             })
         } else {
             // No support contains x: outside the mesh (refused with the nearest patch), or

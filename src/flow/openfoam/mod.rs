@@ -390,20 +390,23 @@ impl FoamFlow {
         self.in_time(t, |f: &Frame| self.wall_layer.evaluate(k, &f.wall_fits[k], x))
     }
 
-    /// `at` of the levels around t, linear in time between them.
+    /// `at` of the levels around t, linear in time between them, and ∂u/∂t of that
+    /// interpolant: the levels' difference over their interval, zero before the first level and
+    /// after the last (where the field is held).
     fn in_time(&self, t: f64, at: impl Fn(&Frame) -> (Vec3, Mat3)) -> FlowSample {
         let k = self.frames.partition_point(|f| f.time <= t);
-        let (u, grad_u) = if k == 0 {
-            at(&self.frames[0])
-        } else if k == self.frames.len() {
-            at(&self.frames[k - 1])
-        } else {
-            let (a, b) = (&self.frames[k - 1], &self.frames[k]);
-            let s = (t - a.time) / (b.time - a.time);
-            let ((ua, ga), (ub, gb)) = (at(a), at(b));
-            (ua * (1.0 - s) + ub * s, ga * (1.0 - s) + gb * s)
-        };
-        FlowSample { u, grad_u }
+        if k == 0 || k == self.frames.len() {
+            let (u, grad_u) = at(&self.frames[k.saturating_sub(1)]);
+            return FlowSample::steady(u, grad_u);
+        }
+        let (a, b) = (&self.frames[k - 1], &self.frames[k]);
+        let s = (t - a.time) / (b.time - a.time);
+        let ((ua, ga), (ub, gb)) = (at(a), at(b));
+        FlowSample {
+            u: ua * (1.0 - s) + ub * s,
+            grad_u: ga * (1.0 - s) + gb * s,
+            du_dt: (ub - ua) / (b.time - a.time),
+        }
     }
 
     /// Locate x (from `hint`) and sample there: the sample and the cell.

@@ -153,10 +153,7 @@ impl FlowField for MeshedFlow {
         check_query(x, t)?;
         let Location { cell, xi } = self.locate(x).ok_or_else(|| FlowError::outside(x))?;
         let weights = hex::shape(&xi);
-        let mut sample = FlowSample {
-            u: Vec3::zeros(),
-            grad_u: Mat3::zeros(),
-        };
+        let mut sample = FlowSample::steady(Vec3::zeros(), Mat3::zeros());
         for (&v, w) in self.mesh.cells()[cell].iter().zip(weights) {
             sample.u += self.u[v as usize] * w;
             sample.grad_u += self.grad_u[v as usize] * w;

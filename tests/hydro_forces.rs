@@ -1,0 +1,371 @@
+//! The force terms (`hydro::forces`) against closed forms nobody here computed: Lamb's
+//! added-mass coefficients (spheroid formulas and the integral by quadrature), the settling
+//! transient with added mass (Maxey & Riley), a neutrally buoyant sphere in solid-body rotation
+//! and in a stagnation flow, Cunningham and Schiller–Naumann terminal velocities, and
+//! Saffman's lift.
+use pseudorigid::driver::advance;
+use pseudorigid::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
+use pseudorigid::hydro::forces::{
+    AddedMass, Contribution, Cunningham, ForceContext, ForceTerm, ForceTerms, SaffmanMei, SchillerNaumann,
+    UndisturbedFlow, added_mass, by_name,
+};
+use pseudorigid::integrator::Stokesian;
+use pseudorigid::material::Rigid;
+use pseudorigid::prelude::*;
+use pseudorigid::scenes::forces::{SettlingCase, added_mass_shapes, settle};
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+/// A_i = r₁r₂r₃ ∫₀^∞ dλ/((r_i²+λ)Δ(λ)) by the trapezoidal rule in y = ln λ on [−60, 60] with
+/// step 1/200: the integrand is analytic in a strip around the real y axis and decays like
+/// e^{y} and e^{−3y/2} at the ends, so the rule converges geometrically (error ~ e^{−2πd/h},
+/// below 10⁻¹⁴ here) and the truncated tails are below e^{−60}·r^{-3}.
+fn lamb_quadrature(r: &Vec3, i: usize) -> f64 {
+    let h = 1.0 / 200.0;
+    let n = (120.0 / h) as usize;
+    let mut sum = 0.0;
+    for k in 0..=n {
+        let y = -60.0 + h * k as f64;
+        let lambda = y.exp();
+        let delta = ((r[0] * r[0] + lambda) * (r[1] * r[1] + lambda) * (r[2] * r[2] + lambda)).sqrt();
+        let w = if k == 0 || k == n { 0.5 } else { 1.0 };
+        sum += w * lambda / ((r[i] * r[i] + lambda) * delta);
+    }
+    r.product() * sum * h
+}
+
+/// Lamb's spheroid closed forms (Hydrodynamics §114–115): (A along the symmetry axis, A across).
+/// Prolate, e² = 1 − b²/a²: A_axis = 2(1−e²)/e³ (½ ln((1+e)/(1−e)) − e). Oblate,
+/// e² = 1 − c²/a²: A_axis = 2/e² − 2√(1−e²) asin(e)/e³. Both: A_across = (2 − A_axis)/2.
+fn lamb_spheroid(ratio: f64, prolate: bool) -> (f64, f64) {
+    let e = (1.0 - 1.0 / (ratio * ratio)).sqrt();
+    let axis = if prolate {
+        2.0 * (1.0 - e * e) / e.powi(3) * (0.5 * ((1.0 + e) / (1.0 - e)).ln() - e)
+    } else {
+        2.0 / (e * e) - 2.0 * (1.0 - e * e).sqrt() * e.asin() / e.powi(3)
+    };
+    (axis, 0.5 * (2.0 - axis))
+}
+
+fn k_of(a: f64) -> f64 {
+    a / (2.0 - a)
+}
+
+/// The target: Lamb's coefficients to 10⁻¹⁰ relative. The code's route (Carlson's R_D)
+/// and the two references (closed forms, quadrature) share nothing but the definition.
+#[test]
+fn added_mass_coefficients_equal_lambs() {
+    for r in added_mass_shapes() {
+        let k = added_mass::coefficients(&EllipsoidIntegrals::try_new(&r).unwrap());
+        for i in 0..3 {
+            let quad = k_of(lamb_quadrature(&r, i));
+            assert!((k[i] / quad - 1.0).abs() < 1e-10, "{r:?} axis {i}: {} vs quadrature {quad}", k[i]);
+        }
+        let (prolate, oblate) = (r[1] == 1.0 && r[2] == 1.0, r[0] == 1.0 && r[1] == 1.0);
+        if r == Vec3::repeat(1.0) {
+            assert!(k.iter().all(|&ki| (ki - 0.5).abs() < 1e-14), "sphere: {k:?}");
+        } else if prolate || oblate {
+            let ratio = r[0] / r[2];
+            let (along, across) = lamb_spheroid(ratio, prolate);
+            let (i_axis, i_across) = if prolate { (0, 1) } else { (2, 0) };
+            assert!((k[i_axis] / k_of(along) - 1.0).abs() < 1e-10, "{r:?}: {k:?}");
+            assert!((k[i_across] / k_of(across) - 1.0).abs() < 1e-10, "{r:?}: {k:?}");
+        }
+    }
+}
+
+/// The tensor is Lamb's in the current principal frame: rotating the particle rotates M_a.
+#[test]
+fn added_mass_tensor_rotates_with_the_particle() {
+    let r = Vec3::new(3.0, 2.0, 1.0);
+    let q = *nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0).matrix();
+    let frame = PrincipalFrame::from_total_distortion(&(q.transpose() * Mat3::from_diagonal(&r)));
+    let ints = EllipsoidIntegrals::new(&frame.r);
+    let flow = FlowSample::steady(Vec3::zeros(), Mat3::zeros());
+    let ctx = context(&frame, &ints, 1.0, 1000.0, Vec3::zeros(), &flow);
+    let m_a = AddedMass.contribution(&ctx).added_mass;
+    let k = added_mass::coefficients(&EllipsoidIntegrals::new(&r));
+    let m_f = 1000.0 * 4.0 / 3.0 * PI * r.product();
+    // Translating along the particle's axis i (global q^T e_i) meets m_f k_i.
+    for i in 0..3 {
+        let axis = q.transpose() * Vec3::ith(i, 1.0);
+        let along = axis.dot(&(m_a * axis));
+        assert!((along / (m_f * k[i]) - 1.0).abs() < 1e-12, "axis {i}: {along} vs {}", m_f * k[i]);
+    }
+}
+
+fn context<'a>(
+    frame: &'a PrincipalFrame,
+    ints: &'a EllipsoidIntegrals,
+    mu_f: f64,
+    rho_f: f64,
+    v: Vec3,
+    flow: &'a FlowSample,
+) -> ForceContext<'a> {
+    ForceContext {
+        frame,
+        ints,
+        mu_f,
+        rho_f,
+        mass: 1.0,
+        v,
+        flow,
+    }
+}
+
+/// The settling dataset's cases integrated by Radau IIA at tol 10⁻¹²: the velocity lies within
+/// 10³ tol (in m/s, the tolerance's absolute part, summed over at most a few hundred steps) of
+/// v_t(1 − e^{−t/τ}) with τ from ρ_p + ½ρ_f. Without added mass τ would lack the ½ρ_f: at
+/// ρ_p/ρ_f = 1.0005 the velocity at t = τ would be off by 0.22 v_t, at 1000 by 1.8·10⁻⁴ v_t
+/// (both far above the bound: the test can fail on every case).
+#[test]
+fn settling_from_rest_with_added_mass() {
+    let tol = 1e-12;
+    for case in SettlingCase::dataset() {
+        let rows = settle(&case, 12, tol).unwrap();
+        let bound = 1e3 * tol;
+        for r in &rows {
+            assert!(
+                (r.v_numeric - r.v_exact).abs() <= bound,
+                "{case:?} t = {}: {} vs {}",
+                r.t,
+                r.v_numeric,
+                r.v_exact
+            );
+        }
+        let t_tau = rows.iter().find(|r| r.t >= case.response_time()).unwrap();
+        let paper_tau = case.rho_p * case.d * case.d / (18.0 * case.mu);
+        let paper = case.terminal_velocity() * -(-t_tau.t / paper_tau).exp_m1();
+        assert!((paper - t_tau.v_exact).abs() > 10.0 * bound, "{case:?}: the cases must tell the models apart");
+    }
+}
+
+/// A rigid sphere of `rho_p` and diameter d = 10⁻⁴ m in water with `forces`.
+fn sphere_in_water(rho_p: f64, d: f64, forces: Vec<Arc<dyn ForceTerm>>) -> Particle<Rigid> {
+    Particle::with_drag(
+        Ellipsoid::new([0.5 * d; 3], Mat3::identity()).unwrap(),
+        Rigid,
+        Brenner,
+        Fluid::new(1e-3, 1000.0).unwrap(),
+        rho_p,
+    )
+    .unwrap()
+    .with_forces(ForceTerms::new(forces).unwrap())
+    .unwrap()
+}
+
+/// Integrate `p` from `x0` with the fluid's velocity there to `t_end` at tol 10⁻¹⁰ and return
+/// the state at t_end / 2 and t_end.
+fn follow(p: &Particle<Rigid>, flow: &LinearFlow, x0: Vec3, t_end: f64) -> (State, State) {
+    let integ = Stokesian::new(1e-10).unwrap();
+    let mut s0 = State::at_rest(x0);
+    s0.v = flow.sample(&x0, 0.0).unwrap().u;
+    let (half, _) = advance(&integ, p, s0, flow, 1e-6, 0.5 * t_end).unwrap();
+    let (end, _) = advance(&integ, p, half, flow, 1e-6, t_end).unwrap();
+    (half, end)
+}
+
+fn fluid_inertia() -> Vec<Arc<dyn ForceTerm>> {
+    vec![Arc::new(AddedMass), Arc::new(UndisturbedFlow)]
+}
+
+/// Solid-body rotation u = Ω e_z × x, Ω = 10 s⁻¹, a neutrally buoyant 100 µm sphere in water
+/// (τ = ρ d²/(18μ) = 5.6·10⁻⁴ s). With both fluid-inertia terms v = u is an exact solution
+/// (module docs: (m + ½m_f) v̇ = 3πμd(u − v) + (m_f + ½m_f) Du/Dt with m = m_f), and deviations
+/// decay, so the radius stays within 10⁻⁶ of its start (10⁴× the tolerance). Without them the
+/// particle spirals out as z = x + iy ∝ e^{st}, τs² + s − iΩ = 0; after T/2 = 5 s ≫ τ the fast
+/// root has decayed by e^{−9000}, so ln(r(T)/r(T/2))/(T/2) is Re s to the scheme's error
+/// (relative 10⁻⁶ allowed: 10⁴ tol over a rate known to round-off).
+#[test]
+fn neutrally_buoyant_sphere_in_solid_body_rotation() {
+    let omega = 10.0;
+    let mut l = Mat3::zeros();
+    l[(0, 1)] = -omega;
+    l[(1, 0)] = omega;
+    let flow = LinearFlow::new(Vec3::zeros(), l).unwrap();
+    let x0 = Vec3::new(1e-2, 0.0, 0.0);
+    let t_end = 10.0;
+    let with = sphere_in_water(1000.0, 1e-4, fluid_inertia());
+    let (_, end) = follow(&with, &flow, x0, t_end);
+    let r = |s: &State| s.x.xy().norm();
+    assert!((r(&end) / x0.norm() - 1.0).abs() < 1e-6, "with fluid inertia: r = {}", r(&end));
+
+    let without = sphere_in_water(1000.0, 1e-4, vec![]);
+    let (half, end) = follow(&without, &flow, x0, t_end);
+    let tau = 1000.0 * 1e-8 / (18.0 * 1e-3);
+    let s = (nalgebra::Complex::new(1.0, 4.0 * omega * tau).sqrt() - 1.0) / (2.0 * tau);
+    let measured = (r(&end) / r(&half)).ln() / (0.5 * t_end);
+    assert!(
+        (measured / s.re - 1.0).abs() < 1e-6,
+        "without: drift rate {measured} vs {} (≈ τΩ² = {})",
+        s.re,
+        tau * omega * omega
+    );
+}
+
+/// Plane stagnation flow u = a(x, −y, 0), a = 20 s⁻¹: with fluid inertia a neutrally buoyant
+/// sphere follows x(t) = x₀ e^{at} (within 10⁻⁶ relative, as above); without, x grows at the
+/// root of τs² + s − a = 0, slower than the fluid (measured against that root).
+#[test]
+fn neutrally_buoyant_sphere_in_a_stagnation_flow() {
+    let a = 20.0;
+    let flow = LinearFlow::planar_extension(a).unwrap();
+    let x0 = Vec3::new(1e-6, 1e-2, 0.0);
+    let t_end = 0.5;
+    let (_, end) = follow(&sphere_in_water(1000.0, 1e-4, fluid_inertia()), &flow, x0, t_end);
+    let exact = x0[0] * (a * t_end).exp();
+    assert!((end.x[0] / exact - 1.0).abs() < 1e-6, "{} vs {exact}", end.x[0]);
+    let (half, end) = follow(&sphere_in_water(1000.0, 1e-4, vec![]), &flow, x0, t_end);
+    let tau = 1000.0 * 1e-8 / (18.0 * 1e-3);
+    let s = ((1.0 + 4.0 * a * tau).sqrt() - 1.0) / (2.0 * tau);
+    let measured = (end.x[0] / half.x[0]).ln() / (0.5 * t_end);
+    assert!((measured / s - 1.0).abs() < 1e-6, "{measured} vs {s} (fluid: {a})");
+}
+
+/// Terminal velocity of a sphere reached by integration (t = 40τ: the transient is e^{−40}).
+fn terminal(p: &Particle<Rigid>, tau: f64) -> f64 {
+    let integ = Stokesian::new(1e-12).unwrap();
+    let (end, _) = advance(&integ, p, State::at_rest(Vec3::zeros()), &Quiescent, 1e-3 * tau, 40.0 * tau).unwrap();
+    -end.v[2]
+}
+
+/// Cunningham: a 1 µm droplet (ρ 1000) in air (λ = 66.5 nm) settles C_c times faster than
+/// Stokes says, C_c = 1 + Kn(1.257 + 0.4 e^{−1.1/Kn}) = 1.168 (Hinds, Table A.9: 1.168 at
+/// 1 µm); the integrated terminal velocity equals C_c v_Stokes to 10⁻⁸ (tol 10⁻¹² on
+/// v ≈ 3.5·10⁻⁵ m/s, plus e^{−40}).
+#[test]
+fn cunningham_settling_velocity() {
+    let (d, lambda, rho_p) = (1e-6, 66.5e-9, 1000.0);
+    let slip = Cunningham::new(lambda).unwrap();
+    let c_c = slip.correction(d);
+    assert!((c_c - 1.168).abs() < 1e-3, "C_c(1 µm) = {c_c}");
+    let p = Particle::with_drag(
+        Ellipsoid::new([0.5 * d; 3], Mat3::identity()).unwrap(),
+        Rigid,
+        Brenner,
+        Fluid::new(1.81e-5, 1.2).unwrap(),
+        rho_p,
+    )
+    .unwrap()
+    .with_gravity(Vec3::new(0.0, 0.0, -9.81))
+    .unwrap()
+    .with_forces(ForceTerms::new(vec![Arc::new(slip)]).unwrap())
+    .unwrap();
+    let v_stokes = (rho_p - 1.2) * 9.81 * d * d / (18.0 * 1.81e-5);
+    let tau = c_c * rho_p * d * d / (18.0 * 1.81e-5);
+    let v = terminal(&p, tau);
+    assert!((v / (c_c * v_stokes) - 1.0).abs() < 1e-8, "{v} vs {}", c_c * v_stokes);
+}
+
+/// Schiller–Naumann: a 300 µm glass sphere (ρ 2500) in water reaches the v at which
+/// 3πμdv(1 + 0.15 Re^0.687) = (m − m_f)g, Re = ρ_f v d/μ (solved here by bisection, an
+/// independent route); Stokes' law would give 0.074 m/s at Re = 22, the correlation 0.040.
+/// Integrated with the inertial barycentre (and added mass, which the steady state must not
+/// feel) and with the overdamped one (the fixed-point iteration), both within 10⁻⁸ relative.
+#[test]
+fn schiller_naumann_terminal_velocity() {
+    let (d, rho_p, rho_f, mu, g): (f64, f64, f64, f64, f64) = (3e-4, 2500.0, 1000.0, 1e-3, 9.81);
+    let weight = (rho_p - rho_f) * PI / 6.0 * d.powi(3) * g;
+    let residual = |v: f64| 3.0 * PI * mu * d * v * (1.0 + 0.15 * (rho_f * v * d / mu).powf(0.687)) - weight;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if residual(mid) > 0.0 { hi = mid } else { lo = mid }
+    }
+    let exact = 0.5 * (lo + hi);
+    let terms: Vec<Arc<dyn ForceTerm>> = vec![Arc::new(SchillerNaumann), Arc::new(AddedMass)];
+    let p = sphere_in_water(rho_p, d, terms).with_gravity(Vec3::new(0.0, 0.0, -g)).unwrap();
+    let tau = (rho_p + 0.5 * rho_f) * d * d / (18.0 * mu);
+    let v = terminal(&p, tau);
+    assert!((v / exact - 1.0).abs() < 1e-8, "inertial: {v} vs {exact}");
+    let integ = Stokesian::overdamped(1e-12).unwrap();
+    let (end, _) = advance(&integ, &p, State::at_rest(Vec3::zeros()), &Quiescent, 1e-3, 1e-2).unwrap();
+    assert!((-end.v[2] / exact - 1.0).abs() < 1e-8, "overdamped: {} vs {exact}", -end.v[2]);
+}
+
+/// Saffman (1965): |f| = 6.46 μ a² |w| √(γ/ν) for a sphere of radius a slipping with w along a
+/// simple shear of rate γ, towards the faster fluid when it lags; Mei's ratio tends to 1 as
+/// Re_p → 0 (here Re_p = 10⁻⁴, so the ratio is 1 − O(10⁻⁵·√β)).
+#[test]
+fn saffman_lift_in_simple_shear() {
+    let (a, gamma, mu, rho) = (1e-5, 100.0, 1e-3, 1000.0);
+    let r = Vec3::repeat(a);
+    let frame = PrincipalFrame::from_total_distortion(&Mat3::from_diagonal(&r));
+    let ints = EllipsoidIntegrals::new(&frame.r);
+    let flow = LinearFlow::simple_shear(gamma).unwrap().sample(&Vec3::zeros(), 0.0).unwrap();
+    let w = 5e-6;
+    // The sphere lags the fluid (u − v = +w e_x); the flow is faster at larger y.
+    let ctx = context(&frame, &ints, mu, rho, Vec3::new(-w, 0.0, 0.0), &flow);
+    let f = SaffmanMei.contribution(&ctx).force;
+    let saffman = 6.46 * mu * a * a * w * (gamma * rho / mu).sqrt();
+    assert!(f[1] > 0.0 && f[0].abs() + f[2].abs() < 1e-12 * f[1], "{f:?}");
+    assert!((f[1] / saffman - 1.0).abs() < 1e-3, "{} vs Saffman {saffman}", f[1]);
+    assert!((SaffmanMei::mei_ratio(1e-8, 0.1) - 1.0).abs() < 1e-8);
+}
+
+/// A bubble-like sphere (ρ_p/ρ_f = 10⁻³) with added mass rises at v_t = (ρ_p − ρ_f) g d²/(18μ)
+/// with response time (ρ_p + ½ρ_f)d²/(18μ): the effective mass keeps the step stable and
+/// finite as ρ_p → 0 (without added mass τ would be 500× shorter).
+#[test]
+fn light_sphere_with_added_mass_rises_stably() {
+    let case = SettlingCase {
+        rho_p: 1.0,
+        rho_f: 1000.0,
+        d: 1e-4,
+        mu: 1e-3,
+        g: 9.81,
+    };
+    let rows = settle(&case, 6, 1e-12).unwrap();
+    for r in rows {
+        assert!((r.v_numeric - r.v_exact).abs() <= 1e-9, "t = {}: {} vs {}", r.t, r.v_numeric, r.v_exact);
+    }
+}
+
+/// No terms: the contribution is the paper's (drag factor 1, no added mass, no force), and a
+/// particle without terms steps exactly as before (the dataset snapshots guard the latter).
+#[test]
+fn empty_terms_are_the_papers_model() {
+    assert_eq!(
+        ForceTerms::default().total(&context(
+            &PrincipalFrame::from_total_distortion(&Mat3::identity()),
+            &EllipsoidIntegrals::new(&Vec3::repeat(1.0)),
+            1.0,
+            1.0,
+            Vec3::x(),
+            &FlowSample::steady(Vec3::y(), Mat3::zeros()),
+        )),
+        Contribution::default()
+    );
+}
+
+/// The registry: every name it lists builds; unknown names and parameters, a missing mean
+/// free path, a term given twice and a sphere's correlation on an ellipsoid are typed errors.
+#[test]
+fn force_terms_by_name() {
+    let none = BTreeMap::new();
+    let lambda = BTreeMap::from([("mean_free_path".to_string(), 6.65e-8)]);
+    for name in pseudorigid::hydro::forces::names() {
+        let params = if *name == "cunningham" { &lambda } else { &none };
+        assert_eq!(by_name(name, params).unwrap().name(), *name);
+    }
+    assert!(matches!(by_name("basset", &none), Err(ParamError::Unknown { .. })));
+    assert!(matches!(by_name("added_mass", &lambda), Err(ParamError::Unknown { .. })));
+    assert!(by_name("cunningham", &none).is_err());
+    let twice: Vec<Arc<dyn ForceTerm>> = vec![Arc::new(AddedMass), Arc::new(AddedMass)];
+    assert!(ForceTerms::new(twice).is_err());
+    let prolate = Particle::with_drag(
+        Ellipsoid::new([2e-5, 1e-5, 1e-5], Mat3::identity()).unwrap(),
+        Rigid,
+        Brenner,
+        Fluid::new(1e-3, 1000.0).unwrap(),
+        2000.0,
+    )
+    .unwrap();
+    for term in [Arc::new(SchillerNaumann) as Arc<dyn ForceTerm>, Arc::new(SaffmanMei)] {
+        let refused = prolate.clone().with_forces(ForceTerms::new(vec![term]).unwrap());
+        assert!(matches!(refused, Err(ParamError::OutOfRange { .. })), "{refused:?}");
+    }
+    let admitted = prolate.with_forces(ForceTerms::new(fluid_inertia()).unwrap());
+    assert!(admitted.is_ok());
+}
