@@ -690,6 +690,75 @@ vtk = false
     }
 }
 
+/// Force terms selected in a scene file run as in the library: a 100 µm sphere at
+/// ρ_p/ρ_f = 2 in water with `added_mass` and `undisturbed_flow` falls
+/// z(t) = v_t(t − τ(1 − e^{−t/τ})) with τ = (ρ_p + ½ρ_f)d²/(18μ) (Maxey & Riley without the
+/// history force), within 10⁻⁴ of the fall (the tolerance 10⁻⁸ on v ≈ 5·10⁻³ m/s over
+/// t = 10⁻² s gives ≤ 10⁻⁸ m against a fall of 4·10⁻⁵ m); with the paper's τ = ρ_p d²/(18μ) the
+/// fall differs by 4 %. A term with parameters is a table; an unknown name or parameter is
+/// refused at `particles.forces[i]`.
+#[test]
+fn force_terms_from_a_scene_file() {
+    let (mu, rho_f, rho_p, g, d) = (1e-3, 1000.0, 2000.0, 9.81, 1e-4);
+    let text = |forces: &str| {
+        format!(
+            r#"[flow]
+type = "quiescent"
+[fluid]
+viscosity = {mu}
+density = {rho_f}
+gravity = [0.0, 0.0, -{g}]
+[particles]
+density = {rho_p}
+forces = {forces}
+[[particles.list]]
+semi_axes = [{r}, {r}, {r}]
+position = [0.0, 0.0, 0.0]
+material = {{ law = "rigid" }}
+[integrator]
+type = "stokesian"
+tol = 1e-8
+dt = 1e-7
+[end]
+t_end = 1e-2
+[output]
+vtk = false
+"#,
+            r = d / 2.0
+        )
+    };
+    let parse_text = |t: &str| {
+        parse(
+            &Source {
+                file: "forces.toml",
+                text: t,
+            },
+            Path::new("."),
+        )
+    };
+    let s = parse_text(&text(r#"["added_mass", "undisturbed_flow"]"#)).unwrap();
+    let out = run(&s, "cli_forces");
+    let t_end = 1e-2;
+    let v_t = (rho_p - rho_f) * g * d * d / (18.0 * mu);
+    let fall = |tau: f64| v_t * (t_end - tau * (1.0 - (-t_end / tau).exp()));
+    let with = fall((rho_p + 0.5 * rho_f) * d * d / (18.0 * mu));
+    let paper = fall(rho_p * d * d / (18.0 * mu));
+    let z = -out.records[0].end.as_ref().unwrap().x[2];
+    assert!((z - with).abs() <= 1e-4 * with, "fell {z:e}, Maxey–Riley {with:e}, paper {paper:e}");
+    assert!((paper - with).abs() > 0.03 * with);
+    let slip = parse_text(&text(r#"[{ term = "cunningham", mean_free_path = 6.65e-8 }]"#));
+    assert!(slip.is_ok(), "{:?}", slip.err());
+    for (forces, key) in [
+        (r#"["added_mass", "basset"]"#, "particles.forces[1]"),
+        (r#"[{ term = "cunningham", mean_free_pth = 6.65e-8 }]"#, "particles.forces[0]"),
+    ] {
+        match parse_text(&text(forces)) {
+            Err(CliError::Scene { key: k, .. }) => assert_eq!(k, key),
+            other => panic!("{forces}: expected a scene error, got {:?}", other.map(|s| s.count())),
+        }
+    }
+}
+
 /// A law written in the scene file runs like the built-in law it writes: `yeoh_oblate.toml`
 /// with c20 = 0 is Neo-Hooke with μ_s = 2 c10 = 2.5 and λ_s = 2500, the material of
 /// `oblate_shear.toml`; over 2 time units of shear the two give the same F to 10⁻⁷ (the

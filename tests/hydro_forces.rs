@@ -231,7 +231,7 @@ fn terminal(p: &Particle<Rigid>, tau: f64) -> f64 {
 }
 
 /// Cunningham: a 1 µm droplet (ρ 1000) in air (λ = 66.5 nm) settles C_c times faster than
-/// Stokes says, C_c = 1 + Kn(1.257 + 0.4 e^{−1.1/Kn}) = 1.168 (Hinds, Table A.9: 1.168 at
+/// Stokes says, C_c = 1 + Kn(1.257 + 0.4 e^{−1.1/Kn}) = 1.168 (Hinds, Aerosol Technology, appendix table of C_c: 1.168 at
 /// 1 µm); the integrated terminal velocity equals C_c v_Stokes to 10⁻⁸ (tol 10⁻¹² on
 /// v ≈ 3.5·10⁻⁵ m/s, plus e^{−40}).
 #[test]

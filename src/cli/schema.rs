@@ -186,6 +186,11 @@ pub struct ParticlesSpec {
     /// dilation as a fluid does and is what error-controlled inertial runs need).
     #[serde(default)]
     pub volumetric: VolumetricSpec,
+    /// Force terms beyond the paper's drag and reduced gravity, by name
+    /// (`crate::hydro::forces::by_name`): `"added_mass"`, or a table
+    /// `{ term = "cunningham", mean_free_path = 6.65e-8 }` for a term with parameters.
+    #[serde(default)]
+    pub forces: Vec<Spanned<ForceEntry>>,
     /// Explicit particles.
     #[serde(default)]
     pub list: Vec<ParticleEntry>,
@@ -217,6 +222,23 @@ impl<'de> Deserialize<'de> for Groups {
         }
         d.deserialize_any(OneOrMany)
     }
+}
+
+/// One entry of `particles.forces`: a term's name, or a table with the name under `term`
+/// and the term's parameters (numbers, SI units).
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum ForceEntry {
+    /// A term without parameters.
+    Name(String),
+    /// A term with parameters.
+    Table {
+        /// The term's name.
+        term: String,
+        /// Its parameters.
+        #[serde(flatten)]
+        parameters: std::collections::BTreeMap<String, f64>,
+    },
 }
 
 /// Volumetric tractions by name (`crate::hydro::VolumetricTraction`).

@@ -11,7 +11,7 @@
 
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, StepError};
-use crate::hydro::{DragModel, VolumetricTraction};
+use crate::hydro::{DragModel, ForceTerms, VolumetricTraction};
 use crate::material::{Hyperelastic, Softness};
 use crate::particle::{Fluid, Particle, State};
 use crate::tensor::Vec3;
@@ -84,6 +84,7 @@ pub struct ParticleTemplate<D> {
     fluid: Fluid,
     gravity: Vec3,
     volumetric: VolumetricTraction,
+    forces: ForceTerms,
 }
 
 impl<D: DragModel + Clone> ParticleTemplate<D> {
@@ -97,7 +98,13 @@ impl<D: DragModel + Clone> ParticleTemplate<D> {
             fluid,
             gravity,
             volumetric: VolumetricTraction::default(),
+            forces: ForceTerms::default(),
         })
+    }
+
+    /// The same template with force terms beyond the paper's ([`crate::hydro::forces`]).
+    pub fn with_forces(self, forces: ForceTerms) -> Self {
+        Self { forces, ..self }
     }
 
     /// The same template with another volumetric traction (see [`VolumetricTraction`]).
@@ -117,7 +124,8 @@ impl<D: DragModel + Clone> ParticleTemplate<D> {
             self.fluid,
             spec.density,
         )?
-        .with_gravity(self.gravity)
-        .map(|p| p.with_volumetric(self.volumetric))
+        .with_gravity(self.gravity)?
+        .with_volumetric(self.volumetric)
+        .with_forces(self.forces.clone())
     }
 }

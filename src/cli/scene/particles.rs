@@ -29,9 +29,25 @@ impl Builder<'_> {
             VolumetricSpec::Source => VolumetricTraction::Source,
         };
         let at = fluid.gravity.as_ref().map_or(fluid.viscosity.span(), Spanned::span);
-        ParticleTemplate::new(drag, fluid_model, gravity)
+        let template = ParticleTemplate::new(drag, fluid_model, gravity)
             .map(|t| t.with_volumetric(volumetric))
-            .map_err(|e| self.param(at, "fluid.gravity", e))
+            .map_err(|e| self.param(at, "fluid.gravity", e))?;
+        Ok(template.with_forces(self.forces(&particles.forces)?))
+    }
+
+    /// `particles.forces`: each entry through the registry of force terms.
+    fn forces(&self, entries: &[Spanned<ForceEntry>]) -> Result<ForceTerms, CliError> {
+        let none = BTreeMap::new();
+        let mut terms = Vec::with_capacity(entries.len());
+        for (i, entry) in entries.iter().enumerate() {
+            let (name, parameters) = match entry.get_ref() {
+                ForceEntry::Name(name) => (name, &none),
+                ForceEntry::Table { term, parameters } => (term, parameters),
+            };
+            let key = format!("particles.forces[{i}]");
+            terms.push(forces::by_name(name, parameters).map_err(|e| self.param(entry.span(), &key, e))?);
+        }
+        ForceTerms::new(terms).map_err(|e| self.param(entries.last().map_or(0..0, Spanned::span), "particles.forces", e))
     }
 
     /// The solid density of an entry or group: its own `density` (`key`), else

@@ -176,6 +176,14 @@ impl ForceTerms {
     }
 }
 
+/// Two lists are equal when they hold the same terms with the same parameters, in order
+/// (compared by their `Debug` forms, which show both).
+impl PartialEq for ForceTerms {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.len() == other.0.len() && self.iter().zip(other.iter()).all(|(a, b)| format!("{a:?}") == format!("{b:?}"))
+    }
+}
+
 /// The names [`by_name`] knows.
 pub fn names() -> &'static [&'static str] {
     &[
