@@ -1,15 +1,19 @@
 //! Paper Figs 15 and 16: soft prolate (λ₁ = 1, 2, 5, 8) and oblate (λ₁ = λ₂ = 2, 5, 8)
 //! ellipsoids at Ca = 0.001, 0.25, 0.5, 0.75 in the Re = 470 cavity, tracked for 100 s with
-//! solid inertia (ρ* ≈ 5.5 at release; `scenes::cavity` docs). `inertialess` as the first
-//! argument runs the inertialess shape model instead and writes `outcomes_inertialess.csv`
-//! only, for comparison. Writes `paper-figures/fig15_fig16/`.
+//! solid inertia (ρ* ≈ 5.5 at release; `scenes::cavity` docs). `inertialess` as an argument
+//! runs the inertialess shape model instead and writes `outcomes_inertialess.csv` only, for
+//! comparison. `fluid-inertia` adds the undisturbed-flow force and added mass
+//! (`scenes::cavity::fluid_inertia`), which the paper's model leaves out, and writes the same
+//! files with `_fluid_inertia` in their names beside the paper-faithful ones. Writes
+//! `paper-figures/fig15_fig16/`.
 //!
-//! Run: `cargo run --release --example fig15_fig16_cavity_soft`
+//! Run: `cargo run --release --example fig15_fig16_cavity_soft [-- inertialess] [fluid-inertia]`
 
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::Figure;
 use pseudorigid::scenes::cavity::{
-    Cavity, Contact, Shape, ShapeModel, fig15_fig16_releases, outcome_table, trajectory_panel, trajectory_table,
+    Cavity, Contact, Shape, ShapeModel, fig15_fig16_releases, fluid_inertia, outcome_table, trajectory_panel,
+    trajectory_table,
 };
 use rayon::prelude::*;
 use std::time::Instant;
@@ -17,13 +21,20 @@ use std::time::Instant;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
     let flow = MeshedFlow::load("reference-data/cavity_re470.prf")?;
-    let inertialess = std::env::args().nth(1).as_deref() == Some("inertialess");
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let inertialess = args.iter().any(|a| a == "inertialess");
+    let with_fluid_inertia = args.iter().any(|a| a == "fluid-inertia");
     let model = if inertialess {
         ShapeModel::Inertialess
     } else {
         ShapeModel::Inertial
     };
-    let cavity = Cavity::new(&flow)?.with_shape_model(model);
+    let mut cavity = Cavity::new(&flow)?.with_shape_model(model);
+    if with_fluid_inertia {
+        cavity = cavity.with_forces(fluid_inertia()?);
+    }
+    let terms = if with_fluid_inertia { "_fluid_inertia" } else { "" };
+    let path = |stem: &str, ext: &str| pseudorigid::output::paper_figure_path("fig15_fig16", &format!("{stem}{terms}.{ext}"));
     let releases = fig15_fig16_releases();
     let runs = releases
         .par_iter()
@@ -39,17 +50,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     if inertialess {
-        outcome_table(&runs)?.write(pseudorigid::output::paper_figure_path(
-            "fig15_fig16",
-            "outcomes_inertialess.csv",
-        ))?;
+        outcome_table(&runs)?.write(path("outcomes_inertialess", "csv"))?;
         return Ok(());
     }
-    trajectory_table(&runs)?.write(pseudorigid::output::paper_figure_path(
-        "fig15_fig16",
-        "trajectories.csv",
-    ))?;
-    outcome_table(&runs)?.write(pseudorigid::output::paper_figure_path("fig15_fig16", "outcomes.csv"))?;
+    trajectory_table(&runs)?.write(path("trajectories", "csv"))?;
+    outcome_table(&runs)?.write(path("outcomes", "csv"))?;
     // One panel per initial shape, in the order of the releases.
     let mut shapes: Vec<Shape> = Vec::new();
     for r in &releases {
@@ -64,10 +69,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             trajectory_panel(&mine, &s.label())
         })
         .collect();
-    Figure::grid(panels, 4, (420, 420)).write(pseudorigid::output::paper_figure_path(
-        "fig15_fig16",
-        "trajectories.svg",
-    ))?;
+    Figure::grid(panels, 4, (420, 420)).write(path("trajectories", "svg"))?;
     println!(
         "fig15_fig16_cavity_soft: wall time {:.1} s",
         start.elapsed().as_secs_f64()

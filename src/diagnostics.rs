@@ -22,6 +22,25 @@
 //!
 //! Every quantity is a maximum over the states observed (the driver's accepted steps).
 //!
+//! # Force terms the run leaves out ([`Omitted`])
+//! The paper's barycentre has Stokes drag and reduced gravity only; [`crate::hydro::forces`]
+//! has the terms beyond it. For each term the particle does not carry, the monitor estimates
+//! its size from the run's numbers, as the relative change it would make to the slip u − v
+//! (or to the response time), and flags it above [`Thresholds::omitted_term`] (1 %):
+//! - undisturbed flow: in quasi-steady slip (v̇ ≈ Du/Dt) the drag balances
+//!   m Du/Dt − (m − m_f) g without the term and (m − m_f)(Du/Dt − g) with it (added mass
+//!   cancels there), so omitting it changes the slip by m_f|Du/Dt| / |(m − m_f)(Du/Dt − g)| —
+//!   about ρ_f/(ρ_p − ρ_f) where the flow's acceleration dominates gravity (2 000 for the
+//!   cavity's particle), ρ_f/ρ_p·|Du/Dt|/g where gravity dominates;
+//! - added mass: the response time m/(c μ_f K) grows by M_a/m, at most (ρ_f/ρ_p) max k_i with
+//!   Lamb's coefficients of the rest shape (½ ρ_f/ρ_p for a sphere);
+//! - finite-Re drag: Schiller–Naumann's 0.15 Re_s^{0.687} with the slip Reynolds number;
+//! - shear lift: Saffman's lift over the Stokes drag, 1.615 d²√(ρ_f μ_f γ̇)|w| / (3π μ_f d |w|)
+//!   = 0.171 Re_γ^{1/2};
+//! - gas slip: Cunningham's C_c − 1 at d_eq for a gas (ρ_f < [`GAS_DENSITY`]), with the mean free
+//!   path λ = μ_f/(0.499 ρ_f c̄) of kinetic theory and air's mean molecular speed c̄ = 463 m/s at
+//!   20 °C (the run's gas is assumed to be air-like; 66 nm for air at 1 atm).
+//!
 //! # Unbounded linear flows
 //! In the shear scenes ([`Monitor::in_linear_flow`]) there is no wall and u is exactly linear
 //! across a particle of any size, so both length-scale ratios are 0 by construction; the
@@ -33,7 +52,9 @@ use crate::contact::{Boundary, Extent, Unbounded};
 use crate::ellipsoid::PrincipalFrame;
 use crate::flow::FlowField;
 use crate::flow::analytic::LinearFlow;
+use crate::ellipsoid::EllipsoidIntegrals;
 use crate::hydro::DragModel;
+use crate::hydro::forces::{AddedMass, Cunningham, SaffmanMei, SchillerNaumann, UndisturbedFlow, added_mass};
 use crate::material::Response;
 use crate::particle::{Particle, State};
 use crate::tensor::sym;
@@ -50,6 +71,8 @@ pub struct Thresholds {
     pub r1_over_wall_distance: f64,
     /// Largest r₁ over the flow length scale |u|/|∇u|.
     pub r1_over_flow_scale: f64,
+    /// Largest size of a force term left out ([`Omitted`]).
+    pub omitted_term: f64,
 }
 
 impl Default for Thresholds {
@@ -59,7 +82,76 @@ impl Default for Thresholds {
             re_slip: 0.1,
             r1_over_wall_distance: 0.1,
             r1_over_flow_scale: 0.1,
+            omitted_term: 0.01,
         }
+    }
+}
+
+/// Fluids lighter than this (kg/m³) are gases for the slip estimate: gases at ordinary
+/// pressures are below 10, liquids above 500.
+pub const GAS_DENSITY: f64 = 10.0;
+
+/// Mean molecular speed of air at 20 °C, c̄ = √(8RT/(πM)) (m/s), for the mean free path of a gas.
+pub const AIR_MOLECULAR_SPEED: f64 = 463.0;
+
+/// Sizes of the force terms a run left out (module docs), each the largest over the run; zero
+/// for the terms the particle carries.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Omitted {
+    /// Undisturbed-flow force: relative change of the quasi-steady slip.
+    pub undisturbed_flow: f64,
+    /// Added mass: relative change of the response time.
+    pub added_mass: f64,
+    /// Finite-Re drag: relative change of the drag.
+    pub schiller_naumann: f64,
+    /// Shear lift over the drag.
+    pub saffman_mei: f64,
+    /// Gas slip: C_c − 1.
+    pub cunningham: f64,
+}
+
+impl Omitted {
+    /// The terms and their sizes, by the names of [`crate::hydro::forces::by_name`].
+    pub fn sizes(&self) -> [(&'static str, f64); 5] {
+        [
+            (UndisturbedFlow::NAME, self.undisturbed_flow),
+            (AddedMass::NAME, self.added_mass),
+            (SchillerNaumann::NAME, self.schiller_naumann),
+            (SaffmanMei::NAME, self.saffman_mei),
+            (Cunningham::NAME, self.cunningham),
+        ]
+    }
+
+    fn max(self, other: Self) -> Self {
+        Self {
+            undisturbed_flow: self.undisturbed_flow.max(other.undisturbed_flow),
+            added_mass: self.added_mass.max(other.added_mass),
+            schiller_naumann: self.schiller_naumann.max(other.schiller_naumann),
+            saffman_mei: self.saffman_mei.max(other.saffman_mei),
+            cunningham: self.cunningham.max(other.cunningham),
+        }
+    }
+}
+
+/// The sizes of the terms of a particle that do not change during a run: added mass from its
+/// rest shape and densities, gas slip from its size and fluid (module docs); zero for the terms
+/// it carries.
+pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Omitted {
+    let on = particle.forces().names();
+    let off = |name: &str| !on.contains(&name);
+    let fluid = particle.fluid();
+    let semi_axes = particle.shape().semi_axes();
+    let d_eq = 2.0 * semi_axes.product().cbrt();
+    let k_max = EllipsoidIntegrals::try_new(&semi_axes).map_or(f64::NAN, |ints| added_mass::coefficients(&ints).max());
+    let gas = fluid.rho > 0.0 && fluid.rho < GAS_DENSITY;
+    let slip = || {
+        let lambda = fluid.mu / (0.499 * fluid.rho * AIR_MOLECULAR_SPEED);
+        Cunningham::new(lambda).map_or(0.0, |c| c.correction(d_eq) - 1.0)
+    };
+    Omitted {
+        added_mass: if off(AddedMass::NAME) { fluid.rho / particle.rho_solid() * k_max } else { 0.0 },
+        cunningham: if off(Cunningham::NAME) && gas { slip() } else { 0.0 },
+        ..Omitted::default()
     }
 }
 
@@ -80,15 +172,19 @@ pub struct Validity {
     pub states: u64,
     /// States at which the flow could not be sampled (left out of the maxima).
     pub unsampled: u64,
+    /// Sizes of the force terms the run left out.
+    pub omitted: Omitted,
 }
 
 impl Validity {
     /// The same maxima for a run of the inertialess model, which assumes creeping flow: both
-    /// Reynolds numbers are 0 by the model's assumption, not by measurement.
+    /// Reynolds numbers are 0 by the model's assumption, not by measurement, and so is every
+    /// fluid-inertia term (its fluid density is a placeholder).
     pub fn inertialess(self) -> Self {
         Self {
             max_re_shear: 0.0,
             max_re_slip: 0.0,
+            omitted: Omitted::default(),
             ..self
         }
     }
@@ -103,11 +199,20 @@ impl Validity {
             max_r1_over_flow_scale: self.max_r1_over_flow_scale.max(other.max_r1_over_flow_scale),
             states: self.states + other.states,
             unsampled: self.unsampled + other.unsampled,
+            omitted: self.omitted.max(other.omitted),
         }
     }
 
-    /// Names of the thresholds crossed, in the order of [`Thresholds`]' fields.
-    pub fn flags(&self, limits: &Thresholds) -> Vec<&'static str> {
+    /// Names of the thresholds crossed, in the order of [`Thresholds`]' fields, then
+    /// `omits_<term>` for every force term left out whose size crosses
+    /// [`Thresholds::omitted_term`].
+    pub fn flags(&self, limits: &Thresholds) -> Vec<String> {
+        let omitted = self
+            .omitted
+            .sizes()
+            .into_iter()
+            .filter(|(_, size)| !(*size <= limits.omitted_term))
+            .map(|(name, _)| format!("omits_{name}"));
         [
             ("re_shear", self.max_re_shear > limits.re_shear),
             ("re_slip", self.max_re_slip > limits.re_slip),
@@ -121,7 +226,8 @@ impl Validity {
             ),
         ]
         .into_iter()
-        .filter_map(|(name, crossed)| crossed.then_some(name))
+        .filter_map(|(name, crossed)| crossed.then(|| name.to_string()))
+        .chain(omitted)
         .collect()
     }
 
@@ -163,7 +269,17 @@ pub struct Monitor<'a, M, D, F: ?Sized, B: ?Sized> {
     nu: f64,
     /// The flow is homogeneous (linear in x): r₁/ℓ_u is 0 whatever the particle's size.
     linear: bool,
+    /// Which of the estimated terms the particle carries (no estimate then).
+    carries: Carries,
     validity: Validity,
+}
+
+/// The state-dependent terms a particle carries.
+#[derive(Debug, Clone, Copy)]
+struct Carries {
+    undisturbed_flow: bool,
+    schiller_naumann: bool,
+    saffman_mei: bool,
 }
 
 impl<'a, M, D> Monitor<'a, M, D, LinearFlow, Unbounded>
@@ -190,6 +306,7 @@ where
     /// A monitor with nothing observed yet; d_eq from the rest shape, ν = μ_f/ρ_f.
     pub fn new(particle: &'a Particle<M, D>, flow: &'a F, boundary: &'a B) -> Self {
         let fluid = particle.fluid();
+        let on = particle.forces().names();
         Self {
             particle,
             flow,
@@ -197,7 +314,15 @@ where
             d_eq: 2.0 * particle.shape().semi_axes().product().cbrt(),
             nu: fluid.mu / fluid.rho,
             linear: false,
-            validity: Validity::default(),
+            carries: Carries {
+                undisturbed_flow: on.contains(&UndisturbedFlow::NAME),
+                schiller_naumann: on.contains(&SchillerNaumann::NAME),
+                saffman_mei: on.contains(&SaffmanMei::NAME),
+            },
+            validity: Validity {
+                omitted: omitted_constants(particle),
+                ..Validity::default()
+            },
         }
     }
 
@@ -214,13 +339,39 @@ where
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
         let wall = self.boundary.nearest(&state.x, &Extent::Point { radius: 0.0 }).gap;
         let ratio = |num: f64, den: f64| if den > 0.0 { num / den } else { f64::INFINITY };
-        v.max_re_shear = v.max_re_shear.max(shear_rate * self.d_eq * self.d_eq / self.nu);
-        v.max_re_slip = v.max_re_slip.max((sample.u - state.v).norm() * self.d_eq / self.nu);
+        let re_shear = shear_rate * self.d_eq * self.d_eq / self.nu;
+        let re_slip = (sample.u - state.v).norm() * self.d_eq / self.nu;
+        v.max_re_shear = v.max_re_shear.max(re_shear);
+        v.max_re_slip = v.max_re_slip.max(re_slip);
         v.max_r1 = v.max_r1.max(r1);
         v.max_r1_over_wall_distance = v.max_r1_over_wall_distance.max(ratio(r1, wall));
         let grad = sample.grad_u.norm();
         if grad > 0.0 && !self.linear {
             v.max_r1_over_flow_scale = v.max_r1_over_flow_scale.max(ratio(r1 * grad, sample.u.norm()));
+        }
+        self.estimate_omitted(state, &sample, re_shear, re_slip);
+    }
+
+    /// The state-dependent sizes of the terms left out (module docs).
+    fn estimate_omitted(&mut self, state: &State, sample: &crate::flow::FlowSample, re_shear: f64, re_slip: f64) {
+        let p = self.particle;
+        let o = &mut self.validity.omitted;
+        if !self.carries.undisturbed_flow {
+            let m_f = p.fluid().rho * p.volume0() * state.det_f();
+            let du_dt = sample.material_acceleration();
+            let driving = (du_dt - p.gravity()) * (p.mass() - m_f);
+            let ratio = match (m_f * du_dt.norm(), driving.norm()) {
+                (0.0, _) => 0.0,
+                (num, den) if den > 0.0 => num / den,
+                _ => f64::INFINITY,
+            };
+            o.undisturbed_flow = o.undisturbed_flow.max(ratio);
+        }
+        if !self.carries.schiller_naumann {
+            o.schiller_naumann = o.schiller_naumann.max(SchillerNaumann::factor(re_slip) - 1.0);
+        }
+        if !self.carries.saffman_mei {
+            o.saffman_mei = o.saffman_mei.max(1.615 / (3.0 * std::f64::consts::PI) * re_shear.sqrt());
         }
     }
 

@@ -369,3 +369,34 @@ fn force_terms_by_name() {
     let admitted = prolate.with_forces(ForceTerms::new(fluid_inertia()).unwrap());
     assert!(admitted.is_ok());
 }
+
+/// The `paper-figures/forces` datasets, reduced and rounded: every added-mass coefficient to
+/// 8 significant digits and the settling cases at 4 samples.
+#[test]
+fn snapshot_forces_datasets() {
+    use pseudorigid::scenes::forces::{added_mass_table, settling_csv};
+    let mut text = String::from("a1,a2,a3,axis,k\n");
+    for r in added_mass_table().unwrap() {
+        text += &format!(
+            "{},{},{},{},{:.8e}\n",
+            r.semi_axes[0], r.semi_axes[1], r.semi_axes[2], r.axis, r.k
+        );
+    }
+    let mut rows = Vec::new();
+    for case in SettlingCase::dataset() {
+        rows.extend(settle(&case, 4, 1e-12).unwrap());
+    }
+    let csv = settling_csv(&rows).unwrap().to_text();
+    let rounded: String = csv
+        .lines()
+        .map(|line| {
+            line.split(',')
+                // + 0.0 maps −0 (the exact value of a rising sphere at t = 0) to 0.
+                .map(|f| f.parse::<f64>().map_or(f.to_string(), |v| format!("{:.6e}", v + 0.0)))
+                .collect::<Vec<_>>()
+                .join(",")
+                + "\n"
+        })
+        .collect();
+    insta::assert_snapshot!(text + &rounded);
+}

@@ -25,6 +25,7 @@
 //! | `boundary.walls` | `name`, `point`, `normal` (outward), `rule` = `stick` or `exit` |
 //! | `boundary.contact_radius` | touch at this distance from the barycentre, ≥ 0 (0: point contact; default: the particle's extent touches) |
 //! | `[particles] density`, `drag`, `volumetric` | ρ_s of every entry and group that gives no `density` of its own; `brenner` (default) or `stokes_sphere`; the volumetric traction `paper` (default, the literal eq. 12), `dev` or `source` (needed by `imex_adaptive` at tight tolerances: the literal eq. 12 anti-damps dilation) |
+//! | `[particles] forces` | force terms beyond the paper's drag and reduced gravity, by name (`crate::hydro::forces`): `undisturbed_flow`, `added_mass` (Lamb's ellipsoid tensor), `schiller_naumann` and `saffman_mei` (spheres only), or a table such as `{ term = "cunningham", mean_free_path = 6.65e-8 }` (λ in m; 66.5 nm for air at 20 °C, 1 atm); default none, the paper's model |
 //! | `[[particles.list]]` | `density` (default `particles.density`), `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
 //! | `[particles.inject]` or several `[[particles.inject]]` groups | `count`, `density` (default `particles.density`), `region` (`{ type = "point", at }`, `{ type = "disc", centre, normal, radius }` or `{ type = "patch", name }`: on an OpenFOAM patch weighted by the inflow through each face, moved inside by the particle's largest semi-axis, or by `boundary.contact_radius` if that is larger), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material`; group g's particles follow those of groups 0..g in the index, and particle k draws from stream k whichever group it is in |
 //! | `material` | `{ law = "neo_hooke", mu, lambda }`, `{ law = "mooney_rivlin", mu1, mu2, lambda }`, `{ law = "rigid" }`, or a law written in the scene: `{ law = "expression", energy = "…", parameters = { name = value, … } }` with W(I1, I2, J) in `+ - * / ^ ( )`, `ln`, `exp`, `sqrt` (`material::expression`; μ_s and λ_s are read off its tangent at F = 1; `scenes/yeoh_oblate.toml`) |
@@ -149,16 +150,27 @@ fn default_out(scene: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}-out"))
 }
 
-/// Carry out `cli`; returns the line to print on success.
+/// `line` after the scene's warnings about force terms it leaves out
+/// ([`Scene::force_advice`]), one `warning:` line each.
+fn with_advice(scene: &Scene, line: String) -> String {
+    let mut text: String = scene.force_advice().iter().map(|w| format!("warning: {w}\n")).collect();
+    text.push_str(&line);
+    text
+}
+
+/// Carry out `cli`; returns the lines to print on success (warnings, then the summary).
 pub fn execute(cli: Cli) -> Result<String, CliError> {
     match cli.command {
         Command::Validate { scene } => {
             let s = load(&scene)?;
-            Ok(format!(
-                "{}: valid ({} particles, {} output times)",
-                scene.display(),
-                s.count(),
-                s.outputs.len()
+            Ok(with_advice(
+                &s,
+                format!(
+                    "{}: valid ({} particles, {} output times)",
+                    scene.display(),
+                    s.count(),
+                    s.outputs.len()
+                ),
             ))
         }
         Command::Run {
@@ -179,7 +191,7 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
             };
             let progress = if quiet { Progress::Quiet } else { Progress::Auto };
             let options = run::run_options(&out, checkpoint_every, resume, progress)?;
-            run::run_on(&s, &out, shard, options, threads, csv)
+            run::run_on(&s, &out, shard, options, threads, csv).map(|line| with_advice(&s, line))
         }
         Command::Merge { scene, out, csv } => {
             let s = load(&scene)?;

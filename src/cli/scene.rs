@@ -89,6 +89,53 @@ impl Scene {
     pub fn injector(&self) -> SceneInjector<'_> {
         SceneInjector::new(&self.template, &self.particles, &self.flow)
     }
+
+    /// Force terms the scene leaves out although its numbers say they matter, before any
+    /// run: for each list entry and injection group, the sizes that depend only on the
+    /// particle and the fluid ([`crate::diagnostics::omitted_constants`]: added mass from
+    /// ρ_f/ρ_p, gas slip from d_eq and the mean free path), above 1 %; and the
+    /// undisturbed-flow force at ρ_f/ρ_p, its size where gravity and the flow's acceleration
+    /// are comparable (ρ_f/(ρ_p − ρ_f) where the acceleration dominates). One line
+    /// per kind and term; the run's own numbers (Re, shear, the flow's acceleration) are in
+    /// the validity monitor of the library's scenes.
+    pub fn force_advice(&self) -> Vec<String> {
+        let limit = crate::diagnostics::Thresholds::default().omitted_term;
+        let placements: Vec<(String, &Placement)> = match &self.particles {
+            ParticleSource::List(list) => list
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (format!("particles.list[{i}]"), p))
+                .collect(),
+            ParticleSource::Inject(groups) => groups
+                .iter()
+                .enumerate()
+                .map(|(g, group)| (format!("particles.inject[{g}]"), &group.placement))
+                .collect(),
+        };
+        let mut advice = Vec::new();
+        for (key, placement) in placements {
+            let Ok(particle) = self.template.build(&placement.spec(Vec3::zeros())) else {
+                continue;
+            };
+            let omitted = crate::diagnostics::omitted_constants(&particle);
+            let carries_flow_force = particle
+                .forces()
+                .names()
+                .contains(&crate::hydro::forces::UndisturbedFlow::NAME);
+            let mut sizes: Vec<(&str, f64)> = omitted.sizes().into_iter().filter(|(_, s)| *s > limit).collect();
+            let density_ratio = particle.fluid().rho / particle.rho_solid();
+            if density_ratio > limit && !carries_flow_force {
+                sizes.insert(0, ("undisturbed_flow", density_ratio));
+            }
+            for (term, size) in sizes {
+                advice.push(format!(
+                    "{key}: the scene leaves out `{term}`, which its numbers put at {:.2} % (add it to particles.forces)",
+                    100.0 * size
+                ));
+            }
+        }
+        advice
+    }
 }
 
 /// Read and validate the scene file at `path`.

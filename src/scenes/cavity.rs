@@ -49,11 +49,11 @@ use super::SceneError;
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule, Planes};
 use crate::diagnostics::{Monitor, Thresholds, Validity};
 use crate::driver::{Plan, RunStats, Stop, integrate};
-use crate::error::StepError;
+use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::flow::unstructured::MeshedFlow;
-use crate::hydro::VolumetricTraction;
-use crate::hydro::{Brenner, DragModel};
+use crate::hydro::forces::{AddedMass, UndisturbedFlow};
+use crate::hydro::{Brenner, DragModel, ForceTerms, VolumetricTraction};
 use crate::integrator::{BarycentreModel, ImexAdaptive, Scheme, Stokesian, TimeIntegrator};
 use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::{Fluid, Particle, State};
@@ -61,6 +61,7 @@ pub use crate::scenes::particles::Shape;
 use crate::scenes::particles::{ParticleModel, Response, Softness};
 use crate::tensor::{Mat3, Vec3, sym};
 use serde::Serialize;
+use std::sync::Arc;
 
 /// Contact distance of [`Contact::Barycentre`]: 0.15 d_eq, the smallest rest semi-axis of the
 /// most elongated shapes of §6.3 (prolate 8: r_min = d_eq/(2·8^{1/3}) = 0.25 d_eq) with margin,
@@ -254,6 +255,12 @@ impl FlowField for VariantFlow<'_> {
     }
 }
 
+/// The fluid-inertia force terms a particle of nearly the fluid's density needs (the cavity's
+/// ρ_p/ρ_f = 1.0005): the undisturbed-flow force and added mass ([`crate::hydro::forces`]).
+pub fn fluid_inertia() -> Result<ForceTerms, ParamError> {
+    ForceTerms::new(vec![Arc::new(UndisturbedFlow), Arc::new(AddedMass)])
+}
+
 /// The cavity experiment: flow field, walls, fluid and the particle model (law family and drag;
 /// the paper's Neo-Hooke and Brenner by default).
 pub struct Cavity<'a, L = NeoHookeLaw, D = Brenner> {
@@ -265,6 +272,8 @@ pub struct Cavity<'a, L = NeoHookeLaw, D = Brenner> {
     /// Scheme of the inertialess path.
     scheme: Scheme,
     model: ParticleModel<L, D>,
+    /// Force terms beyond the paper's (none: the paper's model).
+    forces: ForceTerms,
 }
 
 impl<'a> Cavity<'a> {
@@ -283,6 +292,7 @@ impl<'a> Cavity<'a> {
             shape_model: ShapeModel::Inertialess,
             scheme: Scheme::Radau5,
             model: ParticleModel::default(),
+            forces: ForceTerms::default(),
         })
     }
 }
@@ -298,7 +308,14 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             shape_model: self.shape_model,
             scheme: self.scheme,
             model,
+            forces: self.forces,
         }
+    }
+
+    /// The same experiment with force terms beyond the paper's on the particle (e.g. the
+    /// fluid-inertia terms [`fluid_inertia`]).
+    pub fn with_forces(self, forces: ForceTerms) -> Self {
+        Self { forces, ..self }
     }
 
     /// The same experiment with another scheme for the inertialess shape model (and the rigid
@@ -357,7 +374,8 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         )?;
         Ok(particle
             .with_gravity(Vec3::new(0.0, 0.0, -9.81))?
-            .with_volumetric(VolumetricTraction::Source))
+            .with_volumetric(VolumetricTraction::Source)
+            .with_forces(self.forces.clone())?)
     }
 
     /// Track `release` for `t_max` seconds with tolerance `tol`, sampling every `dt_out`;

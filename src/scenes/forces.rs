@@ -209,7 +209,7 @@ pub fn settle(case: &SettlingCase, samples: usize, tol: f64) -> Result<Vec<Settl
         rows.push(SettlingRow {
             case: *case,
             t,
-            v_numeric: -state.v[2],
+            v_numeric: state.v.dot(&-Vec3::z()),
             v_exact: case.exact(t),
         });
     }

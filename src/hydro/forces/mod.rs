@@ -24,6 +24,28 @@
 //!
 //! What each term assumes, its source and its validity range are in its own file:
 //! [`undisturbed`], [`added_mass`], [`cunningham`], [`schiller_naumann`], [`saffman_mei`].
+//!
+//! # What is left out, and when it matters
+//! - **Fluid inertia in the shape equation.** The undisturbed flow also loads the force dyad:
+//!   its stress integrated against X over the particle gives ρ_f vol(B_t) (l̇ + l²) Θ/m-type
+//!   terms, the dyad's analogue of m_f Du/Dt, beside the solid inertia Θ Ä that the paper keeps.
+//!   Their ratio is ρ_f/ρ_p. For aerosols (pipe, bifurcation: ρ_f/ρ_p ≈ 10⁻³) the term is a
+//!   thousandth of a solid inertia that is itself small (ρ* ≪ 1), so it is negligible. For the
+//!   cavity (ρ_f/ρ_p = 0.9995, ρ* ≈ 5.5 at release, i.e. a shear Reynolds number
+//!   γ̇ d²/ν ≈ 5) it is as large as the solid inertia: the paper's inertial shape model is then
+//!   not more complete than the inertialess one, and a particle Reynolds number of 5 is outside
+//!   the Stokes-flow traction of eq. 12 anyway. The validity monitor's `re_shear` flag says so;
+//!   this code does not implement the term.
+//! - **Basset's history force.** For a sphere,
+//!   f_B = (3/2) d² √(π ρ_f μ_f) ∫ (d(u − v)/dt') (t − t')^{−1/2} dt'; against the drag on a slip
+//!   that changes over a time T it is of order √(d²/(π ν T)). Aerosols: d²/ν ≤ 2·10⁻⁵ s for
+//!   d ≤ 16 µm in air, T ≳ 1 ms (bend and bifurcation transit times), so ≤ 8 %, and only while
+//!   the slip changes, with ρ_f/ρ_p ≈ 10⁻³ weighting the fluid's part: negligible. The cavity:
+//!   d²/ν = 0.52 s against its circulation time 1.2 s gives about 0.4: the history force changes
+//!   the *transients* of the cavity particle's small slip by tens of per cent. With the fluid-
+//!   inertia terms on, that slip is mostly the 0.05 % buoyancy drift; the history force would
+//!   change how fast it adjusts along the path, which is not modelled (the cavity's NOTES say
+//!   what that leaves open). The term is not implemented.
 
 pub mod added_mass;
 pub mod cunningham;
