@@ -642,12 +642,16 @@ fn wall_nodes(layering: Layering, refine: u32) -> Vec<f64> {
 /// `2^refine` times) or read from the shipped snappyHexMesh mesh (`refine` 0, hexahedra).
 fn stagnation_box(layering: Layering, refine: u32, prisms: bool) -> StagnationBox {
     let mesh = if let Layering::Snapped(n) = layering {
-        assert!(refine == 0 && !prisms, "the shipped snappyHexMesh meshes are the coarse ones");
+        assert!(
+            refine == 0 && !prisms,
+            "the shipped snappyHexMesh meshes are the coarse ones"
+        );
         let case = format!("{}/tests/data/stagnation-snappy/layers{n}", env!("CARGO_MANIFEST_DIR"));
         PolyMesh::read(case.as_ref()).unwrap()
     } else {
-        let even =
-            |lo: f64, hi: f64, n: usize| -> Vec<f64> { (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect() };
+        let even = |lo: f64, hi: f64, n: usize| -> Vec<f64> {
+            (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect()
+        };
         let split = 1usize << refine;
         let ys = wall_nodes(layering, refine);
         build::layered_box(&even(-0.5, 0.5, 8 * split), &ys, &even(0.0, 0.25, 2 * split), prisms).mesh()
@@ -679,13 +683,21 @@ const LAYERINGS: [Layering; 7] = [
 fn snapped_meshes_have_their_layers() {
     let h = 0.05;
     let layer = |n: i32| 0.5 * h / 1.2f64.powi(n - 1);
-    for (n, low, high) in [(0, 0.7 * h, h), (2, 0.99 * layer(2), 1.01 * layer(2)), (5, 0.99 * layer(5), 1.01 * layer(5))] {
+    for (n, low, high) in [
+        (0, 0.7 * h, h),
+        (2, 0.99 * layer(2), 1.01 * layer(2)),
+        (5, 0.99 * layer(5), 1.01 * layer(5)),
+    ] {
         let flow = stagnation_box(Layering::Snapped(n), 0, false);
         let cells = flow.cellwise.mesh().n_cells();
         eprintln!("{n} layers: {cells} cells, first cell {:.5}", flow.first_cell);
-        assert!((low..high).contains(&flow.first_cell), "{n} layers: {}", flow.first_cell);
+        assert!(
+            (low..high).contains(&flow.first_cell),
+            "{n} layers: {}",
+            flow.first_cell
+        );
         // 8 × 2 wall faces, each with n layer cells over the 8 × 9 × 2 background cells kept.
-        assert_eq!(cells, 144 + 16 * n as usize, "{n} layers");
+        assert_eq!(cells, 144 + 16 * n, "{n} layers");
     }
 }
 
@@ -741,7 +753,11 @@ fn hiemenz_normal_velocity_grows_with_the_continuity_coefficient() {
 fn hiemenz_wall_layer_converges_at_second_order() {
     for layering in [Layering::Uniform, Layering::Layers(5)] {
         let pts = wall_layer_points(stagnation_box(layering, 0, false).first_cell);
-        let err = |refine: u32| velocity_errors(&stagnation_box(layering, refine, false).blended, &pts).unwrap().0;
+        let err = |refine: u32| {
+            velocity_errors(&stagnation_box(layering, refine, false).blended, &pts)
+                .unwrap()
+                .0
+        };
         let (coarse, fine) = (err(1), err(2));
         let order = (coarse / fine).log2();
         eprintln!("{layering:?}: wall-layer |u| error {coarse:e} -> {fine:e}, order {order:.2}");
@@ -761,11 +777,17 @@ fn hiemenz_snapped_dataset_snapshot() {
         .iter()
         .map(|&n| {
             let flow = stagnation_box(Layering::Snapped(n), 0, false);
-            WallLayerRow::measure(n, 0, &flow, flow.first_cell).unwrap()
+            WallLayerRow::measure(n, 0, &flow).unwrap()
         })
         .collect();
     for r in &rows {
-        assert!(r.normal_error[..2].iter().zip(&r.cellwise_normal_error).all(|(b, c)| b < c), "{r:?}");
+        assert!(
+            r.normal_error[..2]
+                .iter()
+                .zip(&r.cellwise_normal_error)
+                .all(|(b, c)| b < c),
+            "{r:?}"
+        );
     }
     insta::assert_snapshot!(wall_layer_table(&rows, 3).unwrap().to_text());
 }

@@ -17,8 +17,11 @@
 //! the open sides by at least a core cell), with δ₁ the first cell's height there:
 //! - the relative error of v at δ = s δ₁ for the fractions s of [`FRACTIONS`];
 //! - v/δ² at δ = δ₁/100 against c (the O(δ³) term is 10⁻² of the first cell's there);
-//! - the largest |u| and |∇u| errors at the heights [`WALL_LAYER_HEIGHTS`] × δ₁ of the coarsest
-//!   mesh, whose decrease under refinement gives the observed order.
+//! - the largest |u| and |∇u| errors at heights up to 2 δ₁ ([`wall_layer_points`]), whose
+//!   decrease with δ₁ under refinement gives the observed order: on meshes similar under
+//!   refinement the band covers the same cells at every level (a band of fixed height would
+//!   take in the cells above the prism layers on the finer meshes only, whose larger error
+//!   then lowers the observed order until the band holds many of them).
 
 use crate::error::FlowError;
 use crate::flow::FlowField;
@@ -38,8 +41,12 @@ pub const NU: f64 = 0.01;
 /// half is the cell's centre (where the solver's value is), the others are where
 /// interpolation happens.
 pub const FRACTIONS: [f64; 4] = [0.1, 0.25, 0.5, 0.75];
-/// Heights of the wall-layer error, in first-cell heights of the coarsest mesh.
-pub const WALL_LAYER_HEIGHTS: [f64; 6] = [0.1, 0.3, 0.6, 1.0, 1.5, 2.0];
+/// Heights of the wall-layer error: this many, evenly spaced over (0, 2] first-cell heights.
+/// The error is smallest at the cell centres (the cells hold the exact values) and peaks
+/// between them, so a few fixed heights would sample the cells of each mesh at a different
+/// phase, and the observed order with them; 40 put 20 in the first cell and 20 in the one
+/// above it.
+pub const WALL_LAYER_HEIGHTS: usize = 40;
 
 /// Failures of the stagnation scene.
 #[derive(Debug, Error)]
@@ -105,7 +112,12 @@ impl StagnationBox {
         // The snapped wall's points lie on y = 0 to round-off, some just below: they take the
         // wall's value.
         let at = |x: &Vec3| exact.sample(&Vec3::new(x[0], x[1].max(0.0), x[2]), 0.0);
-        if let Some(e) = mesh.cell_centres().iter().chain(mesh.face_centres()).find_map(|x| at(x).err()) {
+        if let Some(e) = mesh
+            .cell_centres()
+            .iter()
+            .chain(mesh.face_centres())
+            .find_map(|x| at(x).err())
+        {
             return Err(e.into());
         }
         let field = VolField::from_fn(&mesh, |x| at(x).map_or(Vec3::zeros(), |s| s.u));
@@ -164,15 +176,20 @@ pub fn coefficient_ratio(flow: &dyn FlowField, delta: f64) -> Result<f64, FlowEr
     let c = continuity_coefficient();
     over_the_wall(delta).iter().try_fold(1.0f64, |worst, x| {
         let ratio = flow.sample(x, 0.0)?.u[1] / (delta * delta) / c;
-        Ok(if (ratio - 1.0).abs() > (worst - 1.0).abs() { ratio } else { worst })
+        Ok(if (ratio - 1.0).abs() > (worst - 1.0).abs() {
+            ratio
+        } else {
+            worst
+        })
     })
 }
 
-/// The points of the wall-layer error: [`WALL_LAYER_HEIGHTS`] × `first_cell` over the wall.
+/// The points of the wall-layer error: [`WALL_LAYER_HEIGHTS`] heights over (0, 2 `first_cell`]
+/// over the wall.
 pub fn wall_layer_points(first_cell: f64) -> Vec<Vec3> {
-    WALL_LAYER_HEIGHTS
-        .iter()
-        .flat_map(|s| over_the_wall(s * first_cell))
+    let step = 2.0 * first_cell / WALL_LAYER_HEIGHTS as f64;
+    (1..=WALL_LAYER_HEIGHTS)
+        .flat_map(|i| over_the_wall(i as f64 * step))
         .collect()
 }
 
@@ -202,28 +219,22 @@ pub struct WallLayerRow {
     pub cellwise_normal_error: [f64; 4],
     /// (v/δ²)/c at δ = δ₁/100, the value furthest from 1 ([`coefficient_ratio`]).
     pub coefficient_ratio: f64,
-    /// Largest |u| error of the blended field at the wall-layer points of the coarsest mesh.
+    /// Largest |u| error of the blended field at the wall-layer points ([`wall_layer_points`]).
     pub velocity_error: f64,
     /// Largest |∇u| error there.
     pub gradient_error: f64,
 }
 
 impl WallLayerRow {
-    /// Measure `flow`; the wall-layer points are those of a first cell `coarsest_first_cell`.
-    pub fn measure(
-        layers: usize,
-        level: u32,
-        flow: &StagnationBox,
-        coarsest_first_cell: f64,
-    ) -> Result<Self, FlowError> {
+    /// Measure `flow`, a mesh with `layers` prism layers at refinement `level`.
+    pub fn measure(layers: usize, level: u32, flow: &StagnationBox) -> Result<Self, FlowError> {
         let first = flow.first_cell;
         let (mut normal_error, mut cellwise_normal_error) = ([0.0; 4], [0.0; 4]);
         for (i, s) in FRACTIONS.iter().enumerate() {
             normal_error[i] = normal_velocity_error(&flow.blended, s * first)?;
             cellwise_normal_error[i] = normal_velocity_error(&flow.cellwise, s * first)?;
         }
-        let (velocity_error, gradient_error) =
-            velocity_errors(&flow.blended, &wall_layer_points(coarsest_first_cell))?;
+        let (velocity_error, gradient_error) = velocity_errors(&flow.blended, &wall_layer_points(first))?;
         Ok(Self {
             layers,
             level,
@@ -238,15 +249,58 @@ impl WallLayerRow {
     }
 }
 
-/// Observed order log(e₋/e)/log(δ₁₋/δ₁) of the |u| error from the previous level of the same
-/// layering in `rows` (ordered by level within a layering), `None` on a coarsest level.
-pub fn observed_order(rows: &[WallLayerRow], i: usize) -> Option<f64> {
-    let (row, previous) = (&rows[i], rows[..i].iter().rev().find(|r| r.layers == rows[i].layers)?);
-    Some((previous.velocity_error / row.velocity_error).ln() / (previous.first_cell / row.first_cell).ln())
+/// Which error an observed order is of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Measure {
+    /// [`WallLayerRow::velocity_error`].
+    Velocity,
+    /// [`WallLayerRow::gradient_error`].
+    Gradient,
 }
 
-/// The dataset: one row per mesh, numbers with `digits` significant digits (the observed order
-/// with two decimals), errors below 10⁻¹⁰ written 0: they are round-off, of the cellwise field
+impl Measure {
+    fn of(self, row: &WallLayerRow) -> f64 {
+        match self {
+            Self::Velocity => row.velocity_error,
+            Self::Gradient => row.gradient_error,
+        }
+    }
+}
+
+/// Observed order p = ln(e₋/e)/ln(δ₁₋/δ₁) of `measure` from the previous level of the same
+/// layering in `rows` (ordered by level within a layering), `None` on a coarsest level.
+pub fn observed_order(rows: &[WallLayerRow], i: usize, measure: Measure) -> Option<f64> {
+    let (row, previous) = (&rows[i], rows[..i].iter().rev().find(|r| r.layers == rows[i].layers)?);
+    Some((measure.of(previous) / measure.of(row)).ln() / (previous.first_cell / row.first_cell).ln())
+}
+
+/// The least-squares slope of ln e against ln δ₁ over every level of `layers` in `rows`: the
+/// order over the whole refinement, `None` with fewer than two levels. The max-norm error is
+/// taken over cells that are not exactly similar from level to level (snapping's smoothing
+/// runs a fixed number of sweeps), which moves the step-to-step orders by a few tenths; the
+/// fit averages over the steps.
+pub fn fitted_order(rows: &[WallLayerRow], layers: usize, measure: Measure) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.layers == layers)
+        .map(|r| (r.first_cell.ln(), measure.of(r).ln()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    Some(sxy / sxx)
+}
+
+/// The dataset: one row per mesh, numbers with `digits` significant digits (the observed orders
+/// with two decimals: from the previous level, and on a layering's finest row fitted over all
+/// its levels), errors below 10⁻¹⁰ written 0: they are round-off, of the cellwise field
 /// at a centre, where it holds the exact value.
 pub fn wall_layer_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, OutputError> {
     let mut csv = Csv::new(&[
@@ -266,6 +320,9 @@ pub fn wall_layer_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, Out
         "u_error",
         "grad_u_error",
         "order_u",
+        "order_grad_u",
+        "order_u_fit",
+        "order_grad_u_fit",
     ]);
     let g = |v: f64| {
         if v.abs() < 1e-10 {
@@ -275,14 +332,22 @@ pub fn wall_layer_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, Out
         }
     };
     for (i, r) in rows.iter().enumerate() {
-        let mut fields = vec![r.layers.to_string(), r.level.to_string(), r.cells.to_string(), g(r.first_cell)];
+        let mut fields = vec![
+            r.layers.to_string(),
+            r.level.to_string(),
+            r.cells.to_string(),
+            g(r.first_cell),
+        ];
         fields.extend(r.normal_error.iter().chain(&r.cellwise_normal_error).map(|&e| g(e)));
-        fields.extend([
-            g(r.coefficient_ratio),
-            g(r.velocity_error),
-            g(r.gradient_error),
-            observed_order(rows, i).map_or_else(String::new, |p| format!("{p:.2}")),
-        ]);
+        fields.extend([g(r.coefficient_ratio), g(r.velocity_error), g(r.gradient_error)]);
+        let finest = rows.get(i + 1).is_none_or(|next| next.layers != r.layers);
+        let order = |p: Option<f64>| p.map_or_else(String::new, |p| format!("{p:.2}"));
+        for measure in [Measure::Velocity, Measure::Gradient] {
+            fields.push(order(observed_order(rows, i, measure)));
+        }
+        for measure in [Measure::Velocity, Measure::Gradient] {
+            fields.push(order(fitted_order(rows, r.layers, measure).filter(|_| finest)));
+        }
         csv.push(fields)?;
     }
     Ok(csv)
@@ -298,7 +363,7 @@ pub fn wall_layer_figure(rows: &[WallLayerRow]) -> crate::output::plot::Figure {
     let mut velocity = Panel::new(
         "Hiemenz flow on snappyHexMesh meshes: wall-layer error",
         "log10 first-cell height",
-        "log10 max |u| error (δ ≤ 2 coarse first cells)",
+        "log10 max |u| error (δ ≤ 2 first cells)",
     );
     let mut normal = Panel::new(
         "Normal velocity at a quarter of the first cell",
@@ -315,8 +380,16 @@ pub fn wall_layer_figure(rows: &[WallLayerRow]) -> crate::output::plot::Figure {
         let label = format!("{n} layers");
         velocity = velocity.with(Series::points(label.clone(), of(&|r| r.velocity_error), colour));
         normal = normal
-            .with(Series::points(format!("{label}, blended"), of(&|r| r.normal_error[1]), colour))
-            .with(Series::line(format!("{label}, cellwise"), of(&|r| r.cellwise_normal_error[1]), colour));
+            .with(Series::points(
+                format!("{label}, blended"),
+                of(&|r| r.normal_error[1]),
+                colour,
+            ))
+            .with(Series::line(
+                format!("{label}, cellwise"),
+                of(&|r| r.cellwise_normal_error[1]),
+                colour,
+            ));
     }
     // Through the first row, over the rows' range of δ₁.
     if let Some(a) = rows.first() {
