@@ -860,9 +860,44 @@ fn pich_formula_limits() {
     assert!((pich(e) / (16.0 * e / (3.0 * std::f64::consts::PI)) - 1.0).abs() < 1e-3);
 }
 
-/// Point particles settling out of Poiseuille flow in a horizontal pipe meshed as an O-grid
-/// with uniform radial cells and cells graded 12× towards the wall (the exact field
-/// written into the case, the wall no-slip), against Pich's fraction at ε = 0.3 and 0.7.
+/// The meshed pipes of radius 1 and length 4 (axis z) of the Pich test, each with the radius
+/// of the circle inside its faceted wall (where injection stays inside the mesh): O-grids built
+/// here with uniform radial cells and with cells graded 12× towards the wall (a 24-gon:
+/// R cos(π/24)), and snappyHexMesh's (`cases/pich-pipe/Allmesh n`, shipped in
+/// `tests/data/pich-snappy`: a box cut to the cylinder, the wall snapped, n = 0, 2, 5 prism
+/// layers) whose inscribed radius is the least distance of a wall face's plane from the axis
+/// in its section, n·x_f/|n| over the wall faces with the face's normal n and centre x_f taken
+/// in the section (x, y).
+fn pich_pipes(radius: f64, length: f64) -> Vec<(String, PolyMesh, f64)> {
+    let mut pipes: Vec<(String, PolyMesh, f64)> = [(1.0, 6), (12.0, 10)]
+        .iter()
+        .map(|&(grading, m)| {
+            let mesh = build::pipe(radius, length, 6, m, grading, 16).mesh();
+            (
+                format!("O-grid, grading {grading}"),
+                mesh,
+                radius * (std::f64::consts::PI / 24.0).cos(),
+            )
+        })
+        .collect();
+    for layers in [0, 2, 5] {
+        let case = format!("{}/tests/data/pich-snappy/layers{layers}", env!("CARGO_MANIFEST_DIR"));
+        let mesh = PolyMesh::read(case.as_ref()).unwrap();
+        let wall = mesh.patches().iter().find(|p| p.name == "wall").unwrap();
+        let inscribed = (wall.start..wall.start + wall.size)
+            .map(|f| {
+                let (n, x) = (mesh.face_areas()[f], mesh.face_centres()[f]);
+                (n[0] * x[0] + n[1] * x[1]) / n[0].hypot(n[1])
+            })
+            .fold(f64::INFINITY, f64::min);
+        pipes.push((format!("snappyHexMesh, {layers} layers"), mesh, inscribed));
+    }
+    pipes
+}
+
+/// Point particles settling out of Poiseuille flow in a horizontal pipe on the meshed pipes of
+/// [`pich_pipes`] (the exact field written into the case, the wall no-slip), against Pich's
+/// fraction at ε = 0.3 and 0.7.
 /// Injection at the inlet weighted by the axial flux (uniform concentration) on quasi-random
 /// (Halton) points; inertialess (overdamped) barycentre, point contact. Bound: 3 binomial
 /// standard errors of N = 600 (≈ 0.06); the quasi-random injection makes the sampling error
@@ -888,9 +923,7 @@ fn pich_deposition_on_meshed_pipes() {
         }
         r
     };
-    for (grading, m) in [(1.0, 6), (12.0, 10)] {
-        let raw = build::pipe(radius, length, 6, m, grading, 16);
-        let mesh = raw.mesh();
+    for (name, mesh, inscribed) in pich_pipes(radius, length) {
         let mut field = sampled(&mesh, |x| {
             let r2 = (x[0] * x[0] + x[1] * x[1]) / (radius * radius);
             Vec3::new(0.0, 0.0, 2.0 * mean * (1.0 - r2).max(0.0))
@@ -900,8 +933,6 @@ fn pich_deposition_on_meshed_pipes() {
         field.boundary[3 * first..3 * (first + wall.size)].fill(0.0);
         let flow = BlendedFlow::new(FoamFlow::new(mesh.clone(), vec![(0.0, field)]).unwrap()).unwrap();
         let boundary = MeshBoundary::new(&mesh).unwrap();
-        // The facets' inscribed radius: injection stays inside the faceted wall.
-        let inscribed = radius * (std::f64::consts::PI / 24.0).cos();
         for epsilon in [0.3, 0.7] {
             let settling = 8.0 * epsilon * radius * mean / (3.0 * length);
             let g = settling * 9.0 * mu / (2.0 * rho * a * a);
@@ -932,10 +963,10 @@ fn pich_deposition_on_meshed_pipes() {
             let p = count as f64 / n as f64;
             let exact = pich(epsilon);
             let stderr = (exact * (1.0 - exact) / n as f64).sqrt();
-            eprintln!("grading {grading}: ε = {epsilon}: deposited {p:.4} against Pich {exact:.4} (± {stderr:.4})");
+            eprintln!("{name}: ε = {epsilon}: deposited {p:.4} against Pich {exact:.4} (± {stderr:.4})");
             assert!(
                 (p - exact).abs() < 3.0 * stderr,
-                "grading {grading}, ε = {epsilon}: {p} vs {exact}"
+                "{name}, ε = {epsilon}: {p} vs {exact}"
             );
         }
     }
