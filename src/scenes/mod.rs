@@ -26,7 +26,9 @@
 //!   prolate particles;
 //! - `cavity` (feature `mesh`): soft and quasi-rigid ellipsoids in the lid-driven cavity (§6.3);
 //! - `cavity_benchmark` (feature `mesh`): the cavity flow field against Albensoeder & Kuhlmann
-//!   (2005).
+//!   (2005);
+//! - `stagnation` (feature `mesh`): the exact Hiemenz stagnation flow written into meshed boxes
+//!   (snappyHexMesh prism layers, `cases/stagnation`), the wall layer against it.
 
 #[cfg(all(feature = "cli", feature = "plot"))]
 pub mod bend;
@@ -46,6 +48,8 @@ pub mod section;
 pub mod shear_regimes;
 pub mod shear_run;
 pub mod shear_shape;
+#[cfg(feature = "mesh")]
+pub mod stagnation;
 pub mod tank_treading;
 pub mod work_precision;
 

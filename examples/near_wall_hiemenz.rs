@@ -1,0 +1,90 @@
+//! Hiemenz stagnation flow on snappyHexMesh meshes under refinement (issue 25, deliverable 2):
+//! the exact field written into the meshes of `cases/stagnation`, the wall layer against it.
+//!
+//! ```text
+//! for n in 0 2 5; do for k in 0 1 2 3; do cases/stagnation/Allmesh $n $k MESHES/layers$n/level$k; done; done
+//! cargo run --release --example near_wall_hiemenz -- MESHES [OUT_DIR]
+//! ```
+//! (`cases/stagnation-ci.sh` does both.) Reads every `MESHES/layers{0,2,5}/level{0,1,...}`
+//! there is, writes `hiemenz_snappy.csv` and `hiemenz_snappy.svg` to OUT_DIR (default
+//! `paper-figures/near-wall`) and fails unless, on every mesh, the blended normal velocity is
+//! within 10 % of the exact one in the first cell and v/δ² within 10 % of continuity's
+//! coefficient (the issue's targets; the arguments are in `tests/flow_openfoam.rs`), and the
+//! observed order of the wall-layer |u| error, fitted over all levels (at least three), is
+//! 2 ± 0.3: the error is C δ₁² (1 + O(δ₁/ℓ)) with δ₁/ℓ up to 0.45 on the coarse level, so the
+//! next term may move the observed order by a few tenths; the lower bound 1.7 is that of the
+//! other convergence tests (`tests/flow_openfoam.rs`). The step-to-step orders are printed
+//! and written, not asserted: the snapped meshes are similar under refinement only nearly
+//! (`scenes::stagnation::fitted_order`), and they move by ±0.2.
+
+use pseudorigid::scenes::stagnation::{
+    Measure, StagnationBox, WallLayerRow, fitted_order, observed_order, wall_layer_figure, wall_layer_table,
+};
+use std::path::PathBuf;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let meshes = PathBuf::from(args.next().ok_or("usage: near_wall_hiemenz MESHES [OUT_DIR]")?);
+    let out = args.next().map_or_else(
+        || pseudorigid::output::paper_figure_path("near-wall", ""),
+        PathBuf::from,
+    );
+    let mut rows = Vec::new();
+    for layers in [0, 2, 5] {
+        for level in 0.. {
+            let case = meshes.join(format!("layers{layers}/level{level}"));
+            if !case.exists() {
+                break;
+            }
+            let flow = StagnationBox::read(&case)?;
+            rows.push(WallLayerRow::measure(layers, level, &flow)?);
+        }
+    }
+    if rows.is_empty() {
+        return Err(format!("no meshes under {}", meshes.display()).into());
+    }
+    std::fs::create_dir_all(&out)?;
+    wall_layer_table(&rows, 4)?.write(out.join("hiemenz_snappy.csv"))?;
+    wall_layer_figure(&rows).write(out.join("hiemenz_snappy.svg"))?;
+    println!("layers level  cells  first cell  |Δu_n|/|u_n| at 0.1 0.25 0.5 0.75 of it   (v/δ²)/c   max|Δu|    order");
+    let mut failures = Vec::new();
+    for (i, r) in rows.iter().enumerate() {
+        let order = observed_order(&rows, i, Measure::Velocity);
+        println!(
+            "{:6} {:5} {:6}  {:.3e}   {:.4} {:.4} {:.4} {:.4}   {:.4}   {:.3e}  {}",
+            r.layers,
+            r.level,
+            r.cells,
+            r.first_cell,
+            r.normal_error[0],
+            r.normal_error[1],
+            r.normal_error[2],
+            r.normal_error[3],
+            r.coefficient_ratio,
+            r.velocity_error,
+            order.map_or_else(String::new, |p| format!("{p:.2}"))
+        );
+        if r.normal_error.iter().any(|&e| e > 0.10) || (r.coefficient_ratio - 1.0).abs() > 0.10 {
+            failures.push(format!("{} layers, level {}: beyond 10 %", r.layers, r.level));
+        }
+    }
+    for layers in [0, 2, 5] {
+        let levels = rows.iter().filter(|r| r.layers == layers).count();
+        let fit = |m| fitted_order(&rows, layers, m).map_or_else(|| "-".into(), |p| format!("{p:.2}"));
+        println!(
+            "{layers} layers: order over {levels} levels: |u| {}, |∇u| {}",
+            fit(Measure::Velocity),
+            fit(Measure::Gradient)
+        );
+        match fitted_order(&rows, layers, Measure::Velocity) {
+            Some(p) if levels >= 3 && (p - 2.0).abs() <= 0.3 => {}
+            p => failures.push(format!("{layers} layers: order {p:?} over {levels} levels")),
+        }
+    }
+    println!("wrote {}", out.join("hiemenz_snappy.csv").display());
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(failures.join("; ").into())
+    }
+}
