@@ -29,7 +29,22 @@ fn monitor_reports_hand_computed_maxima_and_flags() {
     }])
     .unwrap();
     let mut monitor = Monitor::new(&p, &flow, &wall);
-    assert_eq!(monitor.validity(), Validity::default());
+    // Before any state: only the constant omission, added mass at ρ_f/ρ_p = 1 with Lamb's k
+    // across a 2:1 prolate, k = A/(2 − A), A = (2 − A_axis)/2,
+    // A_axis = 2(1−e²)/e³ (½ ln((1+e)/(1−e)) − e), e² = 3/4.
+    let e = 0.75f64.sqrt();
+    let a_axis = 2.0 * (1.0 - e * e) / e.powi(3) * (0.5 * ((1.0 + e) / (1.0 - e)).ln() - e);
+    let a_across = 0.5 * (2.0 - a_axis);
+    let k_across = a_across / (2.0 - a_across);
+    let start = monitor.validity();
+    assert!((start.omitted.added_mass / k_across - 1.0).abs() < 1e-12, "{start:?}");
+    assert_eq!(
+        Validity {
+            omitted: Default::default(),
+            ..start
+        },
+        Validity::default()
+    );
     let mut state = State::at_rest(Vec3::new(0.0, 0.05, 0.0));
     state.v = Vec3::new(0.005 - 1e-3, 0.0, 0.0);
     monitor.observe(&state);
@@ -42,8 +57,24 @@ fn monitor_reports_hand_computed_maxima_and_flags() {
     assert!(close(v.max_r1_over_wall_distance, r1 / 0.02));
     assert!(close(v.max_r1_over_flow_scale, r1 / 0.05));
     assert_eq!((v.states, v.unsampled), (1, 0));
-    // 0.4 and 2 cross 0.1; r₁/ℓ_w = 0.079 and r₁/ℓ_u = 0.032 do not.
-    assert_eq!(v.flags(&Thresholds::default()), vec!["re_shear", "re_slip"]);
+    // Omitted terms: the flow's acceleration (∇u)u vanishes on y-lines of a simple shear
+    // (u has no y component), so the undisturbed-flow force is 0 here; Schiller–Naumann's
+    // 0.15 Re_s^0.687 and Saffman's 1.615/(3π) Re_γ^{1/2}.
+    assert_eq!(v.omitted.undisturbed_flow, 0.0);
+    assert!(close(v.omitted.schiller_naumann, 0.15 * 2f64.powf(0.687)));
+    assert!(close(v.omitted.saffman_mei, 1.615 / (3.0 * std::f64::consts::PI) * 0.4f64.sqrt()));
+    assert_eq!(v.omitted.cunningham, 0.0, "a liquid has no gas slip");
+    // 0.4 and 2 cross 0.1; r₁/ℓ_w = 0.079 and r₁/ℓ_u = 0.032 do not; then the terms above 1 %.
+    assert_eq!(
+        v.flags(&Thresholds::default()),
+        vec![
+            "re_shear",
+            "re_slip",
+            "omits_added_mass",
+            "omits_schiller_naumann",
+            "omits_saffman_mei"
+        ]
+    );
     assert_eq!(v.cells(&Thresholds::default()).len(), Validity::COLUMNS.len());
     // A later, calmer state does not lower a maximum.
     state.v = flow.sample(&state.x, 0.0).unwrap().u;
