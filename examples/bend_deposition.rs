@@ -2,9 +2,10 @@
 //! Romay-Novas & Liu (1987): DE against Stk with binomial errors beside the reference.
 //!
 //! ```text
-//! cargo run --release --example bend_deposition -- [--tol T] [--residence-times R] [--no-blend] [--point-contact | --contact-radius R] [N] [CASE_DIR] [STK...]
+//! cargo run --release --example bend_deposition -- [--tol T] [--residence-times R] [--no-blend] [--point-contact | --contact-radius R] [--lift] [N] [CASE_DIR] [STK...]
 //! ```
-//! The options change the dataset's [`Settings`] to measure their effect (same particles).
+//! The options change the dataset's [`Settings`] to measure their effect (same particles);
+//! `--lift` adds Schiller–Naumann drag and Saffman–Mei lift (`particles.forces`).
 //!
 //! `--peer`: instead, OpenFOAM's own tracker (`benches/peers/openfoam_tracker/run.sh`:
 //! `icoUncoupledKinematicParcelFoam`, sphereDrag in its Stokes limit, cellPoint interpolation,
@@ -61,6 +62,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Some(i) = args.iter().position(|a| a == "--no-blend") {
         settings.blend = false;
+        args.remove(i);
+    }
+    if let Some(i) = args.iter().position(|a| a == "--lift") {
+        settings.forces = &["schiller_naumann", "saffman_mei"];
         args.remove(i);
     }
     if let Some(i) = args.iter().position(|a| a == "--point-contact") {

@@ -759,6 +759,43 @@ vtk = false
     }
 }
 
+/// The scene's numbers decide which force terms it should carry: a near-neutrally buoyant
+/// sphere in water (ρ_p/ρ_f = 1.0005, the cavity's) is warned about the undisturbed-flow force
+/// (ρ_f/ρ_p ≈ 100 %) and added mass (½ρ_f/ρ_p ≈ 50 %), and not once it carries them; a 1 µm
+/// droplet in air (λ = μ/(0.499 ρ c̄) = 65 nm) about gas slip (C_c − 1 ≈ 17 %), and about
+/// nothing else (ρ_f/ρ_p = 1.2·10⁻³ is below the 1 % threshold).
+#[test]
+fn scenes_are_warned_about_the_force_terms_their_numbers_need() {
+    let text = |mu: f64, rho_f: f64, rho_p: f64, d: f64, forces: &str| {
+        format!(
+            "[flow]\ntype = \"quiescent\"\n[fluid]\nviscosity = {mu}\ndensity = {rho_f}\n[particles]\ndensity = {rho_p}\n{forces}\n\
+             [[particles.list]]\nsemi_axes = [{r}, {r}, {r}]\nposition = [0.0, 0.0, 0.0]\nmaterial = {{ law = \"rigid\" }}\n\
+             [integrator]\ntype = \"stokesian\"\ntol = 1e-6\ndt = 1e-7\n[end]\nt_end = 1e-3\n",
+            r = d / 2.0
+        )
+    };
+    let advice = |t: String| {
+        parse(
+            &Source {
+                file: "advice.toml",
+                text: &t,
+            },
+            Path::new("."),
+        )
+        .unwrap()
+        .force_advice()
+    };
+    let cavity = advice(text(1e-3, 1000.0, 1000.5, 3e-3, ""));
+    assert_eq!(cavity.len(), 2, "{cavity:?}");
+    assert!(cavity[0].contains("`undisturbed_flow`") && cavity[1].contains("`added_mass`"), "{cavity:?}");
+    assert!(cavity[1].contains("49.98 %"), "{cavity:?}");
+    let with_terms = advice(text(1e-3, 1000.0, 1000.5, 3e-3, r#"forces = ["undisturbed_flow", "added_mass"]"#));
+    assert!(with_terms.is_empty(), "{with_terms:?}");
+    let aerosol = advice(text(1.81e-5, 1.2, 1000.0, 1e-6, ""));
+    assert_eq!(aerosol.len(), 1, "{aerosol:?}");
+    assert!(aerosol[0].contains("`cunningham`"), "{aerosol:?}");
+}
+
 /// A law written in the scene file runs like the built-in law it writes: `yeoh_oblate.toml`
 /// with c20 = 0 is Neo-Hooke with μ_s = 2 c10 = 2.5 and λ_s = 2500, the material of
 /// `oblate_shear.toml`; over 2 time units of shear the two give the same F to 10⁻⁷ (the

@@ -72,6 +72,8 @@ pub struct Settings {
     /// patch injection moves a sphere inside by its largest semi-axis only, so it starts within
     /// the contact radius of the inlet and escapes at t = 0 (measured: 1000 of 1000 at 10 µm).
     pub contact_radius: Option<f64>,
+    /// `particles.forces`: force terms beyond the paper's (default none, the dataset's).
+    pub forces: &'static [&'static str],
 }
 
 impl Default for Settings {
@@ -81,6 +83,7 @@ impl Default for Settings {
             residence_times: RESIDENCE_TIMES,
             blend: true,
             contact_radius: None,
+            forces: &[],
         }
     }
 }
@@ -218,6 +221,9 @@ impl BendCase {
             let _ = writeln!(s, "contact_radius = {radius:e}");
         }
         let _ = writeln!(s, "[particles]\ndensity = {PARTICLE_DENSITY:e}");
+        if !settings.forces.is_empty() {
+            let _ = writeln!(s, "forces = {:?}", settings.forces);
+        }
         let _ = writeln!(
             s,
             "[particles.inject]\ncount = {n}\nsemi_axes = [{r:e}, {r:e}, {r:e}]\nfluid_velocity = true\n\
