@@ -34,7 +34,8 @@
 //!   cavity's particle), ρ_f/ρ_p·|Du/Dt|/g where gravity dominates;
 //! - added mass: the response time m/(c μ_f K) grows by M_a/m, at most (ρ_f/ρ_p) max k_i with
 //!   Lamb's coefficients of the rest shape (½ ρ_f/ρ_p for a sphere);
-//! - finite-Re drag: Schiller–Naumann's 0.15 Re_s^{0.687} with the slip Reynolds number;
+//! - finite-Re drag (neither `schiller_naumann` nor `holzer_sommerfeld` on): Schiller–Naumann's
+//!   0.15 Re_s^{0.687} with the slip Reynolds number;
 //! - shear lift: Saffman's lift over the Stokes drag, 1.615 d²√(ρ_f μ_f γ̇)|w| / (3π μ_f d |w|)
 //!   = 0.171 Re_γ^{1/2};
 //! - gas slip: Cunningham's C_c − 1 at d_eq for a gas (ρ_f < [`GAS_DENSITY`]), with the mean free
@@ -54,7 +55,9 @@ use crate::flow::FlowField;
 use crate::flow::analytic::LinearFlow;
 use crate::ellipsoid::EllipsoidIntegrals;
 use crate::hydro::DragModel;
-use crate::hydro::forces::{AddedMass, Cunningham, SaffmanMei, SchillerNaumann, UndisturbedFlow, added_mass};
+use crate::hydro::forces::{
+    AddedMass, Cunningham, HolzerSommerfeld, SaffmanMei, SchillerNaumann, UndisturbedFlow, added_mass,
+};
 use crate::material::Response;
 use crate::particle::{Particle, State};
 use crate::tensor::sym;
@@ -316,7 +319,7 @@ where
             linear: false,
             carries: Carries {
                 undisturbed_flow: on.contains(&UndisturbedFlow::NAME),
-                schiller_naumann: on.contains(&SchillerNaumann::NAME),
+                schiller_naumann: on.contains(&SchillerNaumann::NAME) || on.contains(&HolzerSommerfeld::NAME),
                 saffman_mei: on.contains(&SaffmanMei::NAME),
             },
             validity: Validity {

@@ -1,5 +1,6 @@
 //! Force terms on the barycentre beyond the paper's Stokes drag and reduced gravity: fluid
-//! inertia (undisturbed-flow force, added mass), gas slip (Cunningham), finite-Re drag and
+//! inertia (undisturbed-flow force, added mass), gas slip (Cunningham), finite-Re drag (spheres
+//! and ellipsoids) and
 //! shear lift. Each term is one file; a particle carries a list of them ([`ForceTerms`]), empty
 //! by default, and an empty list leaves every step bit for bit as the paper's.
 //!
@@ -23,7 +24,8 @@
 //! ([`crate::particle::Model::overdamped_velocity`]).
 //!
 //! What each term assumes, its source and its validity range are in its own file:
-//! [`undisturbed`], [`added_mass`], [`cunningham`], [`schiller_naumann`], [`saffman_mei`].
+//! [`undisturbed`], [`added_mass`], [`cunningham`], [`schiller_naumann`] (spheres),
+//! [`holzer_sommerfeld`] (any ellipsoid), [`saffman_mei`].
 //!
 //! # What is left out, and when it matters
 //! - **Fluid inertia in the shape equation.** The undisturbed flow also loads the force dyad:
@@ -49,12 +51,14 @@
 
 pub mod added_mass;
 pub mod cunningham;
+pub mod holzer_sommerfeld;
 pub mod saffman_mei;
 pub mod schiller_naumann;
 pub mod undisturbed;
 
 pub use added_mass::AddedMass;
 pub use cunningham::Cunningham;
+pub use holzer_sommerfeld::HolzerSommerfeld;
 pub use saffman_mei::SaffmanMei;
 pub use schiller_naumann::SchillerNaumann;
 pub use undisturbed::UndisturbedFlow;
@@ -213,6 +217,7 @@ pub fn names() -> &'static [&'static str] {
         AddedMass::NAME,
         Cunningham::NAME,
         SchillerNaumann::NAME,
+        HolzerSommerfeld::NAME,
         SaffmanMei::NAME,
     ]
 }
@@ -232,6 +237,7 @@ pub fn by_name(name: &str, parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn
         UndisturbedFlow::NAME => none(UndisturbedFlow::NAME).map(|()| Arc::new(UndisturbedFlow) as _)?,
         AddedMass::NAME => none(AddedMass::NAME).map(|()| Arc::new(AddedMass) as _)?,
         SchillerNaumann::NAME => none(SchillerNaumann::NAME).map(|()| Arc::new(SchillerNaumann) as _)?,
+        HolzerSommerfeld::NAME => none(HolzerSommerfeld::NAME).map(|()| Arc::new(HolzerSommerfeld) as _)?,
         SaffmanMei::NAME => none(SaffmanMei::NAME).map(|()| Arc::new(SaffmanMei) as _)?,
         Cunningham::NAME => Arc::new(Cunningham::from_parameters(parameters)?),
         _ => {

@@ -11,8 +11,7 @@
 //! multiplies the particle's Stokes resistance μ_f K̂; it is a sphere's correlation, so the
 //! term admits spherical particles only (rest semi-axes equal to 10⁻⁶): a soft sphere's
 //! deformation is assumed small enough that the volume-equivalent diameter carries it. For
-//! ellipsoids at finite Re a shape- and orientation-dependent correlation is needed
-//! (Hölzer & Sommerfeld 2008), which this code does not have yet.
+//! ellipsoids at finite Re use [`super::HolzerSommerfeld`].
 
 use super::{Contribution, ForceContext, ForceTerm};
 use crate::error::ParamError;
