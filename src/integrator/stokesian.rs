@@ -23,9 +23,10 @@
 //!
 //! [`InertialessSolver`]: crate::hydro::InertialessSolver
 
+use super::control::Tolerances;
 use super::dense::{Dense, Knot};
 use super::radau5::{self, RadauMemory};
-use super::rosenbrock::{self, Tolerances};
+use super::rosenbrock;
 use super::{Step, StepInfo, TimeIntegrator};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
