@@ -100,7 +100,8 @@ pub trait TimeIntegrator: Send + Sync {
     /// `Default` is the memory of a fresh start.
     type Memory: Default + Clone + Send + Serialize + DeserializeOwned + std::fmt::Debug;
 
-    /// Short name used in datasets (e.g. `imex_paper`).
+    /// Short name of the scheme, as datasets and scene files spell it: `imex_paper`,
+    /// `imex_adaptive`, `radau_iia`, `rosenbrock_w23`.
     fn name(&self) -> &'static str;
 
     /// Advance `state` by `dt` (adaptive schemes may take less; see [`StepInfo::dt`]),

@@ -65,6 +65,16 @@ pub enum Scheme {
     Rosenbrock23,
 }
 
+impl Scheme {
+    /// The scheme's name in datasets and scene files: `radau_iia` or `rosenbrock_w23`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Scheme::Radau5 => "radau_iia",
+            Scheme::Rosenbrock23 => "rosenbrock_w23",
+        }
+    }
+}
+
 /// Adaptive inertialess integrator. The shape response is the particle's: elastic for a
 /// hyperelastic law, Jeffery rotation for a [`crate::material::Rigid`] particle (Ca → 0, no
 /// elasticity evaluated; F is projected back onto SO(3) after every step).
@@ -117,10 +127,7 @@ impl TimeIntegrator for Stokesian {
     type Memory = StokesianMemory;
 
     fn name(&self) -> &'static str {
-        match self.scheme {
-            Scheme::Radau5 => "stokesian_radau5",
-            Scheme::Rosenbrock23 => "stokesian",
-        }
+        self.scheme.name()
     }
 
     fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
