@@ -217,7 +217,10 @@ const LANDING_TOL: f64 = 1e-12;
 /// # Errors
 /// A [`RunFailure`]: the [`StepError`] that stopped the run, with the state and the
 /// [`RunStats`] of the accepted steps before it.
-#[allow(clippy::too_many_arguments)] // the problem (4), its memory, the plan, events, two observers
+#[allow(clippy::too_many_arguments)]
+// the problem (4), its memory, the plan, events, two observers
+// A failure carries a State like the Outcome does: the Err variant is no larger than Ok's.
+#[allow(clippy::result_large_err)]
 pub fn integrate<I, M, D, F>(
     integrator: &I,
     particle: &Particle<M, D>,
@@ -440,6 +443,9 @@ fn locate(e: &dyn Event, dense: &Dense, a: (f64, f64), b: (f64, f64), scale: f64
 
 /// Advance from `state` to the last of `outputs` (ascending), starting with step `dt`,
 /// calling `observe` at every output time and `on_step` after every accepted step.
+///
+/// A failure is the bare [`StepError`]; [`integrate`] reports the statistics and the last
+/// state of a failed run too ([`RunFailure`]).
 // The eight arguments are the problem (integrator, particle, state, flow), the step and the
 // output schedule, and two observers; bundling them would only rename them.
 #[allow(clippy::too_many_arguments)]
@@ -504,6 +510,7 @@ where
 
 /// Convenience: [`integrate`] with fresh step memory and no observers, to the end of `plan` or
 /// the first of `events` that fires.
+#[allow(clippy::result_large_err)] // as `integrate`
 pub fn until_event<I, M, D, F>(
     integrator: &I,
     particle: &Particle<M, D>,
