@@ -72,9 +72,9 @@ fn bench_steps(c: &mut Criterion) {
     };
     bench_running(&mut g, "imex_paper_exact_guard", &exact, 5e-4);
     let rosenbrock = Stokesian::overdamped(1e-6).unwrap().with_scheme(Scheme::Rosenbrock23);
-    bench_running(&mut g, "stokesian_rosenbrock", &rosenbrock, 0.05);
+    bench_running(&mut g, rosenbrock.name(), &rosenbrock, 0.05);
     let radau = Stokesian::overdamped(1e-6).unwrap().with_scheme(Scheme::Radau5);
-    bench_running(&mut g, "stokesian_radau5", &radau, 0.05);
+    bench_running(&mut g, radau.name(), &radau, 0.05);
     g.bench_function("geometry_frame_integrals_traction", |b| {
         b.iter(|| p.geometry(black_box(&s.f)))
     });

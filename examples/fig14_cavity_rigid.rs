@@ -6,7 +6,7 @@
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::{Figure, paper_figure_path};
 use pseudorigid::scenes::cavity::{Cavity, Contact, Release, Shape, outcome_table, trajectory_panel, trajectory_table};
-use pseudorigid::scenes::particles::Softness;
+use pseudorigid::scenes::particles::Deformability;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("release shear rate γ̇₀ = {:.4} 1/s", cavity.release_shear_rate());
     let releases = [Shape::Prolate(2.0), Shape::Prolate(5.0)].map(|shape| Release {
         shape,
-        softness: Softness::Rigid,
+        softness: Deformability::Rigid,
     });
     // Both contact models: the paper's point-particle reading and the particle's extent.
     let jobs: Vec<(Release, Contact)> = [Contact::Barycentre, Contact::Extent]

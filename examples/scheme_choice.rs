@@ -21,7 +21,7 @@ use pseudorigid::integrator::{Scheme, Stokesian, Tolerances};
 use pseudorigid::population::{Case, RunConfig, RunOptions, Shard, run};
 use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, study};
 use pseudorigid::scenes::cavity::{Cavity, Contact, Release, Shape};
-use pseudorigid::scenes::pipe::{PipeCase, Softness, sample_orientation, track_to_deposition};
+use pseudorigid::scenes::pipe::{Deformability, PipeCase, sample_orientation, track_to_deposition};
 use std::error::Error;
 use std::time::Instant;
 
@@ -97,7 +97,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         Box::new(|scheme, tol| {
             let release = Release {
                 shape: Shape::Prolate(2.0),
-                softness: Softness::Rigid,
+                softness: Deformability::Rigid,
             };
             let run = cavity(scheme).track(release, Contact::Extent, 5.0, tol, 5.0)?;
             let x = run.path.last().ok_or("no path")?.1;
@@ -113,7 +113,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         Box::new(|scheme, tol| {
             let release = Release {
                 shape: Shape::Prolate(2.0),
-                softness: Softness::Elastic { ca: 0.25 },
+                softness: Deformability::Elastic { ca: 0.25 },
             };
             let run = cavity(scheme).track(release, Contact::Barycentre, 100.0, tol, 100.0)?;
             let x = run.path.last().ok_or("no path")?.1;

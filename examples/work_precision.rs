@@ -134,10 +134,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .filter(|r| r.case == Case::Oblate && r.setting.integrator() == name)
             .min_by(|a, b| a.error.total_cmp(&b.error));
         if let Some(best) = best
-            && let Some((evals, wall)) = work_at_error(&records, Case::Oblate, "stokesian", best.error)
+            && let Some((evals, wall)) = work_at_error(&records, Case::Oblate, "rosenbrock_w23", best.error)
         {
             println!(
-                "oblate, error {:.2e}: {name} {} evaluations / {:.3} s; stokesian {:.0} / {:.4} s → {:.0}x fewer evaluations, {:.0}x less time",
+                "oblate, error {:.2e}: {name} {} evaluations / {:.3} s; rosenbrock_w23 {:.0} / {:.4} s → {:.0}x fewer evaluations, {:.0}x less time",
                 best.error,
                 best.stats.rhs_evals,
                 best.wall_s,

@@ -11,6 +11,10 @@
 //! ([`Event::max_step`]) so that a tumbling tip cannot touch and leave a wall within one step,
 //! which no end-point test can see.
 //!
+//! # Failures
+//! A run that fails keeps its record: [`integrate`] returns a [`RunFailure`] with the error, the
+//! state after the last accepted step and the [`RunStats`] of the steps taken up to the failure.
+//!
 //! [`Dense`]: crate::integrator::Dense
 
 use crate::error::{FlowError, ParamError, StepError};
@@ -40,7 +44,8 @@ pub struct RunStats {
 }
 
 impl RunStats {
-    fn record(&mut self, info: &StepInfo) {
+    /// Add one accepted step: its count, its rejected attempts and its work.
+    pub fn record(&mut self, info: &StepInfo) {
         self.steps += 1;
         self.rejected += u64::from(info.rejected);
         self.rhs_evals += u64::from(info.rhs_evals);
@@ -111,6 +116,29 @@ pub struct Outcome {
     pub stats: RunStats,
     /// Why the run ended.
     pub stop: Stop,
+}
+
+/// A run that stopped on an error: the error and what the run had done until then.
+///
+/// Its message is the error's followed by the accepted steps and the time reached; `?` turns
+/// it into the bare [`StepError`] where only the cause matters.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{error} (after {} accepted steps, at t = {})", .stats.steps, .state.t)]
+pub struct RunFailure {
+    /// Why the run stopped.
+    #[source]
+    pub error: StepError,
+    /// State after the last accepted step (the start state when no step was accepted).
+    pub state: State,
+    /// Work of the accepted steps and of their rejected attempts; the failed step's own work
+    /// is not included (an integrator that fails reports no [`StepInfo`]).
+    pub stats: RunStats,
+}
+
+impl From<RunFailure> for StepError {
+    fn from(failure: RunFailure) -> Self {
+        failure.error
+    }
 }
 
 /// What to integrate to and how: end time, output times, first step, step cap and budget.
@@ -185,8 +213,47 @@ const LANDING_TOL: f64 = 1e-12;
 /// Advance `state` with `memory` as `plan` says, stopping at the first event that fires.
 /// `observe` sees the start, every output time and the event state; `on_step` every accepted
 /// step. Refuses a start state already past t_end.
-#[allow(clippy::too_many_arguments)] // the problem (4), its memory, the plan, events, two observers
+///
+/// # Errors
+/// A [`RunFailure`]: the [`StepError`] that stopped the run, with the state and the
+/// [`RunStats`] of the accepted steps before it.
+#[allow(clippy::too_many_arguments)]
+// the problem (4), its memory, the plan, events, two observers
+// A failure carries a State like the Outcome does: the Err variant is no larger than Ok's.
+#[allow(clippy::result_large_err)]
 pub fn integrate<I, M, D, F>(
+    integrator: &I,
+    particle: &Particle<M, D>,
+    flow: &F,
+    state: State,
+    memory: &mut I::Memory,
+    plan: &Plan,
+    events: &[&dyn Event],
+    observe: impl FnMut(&State),
+    on_step: impl FnMut(&Step),
+) -> Result<Outcome, RunFailure>
+where
+    I: TimeIntegrator,
+    M: Response,
+    D: DragModel,
+    F: FlowField + ?Sized,
+{
+    let mut stats = RunStats::default();
+    let mut last = state;
+    integrate_recorded(
+        integrator, particle, flow, state, memory, plan, events, observe, on_step, &mut stats, &mut last,
+    )
+    .map_err(|error| RunFailure {
+        error,
+        state: last,
+        stats,
+    })
+}
+
+/// [`integrate`], accumulating into `stats` and keeping the last accepted state in `last`, so
+/// that a failure still reports both.
+#[allow(clippy::too_many_arguments)] // integrate's arguments and its two records
+fn integrate_recorded<I, M, D, F>(
     integrator: &I,
     particle: &Particle<M, D>,
     flow: &F,
@@ -196,6 +263,8 @@ pub fn integrate<I, M, D, F>(
     events: &[&dyn Event],
     mut observe: impl FnMut(&State),
     mut on_step: impl FnMut(&Step),
+    stats: &mut RunStats,
+    last: &mut State,
 ) -> Result<Outcome, StepError>
 where
     I: TimeIntegrator,
@@ -215,7 +284,6 @@ where
     }
     let started = Instant::now();
     let mut s = state;
-    let mut stats = RunStats::default();
     let mut h = plan.dt0.min(plan.dt_max);
     let mut outside_retries = 0;
     observe(&s);
@@ -223,7 +291,7 @@ where
         if e.gap(&s) <= 0.0 {
             return Ok(Outcome {
                 state: s,
-                stats,
+                stats: *stats,
                 stop: Stop::Event { index },
             });
         }
@@ -241,7 +309,7 @@ where
             }
             return Ok(Outcome {
                 state: s,
-                stats,
+                stats: *stats,
                 stop: Stop::EndTime,
             });
         }
@@ -286,6 +354,7 @@ where
         };
         outside_retries = 0;
         stats.record(&step.info);
+        *last = step.state;
         // A step shortened to hit a target or a cap says nothing about the next step size.
         h = if clamped || want < h {
             h.max(step.info.dt_next)
@@ -297,7 +366,7 @@ where
             observe(&at);
             return Ok(Outcome {
                 state: at,
-                stats,
+                stats: *stats,
                 stop: Stop::Event { index },
             });
         }
@@ -374,6 +443,9 @@ fn locate(e: &dyn Event, dense: &Dense, a: (f64, f64), b: (f64, f64), scale: f64
 
 /// Advance from `state` to the last of `outputs` (ascending), starting with step `dt`,
 /// calling `observe` at every output time and `on_step` after every accepted step.
+///
+/// A failure is the bare [`StepError`]; [`integrate`] reports the statistics and the last
+/// state of a failed run too ([`RunFailure`]).
 // The eight arguments are the problem (integrator, particle, state, flow), the step and the
 // output schedule, and two observers; bundling them would only rename them.
 #[allow(clippy::too_many_arguments)]
@@ -438,6 +510,7 @@ where
 
 /// Convenience: [`integrate`] with fresh step memory and no observers, to the end of `plan` or
 /// the first of `events` that fires.
+#[allow(clippy::result_large_err)] // as `integrate`
 pub fn until_event<I, M, D, F>(
     integrator: &I,
     particle: &Particle<M, D>,
@@ -445,7 +518,7 @@ pub fn until_event<I, M, D, F>(
     state: State,
     plan: &Plan,
     events: &[&dyn Event],
-) -> Result<Outcome, StepError>
+) -> Result<Outcome, RunFailure>
 where
     I: TimeIntegrator,
     M: Response,

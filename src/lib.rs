@@ -34,9 +34,9 @@
 //! | eq. 14 | Brenner's drag | [`hydro::Brenner`], [`theory::drag`] |
 //! | eq. 16 | fluid load P̃ = Jσ̃F⁻ᵀ | [`particle::dynamics::traction_load`] |
 //! | eq. 17 | barycentre ODE (β_t, 1/τ_D = πμ_f r_min/m) | [`particle::Model::forcing`], [`particle::Forcing`] |
-//! | eq. 18 | shape ODE Ȧ = vol(B₀)[P̃ − P]Θ⁻¹ | [`integrator::imex`]; Θ → 0: [`particle::Model::inertialess_rate`], [`integrator::stokesian`] |
+//! | eq. 18 | shape ODE Ȧ = vol(B₀)[P̃ − P]Θ⁻¹ | [`integrator::imex`]; Θ → 0: [`particle::Model::inertialess_rate`], [`particle::inertialess`] (right-hand side and Jacobian), [`integrator::stokesian`] |
 //! | eqs. 19, 20 | implicit Euler for the barycentre | [`integrator::imex`] |
-//! | eqs. 21, 22, §5 | the IMEX shape step | [`integrator::ImexPaper`], stability: [`theory::stability`] |
+//! | eqs. 21, 22, §5 | the IMEX shape step | [`integrator::ImexPaper`], stability: [`theory::stability`], [`integrator::imex::stability`] |
 //! | §5 | r_a, Q from eig(F̄F̄ᵀ) (r_a = √λ_a) | [`ellipsoid::PrincipalFrame`], [`theory::paper_errata`] |
 //! | eqs. 23, 24 | capillary and shear Reynolds numbers | [`particle::ShearScaling`], [`diagnostics`] |
 //! | eqs. 25, 26 | Stokes number, particle time | `scenes::cavity` (feature `mesh`; the paper's values rechecked there) |

@@ -82,15 +82,20 @@ fn every_example_scene_validates() {
 
 /// Fig. 4's oblate at Ca = 0.4: the scene's material lines at every output time equal the
 /// library's `oblate_fig4_run` bitwise.
-/// `stokesian` is the library's `Stokesian::new` (Radau IIA); the two explicit names pick
-/// their scheme. The integrator's dataset name tells the schemes apart.
+/// `radau_iia` and `rosenbrock_w23` pick their scheme, and the integrator's dataset name is the
+/// scheme's name. Earlier scene files' names are aliases: `stokesian` (the library's
+/// `Stokesian::new`) and `stokesian_radau5` read as `radau_iia`, `stokesian_rosenbrock23` as
+/// `rosenbrock_w23`.
 #[test]
-fn stokesian_names_choose_the_scheme() {
-    let from = "type = \"stokesian_radau5\"";
+fn scheme_names_and_their_aliases_choose_the_scheme() {
+    let from = "type = \"radau_iia\"";
+    assert_eq!(Stokesian::new(1e-6).unwrap().name(), "radau_iia");
     for (kind, name) in [
-        ("stokesian", Stokesian::new(1e-6).unwrap().name()),
-        ("stokesian_radau5", "stokesian_radau5"),
-        ("stokesian_rosenbrock23", "stokesian"),
+        ("radau_iia", "radau_iia"),
+        ("rosenbrock_w23", "rosenbrock_w23"),
+        ("stokesian", "radau_iia"),
+        ("stokesian_radau5", "radau_iia"),
+        ("stokesian_rosenbrock23", "rosenbrock_w23"),
     ] {
         let s = scene("oblate_shear.toml", &[(from, &format!("type = \"{kind}\""))]);
         let SceneIntegrator::Stokesian(integ) = &s.integrator else {

@@ -1,6 +1,6 @@
 //! The driver and integrator settings on the reliability audit's reproducers (defects 6, 7, 9):
 //! bad times and settings are typed errors, never a silent NaN, a rewound clock or a hang.
-use pseudorigid::driver::{Budget, Plan, advance, run};
+use pseudorigid::driver::{Budget, Plan, RunStats, advance, run};
 use pseudorigid::integrator::newton::NewtonOptions;
 use pseudorigid::integrator::{ImexAdaptive, Stokesian, Tolerances};
 use pseudorigid::prelude::*;
@@ -75,7 +75,66 @@ fn budget_is_enforced() {
         |_| {},
         |_| {},
     );
-    assert!(matches!(r, Err(StepError::BudgetExceeded { steps: 100, .. })), "{r:?}");
+    let failure = r.unwrap_err();
+    assert!(
+        matches!(failure.error, StepError::BudgetExceeded { steps: 100, .. }),
+        "{failure:?}"
+    );
+    assert_eq!(failure.stats.steps, 100);
+}
+
+/// A flow that refuses every query after `t_fail` (not a domain boundary: the driver does not
+/// retry it).
+struct FailsAfter {
+    t_fail: f64,
+}
+
+impl FlowField for FailsAfter {
+    fn sample(&self, x: &Vec3, t: f64) -> Result<pseudorigid::flow::FlowSample, pseudorigid::error::FlowError> {
+        if t > self.t_fail {
+            return Err(pseudorigid::error::FlowError::NonFiniteSample {
+                x: [x[0], x[1], x[2]],
+                t,
+                u: [f64::INFINITY; 3],
+            });
+        }
+        shear().sample(x, t)
+    }
+}
+
+/// A run that fails after k accepted steps reports the error, those k steps' statistics and the
+/// state after the k-th step: fixed steps of 10⁻³ and a flow that fails after t = 0.0105 accept
+/// k = 10 steps. The statistics are those an observer accumulates with [`RunStats::record`].
+#[test]
+fn a_failed_run_reports_its_statistics_and_last_state() {
+    let p = particle();
+    let mut memory = Default::default();
+    let mut seen = RunStats::default();
+    let mut last = None;
+    let failure = pseudorigid::driver::integrate(
+        &ImexPaper::default(),
+        &p,
+        &FailsAfter { t_fail: 0.0105 },
+        State::at_rest(Vec3::zeros()),
+        &mut memory,
+        &Plan::new(1.0, 1e-3).unwrap(),
+        &[],
+        |_| {},
+        |step| {
+            seen.record(&step.info);
+            last = Some(step.state);
+        },
+    )
+    .unwrap_err();
+    assert!(matches!(failure.error, StepError::Flow(_)), "{failure:?}");
+    assert_eq!(failure.stats.steps, 10);
+    assert_eq!(failure.stats, seen);
+    assert_eq!(Some(failure.state), last);
+    let text = failure.to_string();
+    assert!(text.contains("after 10 accepted steps"), "{text}");
+    // `?` into a step error keeps the cause.
+    let bare: StepError = failure.clone().into();
+    assert_eq!(bare, failure.error);
 }
 
 /// Defect 9: h_min ≤ 0 or NaN looped forever, `Stokesian::new(NaN)` disabled error control,

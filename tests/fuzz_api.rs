@@ -580,7 +580,9 @@ fn run_plan<I: TimeIntegrator>(
     plan: &Plan,
 ) -> Result<State, StepError> {
     let mut memory = I::Memory::default();
-    integrate(integ, p, flow, start, &mut memory, plan, &[], |_| {}, |_| {}).map(|o| o.state)
+    integrate(integ, p, flow, start, &mut memory, plan, &[], |_| {}, |_| {})
+        .map(|o| o.state)
+        .map_err(|failure| failure.error)
 }
 
 /// Single steps of every integrator from fuzzed states and step sizes: `Ok` must be a finite,

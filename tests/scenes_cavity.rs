@@ -8,7 +8,7 @@ use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::scenes::cavity::{
     Cavity, Contact, EDGE, Outcome, Release, Shape, ShapeModel, Variant, orientations, outcome_table, release_point,
 };
-use pseudorigid::scenes::particles::Softness;
+use pseudorigid::scenes::particles::Deformability;
 use pseudorigid::tensor::{Mat3, Vec3};
 
 fn flow() -> MeshedFlow {
@@ -23,21 +23,21 @@ fn reduced_cavity_runs_snapshot() {
         (
             Release {
                 shape: Shape::Prolate(2.0),
-                softness: Softness::Rigid,
+                softness: Deformability::Rigid,
             },
             Contact::Barycentre,
         ),
         (
             Release {
                 shape: Shape::Prolate(2.0),
-                softness: Softness::Rigid,
+                softness: Deformability::Rigid,
             },
             Contact::Extent,
         ),
         (
             Release {
                 shape: Shape::Prolate(5.0),
-                softness: Softness::Elastic { ca: 0.5 },
+                softness: Deformability::Elastic { ca: 0.5 },
             },
             Contact::Barycentre,
         ),
@@ -81,7 +81,7 @@ fn extent_contact_with_the_lid_is_an_exit() {
         .track(
             Release {
                 shape: Shape::Prolate(2.0),
-                softness: Softness::Rigid,
+                softness: Deformability::Rigid,
             },
             Contact::Extent,
             2.0,
@@ -127,7 +127,7 @@ fn soft_particles_that_crashed_in_the_corner_end_cleanly() {
         for (cavity, shape, turn) in cases {
             let release = Release {
                 shape,
-                softness: Softness::Elastic { ca: 0.75 },
+                softness: Deformability::Elastic { ca: 0.75 },
             };
             let run = cavity
                 .track_oriented(release, Contact::Barycentre, &turn, 100.0, 1e-6, 1.0)
@@ -238,7 +238,7 @@ fn a_user_drag_model_runs_through_the_cavity() {
     let flow = flow();
     let release = Release {
         shape: Shape::Prolate(1.0),
-        softness: Softness::Rigid,
+        softness: Deformability::Rigid,
     };
     let end = |tol: f64, run: pseudorigid::scenes::cavity::CavityRun| {
         assert_eq!(run.path.last().unwrap().0, 2.0, "tol {tol}: the run must reach t = 2 s");
@@ -279,11 +279,11 @@ fn reduced_ensemble_fractions_snapshot() {
     let releases = [
         Release {
             shape: Shape::Prolate(1.0),
-            softness: Softness::Rigid,
+            softness: Deformability::Rigid,
         },
         Release {
             shape: Shape::Prolate(2.0),
-            softness: Softness::Elastic { ca: 0.25 },
+            softness: Deformability::Elastic { ca: 0.25 },
         },
     ];
     let variants = [false, true].map(|mirrored| Variant { mirrored, scale: 1.0 });

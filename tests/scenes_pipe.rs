@@ -11,7 +11,8 @@ use pseudorigid::hydro::DragModel;
 use pseudorigid::reference;
 use pseudorigid::scenes::pipe::orbit::{downward_crossings, jeffery_period, shear_averaged_mobility};
 use pseudorigid::scenes::pipe::{
-    Deposition, PipeFlowData, PipeParticleData, PipeScene, Shape, Softness, sample_orientation, track_to_deposition,
+    Deformability, Deposition, PipeFlowData, PipeParticleData, PipeScene, Shape, sample_orientation,
+    track_to_deposition,
 };
 use pseudorigid::tensor::{Mat3, Vec3};
 use std::f64::consts::PI;
@@ -235,7 +236,7 @@ fn near_wall(lambda1: f64, ca: f64) -> PipeScene {
     PipeScene::new(
         flow,
         PipeParticleData::tian_cui(Shape::Prolate(lambda1)),
-        Softness::from_ca(ca).unwrap(),
+        Deformability::from_ca(ca).unwrap(),
     )
     .unwrap()
 }
@@ -293,7 +294,12 @@ fn release_inside_the_wall_is_an_error() {
         release_x2: -2.0998e-3,
         ..PipeFlowData::tian_cui()
     };
-    let scene = PipeScene::new(flow, PipeParticleData::tian_cui(Shape::Prolate(3.5)), Softness::Rigid).unwrap();
+    let scene = PipeScene::new(
+        flow,
+        PipeParticleData::tian_cui(Shape::Prolate(3.5)),
+        Deformability::Rigid,
+    )
+    .unwrap();
     let err = track_to_deposition(&scene, &scene.integrator(1e-6).unwrap(), 1e-3, 1e3, 1.0).unwrap_err();
     assert!(
         matches!(err, pseudorigid::scenes::SceneError::ReleasedInWall { .. }),
@@ -475,7 +481,7 @@ fn deposition_is_the_same_with_mooney_rivlin_at_beta_zero() {
     let mr = PipeScene::with_model(
         flow,
         PipeParticleData::tian_cui(Shape::Prolate(3.5)),
-        Softness::from_ca(0.25).unwrap(),
+        Deformability::from_ca(0.25).unwrap(),
         &model,
     )
     .unwrap();

@@ -30,8 +30,8 @@ fn row(case: Case, setting: Setting) -> String {
 fn work_precision_reduced_dataset() {
     let rows = [
         row(Case::Jeffery, Setting::Rigid(1e-6)),
-        row(Case::Jeffery, Setting::Stokesian(1e-5)),
-        row(Case::TankTreading, Setting::Stokesian(1e-5)),
+        row(Case::Jeffery, Setting::RosenbrockW23(1e-5)),
+        row(Case::TankTreading, Setting::RosenbrockW23(1e-5)),
         row(Case::TankTreading, Setting::ImexAdaptive(1e-3)),
     ];
     insta::assert_snapshot!(format!(

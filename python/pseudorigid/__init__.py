@@ -265,7 +265,7 @@ def integrate(
         "particles": {"density": density, "list": [particle]},
         "integrator": dict(integrator)
         if integrator is not None
-        else {"type": "stokesian", "tol": 1e-8, "dt": 1e-3, "overdamped": True},
+        else {"type": "radau_iia", "tol": 1e-8, "dt": 1e-3, "overdamped": True},
         "end": {"t_end": t_end},
         "output": {"vtk": False},
     }

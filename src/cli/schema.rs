@@ -398,7 +398,7 @@ pub struct IntegratorSpec {
     pub dt: Num,
     /// Largest step.
     pub dt_max: Option<Num>,
-    /// Overdamped barycentre (`stokesian*` only; default false).
+    /// Overdamped barycentre (`radau_iia` and `rosenbrock_w23` only; default false).
     #[serde(default)]
     pub overdamped: bool,
 }
@@ -411,13 +411,15 @@ pub enum IntegratorKind {
     Imex,
     /// IMEX with error control.
     ImexAdaptive,
-    /// Inertialess shape dynamics with the library's default scheme (`Stokesian::new`: Radau
-    /// IIA of order 5).
-    Stokesian,
-    /// Inertialess shape dynamics, Radau IIA order 5, named explicitly.
-    StokesianRadau5,
-    /// Inertialess shape dynamics, the Rosenbrock-W 2(3) pair.
-    StokesianRosenbrock23,
+    /// Inertialess shape dynamics by Radau IIA of order 5 (`radau_iia`, the library's
+    /// default `Stokesian::new`). Also spelled `stokesian` (the inertialess integrator with its
+    /// default scheme) and `stokesian_radau5`, the names of earlier scene files.
+    #[serde(alias = "stokesian", alias = "stokesian_radau5")]
+    RadauIia,
+    /// Inertialess shape dynamics by the Rosenbrock-W 2(3) pair (`rosenbrock_w23`). Also
+    /// spelled `stokesian_rosenbrock23`, the name of earlier scene files.
+    #[serde(alias = "stokesian_rosenbrock23")]
+    RosenbrockW23,
 }
 
 /// `[end]`.

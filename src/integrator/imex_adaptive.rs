@@ -13,7 +13,8 @@
 //! estimate of the first-order scheme,
 //! $e = \tfrac12 \lVert F^{n+1} - F^n - h A^n\rVert_\infty = \tfrac h2 \lVert A^{n+1} - A^n\rVert_\infty$
 //! (the difference to the explicit predictor, ≈ ½h²|Ȧ|), exceeds tol·(1 + |Fⁿ|∞).
-//! The next step is h·clamp(0.9 (tol/e)^{1/2}, 0.2, 2).
+//! The next step is h·clamp(0.9 (tol/e)^{1/2}, 0.2, 2) ([`CONTROL`], the elementary controller
+//! of [`super::control`]).
 //!
 //! # Volume-mode floor
 //! With the literal eq. 12 traction ([`VolumetricTraction::Paper`]) the model's volume mode is
@@ -28,8 +29,10 @@
 //!
 //! [`VolumetricTraction::Paper`]: crate::hydro::VolumetricTraction::Paper
 
+use super::control::{ErrorOrder, StepControl, Tolerances};
 use super::dense::{Dense, Knot};
-use super::imex::{ImexMemory, StabilityGuard, StepWindow};
+use super::imex::ImexMemory;
+use super::imex::stability::{StabilityGuard, StepWindow};
 use super::{ImexPaper, Step, StepInfo, TimeIntegrator};
 use crate::error::{ParamError, StepError, positive};
 use crate::flow::FlowField;
@@ -37,29 +40,39 @@ use crate::hydro::DragModel;
 use crate::material::Response;
 use crate::particle::{Model, Particle, State};
 
-/// Rejected attempts allowed in one step: each at least halves h, so 60 attempts span more
-/// than 18 decades of step size.
-const MAX_REJECTIONS: u32 = 60;
+/// The step controller (err ∝ h²): h·clamp(0.9 err^{−1/2}, 0.2, 2) after an accepted step,
+/// h·clamp(0.9 err^{−1/2}, 0.1, 0.5) after a rejected one, h/4 after a failed attempt, and 60
+/// rejected attempts (each at least halves h: 18 decades).
+pub const CONTROL: StepControl = StepControl {
+    safety: 0.9,
+    accept: (0.2, 2.0),
+    reject: (0.1, 0.5),
+    failure_shrink: 0.25,
+    max_rejections: 60,
+};
+
+/// Smallest step of [`ImexAdaptive`].
+const H_MIN: f64 = 1e-14;
 
 /// Adaptive IMEX integrator.
 #[derive(Debug, Clone, Copy)]
 pub struct ImexAdaptive {
-    tol: f64,
-    h_min: f64,
+    /// rtol = atol = tol, applied as tol·(1 + |Fⁿ|∞) (module docs).
+    tol: Tolerances,
 }
 
 impl ImexAdaptive {
     /// Adaptive IMEX with local tolerance `tol` (finite, > 0) and h_min = 1e-14.
     pub fn new(tol: f64) -> Result<Self, ParamError> {
+        let tol = positive("imex_adaptive tol", tol)?;
         Ok(Self {
-            tol: positive("imex_adaptive tol", tol)?,
-            h_min: 1e-14,
+            tol: Tolerances::new(tol, tol, H_MIN)?,
         })
     }
 
     /// Local tolerance.
     pub fn tol(&self) -> f64 {
-        self.tol
+        self.tol.rtol()
     }
 }
 
@@ -87,21 +100,17 @@ impl TimeIntegrator for ImexAdaptive {
             .unwrap_or(StepWindow::UNBOUNDED);
         let mut h = dt.min(window.max);
         let mut newton_iters = 0;
-        for rejected in 0..=MAX_REJECTIONS {
-            if h < self.h_min || state.t + h <= state.t {
+        for rejected in 0..=CONTROL.max_rejections {
+            if h < self.tol.h_min() || state.t + h <= state.t {
                 break;
             }
             match inner.unguarded_step(&model, state, &geo, memory, h) {
                 Ok((next, sol)) => {
                     newton_iters += sol.iters;
                     let e = 0.5 * (next.f - state.f - state.a * h).amax();
-                    let err = e / (self.tol * (1.0 + state.f.amax()));
+                    let err = e / (self.tol.rtol() * (1.0 + state.f.amax()));
                     if err <= 1.0 {
-                        let grow = if err == 0.0 {
-                            2.0
-                        } else {
-                            (0.9 / err.sqrt()).clamp(0.2, 2.0)
-                        };
+                        let grow = CONTROL.grow(ErrorOrder::Two, err);
                         // Never propose a step below the volume-mode floor: a step there that
                         // meets the tolerance is accepted, one that does not is refused below.
                         let next_h = (h * grow).max(window.min.min(window.max));
@@ -117,12 +126,8 @@ impl TimeIntegrator for ImexAdaptive {
                             info,
                         });
                     }
-                    // A NaN error is not ≤ 1 and lands here: shrink hard.
-                    let shrunk = h * if err.is_finite() {
-                        (0.9 / err.sqrt()).clamp(0.1, 0.5)
-                    } else {
-                        0.25
-                    };
+                    // A NaN error is not ≤ 1 and lands here: shrink as for a failure.
+                    let shrunk = h * CONTROL.shrink(ErrorOrder::Two, err);
                     if shrunk < window.min && h >= window.min {
                         return Err(StepError::VolumeModeUnresolvable {
                             dt: shrunk,
@@ -135,7 +140,7 @@ impl TimeIntegrator for ImexAdaptive {
                 Err(
                     StepError::NewtonNotConverged { .. } | StepError::Inverted { .. } | StepError::NonFinite { .. },
                 ) => {
-                    h *= 0.25;
+                    h *= CONTROL.failure_shrink;
                 }
                 Err(e) => return Err(e),
             }

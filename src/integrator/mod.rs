@@ -11,8 +11,10 @@
 //! (eq. 17) and the shape equation Ḟ = A, Ȧ = vol(B₀)[P̃ − P]Θ⁻¹ (eq. 18), evaluated by
 //! [`crate::particle::dynamics`]. [`imex`] is the paper's discretisation (eqs. 19–22, §5);
 //! [`imex_adaptive`] the same step with error control; [`stokesian`] the inertialess limit
-//! Θ → 0 of eq. 18, advanced by [`radau5`] or [`rosenbrock`].
+//! Θ → 0 of eq. 18, advanced by [`radau5`] or [`rosenbrock`]. The adaptive schemes share their
+//! tolerances, step-controller limits and Jacobian-reuse rule through [`control`].
 
+pub mod control;
 pub mod dense;
 pub mod imex;
 pub mod imex_adaptive;
@@ -21,10 +23,10 @@ pub mod radau5;
 pub mod rosenbrock;
 pub mod stokesian;
 
+pub use control::{JacobianReuse, StepControl, Tolerances};
 pub use dense::Dense;
 pub use imex::ImexPaper;
 pub use imex_adaptive::ImexAdaptive;
-pub use rosenbrock::Tolerances;
 pub use stokesian::{BarycentreModel, Scheme, Stokesian};
 
 use crate::error::StepError;
@@ -98,7 +100,8 @@ pub trait TimeIntegrator: Send + Sync {
     /// `Default` is the memory of a fresh start.
     type Memory: Default + Clone + Send + Serialize + DeserializeOwned + std::fmt::Debug;
 
-    /// Short name used in datasets (e.g. `imex_paper`).
+    /// Short name of the scheme, as datasets and scene files spell it: `imex_paper`,
+    /// `imex_adaptive`, `radau_iia`, `rosenbrock_w23`.
     fn name(&self) -> &'static str;
 
     /// Advance `state` by `dt` (adaptive schemes may take less; see [`StepInfo::dt`]),

@@ -6,6 +6,7 @@
 //! [`super::imex`]; the paper reports quadratic convergence in about three iterations, which
 //! needs the Jacobian of P̃* as well as the material tangent.
 
+use super::control::JacobianReuse;
 use crate::error::{ParamError, StepError, positive};
 use crate::tensor::{Mat9, Vec9};
 use nalgebra::{Const, LU};
@@ -111,7 +112,7 @@ impl JacobianCache {
 /// (Ca 0.4, ρ* 0.1, Δt = 5e-4, 20 000 steps): ¼ keeps one Jacobian for 1 500 steps but needs
 /// 4.1 iterations per step, 1/20 builds 76 Jacobians at 2.8 iterations, 1/100 builds 318 at 2.1;
 /// 1/20 was the fastest.
-const KEPT_JACOBIAN_CONTRACTION: f64 = 0.05;
+pub const JACOBIAN_REUSE: JacobianReuse = JacobianReuse { contraction: 0.05 };
 
 /// Solve R(x) = 0 from `x0` with a Jacobian kept in `cache` across solves: the kept matrix is
 /// used as long as it contracts the residual by 20× per iteration, and rebuilt at the current
@@ -159,7 +160,7 @@ pub fn solve_cached(
         // Rebuild when there is none or the iteration contracts too slowly: a kept matrix at
         // once, a fresh one only after several slow iterations (the problem is then too
         // nonlinear for the Jacobian of the first iterate).
-        let slow = res > KEPT_JACOBIAN_CONTRACTION * previous;
+        let slow = !JACOBIAN_REUSE.keeps(res, previous);
         if cache.matrix.is_none() || (slow && (!fresh || iters >= 3)) {
             cache.set(jacobian(&x));
             fresh = true;

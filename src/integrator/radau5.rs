@@ -101,7 +101,7 @@
 //! [`super::rosenbrock`]: the callers need one accepted step per call with its work counts,
 //! step memory that checkpoints can hold, and static sizes for N = 12 or 15.
 
-use super::rosenbrock::Tolerances;
+use super::control::{JacobianReuse, StepControl, Tolerances};
 use crate::error::{StepError, finite, positive};
 use nalgebra::{Complex, Const, DimMin, Matrix3, SMatrix, SVector, Vector3};
 use serde::{Deserialize, Serialize};
@@ -147,24 +147,25 @@ const T_INV: [[f64; 3]; 3] = [
 
 /// Newton iterations per attempt (RADAU5's default).
 const NEWTON_MAX_ITERS: u32 = 7;
-/// Failed attempts per call before [`StepError::StepSizeUnderflow`].
-const MAX_REJECTIONS: u32 = 50;
-/// Keep the Jacobian for the next step while Newton contracts at least this fast (or needed at
-/// most two iterations).
-const THETA_REUSE_JACOBIAN: f64 = 1e-3;
+/// The step controller's limits (Hairer & Wanner, §IV.8): safety 0.9, h_new/h within
+/// [0.2, 8] (growth ≤ 8, shrink per error-test rejection ≥ 1/5), h/2 after a failed Newton
+/// solve or evaluation (RADAU5's "unexpected rejection"), 50 failed attempts per call before
+/// [`StepError::StepSizeUnderflow`].
+pub const CONTROL: StepControl = StepControl {
+    safety: 0.9,
+    accept: (0.2, 8.0),
+    reject: (0.2, 1.0),
+    failure_shrink: 0.5,
+    max_rejections: 50,
+};
+/// Keep the Jacobian for the next step while Newton's rate θ ≤ 10⁻³ (or it needed at most two
+/// iterations).
+pub const JACOBIAN_REUSE: JacobianReuse = JacobianReuse { contraction: 1e-3 };
 /// Contraction rate treated as divergence.
 const THETA_DIVERGED: f64 = 0.99;
 /// Newton's smoothed rate at which the step stops growing (module docs, "Newton's rate"):
 /// from θ = 0.1, seven iterations shrink an increment by 10⁻⁶, far below `fnewt`.
 const THETA_TARGET: f64 = 0.1;
-/// Safety factor of the step-size controller.
-const SAFETY: f64 = 0.9;
-/// Largest growth of h per step.
-const GROW_MAX: f64 = 8.0;
-/// Largest shrink of h per error-test rejection.
-const SHRINK_MAX: f64 = 0.2;
-/// Shrink after a failed Newton solve or a failed evaluation (RADAU5's "unexpected rejection").
-const SHRINK_FAILURE: f64 = 0.5;
 /// Shrink after a rejected first step (RADAU5: the initial h was a guess).
 const SHRINK_FIRST: f64 = 0.1;
 /// Floor of the error estimate in the controller (avoids err^{-1/4} = ∞).
@@ -436,7 +437,11 @@ where
         for (i, ci) in c.iter().enumerate() {
             match rhs.trial(work, t + ci * h, &(y + z.column(i)))? {
                 Some(fi) => f.set_column(i, &fi),
-                None => return Ok(Err(NewtonFailure { shrink: SHRINK_FAILURE })),
+                None => {
+                    return Ok(Err(NewtonFailure {
+                        shrink: CONTROL.failure_shrink,
+                    }));
+                }
             }
         }
         let g = f * t_inv;
@@ -448,12 +453,16 @@ where
             factors.solve_real(&b_real.into_owned()),
             factors.solve_complex(&b_complex),
         ) else {
-            return Ok(Err(NewtonFailure { shrink: SHRINK_FAILURE }));
+            return Ok(Err(NewtonFailure {
+                shrink: CONTROL.failure_shrink,
+            }));
         };
         let dw = SMatrix::<f64, N, 3>::from_columns(&[dw_real, dw_complex.map(|v| v.re), dw_complex.map(|v| v.im)]);
         let norm = rms(&dw, scale);
         if !norm.is_finite() {
-            return Ok(Err(NewtonFailure { shrink: SHRINK_FAILURE }));
+            return Ok(Err(NewtonFailure {
+                shrink: CONTROL.failure_shrink,
+            }));
         }
         // Whether this iteration may end Newton: not after a first quotient ≥ 1 (below).
         let mut may_stop = true;
@@ -468,7 +477,9 @@ where
                 // and judge the smoothed rate.
                 may_stop = false;
             } else if th >= THETA_DIVERGED {
-                return Ok(Err(NewtonFailure { shrink: SHRINK_FAILURE }));
+                return Ok(Err(NewtonFailure {
+                    shrink: CONTROL.failure_shrink,
+                }));
             } else {
                 eta = th / (1.0 - th);
             }
@@ -496,7 +507,9 @@ where
             }));
         }
     }
-    Ok(Err(NewtonFailure { shrink: SHRINK_FAILURE }))
+    Ok(Err(NewtonFailure {
+        shrink: CONTROL.failure_shrink,
+    }))
 }
 
 /// Take one accepted Radau IIA step from (t, y), trying `h` first.
@@ -559,7 +572,7 @@ where
     let mut rejected = 0;
     let mut err = f64::NAN;
     loop {
-        if h < tol.h_min() || rejected >= MAX_REJECTIONS {
+        if h < tol.h_min() || rejected >= CONTROL.max_rejections {
             return Err(StepError::StepSizeUnderflow { dt: h, t, error: err });
         }
         let fresh = jacobian_in_use.t == t && jacobian_in_use.y == *y;
@@ -568,7 +581,7 @@ where
             // Y_i ≈ u_old(t + c_i h) on the previous step's collocation polynomial, as far as
             // the controller itself would extrapolate: after a step clipped by the caller (to
             // an output time, say) the polynomial's round-off grows like (h/h_old)³.
-            Some(l) if h <= GROW_MAX * l.h => {
+            Some(l) if h <= CONTROL.accept.1 * l.h => {
                 let end = l.dense.increment(1.0);
                 let column = |c: f64| l.dense.increment(1.0 + c * h / l.h) - end;
                 SMatrix::<f64, N, 3>::from_columns(&[column(C1), column(C2), column(1.0)])
@@ -618,24 +631,30 @@ where
         // A NaN estimate is a failure, never an acceptance.
         if err.is_nan() {
             rejected += 1;
-            h *= SHRINK_FAILURE;
+            h *= CONTROL.failure_shrink;
             continue;
         }
         let err_c = err.max(ERR_FLOOR);
         let iters = f64::from(stages.iters);
         let k_max = f64::from(NEWTON_MAX_ITERS);
-        let fac = SAFETY.min(SAFETY * (1.0 + 2.0 * k_max) / (iters + 2.0 * k_max));
-        // quot = h/h_new, within [1/GROW_MAX, 1/SHRINK_MAX].
-        let mut quot = (err_c.powf(0.25) / fac).clamp(1.0 / GROW_MAX, 1.0 / SHRINK_MAX);
+        let safety = CONTROL.safety;
+        let fac = safety.min(safety * (1.0 + 2.0 * k_max) / (iters + 2.0 * k_max));
+        // quot = h/h_new, within [1/8, 5] (the accepted range, inverted).
+        let (quot_min, quot_max) = (1.0 / CONTROL.accept.1, 1.0 / CONTROL.accept.0);
+        let mut quot = (err_c.powf(0.25) / fac).clamp(quot_min, quot_max);
         if err > 1.0 {
             rejected += 1;
-            h *= if last.is_none() { SHRINK_FIRST } else { 1.0 / quot };
+            h *= if last.is_none() {
+                SHRINK_FIRST
+            } else {
+                (1.0 / quot).clamp(CONTROL.reject.0, CONTROL.reject.1)
+            };
             continue;
         }
         if let Some(l) = &last {
             // Gustafsson's predictive controller (Hairer & Wanner, §IV.8).
-            let gus = (l.h / h) * (err_c * err_c / l.err).powf(0.25) / SAFETY;
-            quot = quot.max(gus.clamp(1.0 / GROW_MAX, 1.0 / SHRINK_MAX));
+            let gus = (l.h / h) * (err_c * err_c / l.err).powf(0.25) / safety;
+            quot = quot.max(gus.clamp(quot_min, quot_max));
         }
         let mut h_next = h / quot;
         if let (true, Some(th)) = (stages.iters >= 3, stages.theta) {
@@ -650,7 +669,7 @@ where
         // Keep J while Newton needs at most two iterations or contracts fast (RADAU5's θ rule
         // with SciPy's two-iteration refinement, which halves the Jacobian evaluations on
         // Van der Pol and Robertson for a few per cent more evaluations of f).
-        jacobian_in_use.reusable = stages.iters <= 2 || stages.theta.is_none_or(|th| th <= THETA_REUSE_JACOBIAN);
+        jacobian_in_use.reusable = stages.iters <= 2 || stages.theta.is_none_or(|th| JACOBIAN_REUSE.keeps_rate(th));
         mem.jacobian = Some(jacobian_in_use);
         mem.last = Some(LastStep {
             t_end: t + h,

@@ -19,73 +19,23 @@
 //! Hand-written rather than taken from an ODE crate because the callers need per-step control
 //! (one accepted step per call with its work counts, per-particle memory, static sizes).
 
-use crate::error::{ParamError, StepError, positive};
+use super::control::{ErrorOrder, StepControl, Tolerances};
+use crate::error::{StepError, positive};
 use nalgebra::{Const, DimMin, SMatrix, SVector};
 
 const D: f64 = 0.292_893_218_813_452_5; // 1/(2+√2)
 const E32: f64 = 7.414_213_562_373_095; // 6+√2
 
-/// Rejected attempts allowed in one step; each at least halves h (18 decades in 60).
-pub const MAX_REJECTIONS: u32 = 60;
-
-/// Error-control settings of an adaptive integrator (validated: rtol, atol finite and > 0,
-/// 0 < h_min finite).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tolerances {
-    rtol: f64,
-    atol: f64,
-    h_min: f64,
-}
-
-impl Tolerances {
-    /// Relative and absolute tolerances and the smallest step before giving up with
-    /// [`StepError::StepSizeUnderflow`].
-    pub fn new(rtol: f64, atol: f64, h_min: f64) -> Result<Self, ParamError> {
-        Ok(Self {
-            rtol: positive("rtol", rtol)?,
-            atol: positive("atol", atol)?,
-            h_min: positive("h_min", h_min)?,
-        })
-    }
-
-    /// rtol = atol = `tol`, h_min = 1e-12.
-    pub fn uniform(tol: f64) -> Result<Self, ParamError> {
-        Self::new(tol, tol, 1e-12)
-    }
-
-    /// Relative tolerance.
-    pub fn rtol(&self) -> f64 {
-        self.rtol
-    }
-
-    /// Absolute tolerance.
-    pub fn atol(&self) -> f64 {
-        self.atol
-    }
-
-    /// Smallest step.
-    pub fn h_min(&self) -> f64 {
-        self.h_min
-    }
-
-    /// max_i |e_i| / (atol + rtol max(|y0_i|, |y1_i|)); NaN anywhere gives +∞ (a rejection).
-    pub fn scaled_error<const N: usize>(
-        &self,
-        err: &SVector<f64, N>,
-        y0: &SVector<f64, N>,
-        y1: &SVector<f64, N>,
-    ) -> f64 {
-        let mut worst = 0.0_f64;
-        for ((e, a), b) in err.iter().zip(y0.iter()).zip(y1.iter()) {
-            let s = e.abs() / (self.atol + self.rtol * a.abs().max(b.abs()));
-            if s.is_nan() {
-                return f64::INFINITY;
-            }
-            worst = worst.max(s);
-        }
-        worst
-    }
-}
+/// The step controller (err ∝ h³): h·clamp(0.8 err^{−1/3}, 0.2, 5) after an accepted step,
+/// h·clamp(0.8 err^{−1/3}, 0.1, 0.5) after a rejected one, h/4 after a failed attempt, and 60
+/// rejected attempts (each at least halves h: 18 decades).
+pub const CONTROL: StepControl = StepControl {
+    safety: 0.8,
+    accept: (0.2, 5.0),
+    reject: (0.1, 0.5),
+    failure_shrink: 0.25,
+    max_rejections: 60,
+};
 
 /// Outcome of one accepted adaptive step.
 pub struct Accepted<const N: usize, P> {
@@ -120,8 +70,8 @@ where
     Const<N>: DimMin<Const<N>, Output = Const<N>>,
 {
     let mut h = positive("h", h)?;
-    for rejected in 0..=MAX_REJECTIONS {
-        if h < tol.h_min {
+    for rejected in 0..=CONTROL.max_rejections {
+        if h < tol.h_min() {
             break;
         }
         let attempt = (|| {
@@ -143,25 +93,20 @@ where
         })();
         match attempt {
             Ok((y1, f_new, payload, err)) if err <= 1.0 => {
-                let grow: f64 = if err == 0.0 {
-                    5.0
-                } else {
-                    (0.8 * err.powf(-1.0 / 3.0)).clamp(0.2, 5.0)
-                };
                 return Ok(Accepted {
                     y: y1,
                     h,
-                    h_next: h * grow,
+                    h_next: h * CONTROL.grow(ErrorOrder::Three, err),
                     f_new,
                     payload,
                     rejected,
                 });
             }
-            Ok((_, _, _, err)) if err.is_finite() => {
-                h *= (0.8 * err.powf(-1.0 / 3.0_f64)).clamp(0.1, 0.5);
+            Ok((_, _, _, err)) => {
+                h *= CONTROL.shrink(ErrorOrder::Three, err);
             }
-            Ok(_) | Err(StepError::Inverted { .. }) | Err(StepError::NonFinite { .. }) => {
-                h *= 0.25;
+            Err(StepError::Inverted { .. }) | Err(StepError::NonFinite { .. }) => {
+                h *= CONTROL.failure_shrink;
             }
             Err(e) => return Err(e),
         }

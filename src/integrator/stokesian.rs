@@ -1,53 +1,37 @@
 //! Inertialess (Stokesian) shape dynamics with adaptive, L-stable stepping: Radau IIA of order 5
 //! ([`Scheme::Radau5`]) or a Rosenbrock-W pair of order 2(3) ([`Scheme::Rosenbrock23`]).
 //!
-//! # Physics (paper eq. 18 in the limit Θ → 0)
-//! For a micro-particle Θ ∝ ρ* is negligible and eq. 18 degenerates to the balance P̃ = P,
-//! i.e. σ̃(l_s) = σ_el(F) with σ_el = P Fᵀ/J. With tr l_s = 0 (incompressible particle) this is
-//! the 9×9 linear system of [`InertialessSolver`], and the shape evolves by Ḟ = l_s(F) F.
-//! The barycentre is either inertial, m v̇ = m a_G + μ_f K̂(u − v), ẋ = v, or overdamped
-//! (St → 0), ẋ = u + (μ_f K̂/m)⁻¹ a_G.
+//! # Physics (paper eq. 18 in the limit Θ → 0, eq. 17)
+//! The model's equations, y′ = f(t, y) for y = (F, x, v) with the balance σ̃(l_s) = σ_el(F),
+//! Ḟ = l_s F and an inertial or overdamped barycentre, and their Jacobian are
+//! [`crate::particle::inertialess`]; this module only advances them.
 //!
 //! # Scheme
-//! The state y = (F, x, v) ∈ ℝ¹⁵ is advanced by Radau IIA(5) ([`super::radau5`]) or by the
-//! L-stable Rosenbrock-W 2(3) pair ([`super::rosenbrock`]). Radau's order does not depend on the
-//! Jacobian (only its Newton convergence does), which matters here because the Jacobian below
-//! is approximate; the Rosenbrock-W pair keeps its order 2 with an approximate Jacobian by
-//! construction, and a higher-order Rosenbrock method (Rodas) would not. The Jacobian is exact
-//! (num-dual tangent of W) in the elastic
-//! response and freezes the principal frame and integrals of the hydrodynamic operator for
-//! the step; the W-method keeps order 2 with such an approximation (tested).
+//! The state y ∈ ℝ¹⁵ is advanced by Radau IIA(5) ([`super::radau5`]) or by the L-stable
+//! Rosenbrock-W 2(3) pair ([`super::rosenbrock`]). Radau's order does not depend on the
+//! Jacobian (only its Newton convergence does), which matters here because the model's
+//! Jacobian is approximate (exact in the elastic response, with the principal frame and
+//! integrals of the hydrodynamic operator frozen for the step); the Rosenbrock-W pair keeps
+//! its order 2 with such an approximate Jacobian by construction (tested), and a higher-order
+//! Rosenbrock method (Rodas) would not.
 //!
 //! Stiffness: the elastic relaxation rate is ~μ_s/μ_f = 1/Ca, the drag rate 1/τ_D; both are
 //! handled implicitly, so Δt follows accuracy, not ρ*.
-//!
-//! [`InertialessSolver`]: crate::hydro::InertialessSolver
 
+use super::control::Tolerances;
 use super::dense::{Dense, Knot};
 use super::radau5::{self, RadauMemory};
-use super::rosenbrock::{self, Tolerances};
+use super::rosenbrock;
 use super::{Step, StepInfo, TimeIntegrator};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
-use crate::hydro::{DragModel, InertialessSolver};
-use crate::material::{Hyperelastic, Response};
+use crate::hydro::DragModel;
+use crate::material::Response;
+pub use crate::particle::inertialess::BarycentreModel;
+use crate::particle::inertialess::{InertialessRate, InertialessState as Y, pack, unpack};
 use crate::particle::{Model, Particle, State};
-use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, nearest_rotation, vec9};
-use nalgebra::{SMatrix, SVector};
+use crate::tensor::nearest_rotation;
 use serde::{Deserialize, Serialize};
-
-type Y = SVector<f64, 15>;
-type Jac = SMatrix<f64, 15, 15>;
-
-/// How the barycentre moves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum BarycentreModel {
-    /// m v̇ = m a_G + μ_f K̂ (u − v), ẋ = v.
-    #[default]
-    Inertial,
-    /// St → 0: ẋ = u + (μ_f K̂/m)⁻¹ a_G; v is reported as that velocity.
-    Overdamped,
-}
 
 /// The time-stepping scheme of [`Stokesian`].
 ///
@@ -79,6 +63,16 @@ pub enum Scheme {
     Radau5,
     /// Shampine's Rosenbrock-W 2(3) (`ode23s`), two model evaluations per accepted step.
     Rosenbrock23,
+}
+
+impl Scheme {
+    /// The scheme's name in datasets and scene files: `radau_iia` or `rosenbrock_w23`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Scheme::Radau5 => "radau_iia",
+            Scheme::Rosenbrock23 => "rosenbrock_w23",
+        }
+    }
 }
 
 /// Adaptive inertialess integrator. The shape response is the particle's: elastic for a
@@ -118,129 +112,12 @@ impl Stokesian {
     }
 }
 
-fn pack(f: &Mat3, x: &Vec3, v: &Vec3) -> Y {
-    let mut y = Y::zeros();
-    y.fixed_rows_mut::<9>(0).copy_from(&vec9(f));
-    y.fixed_rows_mut::<3>(9).copy_from(x);
-    y.fixed_rows_mut::<3>(12).copy_from(v);
-    y
-}
-
-fn unpack(y: &Y) -> (Mat3, Vec3, Vec3) {
-    (
-        mat3(&y.fixed_rows::<9>(0).into_owned()),
-        y.fixed_rows::<3>(9).into_owned(),
-        y.fixed_rows::<3>(12).into_owned(),
-    )
-}
-
-/// Everything the right-hand side computes at one state.
-#[derive(Debug, Clone)]
-pub(crate) struct Evaluation {
-    f_dot: Mat3,
-    l_s: Mat3,
-    x_dot: Vec3,
-    v_dot: Vec3,
-    drag_rate: Mat3,
-    l_f: Mat3,
-    /// `None` in the rigid limit.
-    solver: Option<InertialessSolver>,
-}
-
-/// The right-hand side of the inertialess model at (t, y): one model evaluation.
-pub(crate) fn evaluate<M: Response, D: DragModel, F: FlowField + ?Sized>(
-    model: &Model<M, D, F>,
-    barycentre: BarycentreModel,
-    t: f64,
-    y: &Y,
-) -> Result<Evaluation, StepError> {
-    let (f, x, v) = unpack(y);
-    let geo = model.geometry(&f, t)?;
-    let sample = model.sample(&x, t)?;
-    let (l_s, solver) = model.inertialess_rate(&geo, &f, &sample.grad_u, t)?;
-    let forcing = model.forcing(&geo, f.determinant(), &sample, &v, t)?;
-    let (x_dot, v_dot) = match barycentre {
-        BarycentreModel::Inertial => (v, forcing.acceleration(&sample.u, &v)),
-        BarycentreModel::Overdamped => (
-            model.overdamped_velocity(&geo, f.determinant(), &sample, &forcing, t)?,
-            Vec3::zeros(),
-        ),
-    };
-    Ok(Evaluation {
-        f_dot: l_s * f,
-        l_s,
-        x_dot,
-        v_dot,
-        drag_rate: forcing.drag_rate,
-        l_f: sample.grad_u,
-        solver,
-    })
-}
-
-pub(crate) fn rhs_vector(e: &Evaluation) -> Y {
-    pack(&e.f_dot, &e.x_dot, &e.v_dot)
-}
-
-/// W-method Jacobian: exact elastic part, frozen hydrodynamic operator, linear-flow coupling.
-pub(crate) fn jacobian<M: Response, D: DragModel, F: FlowField + ?Sized>(
-    model: &Model<M, D, F>,
-    barycentre: BarycentreModel,
-    y: &Y,
-    e: &Evaluation,
-) -> Jac {
-    model.count_jacobian();
-    let (f, _, _) = unpack(y);
-    let mut jac = Jac::zeros();
-    barycentre_jacobian(&mut jac, barycentre, e);
-    let Some(solver) = &e.solver else {
-        // Rigid: d(W_s F) ≈ W_s dF with the spin frozen over the step (W-method).
-        for q in 0..9 {
-            let mut df = Mat3::zeros();
-            df[q] = 1.0;
-            jac.fixed_view_mut::<9, 1>(0, q).copy_from(&vec9(&(e.l_s * df)));
-        }
-        return jac;
-    };
-    let Some(law) = model.particle.elastic() else {
-        unreachable!("an evaluation with an inertialess solver belongs to an elastic particle")
-    };
-    let det_f = f.determinant();
-    let p = law.piola(&f);
-    let sigma = p * f.transpose() / det_f;
-    let tangent = law.tangent(&f);
-    let f_inv_t = inv_transpose(&f);
-    for q in 0..9 {
-        let mut df = Mat3::zeros();
-        df[q] = 1.0;
-        let dp = mat3(&tangent.column(q).into_owned());
-        // δσ = (δP Fᵀ + P δFᵀ)/J − σ tr(F⁻¹δF)
-        let d_sigma = (dp * f.transpose() + p * df.transpose()) / det_f - sigma * f_inv_t[q];
-        let dl_s = solver.velocity_gradient_increment(&d_sigma);
-        jac.fixed_view_mut::<9, 1>(0, q)
-            .copy_from(&vec9(&(dl_s * f + e.l_s * df)));
-    }
-    jac
-}
-
-fn barycentre_jacobian(jac: &mut Jac, model: BarycentreModel, e: &Evaluation) {
-    match model {
-        BarycentreModel::Inertial => {
-            jac.fixed_view_mut::<3, 3>(9, 12).copy_from(&Mat3::identity());
-            jac.fixed_view_mut::<3, 3>(12, 9).copy_from(&(e.drag_rate * e.l_f));
-            jac.fixed_view_mut::<3, 3>(12, 12).copy_from(&(-e.drag_rate));
-        }
-        BarycentreModel::Overdamped => {
-            jac.fixed_view_mut::<3, 3>(9, 9).copy_from(&e.l_f);
-        }
-    }
-}
-
 /// Step memory of [`Stokesian`]: the evaluation at the last accepted state (first same as
 /// last), keyed by (t, y). A pure cache of a function of (t, y): a checkpoint need not store it.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct StokesianMemory {
     #[serde(skip)]
-    last: Option<(f64, Y, Evaluation)>,
+    last: Option<(f64, Y, InertialessRate)>,
     /// Radau's Jacobian, controller history and starting-value polynomial (not a cache: it
     /// changes the next step, so checkpoints keep it).
     radau: RadauMemory<15>,
@@ -250,10 +127,7 @@ impl TimeIntegrator for Stokesian {
     type Memory = StokesianMemory;
 
     fn name(&self) -> &'static str {
-        match self.scheme {
-            Scheme::Radau5 => "stokesian_radau5",
-            Scheme::Rosenbrock23 => "stokesian",
-        }
+        self.scheme.name()
     }
 
     fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
@@ -271,15 +145,16 @@ impl TimeIntegrator for Stokesian {
         let y0 = pack(&state.f, &state.x, &state.v);
         let e0 = match memory.last.take() {
             Some((t, y, e)) if t == state.t && y == y0 => e,
-            _ => evaluate(&model, barycentre, state.t, &y0)?,
+            _ => model.inertialess(barycentre, state.t, &y0)?,
         };
-        let f0 = rhs_vector(&e0);
-        let eval = |t: f64, y: &Y| evaluate(&model, barycentre, t, y);
+        let f0 = e0.vector();
+        let eval = |t: f64, y: &Y| model.inertialess(barycentre, t, y);
+        let jacobian = |y: &Y, e: &InertialessRate| model.inertialess_jacobian(barycentre, y, e);
         let acc = match self.scheme {
             Scheme::Rosenbrock23 => {
-                let jac = jacobian(&model, barycentre, &y0, &e0);
+                let jac = jacobian(&y0, &e0);
                 rosenbrock::step(state.t, &y0, &f0, &jac, dt, self.tol, |t, y| {
-                    eval(t, y).map(|e| (rhs_vector(&e), e))
+                    eval(t, y).map(|e| (e.vector(), e))
                 })?
             }
             Scheme::Radau5 => {
@@ -293,14 +168,14 @@ impl TimeIntegrator for Stokesian {
                         if t == state.t && *y == y0 {
                             Ok(f0)
                         } else {
-                            eval(t, y).map(|e| rhs_vector(&e))
+                            eval(t, y).map(|e| e.vector())
                         }
                     },
                     |t, y| {
                         if t == state.t && *y == y0 {
-                            Ok(jacobian(&model, barycentre, y, &e0))
+                            Ok(jacobian(y, &e0))
                         } else {
-                            eval(t, y).map(|e| jacobian(&model, barycentre, y, &e))
+                            eval(t, y).map(|e| jacobian(y, &e))
                         }
                     },
                 )?;
@@ -311,7 +186,7 @@ impl TimeIntegrator for Stokesian {
                     y: step.y,
                     h: step.h,
                     h_next: step.h_next,
-                    f_new: rhs_vector(&e1),
+                    f_new: e1.vector(),
                     payload: e1,
                     rejected: step.rejected,
                 }
@@ -344,9 +219,9 @@ impl TimeIntegrator for Stokesian {
         }
         let start = Knot {
             x: state.x,
-            x_dot: e0.x_dot,
+            x_dot: e0.x_dot(),
             f: state.f,
-            f_dot: e0.f_dot,
+            f_dot: e0.f_dot(),
         };
         let end = Knot { x, x_dot, f, f_dot: a };
         Ok(Step {

@@ -256,7 +256,10 @@ impl<M: Response, D: DragModel> Particle<M, D> {
         f * self.s
     }
 
-    /// Geometry (frame, integrals, traction coefficients) of the shape with deformation F.
+    /// Geometry (frame, integrals, traction coefficients) of the shape with deformation F, for
+    /// analysis outside a step. Not counted: inside a step use
+    /// [`Model::geometry`](super::Model::geometry), which counts the model evaluation and refuses
+    /// det F ≤ 0.
     pub fn geometry(&self, f: &Mat3) -> Geometry {
         Geometry::of_total_distortion(&self.total_distortion(f))
     }

@@ -105,8 +105,6 @@ where
         };
         let contact = ContactEvent::new(self.boundary, &particle, self.flow, self.contact);
         let mut memory = I::Memory::default();
-        let mut stats = RunStats::default();
-        let mut last = start;
         let mut samples = Vec::new();
         let result = integrate(
             self.integrator,
@@ -121,17 +119,9 @@ where
                     samples.push(*s);
                 }
             },
-            |step| {
-                stats.steps += 1;
-                stats.rejected += u64::from(step.info.rejected);
-                stats.rhs_evals += u64::from(step.info.rhs_evals);
-                stats.jac_evals += u64::from(step.info.jac_evals);
-                stats.newton_iters += u64::from(step.info.newton_iters);
-                stats.max_newton_iters = stats.max_newton_iters.max(step.info.newton_iters);
-                last = step.state;
-            },
+            |_| {},
         );
-        let (fate, end) = match result {
+        let (fate, end, stats) = match result {
             Ok(out) => {
                 let fate = match out.stop {
                     Stop::EndTime => Fate::Suspended,
@@ -150,13 +140,14 @@ where
                         }
                     }
                 };
-                (fate, out.state)
+                (fate, out.state, out.stats)
             }
-            Err(e) => (
+            Err(failure) => (
                 Fate::Failed {
-                    error: failure_text(&e),
+                    error: failure_text(&failure.error),
                 },
-                last,
+                failure.state,
+                failure.stats,
             ),
         };
         ParticleRecord {

@@ -231,7 +231,7 @@ impl BendCase {
         );
         let _ = writeln!(
             s,
-            "[integrator]\ntype = \"stokesian\"\ntol = {:e}\ndt = 1e-6",
+            "[integrator]\ntype = \"radau_iia\"\ntol = {:e}\ndt = 1e-6",
             settings.tol
         );
         let _ = writeln!(s, "[end]\nt_end = {:e}", settings.residence_times * self.residence_time);

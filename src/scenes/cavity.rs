@@ -58,7 +58,7 @@ use crate::integrator::{BarycentreModel, ImexAdaptive, Scheme, Stokesian, TimeIn
 use crate::material::{LawFactory, NeoHookeLaw};
 use crate::particle::{Fluid, Particle, State};
 pub use crate::scenes::particles::Shape;
-use crate::scenes::particles::{ParticleModel, Response, Softness};
+use crate::scenes::particles::{Deformability, ParticleModel, SceneResponse};
 use crate::tensor::{Mat3, Vec3, sym};
 use serde::Serialize;
 use std::sync::Arc;
@@ -108,7 +108,7 @@ pub fn fig15_fig16_releases() -> Vec<Release> {
         .flat_map(|&shape| {
             [0.001, 0.25, 0.5, 0.75].map(|ca| Release {
                 shape,
-                softness: Softness::Elastic { ca },
+                softness: Deformability::Elastic { ca },
             })
         })
         .collect()
@@ -141,16 +141,16 @@ impl Contact {
 pub struct Release {
     /// Initial shape.
     pub shape: Shape,
-    /// Softness.
-    pub softness: Softness,
+    /// Deformability.
+    pub softness: Deformability,
 }
 
 impl Release {
     /// Capillary number, or `None` for the rigid limit.
     pub fn ca(&self) -> Option<f64> {
         match self.softness {
-            Softness::Rigid => None,
-            Softness::Elastic { ca } => Some(ca),
+            Deformability::Rigid => None,
+            Deformability::Elastic { ca } => Some(ca),
         }
     }
 }
@@ -357,7 +357,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         self.shear_rate
     }
 
-    fn particle(&self, release: &Release) -> Result<Particle<Response<L>, D>, SceneError> {
+    fn particle(&self, release: &Release) -> Result<Particle<SceneResponse<L>, D>, SceneError> {
         let shape = release.shape.ellipsoid(D_EQ, Mat3::identity())?;
         // The inertial runs are error-controlled, so they resolve what the traction does to the
         // volume mode: the literal eq. 12 anti-damps dilation (see
@@ -403,7 +403,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         dt_out: f64,
     ) -> Result<CavityRun, SceneError> {
         let model = match (self.shape_model, release.softness) {
-            (ShapeModel::Inertial, Softness::Elastic { .. }) => ShapeModel::Inertial,
+            (ShapeModel::Inertial, Deformability::Elastic { .. }) => ShapeModel::Inertial,
             _ => ShapeModel::Inertialess,
         };
         match model {

@@ -123,3 +123,11 @@ pub enum SceneError {
         gap: f64,
     },
 }
+
+/// A failed run inside a scene is reported by its cause: a scene's results carry their own
+/// statistics.
+impl From<crate::driver::RunFailure> for SceneError {
+    fn from(failure: crate::driver::RunFailure) -> Self {
+        Self::Step(failure.error)
+    }
+}

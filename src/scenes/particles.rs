@@ -113,9 +113,11 @@ impl Shape {
     }
 }
 
-/// Softness of one release.
+/// How a release deforms: the rigid limit Ca → 0, or an elastic solid with capillary number
+/// Ca (the scene-level choice that [`ParticleModel::response`] turns into a particle's
+/// [`material::Softness`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub enum Softness {
+pub enum Deformability {
     /// The rigid limit Ca → 0: Jeffery spin and rigid-body drag, no elasticity.
     Rigid,
     /// Elastic solid with Ca = μ_f γ̇₀/μ_s at the scene's reference shear rate γ̇₀.
@@ -125,13 +127,13 @@ pub enum Softness {
     },
 }
 
-impl Softness {
+impl Deformability {
     /// Rigid for Ca = 0, elastic otherwise (Ca finite and > 0).
     pub fn from_ca(ca: f64) -> Result<Self, ParamError> {
         if ca == 0.0 {
-            Ok(Softness::Rigid)
+            Ok(Deformability::Rigid)
         } else {
-            Ok(Softness::Elastic {
+            Ok(Deformability::Elastic {
                 ca: positive("Ca", ca)?,
             })
         }
@@ -140,14 +142,15 @@ impl Softness {
     /// Ca, with 0 for the rigid limit (how datasets label it).
     pub fn ca(&self) -> f64 {
         match self {
-            Softness::Rigid => 0.0,
-            Softness::Elastic { ca } => *ca,
+            Deformability::Rigid => 0.0,
+            Deformability::Elastic { ca } => *ca,
         }
     }
 }
 
-/// The shape response of a scene's particles under a law family `L`.
-pub type Response<L> = material::Softness<<L as LawFactory>::Law>;
+/// The shape response ([`material::Response`]) of a scene's particles under a law family `L`:
+/// rigid, or elastic with `L`'s law.
+pub type SceneResponse<L> = material::Softness<<L as LawFactory>::Law>;
 
 /// Law family, drag model and bulk ratio of a study's particles.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -185,10 +188,10 @@ impl<L: LawFactory, D: DragModel + Clone> ParticleModel<L, D> {
 
     /// The shape response of `softness` when Ca is defined with the stress scale
     /// μ_f γ̇₀ = `stress_scale`: μ_s = μ_f γ̇₀/Ca, λ_s = bulk ratio · μ_s.
-    pub fn response(&self, softness: Softness, stress_scale: f64) -> Result<Response<L>, ParamError> {
+    pub fn response(&self, softness: Deformability, stress_scale: f64) -> Result<SceneResponse<L>, ParamError> {
         Ok(match softness {
-            Softness::Rigid => material::Softness::Rigid,
-            Softness::Elastic { ca } => {
+            Deformability::Rigid => material::Softness::Rigid,
+            Deformability::Elastic { ca } => {
                 let mu_s = positive("stress scale", stress_scale)? / positive("Ca", ca)?;
                 material::Softness::Elastic(self.law.law(mu_s, self.bulk_ratio * mu_s)?)
             }
@@ -199,11 +202,11 @@ impl<L: LawFactory, D: DragModel + Clone> ParticleModel<L, D> {
     pub fn particle(
         &self,
         shape: Ellipsoid,
-        softness: Softness,
+        softness: Deformability,
         stress_scale: f64,
         fluid: Fluid,
         rho_solid: f64,
-    ) -> Result<Particle<Response<L>, D>, ParamError> {
+    ) -> Result<Particle<SceneResponse<L>, D>, ParamError> {
         Particle::with_drag(
             shape,
             self.response(softness, stress_scale)?,

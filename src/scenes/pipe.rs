@@ -13,7 +13,7 @@ pub mod setup;
 pub mod study;
 pub mod tracking;
 
-pub use crate::scenes::particles::{Shape, Softness};
+pub use crate::scenes::particles::{Deformability, Shape};
 pub use setup::{PipeFlowData, PipeParticleData, PipeScene};
 pub use study::{PipeCase, deposition_study, orientation_study};
 pub use tracking::{Deposition, PipeSample, ShapeStats, sample_orientation, track_to_deposition};

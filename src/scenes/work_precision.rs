@@ -68,10 +68,10 @@ pub enum Setting {
     ImexPaper(f64),
     /// `imex_adaptive` with tolerance.
     ImexAdaptive(f64),
-    /// `stokesian` (Rosenbrock-W 2(3), overdamped barycentre) with tolerance.
-    Stokesian(f64),
-    /// `stokesian_radau5` (Radau IIA order 5, overdamped barycentre) with tolerance.
-    Radau5(f64),
+    /// `rosenbrock_w23` (Rosenbrock-W 2(3), overdamped barycentre) with tolerance.
+    RosenbrockW23(f64),
+    /// `radau_iia` (Radau IIA order 5, overdamped barycentre) with tolerance.
+    RadauIia(f64),
     /// `rigid` with tolerance.
     Rigid(f64),
     /// The SciPy peer, `solve_ivp(method="Radau")` at rtol = atol = tolerance.
@@ -86,8 +86,8 @@ impl Setting {
         match self {
             Setting::ImexPaper(_) => "imex_paper",
             Setting::ImexAdaptive(_) => "imex_adaptive",
-            Setting::Stokesian(_) => "stokesian",
-            Setting::Radau5(_) => "stokesian_radau5",
+            Setting::RosenbrockW23(_) => Scheme::Rosenbrock23.name(),
+            Setting::RadauIia(_) => Scheme::Radau5.name(),
             Setting::Rigid(_) => "rigid",
             Setting::ScipyRadau(_) => PeerMethod::Radau.integrator(),
             Setting::ScipyLsoda(_) => PeerMethod::Lsoda.integrator(),
@@ -98,8 +98,8 @@ impl Setting {
         match *self {
             Setting::ImexPaper(v)
             | Setting::ImexAdaptive(v)
-            | Setting::Stokesian(v)
-            | Setting::Radau5(v)
+            | Setting::RosenbrockW23(v)
+            | Setting::RadauIia(v)
             | Setting::Rigid(v)
             | Setting::ScipyRadau(v)
             | Setting::ScipyLsoda(v) => v,
@@ -125,15 +125,15 @@ pub fn sweep(case: Case) -> Vec<Setting> {
         .map(|d| Setting::ImexPaper(RHO_STAR / d))
         .collect();
     s.extend([1e-3, 1e-4, 1e-5, 1e-6].map(Setting::ImexAdaptive));
-    s.extend(DECADES.map(Setting::Stokesian));
-    s.extend(DECADES.map(Setting::Radau5));
+    s.extend(DECADES.map(Setting::RosenbrockW23));
+    s.extend(DECADES.map(Setting::RadauIia));
     if case == Case::Jeffery {
         s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::Rigid));
     }
     if has_peer(case) {
         // Two more decades so the library's curve spans the error levels of the ratio table.
-        s.extend([1e-10, 1e-11].map(Setting::Stokesian));
-        s.extend([1e-10, 1e-11].map(Setting::Radau5));
+        s.extend([1e-10, 1e-11].map(Setting::RosenbrockW23));
+        s.extend([1e-10, 1e-11].map(Setting::RadauIia));
         // Down to an error of ≈ 1e-10 (Radau at 1e-10, LSODA at 1e-12 on the oblate case), so
         // the peer's curves span the 1e-4 … 1e-9 error levels of the ratio table.
         s.extend([1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::ScipyRadau));
@@ -224,14 +224,14 @@ fn trajectory(case: Case, setting: Setting) -> Result<(Vec<State>, RunStats, f64
             .1
         }
         Setting::ImexAdaptive(tol) => drive(&ImexAdaptive::new(tol)?, &p, s0, &times, observe)?,
-        Setting::Stokesian(tol) => drive(
+        Setting::RosenbrockW23(tol) => drive(
             &Stokesian::overdamped(tol)?.with_scheme(Scheme::Rosenbrock23),
             &p,
             s0,
             &times,
             observe,
         )?,
-        Setting::Radau5(tol) => drive(
+        Setting::RadauIia(tol) => drive(
             &Stokesian::overdamped(tol)?.with_scheme(Scheme::Radau5),
             &p,
             s0,
@@ -363,14 +363,14 @@ pub fn error_floor(case: Case, reference: Option<&[State]>) -> Result<f64, Scene
 
 /// A tight inertialess run of the oblate case (the reference for [`Case::Oblate`]).
 ///
-/// `stokesian_radau5` at 1e-13. The Rosenbrock 2(3) reference used before (1e-13,
+/// `radau_iia` at 1e-13. The Rosenbrock 2(3) reference used before (1e-13,
 /// ≈ 2.4·10⁵ steps) sat ≈ 1.7e-8 from the converged F: every Radau run from 1e-7 down and the
 /// peer's tightest runs all stopped at that floor. Radau's global error falls about as fast as
 /// its tolerance here (3.4e-5, 3.7e-6, 3.5e-7 at 1e-4, 1e-5, 1e-6), so this run is ≈ 1e-12 from
 /// the converged F; [`error_floor`] measures it against the SciPy peer (≈ 5e-12, the size of
 /// the peer's own dense-output error).
 pub fn oblate_reference() -> Result<Vec<State>, SceneError> {
-    Ok(trajectory(Case::Oblate, Setting::Radau5(1e-13))?.0)
+    Ok(trajectory(Case::Oblate, Setting::RadauIia(1e-13))?.0)
 }
 
 /// Work needed by `integrator` to reach `error` in `case`, by log-log interpolation between
@@ -482,12 +482,12 @@ mod tests {
         let wall = |e: f64| 1e-3 * e.powf(-0.5);
         let records: Vec<Record> = [1e-2, 1e-4, 1e-6]
             .iter()
-            .map(|&e| record(Setting::Stokesian(e), e, wall(e), (10.0 / e) as u64))
+            .map(|&e| record(Setting::RosenbrockW23(e), e, wall(e), (10.0 / e) as u64))
             .collect();
-        let (evals, w) = work_at_error(&records, Case::Oblate, "stokesian", 3e-5).unwrap();
+        let (evals, w) = work_at_error(&records, Case::Oblate, "rosenbrock_w23", 3e-5).unwrap();
         assert!((w / wall(3e-5) - 1.0).abs() < 1e-12, "{w} vs {}", wall(3e-5));
         assert!((evals / (10.0 / 3e-5) - 1.0).abs() < 1e-12, "{evals}");
-        assert_eq!(work_at_error(&records, Case::Oblate, "stokesian", 1e-7), None);
+        assert_eq!(work_at_error(&records, Case::Oblate, "rosenbrock_w23", 1e-7), None);
         assert_eq!(work_at_error(&records, Case::Oblate, "rigid", 1e-4), None);
     }
 
@@ -497,8 +497,8 @@ mod tests {
     #[test]
     fn peer_ratios_pick_the_fastest_library_integrator() {
         let records = vec![
-            record(Setting::Stokesian(1e-3), 1e-3, 1.0, 1),
-            record(Setting::Stokesian(1e-9), 1e-9, 1.0, 1),
+            record(Setting::RosenbrockW23(1e-3), 1e-3, 1.0, 1),
+            record(Setting::RosenbrockW23(1e-9), 1e-9, 1.0, 1),
             record(Setting::Rigid(1e-3), 1e-3, 0.1, 1),
             record(Setting::Rigid(1e-9), 1e-9, 10.0, 1),
             record(Setting::ScipyRadau(1e-3), 1e-3, 100.0, 1),

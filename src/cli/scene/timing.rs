@@ -41,20 +41,19 @@ impl Builder<'_> {
                     .map(SceneIntegrator::ImexAdaptive)
                     .map_err(|e| self.param(span, "integrator.tol", e))
             }
-            IntegratorKind::Stokesian | IntegratorKind::StokesianRadau5 | IntegratorKind::StokesianRosenbrock23 => {
-                let (t, span) = tol("stokesian")?;
+            IntegratorKind::RadauIia | IntegratorKind::RosenbrockW23 => {
+                let scheme = if spec.kind == IntegratorKind::RadauIia {
+                    Scheme::Radau5
+                } else {
+                    Scheme::Rosenbrock23
+                };
+                let (t, span) = tol(scheme.name())?;
                 let made = if spec.overdamped {
                     Stokesian::overdamped(t)
                 } else {
                     Stokesian::new(t)
                 };
-                // `stokesian` keeps the library's default scheme.
-                let scheme = match spec.kind {
-                    IntegratorKind::StokesianRadau5 => Some(Scheme::Radau5),
-                    IntegratorKind::StokesianRosenbrock23 => Some(Scheme::Rosenbrock23),
-                    _ => None,
-                };
-                made.map(|s| SceneIntegrator::Stokesian(scheme.map_or(s, |scheme| s.with_scheme(scheme))))
+                made.map(|s| SceneIntegrator::Stokesian(s.with_scheme(scheme)))
                     .map_err(|e| self.param(span, "integrator.tol", e))
             }
         }

@@ -27,7 +27,7 @@ use crate::hydro::{Brenner, DragModel};
 use crate::integrator::{BarycentreModel, Scheme, Stokesian};
 use crate::material::{self, Hyperelastic, LawFactory, NeoHooke};
 use crate::particle::{Fluid, Particle, State};
-use crate::scenes::particles::{ParticleModel, Shape, Softness};
+use crate::scenes::particles::{Deformability, ParticleModel, Shape};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -126,14 +126,14 @@ pub struct PipeScene<M = NeoHooke, D = Brenner> {
     pub flow: Poiseuille,
     /// The pipe wall (radius R/d_eq).
     pub wall: PipeWall,
-    /// The particle: elastic, or rigid for [`Softness::Rigid`].
+    /// The particle: elastic, or rigid for [`Deformability::Rigid`].
     pub particle: Particle<material::Softness<M>, D>,
     /// Physical flow data it was scaled from.
     pub flow_data: PipeFlowData,
     /// Physical particle data it was scaled from.
     pub particle_data: PipeParticleData,
-    /// Softness it was built with.
-    pub softness: Softness,
+    /// Deformability it was built with.
+    pub softness: Deformability,
     /// Release point x₀ (d_eq).
     pub release: Vec3,
     /// Length unit d_eq (m).
@@ -145,7 +145,7 @@ pub struct PipeScene<M = NeoHooke, D = Brenner> {
 impl PipeScene {
     /// Scale the physical set-up with the paper's particle model (Neo-Hooke, Brenner drag); the
     /// long axis r₁ starts along e₁, r₂ along e₂, r₃ along e₃.
-    pub fn new(flow: PipeFlowData, particle: PipeParticleData, softness: Softness) -> Result<Self, ParamError> {
+    pub fn new(flow: PipeFlowData, particle: PipeParticleData, softness: Deformability) -> Result<Self, ParamError> {
         Self::with_model(flow, particle, softness, &ParticleModel::default())
     }
 
@@ -155,7 +155,7 @@ impl PipeScene {
         Self::new(
             PipeFlowData::tian_cui(),
             PipeParticleData::tian_cui(Shape::Prolate(lambda1)),
-            Softness::from_ca(ca)?,
+            Deformability::from_ca(ca)?,
         )
     }
 }
@@ -165,7 +165,7 @@ impl<M: Hyperelastic, D: DragModel> PipeScene<M, D> {
     pub fn with_model<L: LawFactory<Law = M>>(
         flow: PipeFlowData,
         particle: PipeParticleData,
-        softness: Softness,
+        softness: Deformability,
         model: &ParticleModel<L, D>,
     ) -> Result<Self, ParamError>
     where

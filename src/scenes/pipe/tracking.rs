@@ -180,7 +180,6 @@ pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
     let mut monitor = Monitor::new(&scene.particle, &scene.flow, &scene.wall);
     monitor.observe(&state);
     let mut next_record = record_dt;
-    let mut rejected = 0;
     let mut memory = I::Memory::default();
     let plan = Plan::new(t_max, dt0)?;
     let end = integrate(
@@ -193,7 +192,6 @@ pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
         &[&contact],
         |_| {},
         |step| {
-            rejected += u64::from(step.info.rejected);
             shape.add(&frame(&step.state), step.state.t);
             monitor.observe(&step.state);
             if step.state.t >= next_record {
@@ -208,7 +206,7 @@ pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
             Ok(Deposition {
                 samples,
                 steps: end.stats.steps,
-                rejected,
+                rejected: end.stats.rejected,
                 shape,
                 validity: monitor.validity(),
             })

@@ -1,0 +1,160 @@
+//! Step-size and Jacobian control shared by the adaptive schemes: the tolerances and the
+//! smallest step ([`Tolerances`]), the step controller's limits and its rejection cap
+//! ([`StepControl`]), and when a Jacobian is kept ([`JacobianReuse`]).
+//!
+//! # Physics
+//! None: these settings decide how finely the model's equations are resolved, never what they
+//! say.
+//!
+//! # The controllers
+//! [`super::rosenbrock`] and [`super::imex_adaptive`] use the elementary controller
+//! ```math
+//! h_\text{new} = h \cdot \operatorname{clamp}\!\left(s\,\mathrm{err}^{-1/q},\ \phi_{\min},\ \phi_{\max}\right)
+//! ```
+//! with err the scaled local error estimate (accepted for err ≤ 1), s the safety factor and q
+//! the order in h of that estimate ([`ErrorOrder`]): the accepted step grows within
+//! [`StepControl::accept`], a rejected one shrinks within [`StepControl::reject`], and a failed
+//! attempt (Newton, an inverted or non-finite trial state) shrinks by
+//! [`StepControl::failure_shrink`]. [`super::radau5`] applies Hairer's controller with
+//! Gustafsson's predictive step and a safety factor reduced for slow Newton (see its module
+//! docs) within the same kind of limits. Each scheme's limits are its published or
+//! measured values, given once in its module as a `StepControl` constant; the arithmetic of
+//! each formula is kept exactly as the schemes always computed it, so step sequences (and
+//! every dataset) are bitwise those of the separate controllers this module replaces.
+
+use crate::error::{ParamError, positive};
+use nalgebra::SVector;
+
+/// Error-control settings of an adaptive integrator (validated: rtol, atol finite and > 0,
+/// 0 < h_min finite).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    rtol: f64,
+    atol: f64,
+    h_min: f64,
+}
+
+impl Tolerances {
+    /// Relative and absolute tolerances and the smallest step before giving up with
+    /// [`crate::error::StepError::StepSizeUnderflow`].
+    pub fn new(rtol: f64, atol: f64, h_min: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            rtol: positive("rtol", rtol)?,
+            atol: positive("atol", atol)?,
+            h_min: positive("h_min", h_min)?,
+        })
+    }
+
+    /// rtol = atol = `tol`, h_min = 1e-12.
+    pub fn uniform(tol: f64) -> Result<Self, ParamError> {
+        Self::new(tol, tol, 1e-12)
+    }
+
+    /// Relative tolerance.
+    pub fn rtol(&self) -> f64 {
+        self.rtol
+    }
+
+    /// Absolute tolerance.
+    pub fn atol(&self) -> f64 {
+        self.atol
+    }
+
+    /// Smallest step.
+    pub fn h_min(&self) -> f64 {
+        self.h_min
+    }
+
+    /// max_i |e_i| / (atol + rtol max(|y0_i|, |y1_i|)); NaN anywhere gives +∞ (a rejection).
+    pub fn scaled_error<const N: usize>(
+        &self,
+        err: &SVector<f64, N>,
+        y0: &SVector<f64, N>,
+        y1: &SVector<f64, N>,
+    ) -> f64 {
+        let mut worst = 0.0_f64;
+        for ((e, a), b) in err.iter().zip(y0.iter()).zip(y1.iter()) {
+            let s = e.abs() / (self.atol + self.rtol * a.abs().max(b.abs()));
+            if s.is_nan() {
+                return f64::INFINITY;
+            }
+            worst = worst.max(s);
+        }
+        worst
+    }
+}
+
+/// Order q of a local error estimate, err ∝ h^q: the elementary controller's exponent is 1/q.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorOrder {
+    /// err ∝ h² (a first-order scheme's estimate; exponent ½, evaluated as s/√err).
+    Two,
+    /// err ∝ h³ (a second-order scheme's estimate; exponent ⅓, evaluated as s·err^{−1/3}).
+    Three,
+}
+
+/// Limits of a step controller: the factor h_new/h after an accepted step, after a rejected
+/// one and after a failed attempt, and the number of rejected attempts allowed in one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepControl {
+    /// Safety factor s.
+    pub safety: f64,
+    /// Range of h_new/h after an accepted step (the upper end also for err = 0).
+    pub accept: (f64, f64),
+    /// Range of h_new/h after a rejection by the error test.
+    pub reject: (f64, f64),
+    /// h_new/h after a failed attempt (Newton, an inverted or non-finite trial state).
+    pub failure_shrink: f64,
+    /// Rejected attempts allowed in one step before
+    /// [`crate::error::StepError::StepSizeUnderflow`].
+    pub max_rejections: u32,
+}
+
+impl StepControl {
+    /// s·err^{−1/q}, unclamped (err > 0).
+    fn factor(&self, order: ErrorOrder, err: f64) -> f64 {
+        match order {
+            ErrorOrder::Two => self.safety / err.sqrt(),
+            ErrorOrder::Three => self.safety * err.powf(-1.0 / 3.0),
+        }
+    }
+
+    /// Elementary controller: h_new/h after an accepted step with scaled error `err` ≤ 1.
+    pub fn grow(&self, order: ErrorOrder, err: f64) -> f64 {
+        if err == 0.0 {
+            self.accept.1
+        } else {
+            self.factor(order, err).clamp(self.accept.0, self.accept.1)
+        }
+    }
+
+    /// Elementary controller: h_new/h after a rejected step with scaled error `err` > 1; a
+    /// non-finite error counts as a failed attempt.
+    pub fn shrink(&self, order: ErrorOrder, err: f64) -> f64 {
+        if err.is_finite() {
+            self.factor(order, err).clamp(self.reject.0, self.reject.1)
+        } else {
+            self.failure_shrink
+        }
+    }
+}
+
+/// When a Newton Jacobian is kept: while the iteration contracts at least by `contraction`
+/// per iteration (|Δ_{k+1}| ≤ contraction·|Δ_k|, or a measured rate θ ≤ contraction).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JacobianReuse {
+    /// Largest contraction factor per iteration with which the Jacobian is kept.
+    pub contraction: f64,
+}
+
+impl JacobianReuse {
+    /// Whether an iteration that took a norm from `old` to `new` keeps the Jacobian.
+    pub fn keeps(&self, new: f64, old: f64) -> bool {
+        new <= self.contraction * old
+    }
+
+    /// Whether a measured contraction rate `theta` keeps the Jacobian.
+    pub fn keeps_rate(&self, theta: f64) -> bool {
+        theta <= self.contraction
+    }
+}

@@ -1,0 +1,185 @@
+//! The inertialess model's equations: the right-hand side y′ = f(t, y) of the state
+//! y = (F, x, v) ∈ ℝ¹⁵ and its (W-method) Jacobian, which [`crate::integrator::Stokesian`]
+//! advances by Radau IIA or Rosenbrock-W. Part of the model's equations beside
+//! [`super::dynamics`], whose pieces it assembles.
+//!
+//! # Physics (paper eq. 18 in the limit Θ → 0, eq. 17)
+//! For a micro-particle Θ ∝ ρ* is negligible and eq. 18 degenerates to the balance P̃ = P,
+//! i.e. σ̃(l_s) = σ_el(F) with σ_el = P Fᵀ/J; with tr l_s = 0 (incompressible particle) this
+//! is the 9×9 linear system of [`InertialessSolver`], and the shape evolves by Ḟ = l_s(F) F
+//! ([`Model::inertialess_rate`]). A rigid particle spins with Jeffery's torque-free rate. The
+//! barycentre is either inertial (eq. 17), v̇ = a_G + R(u − v), ẋ = v, or overdamped (St → 0),
+//! ẋ = u + R⁻¹a_G, with the drag rate R = μ_f K̂/m ([`BarycentreModel`]).
+//!
+//! # Jacobian
+//! Exact in the elastic response and frozen in the hydrodynamic operator: with the principal
+//! frame, the integrals and the factorised operator of σ̃ held at the evaluation point,
+//! ```math
+//! \delta\sigma_\text{el} = \frac{\delta P\,F^T + P\,\delta F^T}{J} - \sigma_\text{el}\,\operatorname{tr}(F^{-1}\delta F),
+//! \qquad \delta\dot F = \delta l_s\,F + l_s\,\delta F,
+//! ```
+//! with δP from the material tangent and δl_s from [`InertialessSolver`]; for a rigid particle
+//! the spin is frozen, δḞ = l_s δF. The barycentre block is ∂ẋ/∂v = 1, ∂v̇/∂x = R l_f,
+//! ∂v̇/∂v = −R (inertial) or ∂ẋ/∂x = l_f (overdamped). Radau IIA's order does not depend on the
+//! Jacobian and the Rosenbrock-W pair keeps its order with such an approximation
+//! ([`crate::integrator::stokesian`]).
+//!
+//! [`InertialessSolver`]: crate::hydro::InertialessSolver
+
+use super::dynamics::Model;
+use crate::error::StepError;
+use crate::flow::FlowField;
+use crate::hydro::{DragModel, InertialessSolver};
+use crate::material::{Hyperelastic, Response};
+use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, vec9};
+use nalgebra::{SMatrix, SVector};
+
+/// The inertialess state y = (vec F, x, v).
+pub type InertialessState = SVector<f64, 15>;
+/// ∂f/∂y of the inertialess right-hand side.
+pub type InertialessJacobian = SMatrix<f64, 15, 15>;
+
+/// How the barycentre moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BarycentreModel {
+    /// m v̇ = m a_G + μ_f K̂ (u − v), ẋ = v.
+    #[default]
+    Inertial,
+    /// St → 0: ẋ = u + (μ_f K̂/m)⁻¹ a_G; v is reported as that velocity.
+    Overdamped,
+}
+
+/// y = (vec F, x, v).
+pub fn pack(f: &Mat3, x: &Vec3, v: &Vec3) -> InertialessState {
+    let mut y = InertialessState::zeros();
+    y.fixed_rows_mut::<9>(0).copy_from(&vec9(f));
+    y.fixed_rows_mut::<3>(9).copy_from(x);
+    y.fixed_rows_mut::<3>(12).copy_from(v);
+    y
+}
+
+/// (F, x, v) of y (or (Ḟ, ẋ, v̇) of y′).
+pub fn unpack(y: &InertialessState) -> (Mat3, Vec3, Vec3) {
+    (
+        mat3(&y.fixed_rows::<9>(0).into_owned()),
+        y.fixed_rows::<3>(9).into_owned(),
+        y.fixed_rows::<3>(12).into_owned(),
+    )
+}
+
+/// Everything the right-hand side computes at one state, kept for the Jacobian there.
+#[derive(Debug, Clone)]
+pub struct InertialessRate {
+    f_dot: Mat3,
+    l_s: Mat3,
+    x_dot: Vec3,
+    v_dot: Vec3,
+    drag_rate: Mat3,
+    l_f: Mat3,
+    /// `None` in the rigid limit.
+    solver: Option<InertialessSolver>,
+}
+
+impl InertialessRate {
+    /// y′ = (vec Ḟ, ẋ, v̇).
+    pub fn vector(&self) -> InertialessState {
+        pack(&self.f_dot, &self.x_dot, &self.v_dot)
+    }
+
+    /// Ḟ = l_s F.
+    pub fn f_dot(&self) -> Mat3 {
+        self.f_dot
+    }
+
+    /// ẋ.
+    pub fn x_dot(&self) -> Vec3 {
+        self.x_dot
+    }
+}
+
+impl<M: Response, D: DragModel, F: FlowField + ?Sized> Model<'_, M, D, F> {
+    /// The inertialess right-hand side at (t, y): one model evaluation.
+    pub fn inertialess(
+        &self,
+        barycentre: BarycentreModel,
+        t: f64,
+        y: &InertialessState,
+    ) -> Result<InertialessRate, StepError> {
+        let (f, x, v) = unpack(y);
+        let geo = self.geometry(&f, t)?;
+        let sample = self.sample(&x, t)?;
+        let (l_s, solver) = self.inertialess_rate(&geo, &f, &sample.grad_u, t)?;
+        let forcing = self.forcing(&geo, f.determinant(), &sample, &v, t)?;
+        let (x_dot, v_dot) = match barycentre {
+            BarycentreModel::Inertial => (v, forcing.acceleration(&sample.u, &v)),
+            BarycentreModel::Overdamped => (
+                self.overdamped_velocity(&geo, f.determinant(), &sample, &forcing, t)?,
+                Vec3::zeros(),
+            ),
+        };
+        Ok(InertialessRate {
+            f_dot: l_s * f,
+            l_s,
+            x_dot,
+            v_dot,
+            drag_rate: forcing.drag_rate,
+            l_f: sample.grad_u,
+            solver,
+        })
+    }
+
+    /// W-method Jacobian at y from the evaluation `e` there (module docs): exact elastic part,
+    /// frozen hydrodynamic operator, linear-flow coupling of the barycentre. Counted.
+    pub fn inertialess_jacobian(
+        &self,
+        barycentre: BarycentreModel,
+        y: &InertialessState,
+        e: &InertialessRate,
+    ) -> InertialessJacobian {
+        self.count_jacobian();
+        let (f, _, _) = unpack(y);
+        let mut jac = InertialessJacobian::zeros();
+        barycentre_jacobian(&mut jac, barycentre, e);
+        let Some(solver) = &e.solver else {
+            // Rigid: d(W_s F) ≈ W_s dF with the spin frozen over the step (W-method).
+            for q in 0..9 {
+                let mut df = Mat3::zeros();
+                df[q] = 1.0;
+                jac.fixed_view_mut::<9, 1>(0, q).copy_from(&vec9(&(e.l_s * df)));
+            }
+            return jac;
+        };
+        let Some(law) = self.particle.elastic() else {
+            unreachable!("an evaluation with an inertialess solver belongs to an elastic particle")
+        };
+        let det_f = f.determinant();
+        let p = law.piola(&f);
+        let sigma = p * f.transpose() / det_f;
+        let tangent = law.tangent(&f);
+        let f_inv_t = inv_transpose(&f);
+        for q in 0..9 {
+            let mut df = Mat3::zeros();
+            df[q] = 1.0;
+            let dp = mat3(&tangent.column(q).into_owned());
+            // δσ = (δP Fᵀ + P δFᵀ)/J − σ tr(F⁻¹δF)
+            let d_sigma = (dp * f.transpose() + p * df.transpose()) / det_f - sigma * f_inv_t[q];
+            let dl_s = solver.velocity_gradient_increment(&d_sigma);
+            jac.fixed_view_mut::<9, 1>(0, q)
+                .copy_from(&vec9(&(dl_s * f + e.l_s * df)));
+        }
+        jac
+    }
+}
+
+fn barycentre_jacobian(jac: &mut InertialessJacobian, model: BarycentreModel, e: &InertialessRate) {
+    match model {
+        BarycentreModel::Inertial => {
+            jac.fixed_view_mut::<3, 3>(9, 12).copy_from(&Mat3::identity());
+            jac.fixed_view_mut::<3, 3>(12, 9).copy_from(&(e.drag_rate * e.l_f));
+            jac.fixed_view_mut::<3, 3>(12, 12).copy_from(&(-e.drag_rate));
+        }
+        BarycentreModel::Overdamped => {
+            jac.fixed_view_mut::<3, 3>(9, 9).copy_from(&e.l_f);
+        }
+    }
+}
