@@ -109,8 +109,19 @@ fn bench_force_terms(c: &mut Criterion) {
             .map(|t| by_name(t, if *t == "cunningham" { &lambda } else { &none }).unwrap())
             .collect();
         let p = p.with_forces(ForceTerms::new(built).unwrap()).unwrap();
-        let shape = if semi_axes[0] == semi_axes[2] { "sphere" } else { "oblate" };
-        let name = format!("imex_paper_{shape}_{}", if terms.is_empty() { "none".into() } else { terms.join("+") });
+        let shape = if semi_axes[0] == semi_axes[2] {
+            "sphere"
+        } else {
+            "oblate"
+        };
+        let name = format!(
+            "imex_paper_{shape}_{}",
+            if terms.is_empty() {
+                "none".into()
+            } else {
+                terms.join("+")
+            }
+        );
         bench_particle(&mut g, &name, &ImexPaper::default(), &p, s0, &flow, 5e-4);
     }
     g.finish();

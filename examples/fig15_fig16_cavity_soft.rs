@@ -34,7 +34,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cavity = cavity.with_forces(fluid_inertia()?);
     }
     let terms = if with_fluid_inertia { "_fluid_inertia" } else { "" };
-    let path = |stem: &str, ext: &str| pseudorigid::output::paper_figure_path("fig15_fig16", &format!("{stem}{terms}.{ext}"));
+    let path =
+        |stem: &str, ext: &str| pseudorigid::output::paper_figure_path("fig15_fig16", &format!("{stem}{terms}.{ext}"));
     let releases = fig15_fig16_releases();
     let runs = releases
         .par_iter()

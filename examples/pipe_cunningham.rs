@@ -21,14 +21,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let d_eq = scene.length_unit;
                 if slip {
                     let c = Cunningham::new(MEAN_FREE_PATH / d_eq)?;
-                    scene.particle = scene.particle.clone().with_forces(ForceTerms::new(vec![Arc::new(c)])?)?;
+                    scene.particle = scene
+                        .particle
+                        .clone()
+                        .with_forces(ForceTerms::new(vec![Arc::new(c)])?)?;
                 }
                 let integ = scene.integrator(1e-7)?;
                 let t_max = 20.0 * scene.sphere_settling_time();
                 let dep = track_to_deposition(&scene, &integ, 1e-3, t_max, f64::INFINITY)?;
                 out.push((dep.distance() * d_eq, dep.contact().t * scene.time_unit));
             }
-            println!("lambda1 {lambda1} ca {ca}: x1_dep {:.4} m -> {:.4} m (ratio {:.4}); t {:.3} s -> {:.3} s", out[0].0, out[1].0, out[1].0 / out[0].0, out[0].1, out[1].1);
+            println!(
+                "lambda1 {lambda1} ca {ca}: x1_dep {:.4} m -> {:.4} m (ratio {:.4}); t {:.3} s -> {:.3} s",
+                out[0].0,
+                out[1].0,
+                out[1].0 / out[0].0,
+                out[0].1,
+                out[1].1
+            );
         }
     }
     Ok(())

@@ -50,10 +50,10 @@
 //! the scenes report their inertialess runs with [`Validity::inertialess`]).
 
 use crate::contact::{Boundary, Extent, Unbounded};
+use crate::ellipsoid::EllipsoidIntegrals;
 use crate::ellipsoid::PrincipalFrame;
 use crate::flow::FlowField;
 use crate::flow::analytic::LinearFlow;
-use crate::ellipsoid::EllipsoidIntegrals;
 use crate::hydro::DragModel;
 use crate::hydro::forces::{
     AddedMass, Cunningham, HolzerSommerfeld, SaffmanMei, SchillerNaumann, UndisturbedFlow, added_mass,
@@ -152,7 +152,11 @@ pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -
         Cunningham::new(lambda).map_or(0.0, |c| c.correction(d_eq) - 1.0)
     };
     Omitted {
-        added_mass: if off(AddedMass::NAME) { fluid.rho / particle.rho_solid() * k_max } else { 0.0 },
+        added_mass: if off(AddedMass::NAME) {
+            fluid.rho / particle.rho_solid() * k_max
+        } else {
+            0.0
+        },
         cunningham: if off(Cunningham::NAME) && gas { slip() } else { 0.0 },
         ..Omitted::default()
     }
@@ -374,7 +378,9 @@ where
             o.schiller_naumann = o.schiller_naumann.max(SchillerNaumann::factor(re_slip) - 1.0);
         }
         if !self.carries.saffman_mei {
-            o.saffman_mei = o.saffman_mei.max(1.615 / (3.0 * std::f64::consts::PI) * re_shear.sqrt());
+            o.saffman_mei = o
+                .saffman_mei
+                .max(1.615 / (3.0 * std::f64::consts::PI) * re_shear.sqrt());
         }
     }
 

@@ -749,13 +749,19 @@ vtk = false
     let with = fall((rho_p + 0.5 * rho_f) * d * d / (18.0 * mu));
     let paper = fall(rho_p * d * d / (18.0 * mu));
     let z = -out.records[0].end.as_ref().unwrap().x[2];
-    assert!((z - with).abs() <= 1e-4 * with, "fell {z:e}, Maxey–Riley {with:e}, paper {paper:e}");
+    assert!(
+        (z - with).abs() <= 1e-4 * with,
+        "fell {z:e}, Maxey–Riley {with:e}, paper {paper:e}"
+    );
     assert!((paper - with).abs() > 0.03 * with);
     let slip = parse_text(&text(r#"[{ term = "cunningham", mean_free_path = 6.65e-8 }]"#));
     assert!(slip.is_ok(), "{:?}", slip.err());
     for (forces, key) in [
         (r#"["added_mass", "basset"]"#, "particles.forces[1]"),
-        (r#"[{ term = "cunningham", mean_free_pth = 6.65e-8 }]"#, "particles.forces[0]"),
+        (
+            r#"[{ term = "cunningham", mean_free_pth = 6.65e-8 }]"#,
+            "particles.forces[0]",
+        ),
     ] {
         match parse_text(&text(forces)) {
             Err(CliError::Scene { key: k, .. }) => assert_eq!(k, key),
@@ -792,9 +798,18 @@ fn scenes_are_warned_about_the_force_terms_their_numbers_need() {
     };
     let cavity = advice(text(1e-3, 1000.0, 1000.5, 3e-3, ""));
     assert_eq!(cavity.len(), 2, "{cavity:?}");
-    assert!(cavity[0].contains("`undisturbed_flow`") && cavity[1].contains("`added_mass`"), "{cavity:?}");
+    assert!(
+        cavity[0].contains("`undisturbed_flow`") && cavity[1].contains("`added_mass`"),
+        "{cavity:?}"
+    );
     assert!(cavity[1].contains("49.98 %"), "{cavity:?}");
-    let with_terms = advice(text(1e-3, 1000.0, 1000.5, 3e-3, r#"forces = ["undisturbed_flow", "added_mass"]"#));
+    let with_terms = advice(text(
+        1e-3,
+        1000.0,
+        1000.5,
+        3e-3,
+        r#"forces = ["undisturbed_flow", "added_mass"]"#,
+    ));
     assert!(with_terms.is_empty(), "{with_terms:?}");
     let aerosol = advice(text(1.81e-5, 1.2, 1000.0, 1e-6, ""));
     assert_eq!(aerosol.len(), 1, "{aerosol:?}");

@@ -62,7 +62,10 @@ fn monitor_reports_hand_computed_maxima_and_flags() {
     // 0.15 Re_s^0.687 and Saffman's 1.615/(3π) Re_γ^{1/2}.
     assert_eq!(v.omitted.undisturbed_flow, 0.0);
     assert!(close(v.omitted.schiller_naumann, 0.15 * 2f64.powf(0.687)));
-    assert!(close(v.omitted.saffman_mei, 1.615 / (3.0 * std::f64::consts::PI) * 0.4f64.sqrt()));
+    assert!(close(
+        v.omitted.saffman_mei,
+        1.615 / (3.0 * std::f64::consts::PI) * 0.4f64.sqrt()
+    ));
     assert_eq!(v.omitted.cunningham, 0.0, "a liquid has no gas slip");
     // 0.4 and 2 cross 0.1; r₁/ℓ_w = 0.079 and r₁/ℓ_u = 0.032 do not; then the terms above 1 %.
     assert_eq!(

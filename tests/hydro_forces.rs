@@ -60,7 +60,11 @@ fn added_mass_coefficients_equal_lambs() {
         let k = added_mass::coefficients(&EllipsoidIntegrals::try_new(&r).unwrap());
         for i in 0..3 {
             let quad = k_of(lamb_quadrature(&r, i));
-            assert!((k[i] / quad - 1.0).abs() < 1e-10, "{r:?} axis {i}: {} vs quadrature {quad}", k[i]);
+            assert!(
+                (k[i] / quad - 1.0).abs() < 1e-10,
+                "{r:?} axis {i}: {} vs quadrature {quad}",
+                k[i]
+            );
         }
         let (prolate, oblate) = (r[1] == 1.0 && r[2] == 1.0, r[0] == 1.0 && r[1] == 1.0);
         if r == Vec3::repeat(1.0) {
@@ -91,7 +95,11 @@ fn added_mass_tensor_rotates_with_the_particle() {
     for i in 0..3 {
         let axis = q.transpose() * Vec3::ith(i, 1.0);
         let along = axis.dot(&(m_a * axis));
-        assert!((along / (m_f * k[i]) - 1.0).abs() < 1e-12, "axis {i}: {along} vs {}", m_f * k[i]);
+        assert!(
+            (along / (m_f * k[i]) - 1.0).abs() < 1e-12,
+            "axis {i}: {along} vs {}",
+            m_f * k[i]
+        );
     }
 }
 
@@ -137,7 +145,10 @@ fn settling_from_rest_with_added_mass() {
         let t_tau = rows.iter().find(|r| r.t >= case.response_time()).unwrap();
         let paper_tau = case.rho_p * case.d * case.d / (18.0 * case.mu);
         let paper = case.terminal_velocity() * -(-t_tau.t / paper_tau).exp_m1();
-        assert!((paper - t_tau.v_exact).abs() > 10.0 * bound, "{case:?}: the cases must tell the models apart");
+        assert!(
+            (paper - t_tau.v_exact).abs() > 10.0 * bound,
+            "{case:?}: the cases must tell the models apart"
+        );
     }
 }
 
@@ -189,7 +200,11 @@ fn neutrally_buoyant_sphere_in_solid_body_rotation() {
     let with = sphere_in_water(1000.0, 1e-4, fluid_inertia());
     let (_, end) = follow(&with, &flow, x0, t_end);
     let r = |s: &State| s.x.xy().norm();
-    assert!((r(&end) / x0.norm() - 1.0).abs() < 1e-6, "with fluid inertia: r = {}", r(&end));
+    assert!(
+        (r(&end) / x0.norm() - 1.0).abs() < 1e-6,
+        "with fluid inertia: r = {}",
+        r(&end)
+    );
 
     let without = sphere_in_water(1000.0, 1e-4, vec![]);
     let (half, end) = follow(&without, &flow, x0, t_end);
@@ -226,7 +241,15 @@ fn neutrally_buoyant_sphere_in_a_stagnation_flow() {
 /// Terminal velocity of a sphere reached by integration (t = 40τ: the transient is e^{−40}).
 fn terminal(p: &Particle<Rigid>, tau: f64) -> f64 {
     let integ = Stokesian::new(1e-12).unwrap();
-    let (end, _) = advance(&integ, p, State::at_rest(Vec3::zeros()), &Quiescent, 1e-3 * tau, 40.0 * tau).unwrap();
+    let (end, _) = advance(
+        &integ,
+        p,
+        State::at_rest(Vec3::zeros()),
+        &Quiescent,
+        1e-3 * tau,
+        40.0 * tau,
+    )
+    .unwrap();
     -end.v[2]
 }
 
@@ -275,13 +298,19 @@ fn schiller_naumann_terminal_velocity() {
     }
     let exact = 0.5 * (lo + hi);
     let terms: Vec<Arc<dyn ForceTerm>> = vec![Arc::new(SchillerNaumann), Arc::new(AddedMass)];
-    let p = sphere_in_water(rho_p, d, terms).with_gravity(Vec3::new(0.0, 0.0, -g)).unwrap();
+    let p = sphere_in_water(rho_p, d, terms)
+        .with_gravity(Vec3::new(0.0, 0.0, -g))
+        .unwrap();
     let tau = (rho_p + 0.5 * rho_f) * d * d / (18.0 * mu);
     let v = terminal(&p, tau);
     assert!((v / exact - 1.0).abs() < 1e-8, "inertial: {v} vs {exact}");
     let integ = Stokesian::overdamped(1e-12).unwrap();
     let (end, _) = advance(&integ, &p, State::at_rest(Vec3::zeros()), &Quiescent, 1e-3, 1e-2).unwrap();
-    assert!((-end.v[2] / exact - 1.0).abs() < 1e-8, "overdamped: {} vs {exact}", -end.v[2]);
+    assert!(
+        (-end.v[2] / exact - 1.0).abs() < 1e-8,
+        "overdamped: {} vs {exact}",
+        -end.v[2]
+    );
 }
 
 /// Saffman (1965): |f| = 6.46 μ a² |w| √(γ/ν) for a sphere of radius a slipping with w along a
@@ -293,7 +322,10 @@ fn saffman_lift_in_simple_shear() {
     let r = Vec3::repeat(a);
     let frame = PrincipalFrame::from_total_distortion(&Mat3::from_diagonal(&r));
     let ints = EllipsoidIntegrals::new(&frame.r);
-    let flow = LinearFlow::simple_shear(gamma).unwrap().sample(&Vec3::zeros(), 0.0).unwrap();
+    let flow = LinearFlow::simple_shear(gamma)
+        .unwrap()
+        .sample(&Vec3::zeros(), 0.0)
+        .unwrap();
     let w = 5e-6;
     // The sphere lags the fluid (u − v = +w e_x); the flow is faster at larger y.
     let ctx = context(&frame, &ints, mu, rho, Vec3::new(-w, 0.0, 0.0), &flow);
@@ -318,7 +350,13 @@ fn light_sphere_with_added_mass_rises_stably() {
     };
     let rows = settle(&case, 6, 1e-12).unwrap();
     for r in rows {
-        assert!((r.v_numeric - r.v_exact).abs() <= 1e-9, "t = {}: {} vs {}", r.t, r.v_numeric, r.v_exact);
+        assert!(
+            (r.v_numeric - r.v_exact).abs() <= 1e-9,
+            "t = {}: {} vs {}",
+            r.t,
+            r.v_numeric,
+            r.v_exact
+        );
     }
 }
 
@@ -345,12 +383,27 @@ fn empty_terms_are_the_papers_model() {
 fn force_terms_by_name() {
     let none = BTreeMap::new();
     let lambda = BTreeMap::from([("mean_free_path".to_string(), 6.65e-8)]);
-    for name in pseudorigid::hydro::forces::names() {
-        let params = if *name == "cunningham" { &lambda } else { &none };
-        assert_eq!(by_name(name, params).unwrap().name(), *name);
+    let names = pseudorigid::hydro::forces::names();
+    assert_eq!(
+        names,
+        [
+            "added_mass",
+            "cunningham",
+            "holzer_sommerfeld",
+            "saffman_mei",
+            "schiller_naumann",
+            "undisturbed_flow"
+        ]
+    );
+    for name in names {
+        let params = if name == "cunningham" { &lambda } else { &none };
+        assert_eq!(by_name(name, params).unwrap().name(), name);
     }
     assert!(matches!(by_name("basset", &none), Err(ParamError::Unknown { .. })));
-    assert!(matches!(by_name("added_mass", &lambda), Err(ParamError::Unknown { .. })));
+    assert!(matches!(
+        by_name("added_mass", &lambda),
+        Err(ParamError::Unknown { .. })
+    ));
     assert!(by_name("cunningham", &none).is_err());
     let twice: Vec<Arc<dyn ForceTerm>> = vec![Arc::new(AddedMass), Arc::new(AddedMass)];
     assert!(ForceTerms::new(twice).is_err());
@@ -429,7 +482,9 @@ fn holzer_sommerfeld_sphere_limit_and_shapes() {
     let ints = EllipsoidIntegrals::new(&frame.r);
     let factor = |slip: Vec3| {
         let flow = FlowSample::steady(slip, Mat3::zeros());
-        HolzerSommerfeld.contribution(&context(&frame, &ints, 1e-3, 1000.0, Vec3::zeros(), &flow)).drag_factor
+        HolzerSommerfeld
+            .contribution(&context(&frame, &ints, 1e-3, 1000.0, Vec3::zeros(), &flow))
+            .drag_factor
     };
     let (along, across) = (factor(Vec3::new(1e-2, 0.0, 0.0)), factor(Vec3::new(0.0, 1e-2, 0.0)));
     assert!(1.0 < along && along < across, "{along} {across}");

@@ -243,14 +243,18 @@ impl<'a, M: Response, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
             return forcing.overdamped_velocity(&sample.u, t);
         }
         let mut v = sample.u;
-        let mut next = self.forcing(geo, det_f, sample, &v, t)?.overdamped_velocity(&sample.u, t)?;
+        let mut next = self
+            .forcing(geo, det_f, sample, &v, t)?
+            .overdamped_velocity(&sample.u, t)?;
         let mut change = (next - v).norm();
         for _ in 0..MAX_SLIP_ITERATIONS {
             if change <= SLIP_TOLERANCE * (next - sample.u).norm() {
                 return Ok(next);
             }
             v = next;
-            next = self.forcing(geo, det_f, sample, &v, t)?.overdamped_velocity(&sample.u, t)?;
+            next = self
+                .forcing(geo, det_f, sample, &v, t)?
+                .overdamped_velocity(&sample.u, t)?;
             change = (next - v).norm();
         }
         Err(StepError::SlipNotConverged {

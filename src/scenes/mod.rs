@@ -34,11 +34,11 @@
 pub mod bend;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 pub mod bifurcation;
-pub mod forces;
 #[cfg(feature = "mesh")]
 pub mod cavity;
 #[cfg(feature = "mesh")]
 pub mod cavity_benchmark;
+pub mod forces;
 pub mod particles;
 pub mod phase_boundary;
 pub mod phase_map;

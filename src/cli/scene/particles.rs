@@ -47,7 +47,8 @@ impl Builder<'_> {
             let key = format!("particles.forces[{i}]");
             terms.push(forces::by_name(name, parameters).map_err(|e| self.param(entry.span(), &key, e))?);
         }
-        ForceTerms::new(terms).map_err(|e| self.param(entries.last().map_or(0..0, Spanned::span), "particles.forces", e))
+        ForceTerms::new(terms)
+            .map_err(|e| self.param(entries.last().map_or(0..0, Spanned::span), "particles.forces", e))
     }
 
     /// The solid density of an entry or group: its own `density` (`key`), else

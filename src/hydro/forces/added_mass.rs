@@ -18,9 +18,12 @@
 //! deforms (a deformation added inertia) is not included: it is of the order of
 //! M_a |v − u| |l_s| against the drag, which the validity monitor can estimate.
 
-use super::{Contribution, ForceContext, ForceTerm};
+use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
 use crate::ellipsoid::EllipsoidIntegrals;
+use crate::error::ParamError;
 use crate::tensor::{Mat3, Vec3};
+use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// Added mass with the ellipsoid's tensor (module docs).
 #[derive(Debug, Clone, Copy, Default)]
@@ -53,5 +56,17 @@ impl ForceTerm for AddedMass {
             force: added_mass * ctx.flow.material_acceleration(),
             ..Contribution::default()
         }
+    }
+}
+
+fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
+    no_parameters(AddedMass::NAME, parameters)?;
+    Ok(Arc::new(AddedMass))
+}
+
+inventory::submit! {
+    Registration {
+        name: AddedMass::NAME,
+        build,
     }
 }

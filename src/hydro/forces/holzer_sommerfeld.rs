@@ -25,10 +25,13 @@
 //! The factor is scalar: the correlation gives the drag's size along the slip, not a tensor,
 //! which is the usual reading of it (and exact for a sphere).
 
-use super::{Contribution, ForceContext, ForceTerm};
+use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
 use crate::ellipsoid::integrals::{carlson_rd, carlson_rf};
+use crate::error::ParamError;
 use crate::tensor::Vec3;
+use std::collections::BTreeMap;
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// Hölzer–Sommerfeld drag correction (module docs).
 #[derive(Debug, Clone, Copy, Default)]
@@ -81,5 +84,17 @@ impl ForceTerm for HolzerSommerfeld {
             drag_factor: Self::factor(ctx.reynolds(), phi, phi_cross),
             ..Contribution::default()
         }
+    }
+}
+
+fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
+    no_parameters(HolzerSommerfeld::NAME, parameters)?;
+    Ok(Arc::new(HolzerSommerfeld))
+}
+
+inventory::submit! {
+    Registration {
+        name: HolzerSommerfeld::NAME,
+        build,
     }
 }

@@ -139,8 +139,8 @@ impl Default for Contribution {
     }
 }
 
-/// A force term on the barycentre. Implement it in one file to add a term; register its name
-/// in [`by_name`] to make it selectable from scene files and Python.
+/// A force term on the barycentre. Implement it in one file to add a term, and submit a
+/// [`Registration`] there to make it selectable by name from scene files and Python.
 pub trait ForceTerm: Send + Sync + Debug {
     /// The term's name in scene files (`particles.forces`).
     fn name(&self) -> &'static str;
@@ -167,7 +167,7 @@ impl ForceTerms {
                 return Err(ParamError::Unknown {
                     kind: "force term (given twice)",
                     name: term.name().to_string(),
-                    known: names().to_vec(),
+                    known: names(),
                 });
             }
         }
@@ -206,46 +206,55 @@ impl ForceTerms {
 /// (compared by their `Debug` forms, which show both).
 impl PartialEq for ForceTerms {
     fn eq(&self, other: &Self) -> bool {
-        self.0.len() == other.0.len() && self.iter().zip(other.iter()).all(|(a, b)| format!("{a:?}") == format!("{b:?}"))
+        self.0.len() == other.0.len()
+            && self
+                .iter()
+                .zip(other.iter())
+                .all(|(a, b)| format!("{a:?}") == format!("{b:?}"))
     }
 }
 
-/// The names [`by_name`] knows.
-pub fn names() -> &'static [&'static str] {
-    &[
-        UndisturbedFlow::NAME,
-        AddedMass::NAME,
-        Cunningham::NAME,
-        SchillerNaumann::NAME,
-        HolzerSommerfeld::NAME,
-        SaffmanMei::NAME,
-    ]
+/// A force term selectable by name from scene files and Python: its name and how to build it
+/// from the scene's parameters (SI units). Each term registers itself in its own file with
+/// `inventory::submit!` (re-exported here), so a new term is one file.
+pub struct Registration {
+    /// Name in scene files (`particles.forces`).
+    pub name: &'static str,
+    /// Build the term from its parameters; refuse parameters it does not know.
+    pub build: fn(&BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError>,
 }
 
-/// The registry: the term called `name` with its `parameters` (SI units). Each term refuses
-/// parameters it does not know and demands those it needs.
-pub fn by_name(name: &str, parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
-    let none = |term: &'static str| match parameters.keys().next() {
+inventory::collect!(Registration);
+
+pub use inventory;
+
+/// Refuse every parameter: for the `build` of a term that takes none.
+pub fn no_parameters(term: &'static str, parameters: &BTreeMap<String, f64>) -> Result<(), ParamError> {
+    match parameters.keys().next() {
         Some(key) => Err(ParamError::Unknown {
             kind: "force-term parameter",
             name: format!("{term}.{key}"),
             known: vec![],
         }),
         None => Ok(()),
-    };
-    Ok(match name {
-        UndisturbedFlow::NAME => none(UndisturbedFlow::NAME).map(|()| Arc::new(UndisturbedFlow) as _)?,
-        AddedMass::NAME => none(AddedMass::NAME).map(|()| Arc::new(AddedMass) as _)?,
-        SchillerNaumann::NAME => none(SchillerNaumann::NAME).map(|()| Arc::new(SchillerNaumann) as _)?,
-        HolzerSommerfeld::NAME => none(HolzerSommerfeld::NAME).map(|()| Arc::new(HolzerSommerfeld) as _)?,
-        SaffmanMei::NAME => none(SaffmanMei::NAME).map(|()| Arc::new(SaffmanMei) as _)?,
-        Cunningham::NAME => Arc::new(Cunningham::from_parameters(parameters)?),
-        _ => {
-            return Err(ParamError::Unknown {
-                kind: "force term",
-                name: name.to_string(),
-                known: names().to_vec(),
-            });
-        }
-    })
+    }
+}
+
+/// The registered names, sorted.
+pub fn names() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = inventory::iter::<Registration>.into_iter().map(|r| r.name).collect();
+    names.sort_unstable();
+    names
+}
+
+/// The registry: the term called `name` with its `parameters` (SI units).
+pub fn by_name(name: &str, parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
+    match inventory::iter::<Registration>.into_iter().find(|r| r.name == name) {
+        Some(registration) => (registration.build)(parameters),
+        None => Err(ParamError::Unknown {
+            kind: "force term",
+            name: name.to_string(),
+            known: names(),
+        }),
+    }
 }

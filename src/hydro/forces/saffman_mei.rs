@@ -24,9 +24,11 @@
 //! term admits spheres only.
 
 use super::schiller_naumann::sphere_only;
-use super::{Contribution, ForceContext, ForceTerm};
+use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
 use crate::error::ParamError;
 use crate::tensor::Vec3;
+use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// Saffman's shear lift with Mei's correction (module docs).
 #[derive(Debug, Clone, Copy, Default)]
@@ -83,5 +85,17 @@ impl ForceTerm for SaffmanMei {
             force: w.cross(&omega) * (1.615 * d * d * (ctx.rho_f * ctx.mu_f / magnitude).sqrt() * ratio),
             ..Contribution::default()
         }
+    }
+}
+
+fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
+    no_parameters(SaffmanMei::NAME, parameters)?;
+    Ok(Arc::new(SaffmanMei))
+}
+
+inventory::submit! {
+    Registration {
+        name: SaffmanMei::NAME,
+        build,
     }
 }

@@ -13,9 +13,11 @@
 //! deformation is assumed small enough that the volume-equivalent diameter carries it. For
 //! ellipsoids at finite Re use [`super::HolzerSommerfeld`].
 
-use super::{Contribution, ForceContext, ForceTerm};
+use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
 use crate::error::ParamError;
 use crate::tensor::Vec3;
+use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// Relative spread of the rest semi-axes below which a particle counts as a sphere.
 pub const SPHERE_SPREAD: f64 = 1e-6;
@@ -71,5 +73,17 @@ impl ForceTerm for SchillerNaumann {
             drag_factor: Self::factor(ctx.reynolds()),
             ..Contribution::default()
         }
+    }
+}
+
+fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
+    no_parameters(SchillerNaumann::NAME, parameters)?;
+    Ok(Arc::new(SchillerNaumann))
+}
+
+inventory::submit! {
+    Registration {
+        name: SchillerNaumann::NAME,
+        build,
     }
 }

@@ -16,7 +16,10 @@
 //! not for aerosols (ρ_f/ρ_p ≈ 10⁻³). Faxén's curvature corrections (∝ r² ∇²u) are left out,
 //! as is the curvature of u across the particle in the rest of the model.
 
-use super::{Contribution, ForceContext, ForceTerm};
+use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
+use crate::error::ParamError;
+use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// The undisturbed-flow (pressure-gradient) force m_f Du/Dt (module docs).
 #[derive(Debug, Clone, Copy, Default)]
@@ -37,5 +40,17 @@ impl ForceTerm for UndisturbedFlow {
             force: ctx.flow.material_acceleration() * ctx.fluid_mass(),
             ..Contribution::default()
         }
+    }
+}
+
+fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
+    no_parameters(UndisturbedFlow::NAME, parameters)?;
+    Ok(Arc::new(UndisturbedFlow))
+}
+
+inventory::submit! {
+    Registration {
+        name: UndisturbedFlow::NAME,
+        build,
     }
 }

@@ -72,7 +72,13 @@ pub fn summary_table(rows: &[(Kind, Vec<Validity>)]) -> Result<Csv, BifurcationE
     for (kind, sample) in rows {
         let n = sample.len().max(1) as f64;
         let max = |f: &dyn Fn(&Validity) -> f64| sample.iter().map(f).fold(0.0, f64::max);
-        let frac = |flag: &str| sample.iter().filter(|v| v.flags(&limits).iter().any(|f| f == flag)).count() as f64 / n;
+        let frac = |flag: &str| {
+            sample
+                .iter()
+                .filter(|v| v.flags(&limits).iter().any(|f| f == flag))
+                .count() as f64
+                / n
+        };
         csv.push(vec![
             kind.shape.label(),
             kind.material.label(),
