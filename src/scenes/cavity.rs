@@ -172,6 +172,13 @@ pub enum Outcome {
     },
     /// Still suspended at the end of tracking.
     Suspended,
+    /// The particle's run failed (a typed step error), recorded instead of ending the study.
+    Failed {
+        /// Time of the last accepted step (s).
+        t: f64,
+        /// The error.
+        reason: String,
+    },
 }
 
 /// A tracked particle.
@@ -460,7 +467,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         let path = std::cell::RefCell::new(Vec::new());
         let mut next_out = dt_out;
         let mut memory = Default::default();
-        let end = integrate(
+        let end = match integrate(
             integ,
             &p,
             &self.flow,
@@ -476,7 +483,26 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
                     next_out = dt_out * ((step.state.t / dt_out).floor() + 1.0);
                 }
             },
-        )?;
+        ) {
+            Ok(end) => end,
+            Err(failure) => {
+                // A failed particle is an outcome of the study, as in the population runner.
+                let mut path = path.into_inner();
+                path.push((failure.state.t, failure.state.x));
+                return Ok(CavityRun {
+                    release,
+                    contact: contact_model,
+                    shape_model,
+                    path,
+                    outcome: Outcome::Failed {
+                        t: failure.state.t,
+                        reason: failure.error.to_string(),
+                    },
+                    stats: failure.stats,
+                    validity: monitor.validity(),
+                });
+            }
+        };
         let outcome = match end.stop {
             Stop::Event { .. } => {
                 let near = contact.nearest(&end.state);
@@ -565,6 +591,7 @@ fn outcome_cells(run: &CavityRun, limits: &Thresholds) -> Vec<String> {
         Outcome::Exited { .. } => ("exited", String::new()),
         Outcome::Deposited { wall, .. } => ("deposited", wall.clone()),
         Outcome::Suspended => ("suspended", String::new()),
+        Outcome::Failed { reason, .. } => ("failed", reason.replace(',', ";")),
     };
     let mut cells = vec![
         run.contact.label().into(),
@@ -754,13 +781,14 @@ fn outcome_label(outcome: &Outcome) -> String {
         Outcome::Exited { .. } => "exited".into(),
         Outcome::Deposited { wall, .. } => format!("deposited:{wall}"),
         Outcome::Suspended => "suspended".into(),
+        Outcome::Failed { .. } => "failed".into(),
     }
 }
 
 fn event_time(outcome: &Outcome) -> Option<f64> {
     match outcome {
         Outcome::Exited { t } | Outcome::Deposited { t, .. } => Some(*t),
-        Outcome::Suspended => None,
+        Outcome::Suspended | Outcome::Failed { .. } => None,
     }
 }
 
