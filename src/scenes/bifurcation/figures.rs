@@ -5,7 +5,8 @@ use super::BifurcationError;
 use super::deposition::{Deposit, deposits, histogram, histogram_table, map_table, summary_table};
 use super::injection::Kind;
 use super::setup::{Airway, zhang_reference};
-use super::study::{Efficiency, efficiency_table, run_kind};
+use super::study::{Efficiency, efficiency_table, run_kind, run_kind_with};
+use crate::hydro::ForceTerms;
 use crate::material::NeoHooke;
 use crate::output::paper_figure_path;
 use crate::output::vtk::{PolyData, Values};
@@ -48,12 +49,37 @@ pub fn cache_dir() -> PathBuf {
 /// The run of `n` particles of `kind` with [`SEED`] (parallel, progress on stderr), from
 /// [`cache_dir`] if an example ran it before.
 pub fn run_cached(airway: &Airway, kind: Kind, n: u64) -> Result<RunOutput<NeoHooke>, BifurcationError> {
+    run_cached_with(airway, kind, &ForceTerms::default(), n)
+}
+
+/// [`run_cached`] with force terms beyond the paper's.
+pub fn run_cached_with(
+    airway: &Airway,
+    kind: Kind,
+    forces: &ForceTerms,
+    n: u64,
+) -> Result<RunOutput<NeoHooke>, BifurcationError> {
     let dir = cache_dir();
     std::fs::create_dir_all(&dir).map_err(|source| crate::output::OutputError::Io {
         path: dir.clone(),
         source,
     })?;
-    run_kind(airway, kind, n, SEED, Shard::ALL, &RunOptions::default(), Some(&dir))
+    run_kind_with(airway, kind, forces, n, SEED, Shard::ALL, &RunOptions::default(), Some(&dir))
+}
+
+/// The same particles in two runs: how many only the first deposits (lost) and only the
+/// second (gained).
+pub fn deposit_changes(a: &RunOutput<NeoHooke>, b: &RunOutput<NeoHooke>) -> (u64, u64) {
+    let deposited = |f: &crate::population::Fate| matches!(f, crate::population::Fate::Deposited { .. });
+    let (mut lost, mut gained) = (0u64, 0u64);
+    for (ra, rb) in a.records.iter().zip(&b.records) {
+        match (deposited(&ra.fate), deposited(&rb.fate)) {
+            (true, false) => lost += 1,
+            (false, true) => gained += 1,
+            _ => {}
+        }
+    }
+    (lost, gained)
 }
 
 /// Run `n` particles of each kind (parallel, progress on stderr) and count their fates.
@@ -345,15 +371,7 @@ pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<c
     ]);
     for (reference, soft) in pairs {
         let (a, b) = (run_cached(airway, *reference, n)?, run_cached(airway, *soft, n)?);
-        let deposited = |f: &crate::population::Fate| matches!(f, crate::population::Fate::Deposited { .. });
-        let (mut lost, mut gained) = (0u64, 0u64);
-        for (ra, rb) in a.records.iter().zip(&b.records) {
-            match (deposited(&ra.fate), deposited(&rb.fate)) {
-                (true, false) => lost += 1,
-                (false, true) => gained += 1,
-                _ => {}
-            }
-        }
+        let (lost, gained) = deposit_changes(&a, &b);
         let count = a.records.len().max(1) as f64;
         csv.push(vec![
             reference.shape.label(),

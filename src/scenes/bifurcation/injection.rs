@@ -17,6 +17,7 @@ use crate::hydro::Brenner;
 use crate::material::{NeoHooke, Softness};
 use crate::particle::Particle;
 use crate::population::sampling::{haar_rotation, uniform_disc};
+use crate::hydro::ForceTerms;
 use crate::population::{Injector, ParticleRng, ParticleSpec, ParticleTemplate};
 use crate::scenes::particles::Shape;
 use crate::tensor::Vec3;
@@ -104,6 +105,14 @@ impl<'a> Injection<'a> {
             softness: kind.material.softness()?,
             template,
         })
+    }
+
+    /// The same injection with force terms beyond the paper's on every particle.
+    pub fn with_forces(self, forces: ForceTerms) -> Self {
+        Self {
+            template: self.template.with_forces(forces),
+            ..self
+        }
     }
 
     /// The particle kind.

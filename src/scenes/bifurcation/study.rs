@@ -11,6 +11,7 @@ use super::injection::{Injection, Kind};
 use super::setup::{Airway, zhang_reference};
 use crate::driver::{Budget, Plan};
 use crate::error::ParamError;
+use crate::hydro::ForceTerms;
 use crate::integrator::{BarycentreModel, Scheme, Stokesian, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
@@ -77,7 +78,23 @@ pub fn run_kind(
     options: &RunOptions,
     cache: Option<&Path>,
 ) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    let injection = Injection::new(airway, kind)?;
+    run_kind_with(airway, kind, &ForceTerms::default(), n, seed, shard, options, cache)
+}
+
+/// [`run_kind`] with force terms beyond the paper's on every particle (they enter the
+/// configuration hash, so a cached run of the paper's model is never read for them).
+#[allow(clippy::too_many_arguments)]
+pub fn run_kind_with(
+    airway: &Airway,
+    kind: Kind,
+    forces: &ForceTerms,
+    n: u64,
+    seed: u64,
+    shard: Shard,
+    options: &RunOptions,
+    cache: Option<&Path>,
+) -> Result<RunOutput<NeoHooke>, BifurcationError> {
+    let injection = Injection::new(airway, kind)?.with_forces(forces.clone());
     let integ = integrator()?;
     let plan = plan(airway)?;
     let case = Case::new(&integ, airway.flow(), airway.boundary(), &injection, plan);
@@ -91,7 +108,11 @@ pub fn run_kind(
             airway.flow().radius(),
             airway.flow().fingerprint(),
             airway.boundary().fingerprint()
-        ),
+        ) + &if forces.is_empty() {
+            String::new()
+        } else {
+            format!("; forces {forces:?}")
+        },
     };
     let file = cache.map(|dir| dir.join(format!("{}-{shard}.json", case.config_hash(&config)).replace('/', "of")));
     if let Some(file) = &file
