@@ -20,7 +20,10 @@ const MEAN_FREE_PATH: f64 = 66.5e-9;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (n, airway) = figures::arguments()?;
-    let forces = ForceTerms::new(vec![Arc::new(Cunningham::new(MEAN_FREE_PATH)?), Arc::new(SchillerNaumann)])?;
+    let forces = ForceTerms::new(vec![
+        Arc::new(Cunningham::new(MEAN_FREE_PATH)?),
+        Arc::new(SchillerNaumann),
+    ])?;
     for kind in figures::softness_kinds(&[1.0], &[1e5], &[0.1, 0.4]) {
         let paper = figures::run_cached(&airway, kind, n)?;
         let with = figures::run_cached_with(&airway, kind, &forces, n)?;

@@ -64,7 +64,16 @@ pub fn run_cached_with(
         path: dir.clone(),
         source,
     })?;
-    run_kind_with(airway, kind, forces, n, SEED, Shard::ALL, &RunOptions::default(), Some(&dir))
+    run_kind_with(
+        airway,
+        kind,
+        forces,
+        n,
+        SEED,
+        Shard::ALL,
+        &RunOptions::default(),
+        Some(&dir),
+    )
 }
 
 /// The same particles in two runs: how many only the first deposits (lost) and only the

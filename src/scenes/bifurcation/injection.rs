@@ -14,10 +14,10 @@
 use super::setup::{Airway, GRAVITY, INJECTION_DIAMETER, INJECTION_X, d_eq_for_stokes, fluid, rho_particle};
 use crate::error::{ParamError, StepError};
 use crate::hydro::Brenner;
+use crate::hydro::ForceTerms;
 use crate::material::{NeoHooke, Softness};
 use crate::particle::Particle;
 use crate::population::sampling::{haar_rotation, uniform_disc};
-use crate::hydro::ForceTerms;
 use crate::population::{Injector, ParticleRng, ParticleSpec, ParticleTemplate};
 use crate::scenes::particles::Shape;
 use crate::tensor::Vec3;
