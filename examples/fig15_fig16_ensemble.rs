@@ -5,13 +5,15 @@
 //! ensemble_runs.csv}`.
 //!
 //! Run: `cargo run --release --example fig15_fig16_ensemble [inertialess] [orientations]
-//! [scales…]` (defaults: inertial shapes, 9 orientations, scales 0.98 1.02); `inertialess`
-//! writes `outcome_fractions_inertialess.csv` and `ensemble_runs_inertialess.csv` instead.
+//! [fluid-inertia] [orientations] [scales…]` (defaults: inertial shapes, 9 orientations, scales
+//! 0.98 1.02); `inertialess` writes `outcome_fractions_inertialess.csv` and
+//! `ensemble_runs_inertialess.csv` instead, and `fluid-inertia` adds the undisturbed-flow force
+//! and added mass (`scenes::cavity::fluid_inertia`) and `_fluid_inertia` to the file names.
 
 use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::scenes::cavity::{
-    ShapeModel, Variant, ensemble, fig15_fig16_releases, member_table, outcome_fraction_table,
+    ShapeModel, Variant, ensemble, fig15_fig16_releases, fluid_inertia, member_table, outcome_fraction_table,
 };
 use std::time::Instant;
 
@@ -19,11 +21,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
     let mut args = std::env::args().skip(1).peekable();
     let inertialess = args.next_if(|a| a == "inertialess").is_some();
-    let (model, suffix) = if inertialess {
+    let with_fluid_inertia = args.next_if(|a| a == "fluid-inertia").is_some();
+    let (model, shape_suffix) = if inertialess {
         (ShapeModel::Inertialess, "_inertialess")
     } else {
         (ShapeModel::Inertial, "")
     };
+    let (forces, terms_suffix) = if with_fluid_inertia {
+        (fluid_inertia()?, "_fluid_inertia")
+    } else {
+        (Default::default(), "")
+    };
+    let suffix = format!("{shape_suffix}{terms_suffix}");
     let count: usize = args.next().map_or(Ok(9), |a| a.parse())?;
     let scales: Vec<f64> = args.map(|a| a.parse()).collect::<Result<_, _>>()?;
     let scales = if scales.is_empty() { vec![0.98, 1.02] } else { scales };
@@ -33,7 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .into_iter()
         .flat_map(|mirrored| scales.iter().map(move |&scale| Variant { mirrored, scale }))
         .collect();
-    let members = ensemble(&flow, model, &releases, &variants, count, 100.0, 1e-6)?;
+    let members = ensemble(&flow, model, &forces, &releases, &variants, count, 100.0, 1e-6)?;
     let table = outcome_fraction_table(&members)?;
     print!("{}", table.to_text());
     table.write(paper_figure_path(

@@ -287,7 +287,17 @@ fn reduced_ensemble_fractions_snapshot() {
         },
     ];
     let variants = [false, true].map(|mirrored| Variant { mirrored, scale: 1.0 });
-    let members = ensemble(&flow, ShapeModel::Inertialess, &releases, &variants, 3, 100.0, 1e-6).unwrap();
+    let members = ensemble(
+        &flow,
+        ShapeModel::Inertialess,
+        &Default::default(),
+        &releases,
+        &variants,
+        3,
+        100.0,
+        1e-6,
+    )
+    .unwrap();
     assert_eq!(members.len(), 2 * 2 * 3);
     assert!(members.iter().all(|m| m.run.is_ok()), "a member failed");
     insta::assert_snapshot!(outcome_fraction_table(&members).unwrap().to_text());

@@ -147,7 +147,7 @@ impl<'a, M: Response, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
     pub fn geometry(&self, f: &Mat3, t: f64) -> Result<Geometry, StepError> {
         check_orientation(f, t)?;
         self.count(|w| w.model_evals += 1);
-        Ok(Geometry::of_total_distortion(&self.particle.total_distortion(f)))
+        Ok(self.particle.geometry(f))
     }
 
     /// Flow velocity u and gradient l_f = ∇u at (x, t).

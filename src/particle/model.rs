@@ -258,8 +258,8 @@ impl<M: Response, D: DragModel> Particle<M, D> {
 
     /// Geometry (frame, integrals, traction coefficients) of the shape with deformation F, for
     /// analysis outside a step. Not counted: inside a step use
-    /// [`Model::geometry`](super::Model::geometry), which counts the model evaluation and refuses
-    /// det F ≤ 0.
+    /// [`Model::geometry`](super::Model::geometry), which refuses det F ≤ 0, counts the model
+    /// evaluation and then calls this, so the two cannot drift apart.
     pub fn geometry(&self, f: &Mat3) -> Geometry {
         Geometry::of_total_distortion(&self.total_distortion(f))
     }

@@ -795,9 +795,11 @@ fn event_time(outcome: &Outcome) -> Option<f64> {
 /// Run every release in every variant and in `count` orientations ([`orientations`]) for
 /// `t_max` seconds at tolerance `tol` with barycentre contact, in parallel. A failed run is
 /// kept as its error message, so one failure does not hide the rest of the ensemble.
+#[allow(clippy::too_many_arguments)]
 pub fn ensemble(
     flow: &MeshedFlow,
     shape_model: ShapeModel,
+    forces: &ForceTerms,
     releases: &[Release],
     variants: &[Variant],
     count: usize,
@@ -806,7 +808,13 @@ pub fn ensemble(
 ) -> Result<Vec<Member>, SceneError> {
     let cavities = variants
         .iter()
-        .map(|v| Ok((*v, Cavity::new(flow)?.with_shape_model(shape_model).with_variant(*v)?)))
+        .map(|v| {
+            let cavity = Cavity::new(flow)?
+                .with_shape_model(shape_model)
+                .with_forces(forces.clone())
+                .with_variant(*v)?;
+            Ok((*v, cavity))
+        })
         .collect::<Result<Vec<_>, SceneError>>()?;
     let jobs: Vec<(usize, Release, usize, Mat3)> = cavities
         .iter()
