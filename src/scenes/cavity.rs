@@ -705,7 +705,13 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             .iter()
             .filter(|m| key(m).as_ref() == Some(&(shape.clone(), ca)))
             .collect();
-        let runs: Vec<&CavityRun> = group.iter().filter_map(|m| m.run.as_ref().ok()).collect();
+        // A run that failed as a particle (`Outcome::Failed`) counts as failed, like one whose
+        // set-up failed; the fractions are over the runs that finished.
+        let runs: Vec<&CavityRun> = group
+            .iter()
+            .filter_map(|m| m.run.as_ref().ok())
+            .filter(|r| !matches!(r.outcome, Outcome::Failed { .. }))
+            .collect();
         let n = runs.len() as f64;
         let frac = |f: &dyn Fn(&CavityRun) -> bool| runs.iter().filter(|r| f(r)).count() as f64 / n;
         let mut walls: Vec<(String, usize)> = Vec::new();
@@ -723,10 +729,15 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             .and_then(|m| m.run.as_ref().ok())
             .map(|r| outcome_label(&r.outcome))
             .unwrap_or_default();
+        let shape_model = group
+            .iter()
+            .find_map(|m| m.run.as_ref().ok())
+            .map(|r| r.shape_model.label())
+            .unwrap_or_default();
         csv.push(vec![
             shape,
             ca.map(|c| c.to_string()).unwrap_or_default(),
-            runs.first().map(|r| r.shape_model.label()).unwrap_or_default().into(),
+            shape_model.into(),
             group.len().to_string(),
             (group.len() - runs.len()).to_string(),
             format!("{:.3}", frac(&|r| matches!(r.outcome, Outcome::Exited { .. }))),
