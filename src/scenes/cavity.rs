@@ -713,7 +713,11 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             .filter(|r| !matches!(r.outcome, Outcome::Failed { .. }))
             .collect();
         let n = runs.len() as f64;
-        let frac = |f: &dyn Fn(&CavityRun) -> bool| runs.iter().filter(|r| f(r)).count() as f64 / n;
+        // No finished run (every member failed): the fractions are empty cells, not 0/0.
+        let frac = |f: &dyn Fn(&CavityRun) -> bool| match runs.is_empty() {
+            true => String::new(),
+            false => format!("{:.3}", runs.iter().filter(|r| f(r)).count() as f64 / n),
+        };
         let mut walls: Vec<(String, usize)> = Vec::new();
         for r in &runs {
             if let Outcome::Deposited { wall, .. } = &r.outcome {
@@ -740,13 +744,10 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             shape_model.into(),
             group.len().to_string(),
             (group.len() - runs.len()).to_string(),
-            format!("{:.3}", frac(&|r| matches!(r.outcome, Outcome::Exited { .. }))),
-            format!("{:.3}", frac(&|r| matches!(r.outcome, Outcome::Deposited { .. }))),
-            format!("{:.3}", frac(&|r| matches!(r.outcome, Outcome::Suspended))),
-            format!(
-                "{:.3}",
-                frac(&|r| event_time(&r.outcome).is_some_and(|t| t > LATE_EVENT))
-            ),
+            frac(&|r| matches!(r.outcome, Outcome::Exited { .. })),
+            frac(&|r| matches!(r.outcome, Outcome::Deposited { .. })),
+            frac(&|r| matches!(r.outcome, Outcome::Suspended)),
+            frac(&|r| event_time(&r.outcome).is_some_and(|t| t > LATE_EVENT)),
             walls
                 .iter()
                 .map(|(w, c)| format!("{w}:{c}"))
