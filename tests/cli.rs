@@ -24,6 +24,11 @@ use pseudorigid::scenes::shear_run::{oblate_fig4_run, stokesian_scaling};
 use pseudorigid::scenes::shear_shape::ShearShape;
 use std::path::{Path, PathBuf};
 
+/// The scene `text` parsed as the file `file` in the working directory.
+fn parse_named(file: &str, text: &str) -> Result<Scene, CliError> {
+    parse(&Source { file, text }, Path::new("."))
+}
+
 fn scene_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
 }
@@ -651,15 +656,7 @@ vtk = false
             r = d / 2.0
         )
     };
-    let parse_text = |t: &str| {
-        parse(
-            &Source {
-                file: "groups.toml",
-                text: t,
-            },
-            Path::new("."),
-        )
-    };
+    let parse_text = |t: &str| parse_named("groups.toml", t);
     let two = format!(
         "{}{}",
         group("[[particles.inject]]", 3, "", 0.0),
@@ -732,15 +729,7 @@ vtk = false
             r = d / 2.0
         )
     };
-    let parse_text = |t: &str| {
-        parse(
-            &Source {
-                file: "forces.toml",
-                text: t,
-            },
-            Path::new("."),
-        )
-    };
+    let parse_text = |t: &str| parse_named("forces.toml", t);
     let s = parse_text(&text(r#"["added_mass", "undisturbed_flow"]"#)).unwrap();
     let out = run(&s, "cli_forces");
     let t_end = 1e-2;
@@ -785,17 +774,7 @@ fn scenes_are_warned_about_the_force_terms_their_numbers_need() {
             r = d / 2.0
         )
     };
-    let advice = |t: String| {
-        parse(
-            &Source {
-                file: "advice.toml",
-                text: &t,
-            },
-            Path::new("."),
-        )
-        .unwrap()
-        .force_advice()
-    };
+    let advice = |t: String| parse_named("advice.toml", &t).unwrap().force_advice();
     let cavity = advice(text(1e-3, 1000.0, 1000.5, 3e-3, ""));
     assert_eq!(cavity.len(), 2, "{cavity:?}");
     assert!(
