@@ -38,7 +38,8 @@
 //!   0.15 Re_s^{0.687} with the slip Reynolds number;
 //! - shear lift: Saffman's lift over the Stokes drag, 1.615 d²√(ρ_f μ_f γ̇)|w| / (3π μ_f d |w|)
 //!   = 0.171 Re_γ^{1/2};
-//! - gas slip: Cunningham's C_c − 1 at d_eq for a gas (ρ_f < [`GAS_DENSITY`]), with the mean free
+//! - gas slip: Cunningham's C_c − 1 at d_eq for a gas in SI units (ρ_f < [`GAS_DENSITY`] and
+//!   μ_f < [`GAS_VISCOSITY`]; a scene in shear units is not read as a gas), with the mean free
 //!   path λ = μ_f/(0.499 ρ_f c̄) of kinetic theory and air's mean molecular speed c̄ = 463 m/s at
 //!   20 °C (the run's gas is assumed to be air-like; 66 nm for air at 1 atm).
 //!
@@ -94,6 +95,11 @@ impl Default for Thresholds {
 /// pressures are below 10, liquids above 500.
 pub const GAS_DENSITY: f64 = 10.0;
 
+/// Fluids more viscous than this (Pa s) are not gases for the slip estimate: gases are
+/// 1–3·10⁻⁵ Pa s, liquids 2·10⁻⁴ and up, and a scene in nondimensional units (μ_f = 1 in the
+/// shear scenes) is not read as SI.
+pub const GAS_VISCOSITY: f64 = 1e-4;
+
 /// Mean molecular speed of air at 20 °C, c̄ = √(8RT/(πM)) (m/s), for the mean free path of a gas.
 pub const AIR_MOLECULAR_SPEED: f64 = 463.0;
 
@@ -146,7 +152,7 @@ pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -
     let semi_axes = particle.shape().semi_axes();
     let d_eq = 2.0 * semi_axes.product().cbrt();
     let k_max = EllipsoidIntegrals::try_new(&semi_axes).map_or(f64::NAN, |ints| added_mass::coefficients(&ints).max());
-    let gas = fluid.rho > 0.0 && fluid.rho < GAS_DENSITY;
+    let gas = fluid.rho > 0.0 && fluid.rho < GAS_DENSITY && fluid.mu < GAS_VISCOSITY;
     let slip = || {
         let lambda = fluid.mu / (0.499 * fluid.rho * AIR_MOLECULAR_SPEED);
         Cunningham::new(lambda).map_or(0.0, |c| c.correction(d_eq) - 1.0)

@@ -763,7 +763,8 @@ vtk = false
 /// sphere in water (ρ_p/ρ_f = 1.0005, the cavity's) is warned about the undisturbed-flow force
 /// (ρ_f/ρ_p ≈ 100 %) and added mass (½ρ_f/ρ_p ≈ 50 %), and not once it carries them; a 1 µm
 /// droplet in air (λ = μ/(0.499 ρ c̄) = 65 nm) about gas slip (C_c − 1 ≈ 17 %), and about
-/// nothing else (ρ_f/ρ_p = 1.2·10⁻³ is below the 1 % threshold).
+/// nothing else (ρ_f/ρ_p = 1.2·10⁻³ is below the 1 % threshold); a scene in nondimensional
+/// units about nothing.
 #[test]
 fn scenes_are_warned_about_the_force_terms_their_numbers_need() {
     let text = |mu: f64, rho_f: f64, rho_p: f64, d: f64, forces: &str| {
@@ -793,6 +794,10 @@ fn scenes_are_warned_about_the_force_terms_their_numbers_need() {
     let aerosol = advice(text(1.81e-5, 1.2, 1000.0, 1e-6, ""));
     assert_eq!(aerosol.len(), 1, "{aerosol:?}");
     assert!(aerosol[0].contains("`cunningham`"), "{aerosol:?}");
+    // A scene in the shear units (μ_f = 1, ρ_f = 0.1, d = 1) is not read as an SI gas: before
+    // the viscosity bound it was warned about a 11 % gas slip.
+    let shear_units = advice(text(1.0, 0.1, 100.0, 1.0, ""));
+    assert!(shear_units.is_empty(), "{shear_units:?}");
 }
 
 /// A law written in the scene file runs like the built-in law it writes: `yeoh_oblate.toml`

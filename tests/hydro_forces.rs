@@ -6,8 +6,8 @@
 use pseudorigid::driver::advance;
 use pseudorigid::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use pseudorigid::hydro::forces::{
-    AddedMass, Contribution, Cunningham, ForceContext, ForceTerm, ForceTerms, SaffmanMei, SchillerNaumann,
-    UndisturbedFlow, added_mass, by_name,
+    AddedMass, Cunningham, ForceContext, ForceTerm, ForceTerms, SaffmanMei, SchillerNaumann, UndisturbedFlow,
+    added_mass, by_name,
 };
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::Rigid;
@@ -358,23 +358,6 @@ fn light_sphere_with_added_mass_rises_stably() {
             r.v_exact
         );
     }
-}
-
-/// No terms: the contribution is the paper's (drag factor 1, no added mass, no force), and a
-/// particle without terms steps exactly as before (the dataset snapshots guard the latter).
-#[test]
-fn empty_terms_are_the_papers_model() {
-    assert_eq!(
-        ForceTerms::default().total(&context(
-            &PrincipalFrame::from_total_distortion(&Mat3::identity()),
-            &EllipsoidIntegrals::new(&Vec3::repeat(1.0)),
-            1.0,
-            1.0,
-            Vec3::x(),
-            &FlowSample::steady(Vec3::y(), Mat3::zeros()),
-        )),
-        Contribution::default()
-    );
 }
 
 /// The registry: every name it lists builds; unknown names and parameters, a missing mean
