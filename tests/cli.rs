@@ -315,7 +315,7 @@ fn run_writes_only_under_out() {
             .unwrap();
         assert!(status.success(), "{args:?}");
     }
-    assert!(out.join("results.csv").is_file());
+    assert!(out.join("records.parquet").is_file());
     assert_eq!(listing(&case), case_before);
     assert_eq!(listing(&scene_dir), scene_before);
 }

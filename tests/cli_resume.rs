@@ -54,7 +54,7 @@ fn ok(out: std::process::Output) -> String {
 
 /// The files a finished run writes, by name.
 fn results(out: &Path) -> Vec<(String, Vec<u8>)> {
-    ["results.csv", "frames.csv", "trajectories.csv", "particles.pvd"]
+    ["records.parquet", "frames.parquet", "particles.pvd", "vtk/trajectories.vtp"]
         .iter()
         .map(|f| (f.to_string(), std::fs::read(out.join(f)).unwrap()))
         .collect()
@@ -99,7 +99,7 @@ fn killed_and_resumed_run_equals_uninterrupted_run() {
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(
-        !dir.join("killed").join("results.csv").exists(),
+        !dir.join("killed").join("records.parquet").exists(),
         "the run finished before it was killed"
     );
     let kept = chunks(&checkpoint);

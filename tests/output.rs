@@ -51,9 +51,31 @@ fn figure_renders_every_series() {
     assert!(svg.contains("<polyline"));
 }
 
-/// The binary `.vtp` holds every value bit for bit: each appended block is a UInt64 byte count
-/// and the raw little-endian values, at the offset its `<DataArray>` names (decoded here by
-/// hand; `cases/vtk-check.sh` reads the command's files with VTK itself).
+/// The blocks of a binary `.vtp`, decoded by hand from VTK's zlib layout (header: block
+/// count, uncompressed size, last partial size, compressed sizes; UInt64) at the offset each
+/// `<DataArray>` names. `cases/vtk-check.sh` reads the command's files with VTK itself.
+fn vtp_block(bytes: &[u8], name: &str) -> (String, Vec<u8>) {
+    use std::io::Read;
+    let start = bytes.windows(2).position(|w| w == b"\n_").unwrap() + 2;
+    let xml = String::from_utf8_lossy(&bytes[..start]).to_string();
+    assert!(xml.contains("compressor=\"vtkZLibDataCompressor\""), "{xml}");
+    let tag = xml.find(&format!("Name=\"{name}\"")).unwrap();
+    let kind = xml[..tag].rsplit("type=\"").next().unwrap();
+    let kind = kind[..kind.find('"').unwrap()].to_string();
+    let at = tag + xml[tag..].find("offset=\"").unwrap() + 8;
+    let offset: usize = xml[at..at + xml[at..].find('"').unwrap()].parse().unwrap();
+    let word = |k: usize| u64::from_le_bytes(bytes[start + offset + 8 * k..][..8].try_into().unwrap()) as usize;
+    let (blocks, size, compressed) = (word(0), word(1), word(3));
+    assert_eq!(blocks, 1);
+    let mut raw = Vec::new();
+    flate2::read::ZlibDecoder::new(&bytes[start + offset + 32..][..compressed])
+        .read_to_end(&mut raw)
+        .unwrap();
+    assert_eq!(raw.len(), size);
+    (kind, raw)
+}
+
+/// The binary `.vtp` holds every value bit for bit in double precision.
 #[test]
 fn binary_vtp_blocks_hold_the_values_bit_for_bit() {
     use pseudorigid::output::vtk::{PolyData, Values};
@@ -67,23 +89,17 @@ fn binary_vtp_blocks_hold_the_values_bit_for_bit() {
         .with_array("id", 1, Values::Int64(vec![7, -9]))
         .unwrap();
     let bytes = data.to_binary();
-    let start = bytes.windows(2).position(|w| w == b"\n_").unwrap() + 2;
-    let xml = String::from_utf8_lossy(&bytes[..start]).to_string();
-    assert!(!xml.contains("format=\"ascii\""), "{xml}");
-    let block = |name: &str| -> Vec<[u8; 8]> {
-        let tag = xml.find(&format!("Name=\"{name}\"")).unwrap();
-        let at = tag + xml[tag..].find("offset=\"").unwrap() + 8;
-        let offset: usize = xml[at..at + xml[at..].find('"').unwrap()].parse().unwrap();
-        let raw = &bytes[start + offset..];
-        let len = u64::from_le_bytes(raw[..8].try_into().unwrap()) as usize;
-        raw[8..8 + len].chunks(8).map(|c| c.try_into().unwrap()).collect()
+    let words = |name: &str| -> Vec<[u8; 8]> {
+        let (_, raw) = vtp_block(&bytes, name);
+        raw.chunks(8).map(|c| c.try_into().unwrap()).collect()
     };
-    let coords: Vec<u64> = block("Points").into_iter().map(u64::from_le_bytes).collect();
+    assert_eq!(vtp_block(&bytes, "Points").0, "Float64");
+    let coords: Vec<u64> = words("Points").into_iter().map(u64::from_le_bytes).collect();
     let expected: Vec<u64> = points.iter().flat_map(|p| p.iter().map(|v| v.to_bits())).collect();
     assert_eq!(coords, expected);
-    let ids: Vec<i64> = block("id").into_iter().map(i64::from_le_bytes).collect();
+    let ids: Vec<i64> = words("id").into_iter().map(i64::from_le_bytes).collect();
     assert_eq!(ids, [7, -9]);
-    let conn: Vec<i64> = block("connectivity").into_iter().map(i64::from_le_bytes).collect();
+    let conn: Vec<i64> = words("connectivity").into_iter().map(i64::from_le_bytes).collect();
     assert_eq!(conn, [0, 1]);
     assert!(bytes.ends_with(b"</AppendedData>\n</VTKFile>\n"));
     // The ASCII form of the same data set names the same arrays.
@@ -91,4 +107,43 @@ fn binary_vtp_blocks_hold_the_values_bit_for_bit() {
         data.to_xml()
             .contains("Name=\"id\" NumberOfComponents=\"1\" format=\"ascii\"")
     );
+}
+
+/// In single precision every float is the f64 rounded to nearest f32 (Rust's `as` and IEEE
+/// 754 agree), integers stay Int64, and a value beyond f32's range is refused, not written
+/// as infinity.
+#[test]
+fn single_precision_vtp_rounds_to_nearest_and_refuses_overflow() {
+    use pseudorigid::output::vtk::{PolyData, Values};
+    use pseudorigid::tensor::Vec3;
+    let points = vec![Vec3::new(0.1, -1.0 / 3.0, 1e-40), Vec3::new(3.4e38, 2.0, -0.0)];
+    let r = vec![std::f64::consts::PI, 1.0 + f64::EPSILON];
+    let data = PolyData::vertices(points.clone())
+        .unwrap()
+        .with_array("r1", 1, Values::Float64(r.clone()))
+        .unwrap()
+        .single_precision()
+        .unwrap();
+    let bytes = data.to_binary();
+    let floats = |name: &str| -> Vec<u32> {
+        let (kind, raw) = vtp_block(&bytes, name);
+        assert_eq!(kind, "Float32");
+        raw.chunks(4).map(|c| u32::from_le_bytes(c.try_into().unwrap())).collect()
+    };
+    let nearest = |v: &[f64]| -> Vec<u32> { v.iter().map(|&x| (x as f32).to_bits()).collect() };
+    let coords: Vec<f64> = points.iter().flat_map(|p| p.iter().copied()).collect();
+    assert_eq!(floats("Points"), nearest(&coords));
+    assert_eq!(floats("r1"), nearest(&r));
+    // 0.1 rounds to the f32 nearest to it: within half an f32 ulp (2⁻²⁴ relative).
+    assert!((f32::from_bits(floats("Points")[0]) as f64 - 0.1).abs() <= 0.1 * 2f64.powi(-24));
+    assert_eq!(vtp_block(&bytes, "connectivity").0, "Int64");
+    // 4e38 > f32::MAX ≈ 3.4028e38.
+    let too_big = PolyData::vertices(vec![Vec3::new(4e38, 0.0, 0.0)]).unwrap().single_precision();
+    assert!(too_big.is_err());
+    let later = PolyData::vertices(vec![Vec3::zeros()])
+        .unwrap()
+        .single_precision()
+        .unwrap()
+        .with_array("r1", 1, Values::Float64(vec![-1e39]));
+    assert!(later.is_err());
 }

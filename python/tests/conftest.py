@@ -21,8 +21,8 @@ def root() -> pathlib.Path:
 @pytest.fixture(scope="session")
 def cli() -> pathlib.Path:
     """The command as the README builds it (`cargo build --release`; a no-op when up to date),
-    or $PSEUDORIGID_CLI. Built without the feature `parquet`, it writes every file of a
-    Python run except the two Parquet tables (which the tests check against the records)."""
+    or $PSEUDORIGID_CLI. Its default features include `parquet`, as the package's do, so its
+    runs write the same files as the package's."""
     given = os.environ.get("PSEUDORIGID_CLI")
     if given:
         return pathlib.Path(given)

@@ -95,6 +95,7 @@ pub fn write_run(
         }
         let name = format!("vtk/particles_{frame:06}.vtp");
         particle_cloud(&points)
+            .and_then(PolyData::single_precision)
             .map_err(OutputError::from)?
             .write(dir.join(&name))?;
         index.push((t, name));
@@ -130,6 +131,7 @@ fn write_trajectories(records: &[ParticleRecord<SceneLaw>], dir: &Path, csv: boo
     let data = PolyData::polylines(points, lines)
         .and_then(|d| d.with_array("id", 1, Values::Int64(ids)))
         .and_then(|d| d.with_array("t", 1, Values::Float64(ts)))
+        .and_then(PolyData::single_precision)
         .map_err(OutputError::from)?;
     data.write(dir.join("vtk/trajectories.vtp"))?;
     if csv {

@@ -50,7 +50,8 @@
 //! always without the feature `parquet`. With `vtk` (the default), `particles.pvd` with
 //! `vtk/particles_NNNNNN.vtp` (one per output time: the particles with `V` = √(F̄F̄ᵀ) for
 //! ParaView's Tensor Glyph, `r1`..`r3`, `id`, `flag` 0 moving, 1 deposited, 2 escaped, 3
-//! suspended, 4 failed) and `vtk/trajectories.vtp` (polylines), binary (raw, appended). `--shard k/N`
+//! suspended, 4 failed) and `vtk/trajectories.vtp` (polylines), binary (appended, zlib) in
+//! single precision, as `foamToVTK` writes (the exact values are in the tables). `--shard k/N`
 //! (or `SLURM_ARRAY_TASK_ID`/`SLURM_ARRAY_TASK_COUNT`) runs one shard; `merge` joins the shards
 //! into the files of the whole run.
 

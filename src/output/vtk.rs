@@ -13,12 +13,17 @@
 //! [`write_pvd`] lists one file per output time with its time value, which ParaView reads as a
 //! time series.
 //!
-//! [`PolyData::write`] writes the arrays in binary, as VTK's own XML writers do by default: raw
-//! little-endian values in the file's `<AppendedData encoding="raw">` section, each block
-//! preceded by its byte count as a UInt64 (`header_type="UInt64"`), the `<DataArray>` elements
-//! pointing into it with `format="appended"` and `offset`. A f64 takes 8 bytes instead of the
-//! 18–24 characters of its shortest decimal form, and a reader gets the values bit for bit
+//! [`PolyData::write`] writes the arrays in binary and zlib-compressed, as VTK's own XML
+//! writers do by default (`compressor="vtkZLibDataCompressor"`): each array's little-endian
+//! values deflated as one block in the file's `<AppendedData encoding="raw">` section, preceded
+//! by the block header (block count, uncompressed size, size of the last partial block,
+//! compressed size; UInt64, `header_type="UInt64"`), the `<DataArray>` elements pointing into
+//! it with `format="appended"` and `offset`. A f64 takes at most 8 bytes instead of the 18–24
+//! characters of its shortest decimal form, and a reader gets the values bit for bit
 //! (`cases/vtk-check.py` reads the files with VTK and compares them with the CSV output).
+//! [`PolyData::single_precision`] writes the floats (points included) as Float32, as
+//! OpenFOAM's `foamToVTK` does by default: enough to draw (relative rounding ≤ 2⁻²⁴ ≈ 6e-8)
+//! and half the size; the run's exact values are in its Parquet or CSV tables.
 //! [`PolyData::to_xml`] is the same data set as ASCII XML (every float in Rust's shortest
 //! round-trip form), for reading by eye. Every file is written atomically
 //! ([`super::write_atomic`]). Written by hand rather than with a crate: the format needed here
@@ -106,6 +111,8 @@ pub struct PolyData {
     lines: Vec<Vec<usize>>,
     arrays: Vec<DataArray>,
     active_tensors: Option<String>,
+    /// Floats (and points) written as Float32 ([`PolyData::single_precision`]).
+    single: bool,
 }
 
 /// Names are written into XML attributes unescaped, so only plain names are accepted.
@@ -132,6 +139,18 @@ fn check_finite(name: &str, values: &[f64]) -> Result<(), VtkError> {
     }
 }
 
+/// Values that would overflow to infinity as f32 ([`PolyData::single_precision`]).
+fn check_single(name: &str, values: &[f64]) -> Result<(), VtkError> {
+    match values.iter().position(|v| !(*v as f32).is_finite()) {
+        Some(index) => Err(VtkError::NonFinite {
+            name: format!("{name} (as Float32)"),
+            index,
+            value: values[index],
+        }),
+        None => Ok(()),
+    }
+}
+
 impl PolyData {
     /// Points drawn as vertices (one vertex cell per point): a particle cloud.
     pub fn vertices(points: Vec<Vec3>) -> Result<Self, VtkError> {
@@ -151,6 +170,7 @@ impl PolyData {
             lines: Vec::new(),
             arrays: Vec::new(),
             active_tensors: None,
+            single: false,
         })
     }
 
@@ -195,12 +215,30 @@ impl PolyData {
         }
         if let Values::Float64(v) = &values {
             check_finite(&name, v)?;
+            if self.single {
+                check_single(&name, v)?;
+            }
         }
         self.arrays.push(DataArray {
             name,
             components,
             values,
         });
+        Ok(self)
+    }
+
+    /// Write floats and points as Float32 (module docs). A value beyond f32's range would
+    /// become infinite and is refused ([`VtkError::NonFinite`]), here for the arrays and
+    /// points already present and in [`PolyData::with_array`] for later ones.
+    pub fn single_precision(mut self) -> Result<Self, VtkError> {
+        let coords: Vec<f64> = self.points.iter().flat_map(|p| p.iter().copied()).collect();
+        check_single("Points", &coords)?;
+        for a in &self.arrays {
+            if let Values::Float64(v) = &a.values {
+                check_single(&a.name, v)?;
+            }
+        }
+        self.single = true;
         Ok(self)
     }
 
@@ -239,7 +277,15 @@ impl PolyData {
         let n = self.points.len();
         let n_verts = if self.verts { n } else { 0 };
         s.push_str("<?xml version=\"1.0\"?>\n");
-        s.push_str("<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
+        let compressor = if appended.is_some() {
+            " compressor=\"vtkZLibDataCompressor\""
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            s,
+            "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"{compressor}>"
+        );
         s.push_str("<PolyData>\n");
         let _ = writeln!(
             s,
@@ -253,11 +299,11 @@ impl PolyData {
             None => s.push_str("<PointData>\n"),
         }
         for a in &self.arrays {
-            write_array(s, appended, &a.name, a.components, &a.values);
+            write_array(s, appended, &a.name, a.components, &a.values, self.single);
         }
         s.push_str("</PointData>\n<Points>\n");
         let coords: Vec<f64> = self.points.iter().flat_map(|p| p.iter().copied()).collect();
-        write_array(s, appended, "Points", 3, &Values::Float64(coords));
+        write_array(s, appended, "Points", 3, &Values::Float64(coords), self.single);
         s.push_str("</Points>\n");
         if self.verts {
             write_cells(s, appended, "Verts", (0..n).map(|p| vec![p]));
@@ -277,8 +323,16 @@ impl PolyData {
     }
 }
 
-fn write_array(s: &mut String, appended: &mut Option<Vec<u8>>, name: &str, components: usize, values: &Values) {
+fn write_array(
+    s: &mut String,
+    appended: &mut Option<Vec<u8>>,
+    name: &str,
+    components: usize,
+    values: &Values,
+    single: bool,
+) {
     let kind = match values {
+        Values::Float64(_) if single => "Float32",
         Values::Float64(_) => "Float64",
         Values::Int64(_) => "Int64",
     };
@@ -288,16 +342,21 @@ fn write_array(s: &mut String, appended: &mut Option<Vec<u8>>, name: &str, compo
     );
     if let Some(data) = appended {
         let _ = writeln!(s, "format=\"appended\" offset=\"{}\"/>", data.len());
-        data.extend_from_slice(&(8 * values.len() as u64).to_le_bytes());
-        match values {
-            Values::Float64(v) => v.iter().for_each(|x| data.extend_from_slice(&x.to_le_bytes())),
-            Values::Int64(v) => v.iter().for_each(|x| data.extend_from_slice(&x.to_le_bytes())),
-        }
+        let raw: Vec<u8> = match values {
+            // Range checked by `check_single`; `as` rounds to nearest.
+            Values::Float64(v) if single => v.iter().flat_map(|&x| (x as f32).to_le_bytes()).collect(),
+            Values::Float64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+            Values::Int64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+        };
+        append_compressed(data, &raw);
         return;
     }
     s.push_str("format=\"ascii\">");
     match values {
-        // `{:?}` is the shortest representation that parses back to the same f64.
+        // `{:?}` is the shortest representation that parses back to the same f64 (or f32).
+        Values::Float64(v) if single => v.iter().for_each(|&x| {
+            let _ = write!(s, "{:?} ", x as f32);
+        }),
         Values::Float64(v) => v.iter().for_each(|x| {
             let _ = write!(s, "{x:?} ");
         }),
@@ -308,6 +367,24 @@ fn write_array(s: &mut String, appended: &mut Option<Vec<u8>>, name: &str, compo
     s.push_str("</DataArray>\n");
 }
 
+/// Append `raw` as one zlib block with VTK's header: block count, uncompressed block size,
+/// size of the last (partial) block, compressed size of each block, UInt64 each. An empty
+/// array is zero blocks.
+fn append_compressed(data: &mut Vec<u8>, raw: &[u8]) {
+    let blocks: u64 = if raw.is_empty() { 0 } else { 1 };
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+    // Writing to a Vec cannot fail.
+    let compressed = std::io::Write::write_all(&mut z, raw)
+        .and_then(|()| z.finish())
+        .unwrap_or_default();
+    let header = [blocks, raw.len() as u64, raw.len() as u64];
+    header.iter().for_each(|h| data.extend_from_slice(&h.to_le_bytes()));
+    if blocks == 1 {
+        data.extend_from_slice(&(compressed.len() as u64).to_le_bytes());
+        data.extend_from_slice(&compressed);
+    }
+}
+
 fn write_cells(s: &mut String, appended: &mut Option<Vec<u8>>, kind: &str, cells: impl Iterator<Item = Vec<usize>>) {
     let (mut connectivity, mut offsets) = (Vec::new(), Vec::new());
     for cell in cells {
@@ -315,8 +392,8 @@ fn write_cells(s: &mut String, appended: &mut Option<Vec<u8>>, kind: &str, cells
         offsets.push(connectivity.len() as i64);
     }
     let _ = writeln!(s, "<{kind}>");
-    write_array(s, appended, "connectivity", 1, &Values::Int64(connectivity));
-    write_array(s, appended, "offsets", 1, &Values::Int64(offsets));
+    write_array(s, appended, "connectivity", 1, &Values::Int64(connectivity), false);
+    write_array(s, appended, "offsets", 1, &Values::Int64(offsets), false);
     let _ = writeln!(s, "</{kind}>");
 }
 

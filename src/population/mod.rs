@@ -43,6 +43,7 @@
 pub mod case;
 pub mod checkpoint;
 pub mod output;
+pub mod packed;
 pub mod peer;
 pub mod progress;
 pub mod record;
@@ -64,8 +65,9 @@ pub use spec::{Injector, ParticleRng, ParticleSpec, ParticleTemplate, particle_r
 use std::path::PathBuf;
 use thiserror::Error;
 
-/// Version of the result and checkpoint files (2: chunks carry seed, size and patch names).
-pub const FORMAT: u32 = 2;
+/// Version of the result and checkpoint files (2: chunks carry seed, size and patch names; 3:
+/// kept states packed, [`packed`]).
+pub const FORMAT: u32 = 3;
 
 /// Failures of a population run, its files and their merge. (A particle that fails is not
 /// one of these: it is recorded as [`Fate::Failed`].)

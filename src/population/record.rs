@@ -70,8 +70,9 @@ pub struct ParticleRecord<L> {
     /// Work of its run.
     pub stats: RunStats,
     /// Its states at the start, at the plan's output times and at its event, when the case
-    /// keeps them ([`super::Case::with_samples`]); empty otherwise.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// keeps them ([`super::Case::with_samples`]); empty otherwise. Stored packed
+    /// ([`super::packed`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty", with = "super::packed")]
     pub samples: Vec<State>,
 }
 
