@@ -798,6 +798,10 @@ fn scenes_are_warned_about_the_force_terms_their_numbers_need() {
     // the viscosity bound it was warned about a 11 % gas slip.
     let shear_units = advice(text(1.0, 0.1, 100.0, 1.0, ""));
     assert!(shear_units.is_empty(), "{shear_units:?}");
+    // The same liquid scene with an overdamped barycentre has dropped inertia, the fluid's
+    // with the particle's: no fluid-inertia advice (it warned of 100 % and 50 % before).
+    let overdamped = advice(text(1e-3, 1000.0, 1000.5, 3e-3, "").replace("dt = 1e-7", "dt = 1e-7\noverdamped = true"));
+    assert!(overdamped.is_empty(), "{overdamped:?}");
 }
 
 /// A law written in the scene file runs like the built-in law it writes: `yeoh_oblate.toml`

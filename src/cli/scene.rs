@@ -98,8 +98,18 @@ impl Scene {
     /// are comparable (ρ_f/(ρ_p − ρ_f) where the acceleration dominates). One line
     /// per kind and term; the run's own numbers (Re, shear, the flow's acceleration) are in
     /// the validity monitor of the library's scenes.
+    ///
+    /// An overdamped barycentre (`integrator.overdamped`) drops the particle's inertia by
+    /// assumption; the fluid-inertia terms are of the same order (slip ∝ τ(ρ_p − ρ_f)Du/Dt in
+    /// Maxey & Riley's small-Stokes expansion), so such a scene is not warned about
+    /// `undisturbed_flow` and `added_mass`, only about the terms that survive that limit.
     pub fn force_advice(&self) -> Vec<String> {
         let limit = crate::diagnostics::Thresholds::default().omitted_term;
+        let overdamped = matches!(
+            &self.integrator,
+            SceneIntegrator::Stokesian(s) if s.barycentre == crate::integrator::BarycentreModel::Overdamped
+        );
+        let inertial = [crate::hydro::forces::UndisturbedFlow::NAME, crate::hydro::forces::AddedMass::NAME];
         let placements: Vec<(String, &Placement)> = match &self.particles {
             ParticleSource::List(list) => list
                 .iter()
@@ -127,7 +137,7 @@ impl Scene {
             if density_ratio > limit && !carries_flow_force {
                 sizes.insert(0, ("undisturbed_flow", density_ratio));
             }
-            for (term, size) in sizes {
+            for (term, size) in sizes.into_iter().filter(|(term, _)| !(overdamped && inertial.contains(term))) {
                 advice.push(format!(
                     "{key}: the scene leaves out `{term}`, which its numbers put at {:.2} % (add it to particles.forces)",
                     100.0 * size
