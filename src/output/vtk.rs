@@ -372,7 +372,7 @@ fn write_array(
 /// array is zero blocks.
 fn append_compressed(data: &mut Vec<u8>, raw: &[u8]) {
     let blocks: u64 = if raw.is_empty() { 0 } else { 1 };
-    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
     // Writing to a Vec cannot fail.
     let compressed = std::io::Write::write_all(&mut z, raw)
         .and_then(|()| z.finish())
