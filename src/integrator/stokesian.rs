@@ -238,3 +238,33 @@ impl TimeIntegrator for Stokesian {
         })
     }
 }
+
+/// The inertialess integrator with `scheme`, from a scene's `tol` and `overdamped`.
+fn by_scheme(p: &crate::registry::Parameters, scheme: Scheme) -> Result<super::SceneIntegrator, ParamError> {
+    p.only(&["tol", "overdamped"])?;
+    let tol = p.positive("tol")?;
+    let made = if p.flag("overdamped")? {
+        Stokesian::overdamped(tol)
+    } else {
+        Stokesian::new(tol)
+    };
+    Ok(super::SceneIntegrator::new(made?.with_scheme(scheme)))
+}
+
+// Selectable by name: `[integrator] type = "radau_iia"` (also `stokesian`, the library's default
+// scheme, and `stokesian_radau5`, earlier scene files' names) and `"rosenbrock_w23"` (also
+// `stokesian_rosenbrock23`), with `tol` and `overdamped`.
+inventory::submit! {
+    super::IntegratorRegistration {
+        name: "radau_iia",
+        aliases: &["stokesian", "stokesian_radau5"],
+        build: |p| by_scheme(p, Scheme::Radau5),
+    }
+}
+inventory::submit! {
+    super::IntegratorRegistration {
+        name: "rosenbrock_w23",
+        aliases: &["stokesian_rosenbrock23"],
+        build: |p| by_scheme(p, Scheme::Rosenbrock23),
+    }
+}
