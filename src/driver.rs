@@ -20,7 +20,7 @@
 use crate::error::{FlowError, ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::integrator::{Dense, Step, StepInfo, TimeIntegrator};
+use crate::integrator::{Dense, Step, StepInfo, Stepper};
 use crate::material::Response;
 use crate::particle::{Particle, State};
 use serde::{Deserialize, Serialize};
@@ -233,7 +233,7 @@ pub fn integrate<I, M, D, F>(
     on_step: impl FnMut(&Step),
 ) -> Result<Outcome, RunFailure>
 where
-    I: TimeIntegrator,
+    I: Stepper<M, D>,
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
@@ -267,7 +267,7 @@ fn integrate_recorded<I, M, D, F>(
     last: &mut State,
 ) -> Result<Outcome, StepError>
 where
-    I: TimeIntegrator,
+    I: Stepper<M, D>,
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
@@ -338,7 +338,7 @@ where
         if s.t + try_h <= s.t || try_h.is_nan() {
             return Err(StepError::NoProgress { t: s.t, dt: try_h });
         }
-        let step = match integrator.step_with(particle, &s, memory, flow, try_h) {
+        let step = match integrator.step_particle(particle, &s, memory, flow, try_h) {
             Ok(step) => step,
             // A trial state beyond the domain: the step overshot a boundary the events have not
             // seen yet (a point particle crossing an exit, a stage past the wall). Retry shorter,
@@ -460,7 +460,7 @@ pub fn run<I, M, D, F>(
     mut on_step: impl FnMut(&State, &StepInfo),
 ) -> Result<(State, RunStats), StepError>
 where
-    I: TimeIntegrator,
+    I: Stepper<M, D>,
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
@@ -500,7 +500,7 @@ pub fn advance<I, M, D, F>(
     t_end: f64,
 ) -> Result<(State, RunStats), StepError>
 where
-    I: TimeIntegrator,
+    I: Stepper<M, D>,
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
@@ -520,7 +520,7 @@ pub fn until_event<I, M, D, F>(
     events: &[&dyn Event],
 ) -> Result<Outcome, RunFailure>
 where
-    I: TimeIntegrator,
+    I: Stepper<M, D>,
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,

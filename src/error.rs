@@ -1,4 +1,22 @@
 //! Typed errors. Each variant carries the numbers that explain the failure.
+//!
+//! # Preconditions
+//! User data enters through constructors that validate it and return these errors
+//! ([`crate::ellipsoid::Ellipsoid::new`], [`crate::particle::Particle::new`], the laws, flows
+//! and integrators, `State::validate`), and a step refuses a non-finite state or geometry with a
+//! [`StepError`]. Below them, the geometry's low-level functions run once or more per model
+//! evaluation and return plain numbers: they assume the preconditions listed here and, outside
+//! them, return NaN or ∞ promptly (no panic, no loop) for the caller's check to catch. Each has a
+//! checked form for data that has not been through a constructor:
+//!
+//! | function | precondition | checked form |
+//! |---|---|---|
+//! | [`carlson_rf`](crate::ellipsoid::integrals::carlson_rf), [`carlson_rd`](crate::ellipsoid::integrals::carlson_rd) | finite arguments ≥ 0, at most one zero (R_D: z > 0) | they return `Result` |
+//! | [`EllipsoidIntegrals::new`](crate::ellipsoid::EllipsoidIntegrals::new) | semi-axes finite and > 0, squares in range | [`EllipsoidIntegrals::try_new`](crate::ellipsoid::EllipsoidIntegrals::try_new) |
+//! | [`PrincipalFrame::from_total_distortion`](crate::ellipsoid::PrincipalFrame::from_total_distortion) | F̄ finite and non-singular | [`PrincipalFrame::try_from_total_distortion`](crate::ellipsoid::PrincipalFrame::try_from_total_distortion) |
+//! | [`JefferyRoscoe::new`](crate::hydro::JefferyRoscoe::new), [`JefferyRoscoe::from_total_distortion`](crate::hydro::JefferyRoscoe::from_total_distortion) | finite frame and integrals | [`JefferyRoscoe::try_new`](crate::hydro::JefferyRoscoe::try_new), [`JefferyRoscoe::try_from_total_distortion`](crate::hydro::JefferyRoscoe::try_from_total_distortion) |
+//! | [`Geometry::of_total_distortion`](crate::particle::dynamics::Geometry::of_total_distortion), [`Particle::geometry`](crate::particle::Particle::geometry) | F finite with det F > 0 | [`Geometry::try_of_total_distortion`](crate::particle::dynamics::Geometry::try_of_total_distortion), [`Particle::try_geometry`](crate::particle::Particle::try_geometry) |
+//! | [`support_distance`](crate::ellipsoid::frame::support_distance), [`jeffery_spin`](crate::hydro::jeffery_spin), [`reduced_gravity`](crate::hydro::gravity::reduced_gravity), [`tensor`](crate::tensor) helpers | finite arguments (a unit normal; det ≠ 0 for inverses) | the frame or geometry they take is checked above |
 
 use crate::tensor::Vec3;
 use thiserror::Error;
@@ -80,6 +98,32 @@ pub enum ParamError {
         /// The names that exist.
         known: Vec<&'static str>,
     },
+    /// A parameter the model needs is not given.
+    #[error("`{model}` needs `{key}`")]
+    Missing {
+        /// The model's registered name.
+        model: &'static str,
+        /// The parameter.
+        key: String,
+    },
+    /// A parameter the model does not take.
+    #[error("`{model}` does not take `{key}`; it takes {known:?}")]
+    Unexpected {
+        /// The model's registered name.
+        model: &'static str,
+        /// The parameter given.
+        key: String,
+        /// The parameters it takes.
+        known: Vec<&'static str>,
+    },
+    /// A parameter of the wrong kind (text where a number belongs, ...).
+    #[error("parameter `{key}` must be {expected}")]
+    WrongType {
+        /// The parameter.
+        key: String,
+        /// What it must be.
+        expected: &'static str,
+    },
     /// The initial axes are not a right-handed orthonormal triad.
     #[error("initial axes are not a rotation: |QᵀQ − 1| = {orthogonality_defect:.3e}, det = {det}")]
     NotARotation {
@@ -88,6 +132,24 @@ pub enum ParamError {
         /// Determinant of the axes matrix.
         det: f64,
     },
+}
+
+impl ParamError {
+    /// The parameter the error is about, where it names one (a model built by name from a
+    /// scene's keys: the key to point at).
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            ParamError::NotPositive { name, .. }
+            | ParamError::NonFinite { name, .. }
+            | ParamError::OutOfRange { name, .. } => Some(name),
+            ParamError::Missing { key, .. }
+            | ParamError::Unexpected { key, .. }
+            | ParamError::WrongType { key, .. } => Some(key),
+            // Only the expression law has an energy written as text, under the key `energy`.
+            ParamError::Expression { .. } => Some("energy"),
+            _ => None,
+        }
+    }
 }
 
 /// Failures of the flow field at a query point.

@@ -74,6 +74,7 @@ pub mod particle;
 #[cfg(feature = "parallel")]
 pub mod population;
 pub mod reference;
+pub mod registry;
 pub mod scenes;
 pub mod tensor;
 

@@ -301,3 +301,103 @@ fn vectors_of_the_wrong_length_are_refused() {
         }
     }
 }
+
+/// Laws, drag models and integrators are built by name through the library's registries: an
+/// unknown name is refused at the key that names it, listing the registered names, and a
+/// parameter the model does not take, a missing one or one of the wrong kind at its own key.
+#[test]
+fn models_by_name_are_refused_at_their_keys() {
+    for (from, to, key, says) in [
+        (
+            "law = \"neo_hooke\"",
+            "law = \"neo_hook\"",
+            "particles.list[0].material.law",
+            "\"neo_hooke\"",
+        ),
+        (
+            "law = \"neo_hooke\"",
+            "law = 3",
+            "particles.list[0].material.law",
+            "must be a name",
+        ),
+        (
+            "mu = 5.0",
+            "mu = \"5\"",
+            "particles.list[0].material.mu",
+            "must be a number",
+        ),
+        (
+            "mu = 5.0",
+            "mu1 = 5.0",
+            "particles.list[0].material.mu1",
+            "does not take `mu1`",
+        ),
+        (
+            "lambda = 50.0",
+            "",
+            "particles.list[0].material.lambda",
+            "needs `lambda`",
+        ),
+        (
+            "drag = \"brenner\"",
+            "drag = \"oseen\"",
+            "particles.drag",
+            "\"stokes_sphere\"",
+        ),
+        (
+            "type = \"imex\"",
+            "type = \"euler\"",
+            "integrator.type",
+            "\"radau_iia\"",
+        ),
+        (
+            "dt = 0.001",
+            "dt = 0.001\ntol = 1e-6",
+            "integrator.tol",
+            "`imex` does not take `tol`",
+        ),
+        (
+            "dt = 0.001",
+            "dt = 0.001\noverdamped = true",
+            "integrator.overdamped",
+            "does not take",
+        ),
+        ("dt = 0.001", "", "integrator.dt", "needs `dt`"),
+    ] {
+        assert!(LISTED.contains(from), "{from}");
+        let text = LISTED.replacen(from, to, 1);
+        match parse(
+            &Source {
+                file: "named.toml",
+                text: &text,
+            },
+            Path::new("."),
+        ) {
+            Err(CliError::Scene {
+                key: named, message, ..
+            }) => {
+                assert_eq!(named, key, "{to}: {message}");
+                assert!(message.contains(says), "{to}: {message}");
+            }
+            other => panic!("{to}: {:?}", other.map(|s| s.count())),
+        }
+    }
+    // The earlier spelling `imex_paper` (the scheme's dataset name) and a drag table are read.
+    for (from, to) in [
+        ("type = \"imex\"", "type = \"imex_paper\""),
+        ("drag = \"brenner\"", "drag = { model = \"stokes_sphere\" }"),
+    ] {
+        let text = LISTED.replacen(from, to, 1);
+        assert!(
+            parse(
+                &Source {
+                    file: "named.toml",
+                    text: &text
+                },
+                Path::new(".")
+            )
+            .is_ok(),
+            "{to}"
+        );
+    }
+}

@@ -146,3 +146,54 @@ proptest! {
         }
     }
 }
+
+/// Reliability defect 4, frames: the checked frame refuses a non-finite F̄ (NaN, ∞), a singular
+/// one (a zero semi-axis) and one whose F̄F̄ᵀ overflows (entries 1e200), with a typed error,
+/// where the hot-path frame returns NaN or zero semi-axes; on a valid F̄ the two agree bitwise.
+#[test]
+fn checked_frames_refuse_bad_distortions() {
+    let bad = [
+        Mat3::identity() * f64::NAN,
+        Mat3::identity() * f64::INFINITY,
+        Mat3::from_diagonal(&Vec3::new(1.0, 1.0, 0.0)),
+        Mat3::identity() * 1e200,
+    ];
+    for f_bar in bad {
+        let refused = PrincipalFrame::try_from_total_distortion(&f_bar);
+        assert!(
+            matches!(refused, Err(ParamError::NonFinite { .. } | ParamError::Derived { .. })),
+            "{f_bar}: {refused:?}"
+        );
+    }
+    let f_bar = Mat3::new(1.2, 0.3, 0.0, 0.1, 0.9, 0.0, 0.0, 0.0, 1.0);
+    assert_eq!(
+        PrincipalFrame::try_from_total_distortion(&f_bar).unwrap(),
+        PrincipalFrame::from_total_distortion(&f_bar)
+    );
+}
+
+/// Reliability defect 4, the geometry a user asks of a particle: `try_geometry` refuses a
+/// non-finite or singular F, and equals `geometry` on a valid one.
+#[test]
+fn checked_geometry_refuses_bad_deformations() {
+    let particle = Particle::new(
+        Ellipsoid::aligned([2.0, 1.0, 0.5]).unwrap(),
+        NeoHooke::new(1.0, 10.0).unwrap(),
+        Fluid::new(1.0, 1.0).unwrap(),
+        1.0,
+    )
+    .unwrap();
+    for f in [
+        Mat3::identity() * f64::NAN,
+        Mat3::zeros(),
+        Mat3::identity() * f64::NEG_INFINITY,
+    ] {
+        assert!(particle.try_geometry(&f).is_err(), "{f}");
+    }
+    let f = Mat3::new(1.1, 0.2, 0.0, 0.0, 0.9, 0.1, 0.0, 0.0, 1.0);
+    let (checked, hot) = (particle.try_geometry(&f).unwrap(), particle.geometry(&f));
+    assert_eq!(
+        (checked.frame, checked.ints, checked.traction),
+        (hot.frame, hot.ints, hot.traction)
+    );
+}

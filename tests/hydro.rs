@@ -251,3 +251,28 @@ fn mean_response_time_ratio_of_spheroids() {
     }
     assert!(mean_response_time_ratio(&Vec3::new(1.0, f64::NAN, 1.0)).is_err());
 }
+
+/// Reliability defect 4, traction coefficients: fed the NaN integrals of an invalid ellipsoid
+/// (what `EllipsoidIntegrals::new` returns for it) or a non-finite F̄, the checked forms refuse
+/// with a typed error; on a valid ellipsoid they equal the hot-path coefficients bitwise.
+#[test]
+fn checked_traction_coefficients_refuse_bad_input() {
+    let frame = PrincipalFrame::from_total_distortion(&Mat3::identity());
+    let nan_ints = EllipsoidIntegrals::new(&Vec3::new(f64::NAN, 1.0, 1.0));
+    assert!(matches!(
+        JefferyRoscoe::try_new(&frame, &nan_ints),
+        Err(ParamError::Derived { .. })
+    ));
+    for f_bar in [
+        Mat3::identity() * f64::NAN,
+        Mat3::identity() * f64::INFINITY,
+        Mat3::zeros(),
+    ] {
+        assert!(JefferyRoscoe::try_from_total_distortion(&f_bar).is_err(), "{f_bar}");
+    }
+    let f_bar = Mat3::from_diagonal(&Vec3::new(2.0, 1.0, 0.5));
+    assert_eq!(
+        JefferyRoscoe::try_from_total_distortion(&f_bar).unwrap(),
+        JefferyRoscoe::from_total_distortion(&f_bar)
+    );
+}

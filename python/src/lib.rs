@@ -583,7 +583,7 @@ impl Results {
                     row.extend(spec.shape.semi_axes().iter());
                     row.push(match &spec.softness {
                         Softness::Rigid => nan,
-                        Softness::Elastic(law) => pseudorigid::material::Hyperelastic::shear_modulus(law),
+                        Softness::Elastic(law) => pseudorigid::material::StressLaw::shear_modulus(law),
                     });
                     row.push(spec.density);
                 }

@@ -162,3 +162,24 @@ def test_bad_run_arguments(tmp_path, small_scene):
         pr.run(123, tmp_path)  # type: ignore[arg-type]
     with pytest.raises(TypeError):
         pr.run(s, tmp_path, threads="two")  # type: ignore[arg-type]
+
+
+def test_models_resolve_by_name_and_unknown_names_name_their_key():
+    """Laws, drag models and integrators are built through the library's registries: a drag
+    model by name and the earlier integrator spelling `stokesian` read, and an unknown name is
+    refused at its key."""
+    d = random_scene(random.Random(7))
+    d["particles"]["drag"] = "stokes_sphere"
+    pr.Scene.from_dict(d)
+
+    def refused(edit) -> str:
+        broken = random_scene(random.Random(7))
+        edit(broken)
+        with pytest.raises(pr.SceneError) as info:
+            pr.Scene.from_dict(broken)
+        return info.value.key
+
+    law = {"law": "neo_hook", "mu": 1.0, "lambda": 10.0}
+    assert refused(lambda b: b["particles"]["inject"].update(material=law)) == "particles.inject.material.law"
+    assert refused(lambda b: b["particles"].update(drag="oseen")) == "particles.drag"
+    assert refused(lambda b: b["integrator"].update(type="euler")) == "integrator.type"

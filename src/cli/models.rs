@@ -1,85 +1,23 @@
 //! The models a scene file can name, each one type over the library's choices, so that one
-//! scene mixes laws and picks its flow and boundary at run time.
+//! scene mixes laws and picks its flow and boundary at run time. Laws and drag models are the
+//! registries' types (any model registered by name); flows and boundaries stay enums here
+//! because what builds them is not a table of parameters (module docs of [`super::scene`]).
 
 use crate::contact::MeshBoundary;
-use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Planes};
-use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
+use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Planes, Unbounded};
 use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
 use crate::flow::openfoam::{BlendedFlow, FoamFlow};
 use crate::flow::{FlowField, FlowSample};
-use crate::hydro::{Brenner, DragModel, StokesSphere};
-use crate::material::{ExpressionLaw, Hyperelastic, MooneyRivlin, NeoHooke};
-use crate::tensor::{Mat3, Mat9, Scalar, Vec3};
-use serde::{Deserialize, Serialize};
+use crate::hydro::drag::NamedDrag;
+use crate::material::NamedLaw;
+use crate::tensor::Vec3;
 
-/// A hyperelastic law named in a scene.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum SceneLaw {
-    /// Neo-Hooke (paper eq. 9).
-    NeoHooke(NeoHooke),
-    /// Mooney–Rivlin.
-    MooneyRivlin(MooneyRivlin),
-    /// A stored energy written in the scene.
-    Expression(Box<ExpressionLaw>),
-}
+/// The law a scene names: any registered law ([`crate::material::registry`]).
+pub type SceneLaw = NamedLaw;
 
-impl Hyperelastic for SceneLaw {
-    fn energy<S: Scalar>(&self, f: &Mat3<S>) -> S {
-        match self {
-            SceneLaw::NeoHooke(l) => l.energy(f),
-            SceneLaw::MooneyRivlin(l) => l.energy(f),
-            SceneLaw::Expression(l) => l.energy(f),
-        }
-    }
-    fn shear_modulus(&self) -> f64 {
-        match self {
-            SceneLaw::NeoHooke(l) => l.shear_modulus(),
-            SceneLaw::MooneyRivlin(l) => l.shear_modulus(),
-            SceneLaw::Expression(l) => l.shear_modulus(),
-        }
-    }
-    fn lame_lambda(&self) -> f64 {
-        match self {
-            SceneLaw::NeoHooke(l) => l.lame_lambda(),
-            SceneLaw::MooneyRivlin(l) => l.lame_lambda(),
-            SceneLaw::Expression(l) => l.lame_lambda(),
-        }
-    }
-    // The laws' own closed forms, where they have them, stay in use.
-    fn piola(&self, f: &Mat3) -> Mat3 {
-        match self {
-            SceneLaw::NeoHooke(l) => l.piola(f),
-            SceneLaw::MooneyRivlin(l) => l.piola(f),
-            SceneLaw::Expression(l) => l.piola(f),
-        }
-    }
-    fn tangent(&self, f: &Mat3) -> Mat9 {
-        match self {
-            SceneLaw::NeoHooke(l) => l.tangent(f),
-            SceneLaw::MooneyRivlin(l) => l.tangent(f),
-            SceneLaw::Expression(l) => l.tangent(f),
-        }
-    }
-}
-
-/// A drag model named in a scene.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SceneDrag {
-    /// Brenner's ellipsoid resistance.
-    Brenner,
-    /// Stokes drag of the volume-equivalent sphere.
-    StokesSphere,
-}
-
-impl DragModel for SceneDrag {
-    fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3 {
-        match self {
-            SceneDrag::Brenner => Brenner.resistance(frame, ints),
-            SceneDrag::StokesSphere => StokesSphere.resistance(frame, ints),
-        }
-    }
-}
+/// The drag model a scene names: any registered model ([`crate::hydro::drag::by_name`]).
+pub type SceneDrag = NamedDrag;
 
 /// A carrier flow named in a scene.
 #[derive(Debug, Clone)]
@@ -117,7 +55,7 @@ impl SceneBoundary {
     /// ([`MeshBoundary::fingerprint`]).
     pub fn fingerprint(&self) -> String {
         match self {
-            SceneBoundary::Open => "open".into(),
+            SceneBoundary::Open(_) => "open".into(),
             SceneBoundary::Pipe(b) => format!("{b:?}"),
             SceneBoundary::Planes(b) => format!("{b:?}"),
             SceneBoundary::Mesh(b) => b.fingerprint().to_string(),
@@ -141,7 +79,7 @@ impl FlowField for SceneFlow {
 #[derive(Debug, Clone)]
 pub enum SceneBoundary {
     /// Nothing to touch: every particle runs to the end time.
-    Open,
+    Open(Unbounded),
     /// The pipe wall.
     Pipe(PipeWall),
     /// Planar walls.
@@ -153,12 +91,7 @@ pub enum SceneBoundary {
 impl Boundary for SceneBoundary {
     fn nearest(&self, x: &Vec3, extent: &Extent) -> Gap {
         match self {
-            // An infinite gap never closes, and caps no step.
-            SceneBoundary::Open => Gap {
-                patch: 0,
-                gap: f64::INFINITY,
-                normal: Vec3::x(),
-            },
+            SceneBoundary::Open(b) => b.nearest(x, extent),
             SceneBoundary::Pipe(b) => b.nearest(x, extent),
             SceneBoundary::Planes(b) => b.nearest(x, extent),
             SceneBoundary::Mesh(b) => b.nearest(x, extent),
@@ -167,7 +100,7 @@ impl Boundary for SceneBoundary {
 
     fn patch_name(&self, patch: usize) -> &str {
         match self {
-            SceneBoundary::Open => "none",
+            SceneBoundary::Open(b) => b.patch_name(patch),
             SceneBoundary::Pipe(b) => b.patch_name(patch),
             SceneBoundary::Planes(b) => b.patch_name(patch),
             SceneBoundary::Mesh(b) => b.patch_name(patch),
@@ -176,7 +109,7 @@ impl Boundary for SceneBoundary {
 
     fn rule(&self, patch: usize) -> PatchRule {
         match self {
-            SceneBoundary::Open => PatchRule::Stick,
+            SceneBoundary::Open(b) => b.rule(patch),
             SceneBoundary::Pipe(b) => b.rule(patch),
             SceneBoundary::Planes(b) => b.rule(patch),
             SceneBoundary::Mesh(b) => b.rule(patch),
@@ -185,7 +118,7 @@ impl Boundary for SceneBoundary {
 
     fn approach(&self) -> Approach {
         match self {
-            SceneBoundary::Open => Approach::Normal,
+            SceneBoundary::Open(b) => b.approach(),
             SceneBoundary::Pipe(b) => b.approach(),
             SceneBoundary::Planes(b) => b.approach(),
             SceneBoundary::Mesh(b) => b.approach(),

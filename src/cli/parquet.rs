@@ -15,7 +15,7 @@
 use super::error::CliError;
 use super::frames::at_time;
 use super::models::SceneLaw;
-use crate::material::{Hyperelastic, Softness};
+use crate::material::{Softness, StressLaw};
 use crate::output::vtk::stretch;
 use crate::output::{OutputError, write_atomic};
 use crate::population::{Fate, RunOutput};
@@ -107,7 +107,7 @@ impl Table {
 /// `records.parquet`: index, fate, patch and its name, the end state (t, x, r₁..r₃, F), the
 /// particle's spec (injection point, rest semi-axes, μ_s), step statistics and the error of a
 /// failed particle.
-pub fn write_records<L: Hyperelastic + Serialize + DeserializeOwned>(
+pub fn write_records<L: StressLaw + Serialize + DeserializeOwned>(
     output: &RunOutput<L>,
     path: &Path,
 ) -> Result<(), CliError> {

@@ -4,8 +4,7 @@
 use super::error::CliError;
 use super::frames::{csv_tables, write_run};
 use super::models::SceneLaw;
-use super::scene::{Scene, SceneIntegrator};
-use crate::integrator::TimeIntegrator;
+use super::scene::Scene;
 use crate::population::{
     Case, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir, run_in_dir,
 };
@@ -64,22 +63,16 @@ impl Scene {
 
     /// Do `job` with this scene's integrator.
     pub fn population(&self, job: &Job) -> Result<RunOutput<SceneLaw>, CliError> {
-        match &self.integrator {
-            SceneIntegrator::Imex(i) => self.population_with(i, job),
-            SceneIntegrator::ImexAdaptive(i) => self.population_with(i, job),
-            SceneIntegrator::Stokesian(i) => self.population_with(i, job),
-        }
-    }
-
-    fn population_with<I: TimeIntegrator + std::fmt::Debug>(
-        &self,
-        integrator: &I,
-        job: &Job,
-    ) -> Result<RunOutput<SceneLaw>, CliError> {
         let injector = self.injector();
-        let case = Case::new(integrator, &self.flow, &self.boundary, &injector, self.plan.clone())
-            .with_contact(self.contact)
-            .with_samples();
+        let case = Case::new(
+            &self.integrator,
+            &self.flow,
+            &self.boundary,
+            &injector,
+            self.plan.clone(),
+        )
+        .with_contact(self.contact)
+        .with_samples();
         let config = self.config();
         match job {
             Job::Run { shard, options, dir } => Ok(run_in_dir(&case, &config, *shard, dir, options)?),

@@ -18,11 +18,12 @@ use crate::error::ParamError;
 use crate::flow::FlowField;
 use crate::flow::analytic::{LinearFlow, Poiseuille};
 use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow};
-use crate::hydro::{ForceTerms, VolumetricTraction, forces};
-use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian};
-use crate::material::{ExpressionLaw, MooneyRivlin, NeoHooke, Softness};
+use crate::hydro::{ForceTerms, VolumetricTraction, drag, forces};
+use crate::integrator::SceneIntegrator;
+use crate::material::{self, Softness};
 use crate::particle::Fluid;
 use crate::population::ParticleTemplate;
+use crate::registry::{Value, Values};
 use crate::tensor::{Mat3, Vec3};
 use nalgebra::{Rotation3, Unit};
 use std::collections::BTreeMap;
@@ -41,15 +42,45 @@ pub const MAX_PARTICLES: u64 = 100_000_000;
 /// Steps allowed per particle unless `end.max_steps` says otherwise.
 pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
 
-/// The integrators a scene can name.
-#[derive(Debug, Clone, Copy)]
-pub enum SceneIntegrator {
-    /// The paper's fixed-step IMEX scheme.
-    Imex(ImexPaper),
-    /// IMEX with error control.
-    ImexAdaptive(ImexAdaptive),
-    /// The inertialess integrator (Rosenbrock-W or Radau IIA).
-    Stokesian(Stokesian),
+/// What a model's parameter may be, as an error says it.
+const VALUE_KINDS: &str = "must be a number, true or false, text, or a table of numbers";
+
+/// A parameter as the registries take it; `None` for what no model takes (arrays, dates,
+/// tables of non-numbers).
+fn to_value(v: &toml::Value) -> Option<Value> {
+    match v {
+        toml::Value::Float(x) => Some(Value::Number(*x)),
+        // TOML integers are numbers too (`lambda = 50`); beyond 2⁵³ they round, as in any f64.
+        toml::Value::Integer(i) => Some(Value::Number(*i as f64)),
+        toml::Value::Boolean(b) => Some(Value::Flag(*b)),
+        toml::Value::String(s) => Some(Value::Text(s.clone())),
+        toml::Value::Table(t) => t
+            .iter()
+            .map(|(k, v)| match v {
+                toml::Value::Float(x) => Some((k.clone(), *x)),
+                toml::Value::Integer(i) => Some((k.clone(), *i as f64)),
+                _ => None,
+            })
+            .collect::<Option<BTreeMap<String, f64>>>()
+            .map(Value::Table),
+        toml::Value::Array(_) | toml::Value::Datetime(_) => None,
+    }
+}
+
+/// A model's table split into its name and its parameters, with where each is written.
+struct ModelKeys {
+    /// Dotted key of the table (`particles.list[0].material`).
+    prefix: String,
+    /// The key of the name (`law`, `type`).
+    name_key: &'static str,
+    /// The model's name.
+    name: String,
+    /// Where the name is written.
+    at: Range<usize>,
+    /// The parameters.
+    values: Values,
+    /// Where each parameter is written.
+    spans: BTreeMap<String, Range<usize>>,
 }
 
 /// A validated scene: everything a run needs.
@@ -105,10 +136,7 @@ impl Scene {
     /// `undisturbed_flow` and `added_mass`, only about the terms that survive that limit.
     pub fn force_advice(&self) -> Vec<String> {
         let limit = crate::diagnostics::Thresholds::default().omitted_term;
-        let overdamped = matches!(
-            &self.integrator,
-            SceneIntegrator::Stokesian(s) if s.barycentre == crate::integrator::BarycentreModel::Overdamped
-        );
+        let overdamped = self.integrator.barycentre() == crate::integrator::BarycentreModel::Overdamped;
         let inertial = [crate::hydro::forces::UndisturbedFlow::NAME, crate::hydro::forces::AddedMass::NAME];
         let placements: Vec<(String, &Placement)> = match &self.particles {
             ParticleSource::List(list) => list
@@ -241,8 +269,8 @@ impl Builder<'_> {
             ContactModel::Extent => 0.0,
         };
         let particles = self.particles(&raw.particles, &template, &flow, contact_radius)?;
-        let integrator = self.integrator(&raw.integrator)?;
-        let (plan, outputs) = self.plan(&raw.integrator, &raw.end, &raw.output, particles.count())?;
+        let (integrator, dt, dt_max) = self.integrator(&raw.integrator)?;
+        let (plan, outputs) = self.plan(&dt, dt_max.as_ref(), &raw.end, &raw.output, particles.count())?;
         Ok(Scene {
             seed: raw.seed,
             flow,
@@ -269,6 +297,73 @@ impl Builder<'_> {
         value
             .as_ref()
             .ok_or_else(|| self.err(at, key, format!("`{kind}` needs `{key}`")))
+    }
+
+    /// The model named under `name_key` in `table` (at `prefix`) and its parameters: every
+    /// other key but `skip` (keys the scene itself reads).
+    fn model_keys(
+        &self,
+        table: &ModelTable,
+        prefix: &str,
+        name_key: &'static str,
+        skip: &[&str],
+    ) -> Result<ModelKeys, CliError> {
+        let key = format!("{prefix}.{name_key}");
+        let written = table
+            .get_ref()
+            .get(name_key)
+            .ok_or_else(|| self.err(table.span(), &key, format!("`{prefix}` needs `{name_key}`")))?;
+        let toml::Value::String(name) = written.get_ref() else {
+            return Err(self.err(written.span(), &key, "must be a name (text)"));
+        };
+        let (mut values, mut spans) = (Values::new(), BTreeMap::new());
+        for (k, v) in table.get_ref() {
+            if k == name_key || skip.contains(&k.as_str()) {
+                continue;
+            }
+            let value =
+                to_value(v.get_ref()).ok_or_else(|| self.err(v.span(), &format!("{prefix}.{k}"), VALUE_KINDS))?;
+            values.insert(k.clone(), value);
+            spans.insert(k.clone(), v.span());
+        }
+        Ok(ModelKeys {
+            prefix: prefix.to_string(),
+            name_key,
+            name: name.clone(),
+            at: written.span(),
+            values,
+            spans,
+        })
+    }
+
+    /// A registry's refusal of a model's table, at the key it names: an unknown model at its
+    /// name, a missing parameter at the name, a bad one where it is written, and a refusal of
+    /// the combination (a constructor's) at the name with every parameter's key.
+    fn model_error(&self, m: &ModelKeys, e: ParamError) -> CliError {
+        let own = |k: &str| format!("{}.{k}", m.prefix);
+        let (span, key) = match (&e, e.key()) {
+            (ParamError::Unknown { .. }, _) => (m.at.clone(), own(m.name_key)),
+            (ParamError::Missing { key, .. }, _) => (m.at.clone(), own(key)),
+            (_, Some(k)) if m.spans.contains_key(k) => (m.spans[k].clone(), own(k)),
+            _ if m.spans.is_empty() => (m.at.clone(), own(m.name_key)),
+            _ => (
+                m.at.clone(),
+                m.spans.keys().map(|k| own(k)).collect::<Vec<_>>().join(", "),
+            ),
+        };
+        self.param(span, &key, e)
+    }
+
+    /// The number `key` of `table` (at `prefix`), if written.
+    fn table_number(&self, table: &ModelTable, prefix: &str, key: &str) -> Result<Option<Num>, CliError> {
+        let Some(v) = table.get_ref().get(key) else {
+            return Ok(None);
+        };
+        match v.get_ref() {
+            toml::Value::Float(x) => Ok(Some(Spanned::new(v.span(), *x))),
+            toml::Value::Integer(i) => Ok(Some(Spanned::new(v.span(), *i as f64))),
+            _ => Err(self.err(v.span(), &format!("{prefix}.{key}"), "must be a number")),
+        }
     }
 
     /// Keys given that the chosen kind does not take: `(key, given)` pairs.

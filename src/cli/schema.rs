@@ -180,8 +180,7 @@ pub struct ParticlesSpec {
     /// Solid density ρ_s of every entry or group that gives none of its own.
     pub density: Option<Num>,
     /// Drag model (default `brenner`).
-    #[serde(default)]
-    pub drag: DragSpec,
+    pub drag: Option<Spanned<DragEntry>>,
     /// Volumetric part of the traction (default `paper`, the literal eq. 12; `source` resists
     /// dilation as a fluid does and is what error-controlled inertial runs need).
     #[serde(default)]
@@ -254,16 +253,27 @@ pub enum VolumetricSpec {
     Source,
 }
 
-/// Drag models by name.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum DragSpec {
-    /// Brenner's ellipsoid resistance (the paper's).
-    #[default]
-    Brenner,
-    /// Stokes drag of the volume-equivalent sphere.
-    StokesSphere,
+/// `particles.drag`: a registered drag model's name, or a table with the name under `model`
+/// and the model's parameters (`crate::hydro::drag::by_name`).
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum DragEntry {
+    /// A model without parameters.
+    Name(String),
+    /// A model with parameters.
+    Table {
+        /// The model's name.
+        model: String,
+        /// Its parameters.
+        #[serde(flatten)]
+        parameters: std::collections::BTreeMap<String, toml::Value>,
+    },
 }
+
+/// A model's table as written: its name under one key (`law`, `type`) and its parameters
+/// beside it, each with its place in the file. The registry of its kind decides which keys it
+/// takes, so a model added in one file needs no key here.
+pub type ModelTable = Spanned<std::collections::BTreeMap<String, Spanned<toml::Value>>>;
 
 /// `[[particles.list]]`.
 #[derive(Debug, Deserialize)]
@@ -296,39 +306,10 @@ pub struct OrientationSpec {
     pub angle: Num,
 }
 
-/// Shape response: a law and its parameters.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialSpec {
-    /// Which law.
-    pub law: Spanned<LawKind>,
-    /// Shear modulus μ_s (`neo_hooke`).
-    pub mu: Option<Num>,
-    /// μ₁ (`mooney_rivlin`).
-    pub mu1: Option<Num>,
-    /// μ₂ (`mooney_rivlin`).
-    pub mu2: Option<Num>,
-    /// First Lamé parameter λ_s (`neo_hooke`, `mooney_rivlin`).
-    pub lambda: Option<Num>,
-    /// Stored energy W(I1, I2, J) as text (`expression`; `crate::material::expression`).
-    pub energy: Option<Spanned<String>>,
-    /// Named values the energy uses (`expression`).
-    pub parameters: Option<Spanned<std::collections::BTreeMap<String, f64>>>,
-}
-
-/// Laws by name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LawKind {
-    /// Neo-Hooke (paper eq. 9).
-    NeoHooke,
-    /// Mooney–Rivlin.
-    MooneyRivlin,
-    /// Rigid (Ca → 0): Jeffery rotation, no elasticity.
-    Rigid,
-    /// A stored energy written in the scene (`energy`, `parameters`).
-    Expression,
-}
+/// Shape response: `law`, a registered law's name (`crate::material::registry`) or `rigid`,
+/// and the law's parameters (`neo_hooke`: `mu`, `lambda`; `mooney_rivlin`: `mu1`, `mu2`,
+/// `lambda`; `expression`: `energy`, `parameters`).
+pub type MaterialSpec = ModelTable;
 
 /// `[particles.inject]`: one injection group.
 #[derive(Debug, Deserialize)]
@@ -385,42 +366,10 @@ pub enum RegionKind {
     Patch,
 }
 
-/// `[integrator]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct IntegratorSpec {
-    /// Scheme name.
-    #[serde(rename = "type")]
-    pub kind: IntegratorKind,
-    /// Local error tolerance (adaptive schemes).
-    pub tol: Option<Num>,
-    /// First step (the fixed step of `imex`).
-    pub dt: Num,
-    /// Largest step.
-    pub dt_max: Option<Num>,
-    /// Overdamped barycentre (`radau_iia` and `rosenbrock_w23` only; default false).
-    #[serde(default)]
-    pub overdamped: bool,
-}
-
-/// Integrators by name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum IntegratorKind {
-    /// The paper's fixed-step IMEX scheme (§5).
-    Imex,
-    /// IMEX with error control.
-    ImexAdaptive,
-    /// Inertialess shape dynamics by Radau IIA of order 5 (`radau_iia`, the library's
-    /// default `Stokesian::new`). Also spelled `stokesian` (the inertialess integrator with its
-    /// default scheme) and `stokesian_radau5`, the names of earlier scene files.
-    #[serde(alias = "stokesian", alias = "stokesian_radau5")]
-    RadauIia,
-    /// Inertialess shape dynamics by the Rosenbrock-W 2(3) pair (`rosenbrock_w23`). Also
-    /// spelled `stokesian_rosenbrock23`, the name of earlier scene files.
-    #[serde(alias = "stokesian_rosenbrock23")]
-    RosenbrockW23,
-}
+/// `[integrator]`: `type`, a registered integrator's name or alias
+/// (`crate::integrator::registry`), the first step `dt` and largest step `dt_max` (the plan's),
+/// and the integrator's parameters (`tol`, `overdamped`, ...).
+pub type IntegratorSpec = ModelTable;
 
 /// `[end]`.
 #[derive(Debug, Deserialize)]

@@ -10,6 +10,7 @@
 //! Eigenvector sign, order and the choice inside a degenerate eigenspace do not matter for
 //! σ̃ or k (tested); r is returned sorted descending only for the convenience of diagnostics.
 
+use crate::error::{ParamError, derived};
 use crate::tensor::{Mat3, Vec3};
 use nalgebra::SymmetricEigen;
 
@@ -24,6 +25,10 @@ pub struct PrincipalFrame {
 
 impl PrincipalFrame {
     /// Frame of the total distortion F̄ = F·S.
+    ///
+    /// Precondition: F̄ finite and non-singular; otherwise the frame holds NaN or zero
+    /// semi-axes, promptly (the hot path, [preconditions](crate::error#preconditions)).
+    /// [`Self::try_from_total_distortion`] checks.
     pub fn from_total_distortion(f_bar: &Mat3) -> Self {
         let b = f_bar * f_bar.transpose();
         let eig = SymmetricEigen::new(b);
@@ -39,6 +44,21 @@ impl PrincipalFrame {
             q.row_mut(2).neg_mut();
         }
         Self { r, q }
+    }
+
+    /// Frame of the total distortion F̄ = F·S, or why it has none: an entry of F̄ that is not
+    /// finite, or semi-axes that are not finite and > 0 (F̄ singular, or F̄F̄ᵀ overflowing).
+    pub fn try_from_total_distortion(f_bar: &Mat3) -> Result<Self, ParamError> {
+        if let Some(&value) = f_bar.iter().find(|v| !v.is_finite()) {
+            return Err(ParamError::NonFinite {
+                name: "total distortion F̄ = F·S",
+                value,
+            });
+        }
+        let frame = Self::from_total_distortion(f_bar);
+        derived("largest semi-axis r₁", frame.r[0], frame.r.as_slice())?;
+        derived("smallest semi-axis r₃", frame.r[2], frame.r.as_slice())?;
+        Ok(frame)
     }
 
     /// Principal components X′ = Q X Qᵀ of a global tensor.

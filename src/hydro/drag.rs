@@ -6,12 +6,20 @@
 //! $k_i = 16 / (r_{min}(\chi_0 + x_i\alpha_i))$. A sphere has k = 6 (f = 6πμa u); prolate values
 //! are tabulated by Brenner (1963) and tested. Derivation and the spheroid closed forms:
 //! [`crate::theory::drag`].
+//!
+//! Drag models are selectable by name (`particles.drag` in scene files, the Python package):
+//! each registers a builder ([`DragRegistration`]) in its own file, and [`by_name`] builds it.
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::error::ParamError;
+use crate::registry::{self, Entry, Parameters, Values};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
+use std::fmt;
+use std::sync::Arc;
+
+pub use inventory;
 
 /// A translational resistance model: the tensor K̂ with f_D = μ_f K̂·(u − v_c).
 ///
@@ -60,5 +68,95 @@ pub struct StokesSphere;
 impl DragModel for StokesSphere {
     fn resistance(&self, frame: &PrincipalFrame, _ints: &EllipsoidIntegrals) -> Mat3 {
         Mat3::identity() * (6.0 * PI * frame.r.product().cbrt())
+    }
+}
+
+/// A drag model selectable by name: its name in scene files and how to build it from its
+/// parameters. Submit one with `inventory::submit!` in the model's file.
+pub struct DragRegistration {
+    /// Name in scene files (`particles.drag`).
+    pub name: &'static str,
+    /// Build the model; refuse parameters it does not take ([`Parameters::only`]).
+    pub build: fn(&Parameters) -> Result<Arc<dyn DragModel>, ParamError>,
+}
+
+inventory::collect!(DragRegistration);
+
+impl Entry for DragRegistration {
+    const KIND: &'static str = "drag model";
+    fn name(&self) -> &'static str {
+        self.name
+    }
+}
+
+/// The registered drag models' names, sorted.
+pub fn names() -> Vec<&'static str> {
+    registry::names::<DragRegistration>()
+}
+
+/// The registry: the drag model called `name` with parameters `values`.
+pub fn by_name(name: &str, values: &Values) -> Result<NamedDrag, ParamError> {
+    let entry = registry::find::<DragRegistration>(name)?;
+    Ok(NamedDrag {
+        name: entry.name,
+        values: values.clone(),
+        model: (entry.build)(&Parameters::new(entry.name, values))?,
+    })
+}
+
+/// A drag model built by name, with the parameters it was built from.
+#[derive(Clone)]
+pub struct NamedDrag {
+    name: &'static str,
+    values: Values,
+    model: Arc<dyn DragModel>,
+}
+
+impl NamedDrag {
+    /// The registered name.
+    pub fn name(&self) -> &'static str {
+        self.name
+    }
+}
+
+impl fmt::Debug for NamedDrag {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("NamedDrag")
+            .field("name", &self.name)
+            .field("values", &self.values)
+            .finish()
+    }
+}
+
+/// Two models are equal when built by the same name from the same parameters.
+impl PartialEq for NamedDrag {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name && self.values == other.values
+    }
+}
+
+impl DragModel for NamedDrag {
+    fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3 {
+        self.model.resistance(frame, ints)
+    }
+}
+
+// Selectable by name: `particles.drag = "brenner"` (the default) and `"stokes_sphere"`.
+inventory::submit! {
+    DragRegistration {
+        name: "brenner",
+        build: |p| {
+            p.only(&[])?;
+            Ok(Arc::new(Brenner))
+        },
+    }
+}
+inventory::submit! {
+    DragRegistration {
+        name: "stokes_sphere",
+        build: |p| {
+            p.only(&[])?;
+            Ok(Arc::new(StokesSphere))
+        },
     }
 }

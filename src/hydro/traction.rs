@@ -29,6 +29,7 @@
 //! volumetric readings: [`crate::theory::traction`].
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
+use crate::error::ParamError;
 use crate::tensor::{Mat3, Mat9, Vec9, dev, mat3, skw, sym, vec9};
 use serde::{Deserialize, Serialize};
 
@@ -60,6 +61,10 @@ pub struct JefferyRoscoe {
 
 impl JefferyRoscoe {
     /// Coefficients for the ellipsoid with principal frame `frame` and integrals `ints`.
+    ///
+    /// Precondition: finite integrals of a finite frame; otherwise the coefficients hold NaN or
+    /// ∞, promptly (the hot path, [preconditions](crate::error#preconditions)).
+    /// [`Self::try_new`] checks.
     pub fn new(frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Self {
         let (x, a, ap, app, abc) = (ints.x, ints.alpha, ints.alpha_p, ints.alpha_pp, ints.abc);
         let mut c_d = Mat3::zeros();
@@ -96,19 +101,46 @@ impl JefferyRoscoe {
         }
     }
 
-    /// Coefficients straight from the total distortion F̄ = F·S.
+    /// Coefficients for `frame` and `ints`, or the first that is not finite (an ellipsoid too
+    /// slender for f64, or non-finite input).
+    pub fn try_new(frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Result<Self, ParamError> {
+        let coefficients = Self::new(frame, ints);
+        match coefficients.first_non_finite() {
+            Some(value) => Err(ParamError::Derived {
+                name: "Jeffery–Roscoe traction coefficient",
+                value,
+                inputs: frame.r.iter().copied().collect(),
+            }),
+            None => Ok(coefficients),
+        }
+    }
+
+    /// Coefficients straight from the total distortion F̄ = F·S (precondition: F̄ finite and
+    /// non-singular, as for [`PrincipalFrame::from_total_distortion`]).
     pub fn from_total_distortion(f_bar: &Mat3) -> Self {
         let frame = PrincipalFrame::from_total_distortion(f_bar);
         Self::new(&frame, &EllipsoidIntegrals::new(&frame.r))
     }
 
+    /// Coefficients from the total distortion F̄ = F·S, or why they do not exist: a frame,
+    /// integrals or coefficients that are not finite.
+    pub fn try_from_total_distortion(f_bar: &Mat3) -> Result<Self, ParamError> {
+        let frame = PrincipalFrame::try_from_total_distortion(f_bar)?;
+        Self::try_new(&frame, &EllipsoidIntegrals::try_new(&frame.r)?)
+    }
+
     /// Whether every coefficient is finite (false for an ellipsoid too slender for f64).
     pub fn is_finite(&self) -> bool {
+        self.first_non_finite().is_none()
+    }
+
+    fn first_non_finite(&self) -> Option<f64> {
         [self.c_d, self.c_w, self.c_diag]
             .iter()
             .flat_map(|m| m.iter())
             .chain(&self.c_p)
-            .all(|c| c.is_finite())
+            .find(|c| !c.is_finite())
+            .copied()
     }
 
     /// The principal frame the coefficients belong to.

@@ -152,3 +152,16 @@ impl TimeIntegrator for ImexAdaptive {
         })
     }
 }
+
+// Selectable by name: `[integrator] type = "imex_adaptive"`, `tol` (inertial barycentre only).
+inventory::submit! {
+    super::IntegratorRegistration {
+        name: "imex_adaptive",
+        aliases: &[],
+        build: |p| {
+            p.only(&["tol", "overdamped"])?;
+            super::registry::inertial_only(p)?;
+            Ok(super::SceneIntegrator::new(ImexAdaptive::new(p.positive("tol")?)?))
+        },
+    }
+}

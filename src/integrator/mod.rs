@@ -13,6 +13,9 @@
 //! [`imex_adaptive`] the same step with error control; [`stokesian`] the inertialess limit
 //! Θ → 0 of eq. 18, advanced by [`radau5`] or [`rosenbrock`]. The adaptive schemes share their
 //! tolerances, step-controller limits and Jacobian-reuse rule through [`control`].
+//!
+//! Scene files and the Python package choose an integrator by name ([`registry`]): each
+//! registers itself in its own file.
 
 pub mod control;
 pub mod dense;
@@ -20,6 +23,7 @@ pub mod imex;
 pub mod imex_adaptive;
 pub mod newton;
 pub mod radau5;
+pub mod registry;
 pub mod rosenbrock;
 pub mod stokesian;
 
@@ -27,6 +31,7 @@ pub use control::{JacobianReuse, StepControl, Tolerances};
 pub use dense::Dense;
 pub use imex::ImexPaper;
 pub use imex_adaptive::ImexAdaptive;
+pub use registry::{IntegratorRegistration, SceneIntegrator};
 pub use stokesian::{BarycentreModel, Scheme, Stokesian};
 
 use crate::error::StepError;
@@ -104,6 +109,12 @@ pub trait TimeIntegrator: Send + Sync {
     /// `imex_adaptive`, `radau_iia`, `rosenbrock_w23`.
     fn name(&self) -> &'static str;
 
+    /// How the scheme moves the barycentre: with its inertia (the default), or overdamped
+    /// (its inertia dropped, as a scene's force advice needs to know).
+    fn barycentre(&self) -> BarycentreModel {
+        BarycentreModel::Inertial
+    }
+
     /// Advance `state` by `dt` (adaptive schemes may take less; see [`StepInfo::dt`]),
     /// reading and updating the particle's step `memory`.
     fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
@@ -126,5 +137,38 @@ pub trait TimeIntegrator: Send + Sync {
         let mut memory = Self::Memory::default();
         self.step_with(particle, state, &mut memory, flow, dt)
             .map(|s| (s.state, s.info))
+    }
+}
+
+/// One step for particles of one type, as the driver and the population runner take it. Every
+/// [`TimeIntegrator`] is one for every particle type; an integrator chosen by name
+/// ([`SceneIntegrator`]) is one for the particles of scene files.
+pub trait Stepper<M: Response, D: DragModel>: Send + Sync {
+    /// What is kept per particle between steps ([`TimeIntegrator::Memory`]).
+    type Memory: Default + Send;
+
+    /// Advance `state` by `dt` ([`TimeIntegrator::step_with`]).
+    fn step_particle<F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        state: &State,
+        memory: &mut Self::Memory,
+        flow: &F,
+        dt: f64,
+    ) -> Result<Step, StepError>;
+}
+
+impl<I: TimeIntegrator, M: Response, D: DragModel> Stepper<M, D> for I {
+    type Memory = I::Memory;
+
+    fn step_particle<F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        state: &State,
+        memory: &mut I::Memory,
+        flow: &F,
+        dt: f64,
+    ) -> Result<Step, StepError> {
+        self.step_with(particle, state, memory, flow, dt)
     }
 }

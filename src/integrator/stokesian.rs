@@ -130,6 +130,10 @@ impl TimeIntegrator for Stokesian {
         self.scheme.name()
     }
 
+    fn barycentre(&self) -> BarycentreModel {
+        self.barycentre
+    }
+
     fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
@@ -236,5 +240,35 @@ impl TimeIntegrator for Stokesian {
                 ..StepInfo::from_work(model.work(), acc.h, acc.h_next)
             },
         })
+    }
+}
+
+/// The inertialess integrator with `scheme`, from a scene's `tol` and `overdamped`.
+fn by_scheme(p: &crate::registry::Parameters, scheme: Scheme) -> Result<super::SceneIntegrator, ParamError> {
+    p.only(&["tol", "overdamped"])?;
+    let tol = p.positive("tol")?;
+    let made = if p.flag("overdamped")? {
+        Stokesian::overdamped(tol)
+    } else {
+        Stokesian::new(tol)
+    };
+    Ok(super::SceneIntegrator::new(made?.with_scheme(scheme)))
+}
+
+// Selectable by name: `[integrator] type = "radau_iia"` (also `stokesian`, the library's default
+// scheme, and `stokesian_radau5`, earlier scene files' names) and `"rosenbrock_w23"` (also
+// `stokesian_rosenbrock23`), with `tol` and `overdamped`.
+inventory::submit! {
+    super::IntegratorRegistration {
+        name: "radau_iia",
+        aliases: &["stokesian", "stokesian_radau5"],
+        build: |p| by_scheme(p, Scheme::Radau5),
+    }
+}
+inventory::submit! {
+    super::IntegratorRegistration {
+        name: "rosenbrock_w23",
+        aliases: &["stokesian_rosenbrock23"],
+        build: |p| by_scheme(p, Scheme::Rosenbrock23),
     }
 }

@@ -509,3 +509,14 @@ mod tests {
         assert!(law("J*(I1-3)", &[("J", 1.0)]).is_err());
     }
 }
+
+// Selectable by name: `material = { law = "expression", energy = "…", parameters = { … } }`.
+inventory::submit! {
+    super::LawRegistration {
+        name: "expression",
+        build: |p| {
+            p.only(&["energy", "parameters"])?;
+            Ok(std::sync::Arc::new(ExpressionLaw::new(p.text("energy")?, p.table("parameters")?)?))
+        },
+    }
+}

@@ -5,8 +5,8 @@
 //! differentiation; a law may override them with closed forms as an optimisation, which a test
 //! must check against AD (see `tests/material.rs`).
 //!
-//! To add a law, implement [`Hyperelastic`] in one file (see `examples/custom_material.rs` and
-//! the [guide](crate::guide)).
+//! To add a law, implement [`Hyperelastic`] in one file and register it there by name
+//! ([`registry`]) for scene files and Python (see the [guide](crate::guide)).
 //!
 //! # Physics (paper §2.4, eqs. 7, 9)
 //! The particle's elastic response enters the shape equation (eq. 7, and eq. 18 after the
@@ -19,11 +19,13 @@
 pub mod expression;
 pub mod mooney_rivlin;
 pub mod neo_hooke;
+pub mod registry;
 pub mod response;
 
 pub use expression::ExpressionLaw;
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hooke::NeoHooke;
+pub use registry::{LawRegistration, NamedLaw};
 pub use response::{NoLaw, Response, Rigid, Softness};
 
 use crate::tensor::{Mat3, Mat9, Scalar, mat3, vec9};
@@ -54,6 +56,45 @@ pub trait Hyperelastic: Send + Sync {
     /// Cauchy stress σ_el = P Fᵀ / J.
     fn cauchy(&self, f: &Mat3) -> Mat3 {
         self.piola(f) * f.transpose() / f.determinant()
+    }
+}
+
+/// What the solvers ask of a law: the stress P and its tangent at a real F, W(F), and the
+/// small-strain moduli. Unlike [`Hyperelastic`] it has no generic method, so a law chosen by
+/// name at run time ([`NamedLaw`]) is one; every [`Hyperelastic`] law is one.
+pub trait StressLaw: Send + Sync {
+    /// W(F) per unit reference volume.
+    fn energy_at(&self, f: &Mat3) -> f64;
+    /// First Piola–Kirchhoff stress P = ∂W/∂F.
+    fn piola(&self, f: &Mat3) -> Mat3;
+    /// Tangent ∂P/∂F (9×9, column-major flattened tensors).
+    fn tangent(&self, f: &Mat3) -> Mat9;
+    /// Cauchy stress σ_el = P Fᵀ / J.
+    fn cauchy(&self, f: &Mat3) -> Mat3;
+    /// Small-strain shear modulus μ_s.
+    fn shear_modulus(&self) -> f64;
+    /// Small-strain first Lamé parameter λ_s.
+    fn lame_lambda(&self) -> f64;
+}
+
+impl<M: Hyperelastic> StressLaw for M {
+    fn energy_at(&self, f: &Mat3) -> f64 {
+        self.energy(f)
+    }
+    fn piola(&self, f: &Mat3) -> Mat3 {
+        Hyperelastic::piola(self, f)
+    }
+    fn tangent(&self, f: &Mat3) -> Mat9 {
+        Hyperelastic::tangent(self, f)
+    }
+    fn cauchy(&self, f: &Mat3) -> Mat3 {
+        Hyperelastic::cauchy(self, f)
+    }
+    fn shear_modulus(&self) -> f64 {
+        Hyperelastic::shear_modulus(self)
+    }
+    fn lame_lambda(&self) -> f64 {
+        Hyperelastic::lame_lambda(self)
     }
 }
 

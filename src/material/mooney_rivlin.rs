@@ -86,3 +86,14 @@ impl Hyperelastic for MooneyRivlin {
         self.lambda
     }
 }
+
+// Selectable by name: `material = { law = "mooney_rivlin", mu1 = μ₁, mu2 = μ₂, lambda = λ_s }`.
+inventory::submit! {
+    super::LawRegistration {
+        name: "mooney_rivlin",
+        build: |p| {
+            p.only(&["mu1", "mu2", "lambda"])?;
+            Ok(std::sync::Arc::new(MooneyRivlin::new(p.number("mu1")?, p.number("mu2")?, p.positive("lambda")?)?))
+        },
+    }
+}

@@ -98,3 +98,14 @@ impl Hyperelastic for NeoHooke {
         })
     }
 }
+
+// Selectable by name: `material = { law = "neo_hooke", mu = μ_s, lambda = λ_s }`.
+inventory::submit! {
+    super::LawRegistration {
+        name: "neo_hooke",
+        build: |p| {
+            p.only(&["mu", "lambda"])?;
+            Ok(std::sync::Arc::new(NeoHooke::new(p.positive("mu")?, p.positive("lambda")?)?))
+        },
+    }
+}

@@ -7,14 +7,14 @@
 //! of the model, made with the particle: `Particle<NeoHooke>` is elastic, `Particle<Rigid>`
 //! rigid, and `Particle<Softness<L>>` either, decided per particle (a study mixing both).
 
-use super::Hyperelastic;
+use super::{Hyperelastic, StressLaw};
 use crate::tensor::{Mat3, Scalar};
 use serde::{Deserialize, Serialize};
 
 /// The shape response of a particle.
 pub trait Response: Send + Sync {
     /// The hyperelastic law of an elastic particle.
-    type Law: Hyperelastic;
+    type Law: StressLaw;
 
     /// The law, or `None` for a rigid particle.
     fn elastic(&self) -> Option<&Self::Law>;
@@ -66,7 +66,7 @@ pub enum Softness<L> {
     Elastic(L),
 }
 
-impl<L: Hyperelastic> Response for Softness<L> {
+impl<L: StressLaw> Response for Softness<L> {
     type Law = L;
 
     fn elastic(&self) -> Option<&L> {

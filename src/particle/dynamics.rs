@@ -24,12 +24,12 @@
 
 use super::Particle;
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
-use crate::error::StepError;
+use crate::error::{ParamError, StepError};
 use crate::flow::{FlowField, FlowSample};
 use crate::hydro::forces::ForceContext;
 use crate::hydro::gravity::reduced_gravity;
 use crate::hydro::{DragModel, InertialessSolver, JefferyRoscoe, jeffery_spin};
-use crate::material::{Hyperelastic, Response};
+use crate::material::{Response, StressLaw};
 use crate::tensor::{Mat3, Scalar, Vec3, det3, inv_transpose, lift};
 use std::cell::Cell;
 
@@ -45,7 +45,8 @@ pub struct Geometry {
 }
 
 impl Geometry {
-    /// Geometry of the total distortion F̄ = F·S.
+    /// Geometry of the total distortion F̄ = F·S (precondition: F̄ finite and non-singular;
+    /// otherwise NaN, promptly, [preconditions](crate::error#preconditions)).
     pub fn of_total_distortion(f_bar: &Mat3) -> Self {
         let frame = PrincipalFrame::from_total_distortion(f_bar);
         let ints = EllipsoidIntegrals::new(&frame.r);
@@ -54,6 +55,18 @@ impl Geometry {
             frame,
             ints,
         }
+    }
+
+    /// Geometry of the total distortion F̄ = F·S, or why it does not exist: a frame,
+    /// integrals or traction coefficients that are not finite.
+    pub fn try_of_total_distortion(f_bar: &Mat3) -> Result<Self, ParamError> {
+        let frame = PrincipalFrame::try_from_total_distortion(f_bar)?;
+        let ints = EllipsoidIntegrals::try_new(&frame.r)?;
+        Ok(Self {
+            traction: JefferyRoscoe::try_new(&frame, &ints)?,
+            frame,
+            ints,
+        })
     }
 }
 

@@ -30,7 +30,7 @@ use super::dynamics::Model;
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::hydro::{DragModel, InertialessSolver};
-use crate::material::{Hyperelastic, Response};
+use crate::material::{Response, StressLaw};
 use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, vec9};
 use nalgebra::{SMatrix, SVector};
 

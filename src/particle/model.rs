@@ -11,7 +11,7 @@ use super::dynamics::Geometry;
 use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use crate::error::{ParamError, derived, finite, positive};
 use crate::hydro::{Brenner, DragModel, ForceTerms, JefferyRoscoe, VolumetricTraction};
-use crate::material::{Hyperelastic, Response};
+use crate::material::{Response, StressLaw};
 use crate::tensor::{Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -264,6 +264,12 @@ impl<M: Response, D: DragModel> Particle<M, D> {
         Geometry::of_total_distortion(&self.total_distortion(f))
     }
 
+    /// The geometry at `f`, or why it does not exist (`f` not finite or singular, an
+    /// ellipsoid too slender for f64): [`Self::geometry`] for F from user data.
+    pub fn try_geometry(&self, f: &Mat3) -> Result<Geometry, ParamError> {
+        Geometry::try_of_total_distortion(&self.total_distortion(f))
+    }
+
     /// The hyperelastic law, or `None` for a rigid particle.
     pub fn elastic(&self) -> Option<&M::Law> {
         self.material.elastic()
@@ -271,6 +277,6 @@ impl<M: Response, D: DragModel> Particle<M, D> {
 
     /// Elastic energy W(F) vol(B₀) of a state (0 for a rigid particle).
     pub fn elastic_energy(&self, f: &Mat3) -> f64 {
-        self.elastic().map_or(0.0, |law| law.energy(f) * self.volume0)
+        self.elastic().map_or(0.0, |law| law.energy_at(f) * self.volume0)
     }
 }

@@ -6,7 +6,8 @@ use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
 use crate::driver::{Plan, RunStats, Stop, integrate};
 use crate::error::StepError;
 use crate::flow::FlowField;
-use crate::integrator::TimeIntegrator;
+use crate::integrator::Stepper;
+use crate::material::Softness;
 use std::hash::Hasher;
 
 /// What every particle of a population shares: integrator, flow, boundary, injection rule,
@@ -28,7 +29,7 @@ pub struct Case<'a, I, F: ?Sized, B: ?Sized, J> {
 
 impl<'a, I, F, B, J> Case<'a, I, F, B, J>
 where
-    I: TimeIntegrator + std::fmt::Debug,
+    I: Stepper<Softness<J::Law>, J::Drag> + std::fmt::Debug,
     F: FlowField + ?Sized,
     B: Boundary + ?Sized,
     J: Injector,

@@ -5,7 +5,7 @@
 use super::record::{FateCounts, ParticleRecord};
 use super::shard::Shard;
 use super::{FORMAT, PopulationError};
-use crate::material::Hyperelastic;
+use crate::material::StressLaw;
 use crate::output::{Csv, write_atomic};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -267,7 +267,7 @@ pub const TABLE_HEADER: [&str; 21] = [
     "error",
 ];
 
-impl<L: Hyperelastic + Serialize + DeserializeOwned> RunOutput<L> {
+impl<L: StressLaw + Serialize + DeserializeOwned> RunOutput<L> {
     /// One row per particle: fate, patch, end time and barycentre, current semi-axes r₁ ≥ r₂ ≥
     /// r₃ at the end, injection point, rest semi-axes, shear modulus μ_s (empty: rigid), solid
     /// density ρ_s, steps

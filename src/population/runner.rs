@@ -12,7 +12,8 @@ use super::shard::Shard;
 use super::spec::Injector;
 use crate::contact::Boundary;
 use crate::flow::FlowField;
-use crate::integrator::TimeIntegrator;
+use crate::integrator::Stepper;
+use crate::material::Softness;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -137,7 +138,7 @@ pub fn run<I, F, B, J>(
     options: &RunOptions,
 ) -> Result<RunOutput<J::Law>, PopulationError>
 where
-    I: TimeIntegrator + std::fmt::Debug,
+    I: Stepper<Softness<J::Law>, J::Drag> + std::fmt::Debug,
     F: FlowField + ?Sized,
     B: Boundary + ?Sized,
     J: Injector,
@@ -228,7 +229,7 @@ pub fn run_in_dir<I, F, B, J>(
     options: &RunOptions,
 ) -> Result<RunOutput<J::Law>, PopulationError>
 where
-    I: TimeIntegrator + std::fmt::Debug,
+    I: Stepper<Softness<J::Law>, J::Drag> + std::fmt::Debug,
     F: FlowField + ?Sized,
     B: Boundary + ?Sized,
     J: Injector,

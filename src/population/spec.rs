@@ -12,7 +12,7 @@
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, StepError};
 use crate::hydro::{DragModel, ForceTerms, VolumetricTraction};
-use crate::material::{Hyperelastic, Softness};
+use crate::material::{Softness, StressLaw};
 use crate::particle::{Fluid, Particle, State};
 use crate::tensor::Vec3;
 use rand_chacha::ChaCha12Rng;
@@ -63,7 +63,7 @@ impl<L> ParticleSpec<L> {
 /// in every run layout.
 pub trait Injector: Sync {
     /// The hyperelastic law of the elastic particles.
-    type Law: Hyperelastic + Clone + PartialEq + std::fmt::Debug + Serialize + DeserializeOwned;
+    type Law: StressLaw + Clone + PartialEq + std::fmt::Debug + Serialize + DeserializeOwned;
     /// The drag model of every particle.
     type Drag: DragModel;
 
@@ -113,10 +113,7 @@ impl<D: DragModel + Clone> ParticleTemplate<D> {
     }
 
     /// The particle of `spec`.
-    pub fn build<L: Hyperelastic + Clone>(
-        &self,
-        spec: &ParticleSpec<L>,
-    ) -> Result<Particle<Softness<L>, D>, ParamError> {
+    pub fn build<L: StressLaw + Clone>(&self, spec: &ParticleSpec<L>) -> Result<Particle<Softness<L>, D>, ParamError> {
         Particle::with_drag(
             spec.shape,
             spec.softness.clone(),

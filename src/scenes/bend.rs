@@ -118,7 +118,7 @@ pub enum BendError {
 pub struct BendCase {
     /// The case folder.
     pub dir: PathBuf,
-    /// Tube radius a [m].
+    /// Tube radius a, in m.
     pub radius: f64,
     /// Kinematic viscosity ν [m²/s].
     pub nu: f64,
@@ -126,7 +126,7 @@ pub struct BendCase {
     pub mean_velocity: f64,
     /// Cells of the mesh.
     pub cells: u64,
-    /// Mean residence time V/Q [s] (the tubes' volume π a² L over Q).
+    /// Mean residence time V/Q, in s (the tubes' volume π a² L over Q).
     pub residence_time: f64,
 }
 

@@ -94,7 +94,7 @@ impl Builder<'_> {
 
     pub(super) fn boundary(&self, spec: Option<&BoundarySpec>, flow: &SceneFlow) -> Result<SceneBoundary, CliError> {
         let Some(b) = spec else {
-            return Ok(SceneBoundary::Open);
+            return Ok(SceneBoundary::Open(crate::contact::Unbounded));
         };
         let kind = *b.kind.get_ref();
         if kind != BoundaryKind::Pipe && b.radius.is_some() {

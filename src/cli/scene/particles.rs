@@ -19,10 +19,7 @@ impl Builder<'_> {
             Some(g) => self.vec3(g, "fluid.gravity")?,
             None => Vec3::zeros(),
         };
-        let drag = match particles.drag {
-            DragSpec::Brenner => SceneDrag::Brenner,
-            DragSpec::StokesSphere => SceneDrag::StokesSphere,
-        };
+        let drag = self.drag(particles.drag.as_ref())?;
         let volumetric = match particles.volumetric {
             VolumetricSpec::Paper => VolumetricTraction::Paper,
             VolumetricSpec::Dev => VolumetricTraction::Dev,
@@ -33,6 +30,32 @@ impl Builder<'_> {
             .map(|t| t.with_volumetric(volumetric))
             .map_err(|e| self.param(at, "fluid.gravity", e))?;
         Ok(template.with_forces(self.forces(&particles.forces)?))
+    }
+
+    /// `particles.drag` through the registry of drag models (default `brenner`, the paper's).
+    fn drag(&self, entry: Option<&Spanned<DragEntry>>) -> Result<SceneDrag, CliError> {
+        let Some(entry) = entry else {
+            return drag::by_name("brenner", &Values::new()).map_err(|e| self.param(0..0, "particles.drag", e));
+        };
+        let (name, values) = match entry.get_ref() {
+            DragEntry::Name(name) => (name, Values::new()),
+            DragEntry::Table { model, parameters } => {
+                let mut values = Values::new();
+                for (k, v) in parameters {
+                    let value = to_value(v)
+                        .ok_or_else(|| self.err(entry.span(), &format!("particles.drag.{k}"), VALUE_KINDS))?;
+                    values.insert(k.clone(), value);
+                }
+                (model, values)
+            }
+        };
+        drag::by_name(name, &values).map_err(|e| {
+            let key = match e.key() {
+                Some(k) => format!("particles.drag.{k}"),
+                None => "particles.drag".to_string(),
+            };
+            self.param(entry.span(), &key, e)
+        })
     }
 
     /// `particles.forces`: each entry through the registry of force terms.
@@ -61,66 +84,10 @@ impl Builder<'_> {
         }
     }
 
+    /// `material`: the response by name through the registry of laws.
     fn material(&self, m: &MaterialSpec, key: &str) -> Result<Softness<SceneLaw>, CliError> {
-        let at = m.law.span();
-        let k = |name: &str| format!("{key}.{name}");
-        if !matches!(m.law.get_ref(), LawKind::Expression) {
-            let (e, p) = (k("energy"), k("parameters"));
-            self.refuse(
-                &[(&e, m.energy.is_some()), (&p, m.parameters.is_some())],
-                at.clone(),
-                "a built-in law",
-            )?;
-        }
-        match m.law.get_ref() {
-            LawKind::Rigid => {
-                let keys = [k("mu"), k("mu1"), k("mu2"), k("lambda")];
-                let flags = [m.mu.is_some(), m.mu1.is_some(), m.mu2.is_some(), m.lambda.is_some()];
-                let given: Vec<(&str, bool)> = keys.iter().map(String::as_str).zip(flags).collect();
-                self.refuse(&given, at, "rigid")?;
-                Ok(Softness::Rigid)
-            }
-            LawKind::Expression => {
-                let keys = [k("mu"), k("mu1"), k("mu2"), k("lambda")];
-                let flags = [m.mu.is_some(), m.mu1.is_some(), m.mu2.is_some(), m.lambda.is_some()];
-                let given: Vec<(&str, bool)> = keys.iter().map(String::as_str).zip(flags).collect();
-                self.refuse(&given, at.clone(), "expression")?;
-                let energy = self.need(&m.energy, at, &k("energy"), "expression")?;
-                let parameters = m.parameters.as_ref().map(|p| p.get_ref().clone()).unwrap_or_default();
-                ExpressionLaw::new(energy.get_ref(), parameters)
-                    .map(|law| Softness::Elastic(SceneLaw::Expression(Box::new(law))))
-                    .map_err(|e| self.param(energy.span(), &k("energy"), e))
-            }
-            LawKind::NeoHooke => {
-                let (k1, k2) = (k("mu1"), k("mu2"));
-                self.refuse(
-                    &[(&k1, m.mu1.is_some()), (&k2, m.mu2.is_some())],
-                    at.clone(),
-                    "neo_hooke",
-                )?;
-                let mu = self.need(&m.mu, at.clone(), &k("mu"), "neo_hooke")?;
-                let lambda = self.need(&m.lambda, at, &k("lambda"), "neo_hooke")?;
-                let (mu_v, l) = (self.positive(mu, &k("mu"))?, self.positive(lambda, &k("lambda"))?);
-                NeoHooke::new(mu_v, l)
-                    .map(|law| Softness::Elastic(SceneLaw::NeoHooke(law)))
-                    .map_err(|e| self.param(mu.span(), &format!("{}, {}", k("mu"), k("lambda")), e))
-            }
-            LawKind::MooneyRivlin => {
-                let k0 = k("mu");
-                self.refuse(&[(&k0, m.mu.is_some())], at.clone(), "mooney_rivlin")?;
-                let mu1 = self.need(&m.mu1, at.clone(), &k("mu1"), "mooney_rivlin")?;
-                let mu2 = self.need(&m.mu2, at.clone(), &k("mu2"), "mooney_rivlin")?;
-                let lambda = self.need(&m.lambda, at, &k("lambda"), "mooney_rivlin")?;
-                let (a, b, l) = (
-                    self.finite(mu1, &k("mu1"))?,
-                    self.finite(mu2, &k("mu2"))?,
-                    self.positive(lambda, &k("lambda"))?,
-                );
-                MooneyRivlin::new(a, b, l)
-                    .map(|law| Softness::Elastic(SceneLaw::MooneyRivlin(law)))
-                    .map_err(|e| self.param(mu1.span(), &format!("{}, {}, {}", k("mu1"), k("mu2"), k("lambda")), e))
-            }
-        }
+        let keys = self.model_keys(m, key, "law", &[])?;
+        material::registry::response(&keys.name, &keys.values).map_err(|e| self.model_error(&keys, e))
     }
 
     fn rotation(&self, o: Option<&OrientationSpec>, key: &str) -> Result<Mat3, CliError> {
@@ -270,17 +237,11 @@ impl Builder<'_> {
     /// shape, density and the material's given parameters, and the fluid's viscosity (the
     /// rest-state rates combine them).
     fn built_from(&self, key: &str, m: &MaterialSpec) -> String {
-        let given = [
-            ("mu", m.mu.is_some()),
-            ("mu1", m.mu1.is_some()),
-            ("mu2", m.mu2.is_some()),
-            ("lambda", m.lambda.is_some()),
-            ("energy", m.energy.is_some()),
-        ];
-        let material: Vec<String> = given
-            .iter()
-            .filter(|(_, g)| *g)
-            .map(|(name, _)| format!("{key}.material.{name}"))
+        let material: Vec<String> = m
+            .get_ref()
+            .keys()
+            .filter(|name| *name != "law")
+            .map(|name| format!("{key}.material.{name}"))
             .collect();
         let material = if material.is_empty() {
             format!("{key}.material")

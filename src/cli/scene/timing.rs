@@ -2,72 +2,29 @@
 use super::*;
 
 impl Builder<'_> {
-    pub(super) fn integrator(&self, spec: &IntegratorSpec) -> Result<SceneIntegrator, CliError> {
-        let tol = |name: &str| match &spec.tol {
-            Some(t) => Ok((self.positive(t, "integrator.tol")?, t.span())),
-            None => Err(self.err(
-                spec.dt.span(),
-                "integrator.tol",
-                format!("`{name}` needs a tolerance `tol`"),
-            )),
-        };
-        let refuse_overdamped = |name: &str| {
-            if spec.overdamped {
-                Err(self.err(
-                    spec.dt.span(),
-                    "integrator.overdamped",
-                    format!("`{name}` has an inertial barycentre only"),
-                ))
-            } else {
-                Ok(())
-            }
-        };
-        match spec.kind {
-            IntegratorKind::Imex => {
-                refuse_overdamped("imex")?;
-                if let Some(t) = &spec.tol {
-                    return Err(self.err(
-                        t.span(),
-                        "integrator.tol",
-                        "`imex` is a fixed-step scheme; it takes `dt` only",
-                    ));
-                }
-                Ok(SceneIntegrator::Imex(ImexPaper::default()))
-            }
-            IntegratorKind::ImexAdaptive => {
-                refuse_overdamped("imex_adaptive")?;
-                let (t, span) = tol("imex_adaptive")?;
-                ImexAdaptive::new(t)
-                    .map(SceneIntegrator::ImexAdaptive)
-                    .map_err(|e| self.param(span, "integrator.tol", e))
-            }
-            IntegratorKind::RadauIia | IntegratorKind::RosenbrockW23 => {
-                let scheme = if spec.kind == IntegratorKind::RadauIia {
-                    Scheme::Radau5
-                } else {
-                    Scheme::Rosenbrock23
-                };
-                let (t, span) = tol(scheme.name())?;
-                let made = if spec.overdamped {
-                    Stokesian::overdamped(t)
-                } else {
-                    Stokesian::new(t)
-                };
-                made.map(|s| SceneIntegrator::Stokesian(s.with_scheme(scheme)))
-                    .map_err(|e| self.param(span, "integrator.tol", e))
-            }
-        }
+    /// `[integrator]`: the scheme by name through the registry of integrators, the first step
+    /// `dt` and the largest step `dt_max` (the plan's).
+    pub(super) fn integrator(&self, spec: &IntegratorSpec) -> Result<(SceneIntegrator, Num, Option<Num>), CliError> {
+        let keys = self.model_keys(spec, "integrator", "type", &["dt", "dt_max"])?;
+        let integrator =
+            crate::integrator::registry::by_name(&keys.name, &keys.values).map_err(|e| self.model_error(&keys, e))?;
+        let dt = self
+            .table_number(spec, "integrator", "dt")?
+            .ok_or_else(|| self.err(spec.span(), "integrator.dt", "`integrator` needs `dt`"))?;
+        let dt_max = self.table_number(spec, "integrator", "dt_max")?;
+        Ok((integrator, dt, dt_max))
     }
 
     pub(super) fn plan(
         &self,
-        integrator: &IntegratorSpec,
+        dt: &Num,
+        dt_max: Option<&Num>,
         end: &EndSpec,
         output: &OutputSpec,
         particles: u64,
     ) -> Result<(Plan, Vec<f64>), CliError> {
         let t_end = self.positive(&end.t_end, "end.t_end")?;
-        let dt = self.positive(&integrator.dt, "integrator.dt")?;
+        let dt = self.positive(dt, "integrator.dt")?;
         let outputs = match &output.every {
             None => vec![t_end],
             Some(every) => {
@@ -106,7 +63,7 @@ impl Builder<'_> {
         let mut plan = Plan::new(t_end, dt)
             .and_then(|p| p.with_outputs(&outputs))
             .map_err(|e| self.param(end.t_end.span(), "end.t_end, integrator.dt, output.every", e))?;
-        if let Some(m) = &integrator.dt_max {
+        if let Some(m) = dt_max {
             let v = self.positive(m, "integrator.dt_max")?;
             plan = plan
                 .with_dt_max(v)

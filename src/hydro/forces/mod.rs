@@ -240,21 +240,19 @@ pub fn no_parameters(term: &'static str, parameters: &BTreeMap<String, f64>) -> 
     }
 }
 
+impl crate::registry::Entry for Registration {
+    const KIND: &'static str = "force term";
+    fn name(&self) -> &'static str {
+        self.name
+    }
+}
+
 /// The registered names, sorted.
 pub fn names() -> Vec<&'static str> {
-    let mut names: Vec<&'static str> = inventory::iter::<Registration>.into_iter().map(|r| r.name).collect();
-    names.sort_unstable();
-    names
+    crate::registry::names::<Registration>()
 }
 
 /// The registry: the term called `name` with its `parameters` (SI units).
 pub fn by_name(name: &str, parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
-    match inventory::iter::<Registration>.into_iter().find(|r| r.name == name) {
-        Some(registration) => (registration.build)(parameters),
-        None => Err(ParamError::Unknown {
-            kind: "force term",
-            name: name.to_string(),
-            known: names(),
-        }),
-    }
+    (crate::registry::find::<Registration>(name)?.build)(parameters)
 }

@@ -45,7 +45,7 @@ use super::{Step, StepInfo, TimeIntegrator};
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::material::{Hyperelastic, Response};
+use crate::material::{Response, StressLaw};
 use crate::particle::dynamics::{Geometry, Model, traction_load};
 use crate::particle::{Particle, State};
 use crate::tensor::{Mat3, Mat9, mat3, vec9};
@@ -284,5 +284,18 @@ impl TimeIntegrator for ImexPaper {
             state: next,
             info,
         })
+    }
+}
+
+// Selectable by name: `[integrator] type = "imex"` (fixed `dt`, inertial barycentre only).
+inventory::submit! {
+    super::IntegratorRegistration {
+        name: "imex",
+        aliases: &["imex_paper"],
+        build: |p| {
+            p.only(&["overdamped"])?;
+            super::registry::inertial_only(p)?;
+            Ok(super::SceneIntegrator::new(ImexPaper::default()))
+        },
     }
 }

@@ -21,7 +21,7 @@
 
 use crate::error::StepError;
 use crate::hydro::DragModel;
-use crate::material::{Hyperelastic, Response};
+use crate::material::{Response, StressLaw};
 use crate::particle::dynamics::Geometry;
 use crate::particle::{Particle, State};
 use crate::tensor::{Mat3, Mat9, inv_transpose, mat3, vec9};
