@@ -180,11 +180,12 @@ def run(
     ``csv=True``. The GIL is released while Rust works;
     Ctrl-C stops the run after the particles in flight (they are checkpointed, and
     ``resume=True`` continues). ``progress``: ``True`` for a tqdm bar, or a callable
-    ``(done, total)``. Returns the run's (or the shard's) results."""
+    ``(done, total)``. Returns the run's (or the shard's) results: the records just written,
+    which :func:`load_results` would read back from the checkpoint."""
     s = _scene(scene)
     callback, bar = _callback(progress, s.count)
     try:
-        _native.run(
+        _, results = _native.run(
             s,
             os.fspath(out),
             threads=threads,
@@ -197,7 +198,7 @@ def run(
     finally:
         if bar is not None:
             bar.close()
-    return load_results(out, s, shard=shard)
+    return Results(results)
 
 
 def run_in_memory(

@@ -63,7 +63,7 @@ def run(
     checkpoint_every: float = 60.0,
     progress: Optional[Callable[[int, int], Any]] = None,
     csv: bool = False,
-) -> str: ...
+) -> Tuple[str, Results]: ...
 def run_in_memory(
     scene: Scene,
     *,

@@ -401,7 +401,7 @@ fn shard_of(py: Python<'_>, shard: Option<(u64, u64)>) -> PyResult<Shard> {
 }
 
 /// The command's `run` of `scene` into `out` (`csv`: as `--csv`): the same files, bitwise.
-/// Returns the command's summary line.
+/// Returns the command's summary line and the records the run wrote (not read back).
 #[pyfunction]
 #[pyo3(signature = (scene, out, *, threads = None, shard = None, resume = false, checkpoint_every = 60.0, progress = None, csv = false))]
 #[allow(clippy::too_many_arguments)]
@@ -415,17 +415,22 @@ fn run(
     checkpoint_every: f64,
     progress: Option<Bound<'_, PyAny>>,
     csv: bool,
-) -> PyResult<String> {
+) -> PyResult<(String, Results)> {
     let shard = shard_of(py, shard)?;
     let control = Arc::new(RunControl::default());
     let options = run_options(&out, checkpoint_every, resume, Progress::Quiet)
         .map_err(|e| cli_error(py, &e))?
         .with_control(control.clone());
     let scene = &scene.get().inner;
-    drive(py, &control, progress.as_ref(), || {
+    let done = drive(py, &control, progress.as_ref(), || {
         run_on(scene, &out, shard, options, threads, csv)
     })?
-    .map_err(|e| cli_error(py, &e))
+    .map_err(|e| cli_error(py, &e))?;
+    let results = Results {
+        output: done.output,
+        times: Some(scene.frame_times()),
+    };
+    Ok((done.summary, results))
 }
 
 /// Run `scene` in memory (no files): its results.

@@ -192,7 +192,7 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
             };
             let progress = if quiet { Progress::Quiet } else { Progress::Auto };
             let options = run::run_options(&out, checkpoint_every, resume, progress)?;
-            run::run_on(&s, &out, shard, options, threads, csv).map(|line| with_advice(&s, line))
+            run::run_on(&s, &out, shard, options, threads, csv).map(|done| with_advice(&s, done.summary))
         }
         Command::Merge { scene, out, csv } => {
             let s = load(&scene)?;

@@ -113,6 +113,16 @@ pub fn run_options(
         .resume(resume))
 }
 
+/// A finished [`run`]: the command's one-line summary and the records it wrote (which a
+/// caller such as the Python package hands on without reading the files back).
+#[derive(Debug)]
+pub struct Finished {
+    /// The summary line.
+    pub summary: String,
+    /// The run's (or shard's) records, as its checkpoint holds them.
+    pub output: RunOutput<SceneLaw>,
+}
+
 /// [`run`] on `threads` worker threads (`None`: rayon's global pool, all cores).
 pub fn run_on(
     scene: &Scene,
@@ -121,7 +131,7 @@ pub fn run_on(
     options: RunOptions,
     threads: Option<usize>,
     csv: bool,
-) -> Result<String, CliError> {
+) -> Result<Finished, CliError> {
     match threads {
         None => run(scene, out, shard, options, csv),
         Some(n) => rayon::ThreadPoolBuilder::new()
@@ -136,8 +146,8 @@ pub fn run_on(
 /// ([`crate::population::checkpoint_dir`]: the only file of its records) and tables. A whole
 /// run writes its tables and frames ([`write_run`]). Shard k of N writes, with the feature
 /// `parquet`, `records/part-k-of-N.parquet` and `frames/part-k-of-N.parquet`, and with CSV
-/// ([`csv_tables`]) `results-k-of-N.csv`. Returns a one-line summary.
-pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bool) -> Result<String, CliError> {
+/// ([`csv_tables`]) `results-k-of-N.csv`. Returns a one-line summary and the records.
+pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bool) -> Result<Finished, CliError> {
     let output = scene.population(&Job::Run {
         shard,
         options,
@@ -152,9 +162,9 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bo
         counts.suspended,
         counts.failed
     );
-    if shard == Shard::ALL {
+    let summary = if shard == Shard::ALL {
         let frames = write_run(&output, &scene.frame_times(), scene.vtk, csv, out)?;
-        Ok(format!("{what}; {frames} frames in {}", out.display()))
+        format!("{what}; {frames} frames in {}", out.display())
     } else {
         // A shard's tables go into `records/` and `frames/`: each folder reads as one dataset
         // (pyarrow, polars, pandas) over all shards without a merge.
@@ -168,11 +178,12 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bo
             let name = format!("results-{:04}-of-{:04}.csv", shard.index(), shard.count());
             output.table()?.write(out.join(name))?;
         }
-        Ok(format!(
+        format!(
             "shard {shard}: {what}; records in {}",
             checkpoint_dir(out, shard).display()
-        ))
-    }
+        )
+    };
+    Ok(Finished { summary, output })
 }
 
 /// Merge the shard checkpoints in `out` into the whole run's tables and frames.
