@@ -40,7 +40,14 @@ fn cavity_block_is_blockmesh_s_mesh() {
 /// Bad sizes are typed errors, not panics or meshes.
 #[test]
 fn cavity_block_refuses_bad_sizes() {
-    for (cells, edge) in [(0, 0.1), (4, 0.0), (4, -1.0), (4, f64::NAN), (4, f64::INFINITY), (1 << 12, 0.1)] {
+    for (cells, edge) in [
+        (0, 0.1),
+        (4, 0.0),
+        (4, -1.0),
+        (4, f64::NAN),
+        (4, f64::INFINITY),
+        (1 << 12, 0.1),
+    ] {
         assert!(
             matches!(cavity_block(cells, edge), Err(FoamError::Mesh { .. })),
             "{cells} cells, edge {edge}"

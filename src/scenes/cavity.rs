@@ -2,7 +2,8 @@
 //!
 //! # Set-up (paper §6.3)
 //! Cube L = 0.1 m, lid z = L moving at U = 0.0813 m/s along +x, ν_f = 17.3 mm²/s (Re = 470),
-//! steady field from OpenFOAM (`reference-data/cavity_re470.prf`). Particles: d_eq = 3 mm,
+//! steady field from OpenFOAM (simpleFoam's `U` on 60³ cells, `reference-data/cavity-re470-foam`,
+//! read by [`crate::flow::openfoam`]: [`shipped_flow`]). Particles: d_eq = 3 mm,
 //! ρ_p = 1209.395 kg/m³ and ρ* = (ρ_f − ρ_p)/ρ_f = +0.05 %, so ρ_f = ρ_p/(1 − 5e-4) ≈ 1210 kg/m³;
 //! gravity −9.81 m/s² e_z; release at (0.467 L, 0.4 L, 0.983 L) with the local fluid velocity.
 //! Ca = μ_f γ̇₀/μ_s with γ̇₀ = √(2 d:d) of the flow at the release point (the paper computes
@@ -40,8 +41,8 @@
 //! Wall rules (paper §6.3): a particle touching the lid leaves the cavity; one touching any
 //! other wall sticks. In the top corners a particle can be equally near the lid and a side wall;
 //! the lid is decided first ([`Planes::nearest`] lets the first-listed wall win ties), so such a
-//! particle exits: it has reached the lid's height, which is the paper's exit criterion. Contact uses the particle's extent (support distance, `flow::unstructured`)
-//! or, as a point-particle tracker would, the barycentre only ([`Contact`]). The release point
+//! particle exits: it has reached the lid's height, which is the paper's exit criterion. Contact
+//! uses the particle's extent (support distance of the ellipsoid, [`crate::contact`]) or, as a point-particle tracker would, the barycentre only ([`Contact`]). The release point
 //! is 1.7 mm below the lid while the particles are 2.4–4.8 mm long, so with the extent rule a
 //! tilting prolate touches the lid within a fraction of a second.
 
@@ -51,7 +52,7 @@ use crate::diagnostics::{Monitor, Thresholds, Validity};
 use crate::driver::{Plan, RunStats, Stop, integrate};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
-use crate::flow::unstructured::MeshedFlow;
+use crate::flow::openfoam::{BlendedFlow, FoamError};
 use crate::hydro::forces::{AddedMass, UndisturbedFlow};
 use crate::hydro::{Brenner, DragModel, ForceTerms, VolumetricTraction};
 use crate::integrator::{BarycentreModel, ImexAdaptive, Scheme, Stokesian, TimeIntegrator};
@@ -84,6 +85,14 @@ pub const D_EQ: f64 = 3e-3;
 /// Fluid density ρ_f = ρ_p/(1 − ρ*).
 pub fn rho_fluid() -> f64 {
     RHO_PARTICLE / (1.0 - RHO_STAR)
+}
+
+/// The shipped Re = 470 field ([`crate::scenes::cavity_benchmark::RE470`]) as the scene samples
+/// it: the cells' linear fits blended continuously, with the second-order no-slip wall layer
+/// ([`BlendedFlow`]), so the gradient a particle reads is consistent with the velocity it
+/// reads to O(h) and the lid and wall velocities hold on the walls.
+pub fn shipped_flow() -> Result<BlendedFlow, FoamError> {
+    BlendedFlow::new(crate::scenes::cavity_benchmark::RE470.load()?)
 }
 
 /// Release point (0.467 L, 0.4 L, 0.983 L).
@@ -241,7 +250,7 @@ impl Default for Variant {
 /// The shipped field seen through a [`Variant`]: with J = diag(−1, 1, 1) and the mirror
 /// x ↦ Jx + L e_x, u′(x) = s J u(Jx + L e_x) and ∇u′(x) = s J ∇u(Jx + L e_x) J.
 struct VariantFlow<'a> {
-    mesh: &'a MeshedFlow,
+    mesh: &'a BlendedFlow,
     variant: Variant,
 }
 
@@ -284,8 +293,9 @@ pub struct Cavity<'a, L = NeoHookeLaw, D = Brenner> {
 }
 
 impl<'a> Cavity<'a> {
-    /// Experiment on a loaded Re = 470 field, inertialess shapes, the paper's particle model.
-    pub fn new(flow: &'a MeshedFlow) -> Result<Self, SceneError> {
+    /// Experiment on a loaded Re = 470 field ([`shipped_flow`]), inertialess shapes, the paper's
+    /// particle model.
+    pub fn new(flow: &'a BlendedFlow) -> Result<Self, SceneError> {
         let d = sym(&flow.sample(&release_point(), 0.0).map_err(StepError::from)?.grad_u);
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
         Ok(Self {
@@ -809,7 +819,7 @@ fn event_time(outcome: &Outcome) -> Option<f64> {
 /// kept as its error message, so one failure does not hide the rest of the ensemble.
 #[allow(clippy::too_many_arguments)]
 pub fn ensemble(
-    flow: &MeshedFlow,
+    flow: &BlendedFlow,
     shape_model: ShapeModel,
     forces: &ForceTerms,
     releases: &[Release],

@@ -99,7 +99,9 @@ pub const RE1000: ShippedField = ShippedField {
 impl ShippedField {
     /// The field's directory in this crate's `reference-data/`.
     pub fn dir(&self) -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data").join(self.dir)
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("reference-data")
+            .join(self.dir)
     }
 
     /// The steady field, cellwise ([`FoamFlow`]; `BlendedFlow::new` makes it continuous with

@@ -27,7 +27,9 @@ pub fn cavity_block(cells: usize, edge: f64) -> Result<PolyMesh, FoamError> {
     let n = cells;
     if n == 0 || !(edge.is_finite() && edge > 0.0) {
         return Err(FoamError::Mesh {
-            reason: format!("a cavity block needs at least one cell and a finite positive edge, got {n} cells and edge {edge}"),
+            reason: format!(
+                "a cavity block needs at least one cell and a finite positive edge, got {n} cells and edge {edge}"
+            ),
         });
     }
     // 3 n²(n + 1) faces of four labels each is the largest count held in u32.

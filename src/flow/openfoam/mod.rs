@@ -312,6 +312,17 @@ impl FoamFlow {
                 .map(|&f| Vec3::from_row_slice(field.boundary_face(f as usize - mesh.n_internal_faces())))
                 .collect();
             let wall_fits = wall_layer.fits(&velocity, &u, &grad);
+            // Finite values whose differences overflow (|u| near f64::MAX) give no field.
+            if let Some(cell) = grad.iter().position(|g| !g.iter().all(|c| c.is_finite())) {
+                return Err(bad(format!(
+                    "field at t = {time}: the gradient of cell {cell} overflows"
+                )));
+            }
+            if let Some(k) = wall_fits.iter().position(|f| !f.is_finite()) {
+                return Err(bad(format!(
+                    "field at t = {time}: the wall fit of wall face {k} overflows"
+                )));
+            }
             frames.push(Frame {
                 time,
                 u,
