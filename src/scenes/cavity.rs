@@ -207,6 +207,50 @@ pub struct CavityRun {
     pub stats: RunStats,
     /// Validity diagnostics over the accepted steps (r₁ in m).
     pub validity: Validity,
+    /// Slip relative to the fluid over the accepted steps.
+    pub slip: Slip,
+}
+
+/// The particle's slip |v − u(x)| relative to the undisturbed fluid at its barycentre over a
+/// run's accepted steps [m/s]: the drift that the fluid-inertia force terms act on
+/// (`paper-figures/fig15_fig16/NOTES.md`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Slip {
+    /// Largest slip.
+    pub max: f64,
+    /// Median over time: each step's end-state slip weighted by the step's length, so that the
+    /// short steps near walls do not outvote the rest of the path.
+    pub median: f64,
+}
+
+impl Slip {
+    /// From (step length, slip) samples; zeros for none.
+    fn of(mut samples: Vec<(f64, f64)>) -> Self {
+        samples.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let total: f64 = samples.iter().map(|s| s.0).sum();
+        let mut seen = 0.0;
+        let median = samples
+            .iter()
+            .find(|(dt, _)| {
+                seen += dt;
+                seen >= 0.5 * total
+            })
+            .map_or(0.0, |s| s.1);
+        Self {
+            max: samples.last().map_or(0.0, |s| s.1),
+            median,
+        }
+    }
+}
+
+/// One point of [`Cavity::quasi_steady_slip`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct QuasiSteady {
+    /// The quasi-steady slip |w| [m/s].
+    pub slip: f64,
+    /// |A − a|/|a|: how far the field's (∇u)u is from the true acceleration along the
+    /// streamline.
+    pub acceleration_gap: f64,
 }
 
 /// How the shape responds (the barycentre is inertial in both).
@@ -272,7 +316,7 @@ impl FlowField for VariantFlow<'_> {
 }
 
 /// The fluid-inertia force terms a particle of nearly the fluid's density needs (the cavity's
-/// ρ_p/ρ_f = 1.0005): the undisturbed-flow force and added mass ([`crate::hydro::forces`]).
+/// ρ_p/ρ_f = 1 − ρ* = 0.9995): the undisturbed-flow force and added mass ([`crate::hydro::forces`]).
 pub fn fluid_inertia() -> Result<ForceTerms, ParamError> {
     ForceTerms::new(vec![Arc::new(UndisturbedFlow), Arc::new(AddedMass)])
 }
@@ -367,6 +411,51 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     /// The experiment's flow (the shipped field in its [`Variant`]) at `x`.
     pub fn sample(&self, x: &Vec3) -> Result<crate::flow::FlowSample, crate::error::FlowError> {
         self.flow.sample(x, 0.0)
+    }
+
+    /// Along `run`'s output path, the slip a Stokes sphere of the particle's volume has in
+    /// quasi-steady motion (Maxey & Riley 1983 without the history force): with v̇ = a, the
+    /// fluid's true acceleration along the streamline, the barycentre equation gives
+    /// ```math
+    /// ζ w = (m + C_m m_f)\,a − (C_u + C_m)\,m_f A − (m − m_f)\,g,\qquad ζ = 3πμ_f d_{eq},
+    /// ```
+    /// C_u = 1 with the undisturbed-flow force, C_m = ½ with added mass (0 without), and A the
+    /// field's (∇u)u that those terms use. Without the terms the inertial drift is m a/ζ; with
+    /// both it is (m − m_f) a/ζ, smaller by ρ_p/|ρ_p − ρ_f| (2 000 here), plus 1.5 m_f (a − A)/ζ
+    /// wherever the field's gradient is not the derivative of its velocity. a is the central
+    /// difference of u over ±`step` along the streamline. For other shapes it is an estimate.
+    pub fn quasi_steady_slip(&self, run: &CavityRun, step: f64) -> Result<Vec<QuasiSteady>, SceneError> {
+        crate::error::positive("difference step", step)?;
+        let names = self.forces.names();
+        let c_u = if names.contains(&UndisturbedFlow::NAME) {
+            1.0
+        } else {
+            0.0
+        };
+        let c_m = if names.contains(&AddedMass::NAME) { 0.5 } else { 0.0 };
+        let volume = std::f64::consts::PI / 6.0 * D_EQ.powi(3);
+        let (m, m_f) = (RHO_PARTICLE * volume, self.fluid.rho * volume);
+        let zeta = 3.0 * std::f64::consts::PI * self.fluid.mu * D_EQ;
+        let g = Vec3::new(0.0, 0.0, -9.81);
+        let mut out = Vec::with_capacity(run.path.len());
+        for (_, x) in &run.path {
+            let s = self.flow.sample(x, 0.0).map_err(StepError::from)?;
+            let field = s.material_acceleration();
+            let speed = s.u.norm();
+            if speed == 0.0 {
+                continue;
+            }
+            let along = s.u * (step / speed);
+            let ahead = self.flow.sample(&(x + along), 0.0).map_err(StepError::from)?;
+            let behind = self.flow.sample(&(x - along), 0.0).map_err(StepError::from)?;
+            let true_acceleration = (ahead.u - behind.u) * (speed / (2.0 * step));
+            let w = (true_acceleration * (m + c_m * m_f) - field * ((c_u + c_m) * m_f) - g * (m - m_f)) / zeta;
+            out.push(QuasiSteady {
+                slip: w.norm(),
+                acceleration_gap: (field - true_acceleration).norm() / true_acceleration.norm(),
+            });
+        }
+        Ok(out)
     }
 
     /// γ̇₀ = √(2 d:d) at the release point [1/s].
@@ -475,6 +564,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         let dt_max = 0.25 * p.shape().semi_axes().min() / LID_VELOCITY;
         let plan = Plan::new(t_max, dt_max)?.with_dt_max(dt_max)?;
         let path = std::cell::RefCell::new(Vec::new());
+        let mut slips = Vec::new();
         let mut next_out = dt_out;
         let mut memory = Default::default();
         let end = match integrate(
@@ -488,6 +578,9 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             |s| path.borrow_mut().push((s.t, s.x)),
             |step| {
                 monitor.observe(&step.state);
+                if let Ok(fluid) = self.flow.sample(&step.state.x, step.state.t) {
+                    slips.push((step.info.dt, (step.state.v - fluid.u).norm()));
+                }
                 if step.state.t >= next_out {
                     path.borrow_mut().push((step.state.t, step.state.x));
                     next_out = dt_out * ((step.state.t / dt_out).floor() + 1.0);
@@ -510,6 +603,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
                     },
                     stats: failure.stats,
                     validity: monitor.validity(),
+                    slip: Slip::of(slips),
                 });
             }
         };
@@ -542,6 +636,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             outcome,
             stats,
             validity: monitor.validity(),
+            slip: Slip::of(slips),
         })
     }
 }
@@ -566,8 +661,8 @@ pub fn trajectory_table(runs: &[CavityRun]) -> Result<crate::output::Csv, crate:
 }
 
 /// Outcomes as CSV: `contact,shape,ca,outcome,wall,t_end,x_over_l,y_over_l,z_over_l,steps,
-/// shape_model`, then the validity columns [`Validity::COLUMNS`] under the default
-/// [`Thresholds`] (r₁ in m).
+/// shape_model,max_slip,median_slip` (slip [`Slip`] in m/s), then the validity columns
+/// [`Validity::COLUMNS`] under the default [`Thresholds`] (r₁ in m).
 pub fn outcome_table(runs: &[CavityRun]) -> Result<crate::output::Csv, crate::output::OutputError> {
     let mut csv = crate::output::Csv::new(&outcome_header());
     let limits = Thresholds::default();
@@ -590,6 +685,8 @@ fn outcome_header() -> Vec<&'static str> {
         "z_over_l",
         "steps",
         "shape_model",
+        "max_slip",
+        "median_slip",
     ];
     header.extend(Validity::COLUMNS);
     header
@@ -615,6 +712,8 @@ fn outcome_cells(run: &CavityRun, limits: &Thresholds) -> Vec<String> {
         format!("{:.4}", x[2] / EDGE),
         run.stats.steps.to_string(),
         run.shape_model.label().into(),
+        format!("{:.3e}", run.slip.max),
+        format!("{:.3e}", run.slip.median),
     ];
     cells.extend(run.validity.cells(limits));
     cells
