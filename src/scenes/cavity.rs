@@ -42,8 +42,9 @@
 //! other wall sticks. In the top corners a particle can be equally near the lid and a side wall;
 //! the lid is decided first ([`Planes::nearest`] lets the first-listed wall win ties), so such a
 //! particle exits: it has reached the lid's height, which is the paper's exit criterion. Contact
-//! uses the particle's extent (support distance of the ellipsoid, [`crate::contact`]) or, as a point-particle tracker would, the barycentre only ([`Contact`]). The release point
-//! is 1.7 mm below the lid while the particles are 2.4–4.8 mm long, so with the extent rule a
+//! uses the particle's extent (support distance of the ellipsoid, [`crate::contact`]) or, as a
+//! point-particle tracker would, the barycentre only ([`Contact`]). The release point is 1.7 mm
+//! below the lid while the particles are 2.4–4.8 mm long, so with the extent rule a
 //! tilting prolate touches the lid within a fraction of a second.
 
 use super::SceneError;
@@ -316,7 +317,8 @@ impl FlowField for VariantFlow<'_> {
 }
 
 /// The fluid-inertia force terms a particle of nearly the fluid's density needs (the cavity's
-/// ρ_p/ρ_f = 1 − ρ* = 0.9995): the undisturbed-flow force and added mass ([`crate::hydro::forces`]).
+/// ρ_p/ρ_f = 1 − ρ* = 0.9995): the undisturbed-flow force and added mass
+/// ([`crate::hydro::forces`]).
 pub fn fluid_inertia() -> Result<ForceTerms, ParamError> {
     ForceTerms::new(vec![Arc::new(UndisturbedFlow), Arc::new(AddedMass)])
 }
@@ -417,7 +419,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     /// quasi-steady motion (Maxey & Riley 1983 without the history force): with v̇ = a, the
     /// fluid's true acceleration along the streamline, the barycentre equation gives
     /// ```math
-    /// ζ w = (m + C_m m_f)\,a − (C_u + C_m)\,m_f A − (m − m_f)\,g,\qquad ζ = 3πμ_f d_{eq},
+    /// ζ (u − v) = (m + C_m m_f)\,a − (C_u + C_m)\,m_f A − (m − m_f)\,g,\qquad ζ = 3πμ_f d_{eq},
     /// ```
     /// C_u = 1 with the undisturbed-flow force, C_m = ½ with added mass (0 without), and A the
     /// field's (∇u)u that those terms use. Without the terms the inertial drift is m a/ζ; with
@@ -449,9 +451,9 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             let ahead = self.flow.sample(&(x + along), 0.0).map_err(StepError::from)?;
             let behind = self.flow.sample(&(x - along), 0.0).map_err(StepError::from)?;
             let true_acceleration = (ahead.u - behind.u) * (speed / (2.0 * step));
-            let w = (true_acceleration * (m + c_m * m_f) - field * ((c_u + c_m) * m_f) - g * (m - m_f)) / zeta;
+            let lag = (true_acceleration * (m + c_m * m_f) - field * ((c_u + c_m) * m_f) - g * (m - m_f)) / zeta;
             out.push(QuasiSteady {
-                slip: w.norm(),
+                slip: lag.norm(),
                 acceleration_gap: (field - true_acceleration).norm() / true_acceleration.norm(),
             });
         }
