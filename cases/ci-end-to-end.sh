@@ -1,8 +1,8 @@
 #!/bin/sh
 # End-to-end CI check of the OpenFOAM pipeline (run as root on a clean Debian machine, a few
 # minutes): install OpenFOAM v1912 from apt if missing, run the 12^3 cavity case (mesh, steady
-# solve, grad(U), legacy VTK export), load the fresh export with the crate's reader and track a
-# passive tracer through it.
+# solve), read the solved case with the crate's OpenFOAM reader and track a passive tracer
+# through it.
 set -eu
 repo=$(cd "$(dirname "$0")/.." && pwd)
 
@@ -12,4 +12,4 @@ repo=$(cd "$(dirname "$0")/.." && pwd)
 
 cd "$repo"
 # Lid speed 0.0813 m/s (cases/cavity-ci/system/caseParameters), 2 s of tracking.
-cargo run --quiet --example cavity_tracer -- cases/cavity-ci/export/cavity.vtk 0.0813 2.0
+cargo run --quiet --example cavity_tracer -- cases/cavity-ci 0.0813 2.0

@@ -1,34 +1,37 @@
 //! Track a passive tracer through an exported cavity field (CI end-to-end check).
 //!
 //! ```text
-//! cargo run --release --example cavity_tracer -- FIELD [LID_SPEED] [SECONDS]
+//! cargo run --release --example cavity_tracer -- CASE [LID_SPEED] [SECONDS]
 //! ```
-//! FIELD is a `foamToVTK -legacy` export or a compact `.prf` file of the cube [0, 0.1 m]³.
-//! The tracer starts at the paper's release point (0.467 L, 0.4 L, 0.983 L) (§6.3) and follows
-//! ẋ = u(x) with classical RK4 (dt = 0.1 h/U) until SECONDS or until a stage leaves the mesh
-//! (possible near the lid edges, where the interpolated point velocity is singular). The run
+//! CASE is a solved OpenFOAM cavity case of the cube [0, 0.1 m]³ (`cases/cavity-ci/Allrun`),
+//! read at its last time and blended with the no-slip wall layer (`flow::openfoam`). The tracer
+//! starts at the paper's release point (0.467 L, 0.4 L, 0.983 L) (§6.3) and follows ẋ = u(x)
+//! with classical RK4 (dt = 0.1 h/U) until SECONDS or until a stage leaves the mesh. The run
 //! fails unless the field has the lid speed at the lid and the tracer moves.
 
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
-use pseudorigid::flow::unstructured::MeshedFlow;
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow};
 use pseudorigid::tensor::Vec3;
 
 const EDGE: f64 = 0.1;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let field = args.first().ok_or("usage: cavity_tracer FIELD [LID_SPEED] [SECONDS]")?;
+    let dir = args.first().ok_or("usage: cavity_tracer CASE [LID_SPEED] [SECONDS]")?;
     let lid_speed: f64 = args.get(1).map_or(Ok(0.0813), |s| s.parse())?;
     let seconds: f64 = args.get(2).map_or(Ok(2.0), |s| s.parse())?;
-    let flow = MeshedFlow::load(field)?;
+    let case = FoamCase::open(dir)?;
+    let last = *case.times().last().ok_or("the case has no time directory")?;
+    let flow = BlendedFlow::new(FoamFlow::read(&case, &[last])?)?;
+    let cells = flow.cellwise().mesh().n_cells();
 
     let lid = flow.sample(&(Vec3::new(0.5, 0.5, 1.0) * EDGE), 0.0)?.u;
     if (lid - Vec3::new(lid_speed, 0.0, 0.0)).amax() > 1e-3 * lid_speed {
         return Err(format!("lid velocity {lid:?}, expected ({lid_speed}, 0, 0)").into());
     }
 
-    let cells_per_edge = (flow.mesh().cells().len() as f64).cbrt();
+    let cells_per_edge = (cells as f64).cbrt();
     let dt = 0.1 * EDGE / cells_per_edge / lid_speed;
     let steps = (seconds / dt).ceil() as usize;
     let u = |x: &Vec3| flow.sample(x, 0.0).map(|s| s.u);
@@ -50,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 x += dx;
                 taken += 1;
             }
-            Err(FlowError::OutsideDomain { .. }) => {
+            Err(FlowError::OutsideDomain { .. } | FlowError::OutsideMesh { .. }) => {
                 ending = "reached a wall";
                 break;
             }
@@ -59,7 +62,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     println!(
         "{} cells; tracer after {:.2} s ({taken} RK4 steps, {ending}): x/L = ({:.4}, {:.4}, {:.4}), path {:.4} L",
-        flow.mesh().cells().len(),
+        cells,
         taken as f64 * dt,
         x[0] / EDGE,
         x[1] / EDGE,

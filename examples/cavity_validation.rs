@@ -1,35 +1,21 @@
 //! Validate the OpenFOAM cube cavity at Re = 1000 against Albensoeder & Kuhlmann (2005).
 //!
 //! ```text
-//! cases/cavity-re1000/Allrun
-//! cargo run --release --example cavity_validation -- [FIELD] [REFERENCE_CSV] [OUT_DIR]
+//! cargo run --release --example cavity_validation -- [CASE] [REFERENCE_CSV] [OUT_DIR]
 //! ```
-//! Defaults: `cases/cavity-re1000/export/cavity.vtk`,
+//! CASE is a solved OpenFOAM case (`cases/cavity-re1000/Allrun`), read at its last time, or
+//! `shipped` (the default): the shipped field (`reference-data/cavity-re1000-foam`). Defaults:
 //! `reference-data/cavity_re1000_albensoeder_kuhlmann.csv`, `paper-figures/cavity-validation`.
 //! Writes `centrelines.csv`, `extrema.csv` and `centrelines.svg` there.
 
-use pseudorigid::flow::unstructured::MeshedFlow;
+use pseudorigid::flow::openfoam::{FoamCase, FoamFlow};
 use pseudorigid::scenes::cavity_benchmark::report::{plot_centrelines_svg, write_centrelines_csv, write_extrema_csv};
-use pseudorigid::scenes::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
+use pseudorigid::scenes::cavity_benchmark::{RE1000, ReferenceTable, compare_extrema};
 use std::path::PathBuf;
-
-/// cases/cavity-re1000/system/caseParameters: L = 0.1 m, U = 0.173 m/s, ν = 17.3 mm²/s.
-const CASE: CavityCase = CavityCase {
-    edge: 0.1,
-    lid_speed: 0.173,
-};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    // A fresh OpenFOAM export if there is one, otherwise the shipped compact field.
-    let fresh = "cases/cavity-re1000/export/cavity.vtk";
-    let shipped = "reference-data/cavity_re1000.prf";
-    let default = if std::path::Path::new(fresh).exists() {
-        fresh
-    } else {
-        shipped
-    };
-    let field = PathBuf::from(args.next().unwrap_or(default.into()));
+    let case_dir = args.next().filter(|a| a != "shipped");
     let reference = PathBuf::from(
         args.next()
             .unwrap_or("reference-data/cavity_re1000_albensoeder_kuhlmann.csv".into()),
@@ -40,21 +26,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     std::fs::create_dir_all(&out)?;
 
-    let flow = MeshedFlow::load(&field)?;
+    // The cellwise reconstruction, as `tests/flow_openfoam_cavity.rs` checks it.
+    let (flow, source) = match &case_dir {
+        Some(dir) => {
+            let case = FoamCase::open(dir)?;
+            let last = *case.times().last().ok_or("the case has no time directory")?;
+            (FoamFlow::read(&case, &[last])?, format!("{dir}, t = {last}"))
+        }
+        None => (RE1000.load()?, RE1000.dir().display().to_string()),
+    };
+    let case = RE1000.case;
     let table = ReferenceTable::read_csv(&reference)?;
-    let rows = compare_extrema(&CASE, &flow, &table)?;
+    let rows = compare_extrema(&case, &flow, &table)?;
     write_extrema_csv(&out.join("extrema.csv"), &rows)?;
-    write_centrelines_csv(&out.join("centrelines.csv"), &CASE, &flow, &table)?;
-    let cells = flow.mesh().cells().len();
+    write_centrelines_csv(&out.join("centrelines.csv"), &case, &flow, &table)?;
+    let cells = flow.mesh().n_cells();
     plot_centrelines_svg(
         &out.join("centrelines.svg"),
         "Cube cavity, Re = 1000: centreline velocities",
         &format!("OpenFOAM simpleFoam, {cells} cells"),
-        &CASE,
+        &case,
         &flow,
         &table,
     )?;
-    println!("{cells} cells from {}", field.display());
+    println!("{cells} cells from {source}");
     println!("quantity  simulated (at)          A&K (at)               error");
     for r in &rows {
         println!(

@@ -3,7 +3,6 @@
 //!
 //! Run: `cargo run --release --example fig14_cavity_rigid`
 
-use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::{Figure, paper_figure_path};
 use pseudorigid::scenes::cavity::{Cavity, Contact, Release, Shape, outcome_table, trajectory_panel, trajectory_table};
 use pseudorigid::scenes::particles::Deformability;
@@ -12,7 +11,7 @@ use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
-    let flow = MeshedFlow::load("reference-data/cavity_re470.prf")?;
+    let flow = pseudorigid::scenes::cavity::shipped_flow()?;
     let cavity = Cavity::new(&flow)?;
     println!("release shear rate γ̇₀ = {:.4} 1/s", cavity.release_shear_rate());
     let releases = [Shape::Prolate(2.0), Shape::Prolate(5.0)].map(|shape| Release {

@@ -9,7 +9,6 @@
 //!
 //! Run: `cargo run --release --example fig15_fig16_cavity_soft [-- inertialess] [fluid-inertia]`
 
-use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::Figure;
 use pseudorigid::scenes::cavity::{
     Cavity, Contact, Shape, ShapeModel, fig15_fig16_releases, fluid_inertia, outcome_table, trajectory_panel,
@@ -20,7 +19,7 @@ use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
-    let flow = MeshedFlow::load("reference-data/cavity_re470.prf")?;
+    let flow = pseudorigid::scenes::cavity::shipped_flow()?;
     let args: Vec<String> = std::env::args().skip(1).collect();
     let inertialess = args.iter().any(|a| a == "inertialess");
     let with_fluid_inertia = args.iter().any(|a| a == "fluid-inertia");

@@ -10,7 +10,6 @@
 //! `ensemble_runs_inertialess.csv` instead, and `fluid-inertia` adds the undisturbed-flow force
 //! and added mass (`scenes::cavity::fluid_inertia`) and `_fluid_inertia` to the file names.
 
-use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::scenes::cavity::{
     ShapeModel, Variant, ensemble, fig15_fig16_releases, fluid_inertia, member_table, outcome_fraction_table,
@@ -36,7 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let count: usize = args.next().map_or(Ok(9), |a| a.parse())?;
     let scales: Vec<f64> = args.map(|a| a.parse()).collect::<Result<_, _>>()?;
     let scales = if scales.is_empty() { vec![0.98, 1.02] } else { scales };
-    let flow = MeshedFlow::load("reference-data/cavity_re470.prf")?;
+    let flow = pseudorigid::scenes::cavity::shipped_flow()?;
     let releases = fig15_fig16_releases();
     let variants: Vec<Variant> = [false, true]
         .into_iter()

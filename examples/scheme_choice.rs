@@ -16,7 +16,6 @@
 //!
 //! Run: `cargo run --release --example scheme_choice`
 
-use pseudorigid::flow::unstructured::MeshedFlow;
 use pseudorigid::integrator::{Scheme, Stokesian, Tolerances};
 use pseudorigid::population::{Case, RunConfig, RunOptions, Shard, run};
 use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, study};
@@ -52,7 +51,7 @@ fn distance(a: &[f64], b: &[f64]) -> f64 {
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let cavity_flow = MeshedFlow::load("reference-data/cavity_re470.prf")?;
+    let cavity_flow = pseudorigid::scenes::cavity::shipped_flow()?;
     let airway = Airway::open(Airway::shipped_dir())?;
     let rosenbrock = Cavity::new(&cavity_flow)?.with_scheme(Scheme::Rosenbrock23);
     let radau = Cavity::new(&cavity_flow)?.with_scheme(Scheme::Radau5);

@@ -173,8 +173,7 @@ fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
 
 /// The layers (ARCHITECTURE.md): the flow layer uses only what lies below it (tensor algebra,
 /// ellipsoid geometry, errors). Contact with mesh patches lives in `contact::mesh`, above the
-/// mesh. The one exception, the legacy compact-field writer of `flow::unstructured` (and its
-/// error conversion), uses the crate's atomic file writes; it goes with that reader.
+/// mesh.
 #[test]
 fn flow_imports_nothing_above_itself() {
     let below = ["tensor", "ellipsoid", "error", "flow"];
@@ -196,9 +195,7 @@ fn flow_imports_nothing_above_itself() {
                         .chars()
                         .take_while(|c| c.is_alphanumeric() || *c == '_')
                         .collect();
-                    let legacy = module == "output"
-                        && (path.ends_with("unstructured/compact.rs") || path.ends_with("unstructured/error.rs"));
-                    if !below.contains(&module.as_str()) && !legacy {
+                    if !below.contains(&module.as_str()) {
                         upward.push(format!("{}:{}: crate::{module}", path.display(), n + 1));
                     }
                 }

@@ -16,12 +16,13 @@
 
 use pseudorigid::driver::{Budget, Plan, integrate};
 use pseudorigid::ellipsoid::integrals::{carlson_rd, carlson_rf};
-use pseudorigid::flow::unstructured::{HexMesh, MeshedFlow, compact, vtk};
+use pseudorigid::flow::openfoam::{FoamFlow, cavity_block, read_vol_field};
 use pseudorigid::integrator::imex::StabilityGuard;
 use pseudorigid::integrator::newton::NewtonOptions;
 use pseudorigid::integrator::{ImexAdaptive, Scheme, Stokesian, Tolerances};
 use pseudorigid::output::{Csv, write_atomic};
 use pseudorigid::prelude::*;
+use pseudorigid::scenes::cavity_benchmark::CI;
 use serde_json::Value;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
@@ -29,14 +30,14 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 /// Longest a single case may run. The slowest legitimate case (eight threads writing one file,
-/// or one compact file of a few hundred points) takes milliseconds even unoptimised; a thousand
+/// or one 12³ cavity field read and reconstructed) takes milliseconds even unoptimised; a thousand
 /// times that is a hang, not a slow machine.
 const WATCHDOG: Duration = Duration::from_secs(10);
 
 /// Abandoned (hung) threads keep a core busy; after this many, the class stops.
 const MAX_HANGS_PER_CLASS: usize = 2;
 
-/// Cases per class in the CI-sized run (12 classes: a few thousand cases, seconds in release).
+/// Cases per class in the CI-sized run (11 classes: a few thousand cases, seconds in release).
 const CI_CASES: u64 = 400;
 
 /// What one case observed.
@@ -71,8 +72,7 @@ const CLASSES: &[(&str, Case)] = &[
     ("carlson", carlson_case),
     ("integrals", integrals_case),
     ("states", state_case),
-    ("vtk", vtk_case),
-    ("prf", prf_case),
+    ("foam_u", foam_u_case),
     ("outputs", output_case),
     ("driver", driver_case),
     ("steps", step_case),
@@ -646,273 +646,66 @@ impl Drop for Scratch {
     }
 }
 
-/// Two hexahedra side by side with a linear field, as `foamToVTK -legacy` writes them.
-fn vtk_file(binary: bool) -> Vec<u8> {
-    let points: Vec<[f64; 3]> = (0..12)
-        .map(|k| [(k % 3) as f64, ((k / 3) % 2) as f64, (k / 6) as f64])
-        .collect();
-    let cells = [[0, 1, 4, 3, 6, 7, 10, 9], [1, 2, 5, 4, 7, 8, 11, 10]];
-    let mut out = Vec::new();
-    let block = |out: &mut Vec<u8>, int: bool, values: &[f64]| {
-        if binary {
-            for &v in values {
-                if int {
-                    out.extend((v as i32).to_be_bytes());
-                } else {
-                    out.extend((v as f32).to_be_bytes());
-                }
-            }
-        } else {
-            out.extend(
-                values
-                    .iter()
-                    .map(|v| format!("{v}"))
-                    .collect::<Vec<_>>()
-                    .join(" ")
-                    .bytes(),
-            );
-        }
-        out.push(b'\n');
-    };
-    let mode = if binary { "BINARY" } else { "ASCII" };
-    out.extend(format!("# vtk DataFile Version 2.0\nfuzz\n{mode}\nDATASET UNSTRUCTURED_GRID\n").bytes());
-    out.extend(b"POINTS 12 float\n");
-    block(&mut out, false, &points.iter().flatten().copied().collect::<Vec<_>>());
-    out.extend(b"CELLS 2 18\n");
-    let conn: Vec<f64> = cells
-        .iter()
-        .flat_map(|c| std::iter::once(8.0).chain(c.iter().map(|&p| p as f64)))
-        .collect();
-    block(&mut out, true, &conn);
-    out.extend(b"CELL_TYPES 2\n");
-    block(&mut out, true, &[12.0, 12.0]);
-    out.extend(b"POINT_DATA 12\nFIELD attributes 2\nU 3 12 float\n");
-    let u: Vec<f64> = points.iter().flat_map(|p| [p[1], -p[0], 0.5]).collect();
-    block(&mut out, false, &u);
-    out.extend(b"grad(U) 9 12 float\n");
-    let g: Vec<f64> = (0..12)
-        .flat_map(|_| [0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-        .collect();
-    block(&mut out, false, &g);
-    out
+/// The shipped 12³ cavity `U` (simpleFoam's ASCII, `reference-data/cavity-ci-foam`), inflated.
+fn ci_u_text() -> &'static [u8] {
+    static TEXT: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| {
+        use std::io::Read as _;
+        let path = CI.dir().join("U.gz");
+        let mut text = Vec::new();
+        let file = std::fs::File::open(&path).expect("shipped CI field");
+        flate2::read::GzDecoder::new(file).read_to_end(&mut text).expect("gzip");
+        text
+    })
 }
 
-/// Header counts and tokens that broke the reader (defect 3) and their neighbours.
-const BAD_COUNTS: &[&str] = &[
-    "18446744073709551615",
-    "18446744073709551616",
-    "1000000000000",
-    "4611686018427387904",
-    "2147483648",
-    "4294967297",
-    "-1",
-    "0",
-    "1.9",
-    "nan",
-    "1e3",
-    "13",
-    "11",
-    "3",
-];
-
-const BAD_TOKENS: &[&str] = &[
-    "nan",
-    "inf",
-    "-inf",
-    "1.9",
-    "-3",
-    "1e400",
-    "0x10",
-    "",
-    "99",
-    "4294967296",
-    "12.0",
-];
-
-fn replace_word(bytes: &[u8], nth_line: usize, word: usize, with: &str) -> Vec<u8> {
-    let text = String::from_utf8_lossy(bytes);
-    let mut lines: Vec<String> = text.split('\n').map(str::to_string).collect();
-    if let Some(line) = lines.get_mut(nth_line) {
-        let mut words: Vec<&str> = line.split(' ').collect();
-        if word < words.len() {
-            words[word] = with;
-        }
-        *line = words.join(" ");
-    }
-    lines.join("\n").into_bytes()
-}
-
-/// Corrupted legacy VTK files (defect 3).
-fn vtk_case(seed: u64) -> Outcome {
+/// Corrupted cavity velocity files (the form the cavity fields ship in): byte flips, a
+/// truncation, or a number replaced by a wild one or a word, read onto the CI block and
+/// sampled; every finite field must sample finite.
+fn foam_u_case(seed: u64) -> Outcome {
     let mut rng = Rng::new(seed);
-    let binary = rng.chance(0.5);
-    let mut bytes = vtk_file(binary);
-    let headers: Vec<usize> = String::from_utf8_lossy(&bytes)
-        .split('\n')
-        .enumerate()
-        .filter(|(_, l)| {
-            ["POINTS", "CELLS", "CELL_TYPES", "FIELD", "U ", "grad(U)", "POINT_DATA"]
-                .iter()
-                .any(|h| l.starts_with(h))
-        })
-        .map(|(i, _)| i)
-        .collect();
-    for _ in 0..1 + rng.below(3) {
-        match rng.below(5) {
-            0 | 1 => {
-                let line = rng.pick(&headers);
-                bytes = replace_word(&bytes, line, 1 + rng.below(2) as usize, rng.pick(BAD_COUNTS));
-            }
-            2 if !binary => {
-                let line = 5 + rng.below(12) as usize;
-                bytes = replace_word(&bytes, line, rng.below(8) as usize, rng.pick(BAD_TOKENS));
-            }
-            3 => {
-                let at = rng.below(bytes.len() as u64) as usize;
-                if let Some(b) = bytes.get_mut(at) {
-                    *b ^= 1 << rng.below(8);
-                }
-            }
-            _ => {
-                let keep = rng.below(bytes.len() as u64) as usize;
-                bytes.truncate(keep);
-            }
-        }
-    }
-    let dir = Scratch::new("vtk", seed);
-    let path = dir.path("case.vtk");
-    std::fs::write(&path, &bytes).expect("scratch write");
-    let grid = typed!(vtk::read_legacy(&path));
-    let connectivity_ok = grid.cells.iter().flatten().all(|&p| (p as usize) < grid.points.len());
-    let arrays_ok = grid
-        .point_arrays
-        .values()
-        .all(|(c, v)| Some(v.len()) == c.checked_mul(grid.points.len()));
-    if !(connectivity_ok && arrays_ok) {
-        return Outcome::Silent(format!(
-            "VTK grid with {} points, cells {:?}, arrays {:?}",
-            grid.points.len(),
-            grid.cells,
-            grid.point_arrays
-                .iter()
-                .map(|(k, (c, v))| (k.clone(), *c, v.len()))
-                .collect::<Vec<_>>()
-        ));
-    }
-    let flow = typed!(MeshedFlow::from_vtk_grid(grid));
-    check_meshed(&flow)
-}
-
-fn check_meshed(flow: &MeshedFlow) -> Outcome {
-    let values = flow.mesh().points().iter().flat_map(|p| p.iter().copied());
-    let velocity = flow.point_velocity().iter().flat_map(|p| p.iter().copied());
-    let gradient = flow.point_gradient().iter().flat_map(|p| p.iter().copied());
-    if !finite_all(values.chain(velocity).chain(gradient)) {
-        return Outcome::Silent("meshed flow with non-finite data".to_string());
-    }
-    let centre = flow.mesh().centres()[0];
-    match flow.sample(&centre, 0.0) {
-        Ok(s) => check_sample(&s, &centre),
-        Err(e) => Outcome::Silent(format!("a cell centre is outside the field: {e}")),
-    }
-}
-
-/// A small rectilinear field (3 × 3 × 2 points).
-fn small_field() -> MeshedFlow {
-    let (nx, ny, nz) = (3, 3, 2);
-    let id = |i: usize, j: usize, k: usize| (i + nx * (j + ny * k)) as u32;
-    let mut points = Vec::new();
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                points.push(Vec3::new(i as f64 * 0.5, j as f64 * 0.25, k as f64));
-            }
-        }
-    }
-    let mut cells = Vec::new();
-    for j in 0..ny - 1 {
-        for i in 0..nx - 1 {
-            cells.push([
-                id(i, j, 0),
-                id(i + 1, j, 0),
-                id(i + 1, j + 1, 0),
-                id(i, j + 1, 0),
-                id(i, j, 1),
-                id(i + 1, j, 1),
-                id(i + 1, j + 1, 1),
-                id(i, j + 1, 1),
-            ]);
-        }
-    }
-    let l = Mat3::new(0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    let u = points.iter().map(|p| l * p).collect();
-    let mesh = HexMesh::new(points, cells).expect("valid grid");
-    let g = vec![l; mesh.points().len()];
-    MeshedFlow::new(mesh, u, g).expect("valid field")
-}
-
-/// Corrupted compact `.prf` files (defect 8): byte flips, truncations, and re-compressed
-/// payloads with edited header fields or appended zeros.
-fn prf_case(seed: u64) -> Outcome {
-    use flate2::read::ZlibDecoder;
-    use flate2::write::ZlibEncoder;
-    use std::io::{Read, Write};
-    let mut rng = Rng::new(seed);
-    let dir = Scratch::new("prf", seed);
-    let path = dir.path("case.prf");
-    let bits = rng.pick(&[0, 1, 12, 23, 24, 1000]);
-    if compact::write(&small_field(), &path, bits).is_err() {
-        return Outcome::Silent("writing a valid field failed".to_string());
-    }
-    let mut bytes = std::fs::read(&path).expect("just written");
-    let magic = compact::MAGIC.len();
-    match rng.below(4) {
+    let mut bytes = ci_u_text().to_vec();
+    match rng.below(3) {
         0 => {
-            for _ in 0..1 + rng.below(4) {
-                let at = rng.below(bytes.len() as u64) as usize;
-                if let Some(b) = bytes.get_mut(at) {
-                    *b ^= 1 << rng.below(8);
-                }
+            for _ in 0..=rng.below(8) {
+                let i = rng.below(bytes.len() as u64) as usize;
+                bytes[i] = rng.below(256) as u8;
             }
         }
         1 => bytes.truncate(rng.below(bytes.len() as u64) as usize),
         _ => {
-            // Edit the decompressed payload and compress it again (a valid zlib stream), so the
-            // reader's own checks are reached.
-            let mut payload = Vec::new();
-            if ZlibDecoder::new(&bytes[magic..]).read_to_end(&mut payload).is_err() {
-                return Outcome::Silent("a freshly written file does not inflate".to_string());
-            }
-            let header = payload.len().min(16);
-            for _ in 0..1 + rng.below(3) {
-                match rng.below(4) {
-                    0 => {
-                        let word = rng.below(header as u64 / 4) as usize * 4;
-                        let v = rng.pick(&[0u32, 1, 2, 24, 31, 32, 1000, u32::MAX, 1 << 20, 65_536]);
-                        // An earlier truncation may have cut the header.
-                        if let Some(slot) = payload.get_mut(word..word + 4) {
-                            slot.copy_from_slice(&v.to_le_bytes());
-                        }
-                    }
-                    1 => {
-                        let at = rng.below(payload.len() as u64) as usize;
-                        let len = 8.min(payload.len().saturating_sub(at));
-                        let v = rng.wild_signed().to_le_bytes();
-                        payload[at..at + len].copy_from_slice(&v[..len]);
-                    }
-                    2 => payload.extend(std::iter::repeat_n(0u8, rng.below(1 << 22) as usize)),
-                    _ => payload.truncate(rng.below(payload.len() as u64) as usize),
-                }
-            }
-            let mut z = ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
-            z.write_all(&payload).expect("in-memory");
-            bytes.truncate(magic);
-            bytes.extend(z.finish().expect("in-memory"));
+            let numbers: Vec<usize> = (1..bytes.len())
+                .filter(|&i| bytes[i].is_ascii_digit() && !bytes[i - 1].is_ascii_alphanumeric() && bytes[i - 1] != b'.')
+                .collect();
+            let at = numbers[rng.below(numbers.len() as u64) as usize];
+            let end = (at..bytes.len())
+                .find(|&i| !(bytes[i].is_ascii_alphanumeric() || bytes[i] == b'.' || bytes[i] == b'-'))
+                .unwrap_or(bytes.len());
+            let with = match rng.below(4) {
+                0 => format!("{}", rng.next_u64()),
+                1 => format!("{:e}", rng.wild_signed()),
+                2 => "nan".to_string(),
+                _ => "uniform".to_string(),
+            };
+            bytes.splice(at..end, with.bytes());
         }
     }
-    std::fs::write(&path, &bytes).expect("scratch write");
-    let flow = typed!(compact::read(&path));
-    check_meshed(&flow)
+    let dir = Scratch::new("foam_u", seed);
+    if std::fs::write(dir.path("U"), &bytes).is_err() {
+        return Outcome::Silent("could not write the scratch file".into());
+    }
+    let mesh = cavity_block(CI.cells, CI.case.edge).expect("valid block");
+    let field = typed!(read_vol_field(&dir.0, "U", &mesh, 3));
+    let flow = typed!(FoamFlow::new(mesh, vec![(0.0, field)]));
+    for _ in 0..8 {
+        let x = Vec3::new(rng.unit(), rng.unit(), rng.unit()) * CI.case.edge;
+        match flow.sample(&x, 0.0) {
+            Ok(s) if s.u.iter().chain(s.grad_u.iter()).all(|v| v.is_finite()) => {}
+            Ok(s) => return Outcome::Silent(format!("non-finite sample {s:?} at {x:?}")),
+            Err(_) => return Outcome::Typed,
+        }
+    }
+    Outcome::Finite
 }
 
 /// Outputs: every write reads back whole, concurrent writers never mix, no temporary file is
@@ -1288,117 +1081,6 @@ fn carlson_and_integrals_of_nan_return() {
                 && unchecked.chi0.is_nan(),
             || format!("{rf:?} {rd:?} {checked:?}"),
         )
-    });
-}
-
-fn vtk_with(
-    header_edit: (&str, &str),
-    binary: bool,
-) -> Result<vtk::VtkGrid, pseudorigid::flow::unstructured::MeshError> {
-    let text = String::from_utf8_lossy(&vtk_file(binary)).into_owned();
-    let bytes = if binary {
-        // Header lines are ASCII in both forms; replace on the raw bytes.
-        let mut raw = vtk_file(true);
-        let pos = raw
-            .windows(header_edit.0.len())
-            .position(|w| w == header_edit.0.as_bytes())
-            .expect("header present");
-        raw.splice(pos..pos + header_edit.0.len(), header_edit.1.bytes());
-        raw
-    } else {
-        text.replacen(header_edit.0, header_edit.1, 1).into_bytes()
-    };
-    let dir = Scratch::new("vtk-regression", bytes.len() as u64 ^ u64::from(binary));
-    let path = dir.path("case.vtk");
-    std::fs::write(&path, bytes).expect("scratch write");
-    vtk::read_legacy(&path)
-}
-
-/// Defect 3: header counts that overflowed (`capacity overflow` panic) or allocated 32 TB
-/// (process abort), and non-integer connectivity tokens that loaded as 0 and 1.
-#[test]
-fn vtk_header_counts_and_tokens_are_checked() {
-    supervised(|_| {
-        let cases = [
-            (("POINTS 12 float", "POINTS 18446744073709551615 float"), true),
-            (("POINTS 12 float", "POINTS 18446744073709551615 float"), false),
-            (("CELLS 2 18", "CELLS 1000000000000 9"), true),
-            (("CELLS 2 18", "CELLS 1000000000000 9000000000000"), false),
-            (("CELLS 2 18\n8 0", "CELLS 2 18\n8 nan"), false),
-            (("CELLS 2 18\n8 0", "CELLS 2 18\n8 1.9"), false),
-        ];
-        let results: Vec<_> = cases.iter().map(|&(edit, binary)| vtk_with(edit, binary)).collect();
-        let all_malformed = results
-            .iter()
-            .all(|r| matches!(r, Err(pseudorigid::flow::unstructured::MeshError::Malformed { .. })));
-        check(all_malformed, || format!("{results:?}"))
-    });
-}
-
-/// A compact file with a valid zlib stream around `payload`.
-fn prf_bytes(payload: &[u8]) -> Vec<u8> {
-    use std::io::Write;
-    let mut z = flate2::write::ZlibEncoder::new(compact::MAGIC.to_vec(), flate2::Compression::fast());
-    z.write_all(payload).expect("in-memory");
-    z.finish().expect("in-memory")
-}
-
-fn read_prf(bytes: &[u8], name: &str) -> Result<MeshedFlow, pseudorigid::flow::unstructured::MeshError> {
-    let dir = Scratch::new(name, bytes.len() as u64);
-    let path = dir.path("case.prf");
-    std::fs::write(&path, bytes).expect("scratch write");
-    compact::read(&path)
-}
-
-/// Defect 8: a decompression bomb (a small grid's header followed by 256 MiB of zeros; the
-/// audit's 4.2 MB file inflated to 4 GiB before it was rejected), a mantissa-bits field out of
-/// range, and a payload whose checksum does not match.
-#[test]
-fn prf_bomb_bits_and_checksum_are_rejected() {
-    supervised(|_| {
-        let dir = Scratch::new("prf-regression", 0);
-        let path = dir.path("valid.prf");
-        if compact::write(&small_field(), &path, 12).is_err() {
-            return Outcome::Silent("valid field not written".to_string());
-        }
-        let valid = std::fs::read(&path).expect("just written");
-        let mut payload = Vec::new();
-        {
-            use std::io::Read;
-            let _ = flate2::read::ZlibDecoder::new(&valid[compact::MAGIC.len()..]).read_to_end(&mut payload);
-        }
-        let mut bomb = payload.clone();
-        bomb.resize(payload.len() + (256 << 20), 0);
-        let bomb = read_prf(&prf_bytes(&bomb), "bomb");
-        let bits: Vec<_> = [0u32, 24, u32::MAX]
-            .iter()
-            .map(|&b| {
-                let mut p = payload.clone();
-                p[..4].copy_from_slice(&b.to_le_bytes());
-                read_prf(&prf_bytes(&p), "bits")
-            })
-            .collect();
-        // Flip one bit in a field value of the compressed file's stored Adler-32 (last four
-        // bytes): the stream still inflates, only the checksum catches it.
-        let mut corrupt = valid.clone();
-        let last = corrupt.len() - 1;
-        corrupt[last] ^= 1;
-        let checksum = read_prf(&corrupt, "checksum");
-        let reason = |r: &Result<MeshedFlow, _>| match r {
-            Err(pseudorigid::flow::unstructured::MeshError::Malformed { reason, .. }) => reason.clone(),
-            _ => String::new(),
-        };
-        let ok = reason(&bomb).contains("inflates beyond")
-            && bits.iter().all(|r| reason(r).contains("mantissa bits"))
-            && reason(&checksum).contains("zlib");
-        check(ok, || {
-            format!(
-                "bomb {:?}, bits {:?}, checksum {:?}",
-                reason(&bomb),
-                bits.iter().map(reason).collect::<Vec<_>>(),
-                reason(&checksum)
-            )
-        })
     });
 }
 

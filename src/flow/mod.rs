@@ -12,8 +12,6 @@ pub mod analytic;
 #[cfg(feature = "mesh")]
 pub mod openfoam;
 pub mod stagnation;
-#[cfg(feature = "mesh")]
-pub mod unstructured;
 
 use crate::error::FlowError;
 use crate::tensor::{Mat3, Vec3};

@@ -2,7 +2,8 @@
 //!
 //! # Set-up (paper §6.3)
 //! Cube L = 0.1 m, lid z = L moving at U = 0.0813 m/s along +x, ν_f = 17.3 mm²/s (Re = 470),
-//! steady field from OpenFOAM (`reference-data/cavity_re470.prf`). Particles: d_eq = 3 mm,
+//! steady field from OpenFOAM (simpleFoam's `U` on 60³ cells, `reference-data/cavity-re470-foam`,
+//! read by [`crate::flow::openfoam`]: [`shipped_flow`]). Particles: d_eq = 3 mm,
 //! ρ_p = 1209.395 kg/m³ and ρ* = (ρ_f − ρ_p)/ρ_f = +0.05 %, so ρ_f = ρ_p/(1 − 5e-4) ≈ 1210 kg/m³;
 //! gravity −9.81 m/s² e_z; release at (0.467 L, 0.4 L, 0.983 L) with the local fluid velocity.
 //! Ca = μ_f γ̇₀/μ_s with γ̇₀ = √(2 d:d) of the flow at the release point (the paper computes
@@ -40,9 +41,10 @@
 //! Wall rules (paper §6.3): a particle touching the lid leaves the cavity; one touching any
 //! other wall sticks. In the top corners a particle can be equally near the lid and a side wall;
 //! the lid is decided first ([`Planes::nearest`] lets the first-listed wall win ties), so such a
-//! particle exits: it has reached the lid's height, which is the paper's exit criterion. Contact uses the particle's extent (support distance, `flow::unstructured`)
-//! or, as a point-particle tracker would, the barycentre only ([`Contact`]). The release point
-//! is 1.7 mm below the lid while the particles are 2.4–4.8 mm long, so with the extent rule a
+//! particle exits: it has reached the lid's height, which is the paper's exit criterion. Contact
+//! uses the particle's extent (support distance of the ellipsoid, [`crate::contact`]) or, as a
+//! point-particle tracker would, the barycentre only ([`Contact`]). The release point is 1.7 mm
+//! below the lid while the particles are 2.4–4.8 mm long, so with the extent rule a
 //! tilting prolate touches the lid within a fraction of a second.
 
 use super::SceneError;
@@ -51,7 +53,7 @@ use crate::diagnostics::{Monitor, Thresholds, Validity};
 use crate::driver::{Plan, RunStats, Stop, integrate};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
-use crate::flow::unstructured::MeshedFlow;
+use crate::flow::openfoam::{BlendedFlow, FoamError};
 use crate::hydro::forces::{AddedMass, UndisturbedFlow};
 use crate::hydro::{Brenner, DragModel, ForceTerms, VolumetricTraction};
 use crate::integrator::{BarycentreModel, ImexAdaptive, Scheme, Stokesian, TimeIntegrator};
@@ -84,6 +86,14 @@ pub const D_EQ: f64 = 3e-3;
 /// Fluid density ρ_f = ρ_p/(1 − ρ*).
 pub fn rho_fluid() -> f64 {
     RHO_PARTICLE / (1.0 - RHO_STAR)
+}
+
+/// The shipped Re = 470 field ([`crate::scenes::cavity_benchmark::RE470`]) as the scene samples
+/// it: the cells' linear fits blended continuously, with the second-order no-slip wall layer
+/// ([`BlendedFlow`]), so the gradient a particle reads is consistent with the velocity it
+/// reads to O(h) and the lid and wall velocities hold on the walls.
+pub fn shipped_flow() -> Result<BlendedFlow, FoamError> {
+    BlendedFlow::new(crate::scenes::cavity_benchmark::RE470.load()?)
 }
 
 /// Release point (0.467 L, 0.4 L, 0.983 L).
@@ -198,6 +208,50 @@ pub struct CavityRun {
     pub stats: RunStats,
     /// Validity diagnostics over the accepted steps (r₁ in m).
     pub validity: Validity,
+    /// Slip relative to the fluid over the accepted steps.
+    pub slip: Slip,
+}
+
+/// The particle's slip |v − u(x)| relative to the undisturbed fluid at its barycentre over a
+/// run's accepted steps [m/s]: the drift that the fluid-inertia force terms act on
+/// (`paper-figures/fig15_fig16/NOTES.md`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Slip {
+    /// Largest slip.
+    pub max: f64,
+    /// Median over time: each step's end-state slip weighted by the step's length, so that the
+    /// short steps near walls do not outvote the rest of the path.
+    pub median: f64,
+}
+
+impl Slip {
+    /// From (step length, slip) samples; zeros for none.
+    fn of(mut samples: Vec<(f64, f64)>) -> Self {
+        samples.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let total: f64 = samples.iter().map(|s| s.0).sum();
+        let mut seen = 0.0;
+        let median = samples
+            .iter()
+            .find(|(dt, _)| {
+                seen += dt;
+                seen >= 0.5 * total
+            })
+            .map_or(0.0, |s| s.1);
+        Self {
+            max: samples.last().map_or(0.0, |s| s.1),
+            median,
+        }
+    }
+}
+
+/// One point of [`Cavity::quasi_steady_slip`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct QuasiSteady {
+    /// The quasi-steady slip |w| [m/s].
+    pub slip: f64,
+    /// |A − a|/|a|: how far the field's (∇u)u is from the true acceleration along the
+    /// streamline.
+    pub acceleration_gap: f64,
 }
 
 /// How the shape responds (the barycentre is inertial in both).
@@ -241,7 +295,7 @@ impl Default for Variant {
 /// The shipped field seen through a [`Variant`]: with J = diag(−1, 1, 1) and the mirror
 /// x ↦ Jx + L e_x, u′(x) = s J u(Jx + L e_x) and ∇u′(x) = s J ∇u(Jx + L e_x) J.
 struct VariantFlow<'a> {
-    mesh: &'a MeshedFlow,
+    mesh: &'a BlendedFlow,
     variant: Variant,
 }
 
@@ -263,7 +317,8 @@ impl FlowField for VariantFlow<'_> {
 }
 
 /// The fluid-inertia force terms a particle of nearly the fluid's density needs (the cavity's
-/// ρ_p/ρ_f = 1.0005): the undisturbed-flow force and added mass ([`crate::hydro::forces`]).
+/// ρ_p/ρ_f = 1 − ρ* = 0.9995): the undisturbed-flow force and added mass
+/// ([`crate::hydro::forces`]).
 pub fn fluid_inertia() -> Result<ForceTerms, ParamError> {
     ForceTerms::new(vec![Arc::new(UndisturbedFlow), Arc::new(AddedMass)])
 }
@@ -284,8 +339,9 @@ pub struct Cavity<'a, L = NeoHookeLaw, D = Brenner> {
 }
 
 impl<'a> Cavity<'a> {
-    /// Experiment on a loaded Re = 470 field, inertialess shapes, the paper's particle model.
-    pub fn new(flow: &'a MeshedFlow) -> Result<Self, SceneError> {
+    /// Experiment on a loaded Re = 470 field ([`shipped_flow`]), inertialess shapes, the paper's
+    /// particle model.
+    pub fn new(flow: &'a BlendedFlow) -> Result<Self, SceneError> {
         let d = sym(&flow.sample(&release_point(), 0.0).map_err(StepError::from)?.grad_u);
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
         Ok(Self {
@@ -357,6 +413,51 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     /// The experiment's flow (the shipped field in its [`Variant`]) at `x`.
     pub fn sample(&self, x: &Vec3) -> Result<crate::flow::FlowSample, crate::error::FlowError> {
         self.flow.sample(x, 0.0)
+    }
+
+    /// Along `run`'s output path, the slip a Stokes sphere of the particle's volume has in
+    /// quasi-steady motion (Maxey & Riley 1983 without the history force): with v̇ = a, the
+    /// fluid's true acceleration along the streamline, the barycentre equation gives
+    /// ```math
+    /// ζ (u − v) = (m + C_m m_f)\,a − (C_u + C_m)\,m_f A − (m − m_f)\,g,\qquad ζ = 3πμ_f d_{eq},
+    /// ```
+    /// C_u = 1 with the undisturbed-flow force, C_m = ½ with added mass (0 without), and A the
+    /// field's (∇u)u that those terms use. Without the terms the inertial drift is m a/ζ; with
+    /// both it is (m − m_f) a/ζ, smaller by ρ_p/|ρ_p − ρ_f| (2 000 here), plus 1.5 m_f (a − A)/ζ
+    /// wherever the field's gradient is not the derivative of its velocity. a is the central
+    /// difference of u over ±`step` along the streamline. For other shapes it is an estimate.
+    pub fn quasi_steady_slip(&self, run: &CavityRun, step: f64) -> Result<Vec<QuasiSteady>, SceneError> {
+        crate::error::positive("difference step", step)?;
+        let names = self.forces.names();
+        let c_u = if names.contains(&UndisturbedFlow::NAME) {
+            1.0
+        } else {
+            0.0
+        };
+        let c_m = if names.contains(&AddedMass::NAME) { 0.5 } else { 0.0 };
+        let volume = std::f64::consts::PI / 6.0 * D_EQ.powi(3);
+        let (m, m_f) = (RHO_PARTICLE * volume, self.fluid.rho * volume);
+        let zeta = 3.0 * std::f64::consts::PI * self.fluid.mu * D_EQ;
+        let g = Vec3::new(0.0, 0.0, -9.81);
+        let mut out = Vec::with_capacity(run.path.len());
+        for (_, x) in &run.path {
+            let s = self.flow.sample(x, 0.0).map_err(StepError::from)?;
+            let field = s.material_acceleration();
+            let speed = s.u.norm();
+            if speed == 0.0 {
+                continue;
+            }
+            let along = s.u * (step / speed);
+            let ahead = self.flow.sample(&(x + along), 0.0).map_err(StepError::from)?;
+            let behind = self.flow.sample(&(x - along), 0.0).map_err(StepError::from)?;
+            let true_acceleration = (ahead.u - behind.u) * (speed / (2.0 * step));
+            let lag = (true_acceleration * (m + c_m * m_f) - field * ((c_u + c_m) * m_f) - g * (m - m_f)) / zeta;
+            out.push(QuasiSteady {
+                slip: lag.norm(),
+                acceleration_gap: (field - true_acceleration).norm() / true_acceleration.norm(),
+            });
+        }
+        Ok(out)
     }
 
     /// γ̇₀ = √(2 d:d) at the release point [1/s].
@@ -465,6 +566,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         let dt_max = 0.25 * p.shape().semi_axes().min() / LID_VELOCITY;
         let plan = Plan::new(t_max, dt_max)?.with_dt_max(dt_max)?;
         let path = std::cell::RefCell::new(Vec::new());
+        let mut slips = Vec::new();
         let mut next_out = dt_out;
         let mut memory = Default::default();
         let end = match integrate(
@@ -478,6 +580,9 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             |s| path.borrow_mut().push((s.t, s.x)),
             |step| {
                 monitor.observe(&step.state);
+                if let Ok(fluid) = self.flow.sample(&step.state.x, step.state.t) {
+                    slips.push((step.info.dt, (step.state.v - fluid.u).norm()));
+                }
                 if step.state.t >= next_out {
                     path.borrow_mut().push((step.state.t, step.state.x));
                     next_out = dt_out * ((step.state.t / dt_out).floor() + 1.0);
@@ -500,6 +605,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
                     },
                     stats: failure.stats,
                     validity: monitor.validity(),
+                    slip: Slip::of(slips),
                 });
             }
         };
@@ -532,6 +638,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             outcome,
             stats,
             validity: monitor.validity(),
+            slip: Slip::of(slips),
         })
     }
 }
@@ -556,8 +663,8 @@ pub fn trajectory_table(runs: &[CavityRun]) -> Result<crate::output::Csv, crate:
 }
 
 /// Outcomes as CSV: `contact,shape,ca,outcome,wall,t_end,x_over_l,y_over_l,z_over_l,steps,
-/// shape_model`, then the validity columns [`Validity::COLUMNS`] under the default
-/// [`Thresholds`] (r₁ in m).
+/// shape_model,max_slip,median_slip` (slip [`Slip`] in m/s), then the validity columns
+/// [`Validity::COLUMNS`] under the default [`Thresholds`] (r₁ in m).
 pub fn outcome_table(runs: &[CavityRun]) -> Result<crate::output::Csv, crate::output::OutputError> {
     let mut csv = crate::output::Csv::new(&outcome_header());
     let limits = Thresholds::default();
@@ -580,6 +687,8 @@ fn outcome_header() -> Vec<&'static str> {
         "z_over_l",
         "steps",
         "shape_model",
+        "max_slip",
+        "median_slip",
     ];
     header.extend(Validity::COLUMNS);
     header
@@ -605,6 +714,8 @@ fn outcome_cells(run: &CavityRun, limits: &Thresholds) -> Vec<String> {
         format!("{:.4}", x[2] / EDGE),
         run.stats.steps.to_string(),
         run.shape_model.label().into(),
+        format!("{:.3e}", run.slip.max),
+        format!("{:.3e}", run.slip.median),
     ];
     cells.extend(run.validity.cells(limits));
     cells
@@ -809,7 +920,7 @@ fn event_time(outcome: &Outcome) -> Option<f64> {
 /// kept as its error message, so one failure does not hide the rest of the ensemble.
 #[allow(clippy::too_many_arguments)]
 pub fn ensemble(
-    flow: &MeshedFlow,
+    flow: &BlendedFlow,
     shape_model: ShapeModel,
     forces: &ForceTerms,
     releases: &[Release],

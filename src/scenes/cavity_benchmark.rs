@@ -15,14 +15,37 @@
 
 use crate::error::FlowError;
 use crate::flow::FlowField;
-use crate::flow::unstructured::MeshError;
+use crate::flow::openfoam::{FoamError, FoamFlow, cavity_block, read_vol_field};
 use crate::tensor::Vec3;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub mod report;
 
 /// Equispaced samples along a centreline for the extremum search.
 pub const EXTREMUM_SAMPLES: usize = 2001;
+
+/// Why a reference table could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum TableError {
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// File concerned.
+        path: String,
+        /// Underlying I/O error.
+        source: std::io::Error,
+    },
+    /// A row does not follow `quantity,position,value`.
+    #[error("{path}:{line}: {reason}")]
+    Malformed {
+        /// File concerned.
+        path: String,
+        /// 1-based line of the row.
+        line: usize,
+        /// What was expected.
+        reason: String,
+    },
+}
 
 /// Geometry and lid speed of a cube cavity.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,6 +54,63 @@ pub struct CavityCase {
     pub edge: f64,
     /// Lid speed U (lid moves in +x at z = L).
     pub lid_speed: f64,
+}
+
+/// A cube-cavity field shipped in `reference-data/`: simpleFoam's cell-centred `U` of one of
+/// the `cases/cavity-*` cases (gzipped ASCII, 6 significant digits; provenance beside it), read
+/// onto the case's uniform block rebuilt by [`cavity_block`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShippedField {
+    /// Directory under `reference-data/` holding `U.gz`.
+    pub dir: &'static str,
+    /// Cells per edge of the uniform block.
+    pub cells: usize,
+    /// Edge and lid speed.
+    pub case: CavityCase,
+}
+
+/// The paper's cavity (§6.3): Re = U L/ν = 470, 60³ cells (`cases/cavity-re470`).
+pub const RE470: ShippedField = ShippedField {
+    dir: "cavity-re470-foam",
+    cells: 60,
+    case: CavityCase {
+        edge: 0.1,
+        lid_speed: 0.0813,
+    },
+};
+
+/// The same case on 12³ cells (`cases/cavity-ci`), for quick checks; not converged in h.
+pub const CI: ShippedField = ShippedField {
+    dir: "cavity-ci-foam",
+    cells: 12,
+    ..RE470
+};
+
+/// The validation case at Re = 1000, 60³ cells (`cases/cavity-re1000`).
+pub const RE1000: ShippedField = ShippedField {
+    dir: "cavity-re1000-foam",
+    cells: 60,
+    case: CavityCase {
+        edge: 0.1,
+        lid_speed: 0.173,
+    },
+};
+
+impl ShippedField {
+    /// The field's directory in this crate's `reference-data/`.
+    pub fn dir(&self) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("reference-data")
+            .join(self.dir)
+    }
+
+    /// The steady field, cellwise ([`FoamFlow`]; `BlendedFlow::new` makes it continuous with
+    /// the no-slip wall layer).
+    pub fn load(&self) -> Result<FoamFlow, FoamError> {
+        let mesh = cavity_block(self.cells, self.case.edge)?;
+        let u = read_vol_field(&self.dir(), "U", &mesh, 3)?;
+        FoamFlow::new(mesh, vec![(0.0, u)])
+    }
 }
 
 /// The two benchmark centrelines.
@@ -118,20 +198,19 @@ pub struct ReferenceTable {
 impl ReferenceTable {
     /// Read `quantity,position,value` rows (`#` comments, one header line) with quantity one of
     /// `u_vertical`, `w_horizontal`, `u_min`, `w_min`, `w_max`.
-    pub fn read_csv(path: &Path) -> Result<Self, MeshError> {
-        let text = std::fs::read_to_string(path).map_err(|source| MeshError::Io {
+    pub fn read_csv(path: &Path) -> Result<Self, TableError> {
+        let text = std::fs::read_to_string(path).map_err(|source| TableError::Io {
             path: path.display().to_string(),
             source,
         })?;
         let mut table = Self::default();
-        let mut offset = 0;
-        let rows = text.lines().filter(|l| !l.trim_start().starts_with('#'));
-        for line in rows.skip(1) {
-            offset += line.len() + 1;
-            let malformed = |reason: String| MeshError::Malformed {
+        let rows = (1..)
+            .zip(text.lines())
+            .filter(|(_, l)| !l.trim_start().starts_with('#'));
+        for (line_no, line) in rows.skip(1) {
+            let malformed = |reason: String| TableError::Malformed {
                 path: path.display().to_string(),
-                format: "reference CSV",
-                offset,
+                line: line_no,
                 reason,
             };
             let fields: Vec<&str> = line.split(',').map(str::trim).collect();

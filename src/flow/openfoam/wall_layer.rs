@@ -99,6 +99,18 @@ pub struct WallFit {
     pub normal: [f64; 2],
 }
 
+impl WallFit {
+    /// Whether every coefficient is finite.
+    pub fn is_finite(&self) -> bool {
+        let v = |v: &Vec3| v.iter().all(|c| c.is_finite());
+        v(&self.velocity)
+            && v(&self.shear)
+            && v(&self.curvature)
+            && self.shear_gradient.iter().all(|c| c.is_finite())
+            && self.normal.iter().all(|c| c.is_finite())
+    }
+}
+
 /// Largest |e| ρ / |c| of the cubic term in the wall-normal velocity: the cell's value may move
 /// u_n at its centre by at most this fraction of continuity's δ² term, so u_n keeps its sign
 /// below the centre and no spurious stagnation layer appears inside the wall cell.
@@ -244,7 +256,9 @@ impl WallGeometry {
                 let e = if depth > 0.0 {
                     let bound = MAX_CUBIC * c.abs() / depth;
                     let fitted = ((u[self.owners[k]] - velocity[k]).dot(&n) - c * depth * depth) / depth.powi(3);
-                    fitted.clamp(-bound, bound)
+                    // max/min, not clamp: an overflowing field makes the bound NaN, and
+                    // `FoamFlow::new` refuses the non-finite fit instead of panicking here.
+                    fitted.max(-bound).min(bound)
                 } else {
                     0.0
                 };

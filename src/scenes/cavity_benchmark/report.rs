@@ -3,7 +3,6 @@
 use super::{CavityCase, Centreline, ExtremumComparison, LinePoint, ReferenceTable};
 use crate::error::FlowError;
 use crate::flow::FlowField;
-use crate::flow::unstructured::MeshError;
 use crate::output::write_atomic;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -17,18 +16,15 @@ pub enum ReportError {
     /// Sampling the flow failed.
     #[error(transparent)]
     Flow(#[from] FlowError),
-    /// Writing a file failed.
-    #[error(transparent)]
-    Mesh(#[from] MeshError),
-    /// Drawing or writing the plot failed.
+    /// Writing a file, drawing or writing the plot failed.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
 }
 
 /// Atomic write (see [`crate::output::atomic`]): an interrupted report leaves the previous
 /// file whole.
-fn write(path: &Path, text: &str) -> Result<(), MeshError> {
-    write_atomic(path, text.as_bytes()).map_err(MeshError::from)
+fn write(path: &Path, text: &str) -> Result<(), crate::output::OutputError> {
+    write_atomic(path, text.as_bytes())
 }
 
 /// `line,position,simulated,reference`: the simulated profile at [`PROFILE_SAMPLES`]
@@ -67,7 +63,7 @@ pub fn write_centrelines_csv(
 }
 
 /// `quantity,simulated,position_simulated,reference,position_reference,relative_error_percent`.
-pub fn write_extrema_csv(path: &Path, rows: &[ExtremumComparison]) -> Result<(), MeshError> {
+pub fn write_extrema_csv(path: &Path, rows: &[ExtremumComparison]) -> Result<(), crate::output::OutputError> {
     let mut out =
         String::from("quantity,simulated,position_simulated,reference,position_reference,relative_error_percent\n");
     for r in rows {
