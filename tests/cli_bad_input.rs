@@ -101,7 +101,7 @@ every = 0.5
 "#;
 
 /// Replacement values: bad numbers, extreme numbers, wrong types.
-const VALUES: [&str; 16] = [
+const VALUES: [&str; 17] = [
     "nan",
     "inf",
     "-inf",
@@ -114,6 +114,7 @@ const VALUES: [&str; 16] = [
     "true",
     "[1.0]",
     "[1.0, 2.0]",
+    "[1.0, 2.0, 3.0, 4.0]",
     "[nan, 1.0, 1.0]",
     "[1e308, 1e308, 1e308]",
     "{ a = 1 }",

@@ -73,6 +73,7 @@ const CLASSES: &[(&str, Case)] = &[
     ("integrals", integrals_case),
     ("states", state_case),
     ("foam_u", foam_u_case),
+    ("foam_mesh", foam_mesh_case),
     ("outputs", output_case),
     ("driver", driver_case),
     ("steps", step_case),
@@ -697,6 +698,108 @@ fn foam_u_case(seed: u64) -> Outcome {
     let mesh = cavity_block(CI.cells, CI.case.edge).expect("valid block");
     let field = typed!(read_vol_field(&dir.0, "U", &mesh, 3));
     let flow = typed!(FoamFlow::new(mesh, vec![(0.0, field)]));
+    for _ in 0..8 {
+        let x = Vec3::new(rng.unit(), rng.unit(), rng.unit()) * CI.case.edge;
+        match flow.sample(&x, 0.0) {
+            Ok(s) if s.u.iter().chain(s.grad_u.iter()).all(|v| v.is_finite()) => {}
+            Ok(s) => return Outcome::Silent(format!("non-finite sample {s:?} at {x:?}")),
+            Err(_) => return Outcome::Typed,
+        }
+    }
+    Outcome::Finite
+}
+
+/// The polyMesh files of the 12³ cavity as blockMesh wrote them (`tests/data/cavity-ci-blockmesh`),
+/// inflated, by name.
+fn ci_mesh_texts() -> &'static [(&'static str, Vec<u8>)] {
+    static TEXTS: std::sync::OnceLock<Vec<(&'static str, Vec<u8>)>> = std::sync::OnceLock::new();
+    TEXTS.get_or_init(|| {
+        use std::io::Read as _;
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/cavity-ci-blockmesh/constant/polyMesh");
+        ["points", "faces", "owner", "neighbour", "boundary"]
+            .into_iter()
+            .map(|name| {
+                let file = std::fs::File::open(dir.join(format!("{name}.gz"))).expect("shipped CI mesh");
+                let mut text = Vec::new();
+                flate2::read::GzDecoder::new(file).read_to_end(&mut text).expect("gzip");
+                (name, text)
+            })
+            .collect()
+    })
+}
+
+/// Byte ranges of the unsigned integers in `text` that stand alone (labels, list sizes), not
+/// inside a word or a decimal.
+fn integer_tokens(text: &[u8]) -> Vec<std::ops::Range<usize>> {
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while i < text.len() {
+        let starts = text[i].is_ascii_digit() && (i == 0 || !(text[i - 1].is_ascii_alphanumeric() || b".-_".contains(&text[i - 1])));
+        if !starts {
+            i += 1;
+            continue;
+        }
+        let end = (i..text.len()).find(|&j| !text[j].is_ascii_digit()).unwrap_or(text.len());
+        if end == text.len() || !(text[end].is_ascii_alphabetic() || text[end] == b'.' || text[end] == b'e') {
+            tokens.push(i..end);
+        }
+        i = end;
+    }
+    tokens
+}
+
+/// The OpenFOAM mesh reader: one polyMesh file of the CI cavity corrupted (a label or list
+/// size set out of range, to 2³¹ − 1, 2⁴⁰, −1 or the cell count; bytes flipped; the file
+/// truncated), then the case opened, its `U` read and the flow sampled. Every outcome must be
+/// a typed error or a finite field: no panic, no hang, no allocation sized by a corrupt
+/// count (a list size of 2⁴⁰ with its data absent is refused, not reserved).
+fn foam_mesh_case(seed: u64) -> Outcome {
+    let mut rng = Rng::new(seed);
+    let texts = ci_mesh_texts();
+    let target = rng.below(texts.len() as u64) as usize;
+    let mut bytes = texts[target].1.clone();
+    let cells = CI.cells.pow(3);
+    match rng.below(4) {
+        0 | 1 => {
+            let tokens = integer_tokens(&bytes);
+            // The list's size is the integer followed by a line with `(`: hit it a quarter of
+            // the time, else any integer from there on.
+            let body = tokens.iter().position(|r| bytes[r.end..].starts_with(b"\n(")).unwrap_or(0);
+            let at = if rng.chance(0.25) { body } else { body + rng.below((tokens.len() - body) as u64) as usize };
+            let with = match rng.below(6) {
+                0 => "2147483647".to_string(),
+                1 => (1u64 << 40).to_string(),
+                2 => "-1".to_string(),
+                3 => cells.to_string(),
+                4 => (cells + 1 + rng.below(1000) as usize).to_string(),
+                _ => rng.next_u64().to_string(),
+            };
+            if let Some(r) = tokens.get(at) {
+                bytes.splice(r.clone(), with.bytes());
+            }
+        }
+        2 => {
+            for _ in 0..=rng.below(8) {
+                let i = rng.below(bytes.len() as u64) as usize;
+                bytes[i] = rng.below(256) as u8;
+            }
+        }
+        _ => bytes.truncate(rng.below(bytes.len() as u64) as usize),
+    }
+    let dir = Scratch::new("foam_mesh", seed);
+    let mesh_dir = dir.path("constant/polyMesh");
+    let written = std::fs::create_dir_all(&mesh_dir).is_ok()
+        && std::fs::create_dir_all(dir.path("0")).is_ok()
+        && std::fs::write(dir.path("0/U"), ci_u_text()).is_ok()
+        && texts.iter().enumerate().all(|(k, (name, text))| {
+            std::fs::write(mesh_dir.join(name), if k == target { &bytes } else { text }).is_ok()
+        });
+    if !written {
+        return Outcome::Silent("could not write the scratch case".into());
+    }
+    let case = typed!(pseudorigid::flow::openfoam::FoamCase::open(&dir.0));
+    let field = typed!(case.read_field(0.0, "U", 3));
+    let flow = typed!(FoamFlow::new(case.mesh().clone(), vec![(0.0, field)]));
     for _ in 0..8 {
         let x = Vec3::new(rng.unit(), rng.unit(), rng.unit()) * CI.case.edge;
         match flow.sample(&x, 0.0) {
