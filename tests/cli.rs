@@ -813,7 +813,7 @@ fn a_law_written_in_the_scene_runs_like_the_built_in_law() {
     let short = [("t_end = 30.0", "t_end = 2.0"), ("every = 0.25", "every = 2.0")];
     let end = |s: &Scene, name: &str| {
         let out = run(s, name);
-        let state = out.records[0].end.clone().unwrap();
+        let state = out.records[0].end.unwrap();
         (state.f, out.records[0].end_frame().unwrap().r[0])
     };
     let (f_nh, r_nh) = end(&scene("oblate_shear.toml", &short), "cli_law_nh");

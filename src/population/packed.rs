@@ -56,7 +56,7 @@ fn pack(states: &[State]) -> Vec<u8> {
 
 /// The states of transposed bytes; `None` when the length is not a whole number of states.
 fn unpack(bytes: &[u8]) -> Option<Vec<State>> {
-    if bytes.len() % (PER_STATE * BYTES) != 0 {
+    if !bytes.len().is_multiple_of(PER_STATE * BYTES) {
         return None;
     }
     let n = bytes.len() / BYTES;
