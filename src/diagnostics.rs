@@ -239,7 +239,8 @@ impl Validity {
             ),
         ]
         .into_iter()
-        .filter_map(|(name, crossed)| crossed.then(|| name.to_string()))
+        .filter(|(_, crossed)| *crossed)
+        .map(|(name, _)| name.to_string())
         .chain(omitted)
         .collect()
     }
