@@ -27,7 +27,9 @@ def cli() -> pathlib.Path:
     if given:
         return pathlib.Path(given)
     subprocess.run(["cargo", "build", "--release", "--bin", "pseudorigid"], cwd=ROOT, check=True)
-    return ROOT / "target" / "release" / "pseudorigid"
+    # Where cargo put it: $CARGO_TARGET_DIR if set (as for `cargo build`), else target/.
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    return (target if target.is_absolute() else ROOT / target) / "release" / "pseudorigid"
 
 
 @pytest.fixture()
