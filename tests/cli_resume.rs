@@ -54,10 +54,15 @@ fn ok(out: std::process::Output) -> String {
 
 /// The files a finished run writes, by name.
 fn results(out: &Path) -> Vec<(String, Vec<u8>)> {
-    ["records.parquet", "frames.parquet", "particles.pvd", "vtk/trajectories.vtp"]
-        .iter()
-        .map(|f| (f.to_string(), std::fs::read(out.join(f)).unwrap()))
-        .collect()
+    [
+        "records.parquet",
+        "frames.parquet",
+        "particles.pvd",
+        "vtk/trajectories.vtp",
+    ]
+    .iter()
+    .map(|f| (f.to_string(), std::fs::read(out.join(f)).unwrap()))
+    .collect()
 }
 
 fn chunks(dir: &Path) -> usize {

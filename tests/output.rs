@@ -128,7 +128,9 @@ fn single_precision_vtp_rounds_to_nearest_and_refuses_overflow() {
     let floats = |name: &str| -> Vec<u32> {
         let (kind, raw) = vtp_block(&bytes, name);
         assert_eq!(kind, "Float32");
-        raw.chunks(4).map(|c| u32::from_le_bytes(c.try_into().unwrap())).collect()
+        raw.chunks(4)
+            .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
+            .collect()
     };
     let nearest = |v: &[f64]| -> Vec<u32> { v.iter().map(|&x| (x as f32).to_bits()).collect() };
     let coords: Vec<f64> = points.iter().flat_map(|p| p.iter().copied()).collect();
@@ -138,7 +140,9 @@ fn single_precision_vtp_rounds_to_nearest_and_refuses_overflow() {
     assert!((f32::from_bits(floats("Points")[0]) as f64 - 0.1).abs() <= 0.1 * 2f64.powi(-24));
     assert_eq!(vtp_block(&bytes, "connectivity").0, "Int64");
     // 4e38 > f32::MAX ≈ 3.4028e38.
-    let too_big = PolyData::vertices(vec![Vec3::new(4e38, 0.0, 0.0)]).unwrap().single_precision();
+    let too_big = PolyData::vertices(vec![Vec3::new(4e38, 0.0, 0.0)])
+        .unwrap()
+        .single_precision();
     assert!(too_big.is_err());
     let later = PolyData::vertices(vec![Vec3::zeros()])
         .unwrap()

@@ -137,7 +137,10 @@ impl Scene {
     pub fn force_advice(&self) -> Vec<String> {
         let limit = crate::diagnostics::Thresholds::default().omitted_term;
         let overdamped = self.integrator.barycentre() == crate::integrator::BarycentreModel::Overdamped;
-        let inertial = [crate::hydro::forces::UndisturbedFlow::NAME, crate::hydro::forces::AddedMass::NAME];
+        let inertial = [
+            crate::hydro::forces::UndisturbedFlow::NAME,
+            crate::hydro::forces::AddedMass::NAME,
+        ];
         let placements: Vec<(String, &Placement)> = match &self.particles {
             ParticleSource::List(list) => list
                 .iter()
@@ -165,7 +168,10 @@ impl Scene {
             if density_ratio > limit && !carries_flow_force {
                 sizes.insert(0, ("undisturbed_flow", density_ratio));
             }
-            for (term, size) in sizes.into_iter().filter(|(term, _)| !(overdamped && inertial.contains(term))) {
+            for (term, size) in sizes
+                .into_iter()
+                .filter(|(term, _)| !(overdamped && inertial.contains(term)))
+            {
                 advice.push(format!(
                     "{key}: the scene leaves out `{term}`, which its numbers put at {:.2} % (add it to particles.forces)",
                     100.0 * size

@@ -140,4 +140,3 @@ pub fn fig15_fig16_releases() -> Vec<Release> {
         })
         .collect()
 }
-
