@@ -11,10 +11,11 @@
 //! outcome, the slip |v − u(x)| (maximum and time median over the accepted steps) and the
 //! median along the path of the quasi-steady slip of a Stokes sphere
 //! ([`Cavity::quasi_steady_slip`]: its inertial part falls by ρ_p/|ρ_p − ρ_f| ≈ 2 000 with the
-//! terms where the field's (∇u)u is the true acceleration a, its buoyancy part not at all, and
-//! a field whose (∇u)u is not the derivative of its u leaves 1.5 m_f |a − (∇u)u|/ζ), with the
-//! median and largest gap |(∇u)u − a|/|a| along the path (central differences over ±0.1 mm, 6 %
-//! of a cell). It also prints how far the field's ∇u is from central differences of its u on
+//! terms, to zero for a neutrally buoyant particle, its buoyancy part not at all), with the
+//! median and largest gap |(∇u)u − a|/|a| along the path between the blend of the cells'
+//! gradients times u and the field's acceleration a along u (what the terms would use if they
+//! built Du/Dt from `grad_u`). It also prints how far the field's ∇u is from central
+//! differences (±0.1 mm, 6 % of a cell) of its u on
 //! lattices in the interior and under the lid.
 
 use pseudorigid::flow::FlowField;
@@ -116,7 +117,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     for (run, &(shape, c)) in runs.iter().zip(&jobs) {
         let ((neutral, terms), cavity) = &cavities[c];
-        let along = cavity.quasi_steady_slip(run, STEP)?;
+        let along = cavity.quasi_steady_slip(run)?;
         let predicted = median(along.iter().map(|q| q.slip).collect());
         let gap = median(along.iter().map(|q| q.acceleration_gap).collect());
         let largest = along.iter().map(|q| q.acceleration_gap).fold(0.0, f64::max);

@@ -307,17 +307,21 @@ fn reduced_ensemble_fractions_snapshot() {
     insta::assert_snapshot!(outcome_fraction_table(&members).unwrap().to_text());
 }
 
-/// Issue 20: with the fluid-inertia terms a neutrally buoyant sphere's drift relative to the
-/// fluid falls to what the field's inconsistency leaves, 1.5 m_f |a − (∇u)u|/ζ, and without
-/// them it is the inertial drift m a/ζ (`Cavity::quasi_steady_slip`). Over the first 2 s (the
-/// path under the lid) the time-median slip of each run must match its quasi-steady
-/// prediction within a factor 1.5: the quasi-steady balance drops terms τ dA/dt with
-/// τ ≤ (ρ_p + ½ρ_f) d²/(18μ) = 0.043 s against the ≈ 0.2 s over which the particle's
-/// acceleration changes under the lid (≤ 25 %), and the two medians are over different samples
-/// (accepted steps, 0.01 s outputs). Terms that did not act would leave the paper's slip, 5×
-/// the prediction with them.
+/// Issue 20: without the fluid-inertia terms a neutrally buoyant sphere drifts from the fluid by
+/// its inertial drift m a/ζ (`Cavity::quasi_steady_slip`), and with them it follows the fluid.
+/// Over the first 2 s (the path under the lid):
+/// - without the terms the time-median slip must match the quasi-steady prediction within a
+///   factor 1.5: the balance drops terms τ dA/dt with τ = ρ_p d²/(18μ) = 0.029 s against the
+///   ≈ 0.2 s over which the acceleration changes under the lid (≤ 25 %), and the two medians
+///   are over different samples (accepted steps, 0.01 s outputs);
+/// - with both terms v = u solves the barycentre equation exactly (the field's Du/Dt is the
+///   derivative of its u along u), so what is left is the release transient and the
+///   integrator's error (tolerance 10⁻⁷ of |v| ≈ 0.05 m/s, 5·10⁻⁹ m/s): the median must fall
+///   by more than the three orders of magnitude the review predicts (ρ_p/|ρ_p − ρ_f| = 2 000
+///   at the paper's densities; a terms-off drift is 3·10⁻⁵ m/s, so the bound is 3·10⁻⁸ m/s,
+///   six times the integrator's error).
 #[test]
-fn fluid_inertia_leaves_the_slip_the_field_s_inconsistency_predicts() {
+fn fluid_inertia_makes_a_neutrally_buoyant_sphere_follow_the_fluid() {
     use pseudorigid::scenes::cavity::fluid_inertia;
     let flow = flow();
     let release = Release {
@@ -332,24 +336,20 @@ fn fluid_inertia_leaves_the_slip_the_field_s_inconsistency_predicts() {
         }
         let run = cavity.track(release, Contact::Barycentre, 2.0, 1e-7, 0.01).unwrap();
         assert!(matches!(run.outcome, Outcome::Suspended), "{:?}", run.outcome);
-        let mut predicted: Vec<f64> = cavity
-            .quasi_steady_slip(&run, 1e-4)
-            .unwrap()
-            .iter()
-            .map(|q| q.slip)
-            .collect();
+        let mut predicted: Vec<f64> = cavity.quasi_steady_slip(&run).unwrap().iter().map(|q| q.slip).collect();
         predicted.sort_by(f64::total_cmp);
         let predicted = predicted[predicted.len() / 2];
-        let ratio = run.slip.median / predicted;
         eprintln!(
             "terms {terms}: median slip {:.3e} m/s, quasi-steady {predicted:.3e} m/s",
             run.slip.median
         );
-        assert!(
-            (1.0 / 1.5..=1.5).contains(&ratio),
-            "terms {terms}: measured/predicted {ratio}"
-        );
+        if !terms {
+            let ratio = run.slip.median / predicted;
+            assert!((1.0 / 1.5..=1.5).contains(&ratio), "measured/predicted {ratio}");
+        }
         medians.push(run.slip.median);
     }
-    eprintln!("slip ratio without/with the terms: {:.2}", medians[0] / medians[1]);
+    let ratio = medians[0] / medians[1];
+    eprintln!("slip ratio without/with the terms: {ratio:.3e}");
+    assert!(ratio > 1e3, "the terms reduce the drift only {ratio}×");
 }

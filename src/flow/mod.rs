@@ -24,23 +24,35 @@ pub struct FlowSample {
     /// Velocity gradient l_f, `(l_f)_ij = ∂u_i/∂x_j`.
     pub grad_u: Mat3,
     /// Local acceleration ∂u/∂t (zero in a steady flow). The fluid-inertia force terms
-    /// ([`crate::hydro::forces`]) need the material acceleration Du/Dt = ∂u/∂t + (∇u)u.
+    /// ([`crate::hydro::forces`]) need the material acceleration Du/Dt = ∂u/∂t + (u·∇)u.
     pub du_dt: Vec3,
+    /// Convective acceleration (u·∇)u: the derivative of the sampled u along u. It is
+    /// `grad_u * u` wherever `grad_u` is the derivative of u; a field whose `grad_u` is an
+    /// estimate of the flow's gradient rather than the derivative of its own u
+    /// ([`openfoam::BlendedFlow`]) gives here the derivative of its u, so a fluid parcel
+    /// moving with the sampled u has exactly the acceleration Du/Dt of the sample.
+    pub convective: Vec3,
 }
 
 impl FlowSample {
-    /// A sample of a steady flow: ∂u/∂t = 0.
-    pub fn steady(u: Vec3, grad_u: Mat3) -> Self {
+    /// A sample whose `grad_u` is the derivative of u: (u·∇)u = (∇u)u.
+    pub fn new(u: Vec3, grad_u: Mat3, du_dt: Vec3) -> Self {
         Self {
             u,
             grad_u,
-            du_dt: Vec3::zeros(),
+            du_dt,
+            convective: grad_u * u,
         }
     }
 
-    /// Material acceleration of the fluid, Du/Dt = ∂u/∂t + (∇u)u.
+    /// A sample of a steady flow (∂u/∂t = 0) whose `grad_u` is the derivative of u.
+    pub fn steady(u: Vec3, grad_u: Mat3) -> Self {
+        Self::new(u, grad_u, Vec3::zeros())
+    }
+
+    /// Material acceleration of the fluid, Du/Dt = ∂u/∂t + (u·∇)u.
     pub fn material_acceleration(&self) -> Vec3 {
-        self.du_dt + self.grad_u * self.u
+        self.du_dt + self.convective
     }
 }
 

@@ -412,11 +412,11 @@ impl FoamFlow {
         let (a, b) = (&self.frames[k - 1], &self.frames[k]);
         let s = (t - a.time) / (b.time - a.time);
         let ((ua, ga), (ub, gb)) = (at(a), at(b));
-        FlowSample {
-            u: ua * (1.0 - s) + ub * s,
-            grad_u: ga * (1.0 - s) + gb * s,
-            du_dt: (ub - ua) / (b.time - a.time),
-        }
+        FlowSample::new(
+            ua * (1.0 - s) + ub * s,
+            ga * (1.0 - s) + gb * s,
+            (ub - ua) / (b.time - a.time),
+        )
     }
 
     /// Locate x (from `hint`) and sample there: the sample and the cell.

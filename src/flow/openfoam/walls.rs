@@ -70,9 +70,10 @@ impl WallFaces {
         })
     }
 
-    /// Calls `visit(k, d, support)` for every wall face k whose distance d from x is below its
-    /// support, in a fixed order.
-    pub fn for_each_within(&self, x: &Vec3, mut visit: impl FnMut(usize, f64, f64)) {
+    /// Calls `visit(k, away, support)` for every wall face k whose distance d = |away| from x is
+    /// below its support, in a fixed order; `away` = x − q, q the face's point nearest to x, so
+    /// away/d is the gradient of the distance.
+    pub fn for_each_within(&self, x: &Vec3, mut visit: impl FnMut(usize, Vec3, f64)) {
         self.centres.for_each_closer(x, self.near, |k, centre, to_centre| {
             let support = self.supports[k];
             // The face lies within its circumradius of its centre: no point of it is nearer.
@@ -80,62 +81,63 @@ impl WallFaces {
                 return;
             }
             let fan = &self.vertices[self.offsets[k]..self.offsets[k + 1]];
-            let d = (0..fan.len())
-                .map(|i| triangle_distance(x, centre, &fan[i], &fan[(i + 1) % fan.len()]))
-                .fold(f64::INFINITY, f64::min);
-            if d < support {
-                visit(k, d, support);
+            let away = (0..fan.len())
+                .map(|i| triangle_offset(x, centre, &fan[i], &fan[(i + 1) % fan.len()]))
+                .min_by(|a, b| a.norm_squared().total_cmp(&b.norm_squared()));
+            if let Some(away) = away.filter(|a| a.norm() < support) {
+                visit(k, away, support);
             }
         });
     }
 }
 
-/// Distance from p to the triangle (a, b, c): to the closest point of the vertex, edge or
-/// interior region p projects into (Ericson 2005, §5.1.5). A degenerate triangle falls through
-/// to its edges and vertices.
-fn triangle_distance(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> f64 {
+/// p − q for q the point of the triangle (a, b, c) nearest to p: the closest point of the
+/// vertex, edge or interior region p projects into (Ericson 2005, §5.1.5). A degenerate
+/// triangle falls through to its edges and vertices.
+fn triangle_offset(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> Vec3 {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
     if d1 <= 0.0 && d2 <= 0.0 {
-        return ap.norm();
+        return ap;
     }
     let bp = p - b;
     let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
     if d3 >= 0.0 && d4 <= d3 {
-        return bp.norm();
+        return bp;
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return (ap - ab * (d1 / (d1 - d3))).norm();
+        return ap - ab * (d1 / (d1 - d3));
     }
     let cp = p - c;
     let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
     if d6 >= 0.0 && d5 <= d6 {
-        return cp.norm();
+        return cp;
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return (ap - ac * (d2 / (d2 - d6))).norm();
+        return ap - ac * (d2 / (d2 - d6));
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return (bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))).norm();
+        return bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
     }
     let denom = va + vb + vc;
     if denom.abs() > 0.0 {
         let (v, w) = (vb / denom, vc / denom);
-        (ap - ab * v - ac * w).norm()
+        ap - ab * v - ac * w
     } else {
         // Collinear vertices: the nearest of the three edges.
         [(a, b), (b, c), (c, a)]
             .iter()
-            .map(|(s, e)| segment_distance(p, s, e))
-            .fold(f64::INFINITY, f64::min)
+            .map(|(s, e)| segment_offset(p, s, e))
+            .min_by(|x, y| x.norm_squared().total_cmp(&y.norm_squared()))
+            .unwrap_or(*p - *a)
     }
 }
 
-/// Distance from p to the segment [s, e].
-fn segment_distance(p: &Vec3, s: &Vec3, e: &Vec3) -> f64 {
+/// p − q for q the point of the segment [s, e] nearest to p.
+fn segment_offset(p: &Vec3, s: &Vec3, e: &Vec3) -> Vec3 {
     let d = e - s;
     let len2 = d.norm_squared();
     let t = if len2 > 0.0 {
@@ -143,7 +145,7 @@ fn segment_distance(p: &Vec3, s: &Vec3, e: &Vec3) -> f64 {
     } else {
         0.0
     };
-    (p - s - d * t).norm()
+    p - s - d * t
 }
 
 #[cfg(test)]
@@ -174,11 +176,18 @@ mod tests {
         #![proptest_config(ProptestConfig::with_cases(64))]
         #[test]
         fn triangle_distance_is_the_nearest_point(p in point(), a in point(), b in point(), c in point()) {
-            let exact = triangle_distance(&p, &a, &b, &c);
+            let exact = triangle_offset(&p, &a, &b, &c).norm();
             let approx = sampled(&p, &a, &b, &c);
             // The sampled minimum is never below the exact one (round-off aside) and above it by
             // at most the sampling resolution.
             prop_assert!(approx >= exact - 1e-12 && approx <= exact + 0.01, "{exact} vs {approx}");
+        }
+
+        /// The nearest point q = p − offset lies on the triangle: its own offset is zero.
+        #[test]
+        fn nearest_point_is_on_the_triangle(p in point(), a in point(), b in point(), c in point()) {
+            let q = p - triangle_offset(&p, &a, &b, &c);
+            prop_assert!(triangle_offset(&q, &a, &b, &c).norm() < 1e-12);
         }
     }
 
@@ -187,8 +196,8 @@ mod tests {
     fn degenerate_triangle_is_a_segment() {
         let (a, b, c) = (Vec3::zeros(), Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0));
         let p = Vec3::new(1.5, 1.0, 0.0);
-        assert!((triangle_distance(&p, &a, &b, &c) - 1.0).abs() < 1e-15);
+        assert!((triangle_offset(&p, &a, &b, &c).norm() - 1.0).abs() < 1e-15);
         let beyond = Vec3::new(3.0, 0.0, 4.0);
-        assert!((triangle_distance(&beyond, &a, &b, &c) - 17f64.sqrt()).abs() < 1e-15);
+        assert!((triangle_offset(&beyond, &a, &b, &c).norm() - 17f64.sqrt()).abs() < 1e-15);
     }
 }

@@ -87,8 +87,11 @@ impl Slip {
 pub struct QuasiSteady {
     /// The quasi-steady slip |w| [m/s].
     pub slip: f64,
-    /// |A − a|/|a|: how far the field's (∇u)u is from the true acceleration along the
-    /// streamline.
+    /// |(∇u)u − a|/|a|: how far the blend of the cells' gradients (`grad_u`) times u is from
+    /// the acceleration a along the streamline, i.e. the error of a Du/Dt built from `grad_u`
+    /// (what the fluid-inertia terms used before they took [`FlowSample::convective`]).
+    ///
+    /// [`FlowSample::convective`]: crate::flow::FlowSample::convective
     pub acceleration_gap: f64,
 }
 
@@ -186,17 +189,17 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
 
     /// Along `run`'s output path, the slip a Stokes sphere of the particle's volume has in
     /// quasi-steady motion (Maxey & Riley 1983 without the history force): with v̇ = a, the
-    /// fluid's true acceleration along the streamline, the barycentre equation gives
+    /// fluid's acceleration along the streamline (the sample's Du/Dt, the derivative of the
+    /// field's u along u), the barycentre equation gives
     /// ```math
-    /// ζ (u − v) = (m + C_m m_f)\,a − (C_u + C_m)\,m_f A − (m − m_f)\,g,\qquad ζ = 3πμ_f d_{eq},
+    /// ζ (u − v) = (m + C_m m_f)\,a − (C_u + C_m)\,m_f\, a − (m − m_f)\,g,\qquad ζ = 3πμ_f d_{eq},
     /// ```
-    /// C_u = 1 with the undisturbed-flow force, C_m = ½ with added mass (0 without), and A the
-    /// field's (∇u)u that those terms use. Without the terms the inertial drift is m a/ζ; with
-    /// both it is (m − m_f) a/ζ, smaller by ρ_p/|ρ_p − ρ_f| (2 000 here), plus 1.5 m_f (a − A)/ζ
-    /// wherever the field's gradient is not the derivative of its velocity. a is the central
-    /// difference of u over ±`step` along the streamline. For other shapes it is an estimate.
-    pub fn quasi_steady_slip(&self, run: &CavityRun, step: f64) -> Result<Vec<QuasiSteady>, SceneError> {
-        crate::error::positive("difference step", step)?;
+    /// C_u = 1 with the undisturbed-flow force, C_m = ½ with added mass (0 without). Without the
+    /// terms the inertial drift is m a/ζ; with both it is (m − m_f) a/ζ, smaller by
+    /// ρ_p/|ρ_p − ρ_f| (2 000 here; zero for a neutrally buoyant particle, which then follows
+    /// the fluid up to the terms of order τ² the quasi-steady balance drops). For other shapes
+    /// it is an estimate.
+    pub fn quasi_steady_slip(&self, run: &CavityRun) -> Result<Vec<QuasiSteady>, SceneError> {
         let names = self.forces.names();
         let c_u = if names.contains(&UndisturbedFlow::NAME) {
             1.0
@@ -211,19 +214,14 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         let mut out = Vec::with_capacity(run.path.len());
         for (_, x) in &run.path {
             let s = self.flow.sample(x, 0.0).map_err(StepError::from)?;
-            let field = s.material_acceleration();
-            let speed = s.u.norm();
-            if speed == 0.0 {
+            let a = s.material_acceleration();
+            if a == Vec3::zeros() {
                 continue;
             }
-            let along = s.u * (step / speed);
-            let ahead = self.flow.sample(&(x + along), 0.0).map_err(StepError::from)?;
-            let behind = self.flow.sample(&(x - along), 0.0).map_err(StepError::from)?;
-            let true_acceleration = (ahead.u - behind.u) * (speed / (2.0 * step));
-            let lag = (true_acceleration * (m + c_m * m_f) - field * ((c_u + c_m) * m_f) - g * (m - m_f)) / zeta;
+            let lag = (a * (m + c_m * m_f) - a * ((c_u + c_m) * m_f) - g * (m - m_f)) / zeta;
             out.push(QuasiSteady {
                 slip: lag.norm(),
-                acceleration_gap: (field - true_acceleration).norm() / true_acceleration.norm(),
+                acceleration_gap: (s.grad_u * s.u - a).norm() / a.norm(),
             });
         }
         Ok(out)
