@@ -1,10 +1,14 @@
 //! Paper Fig. 14: quasi-rigid prolate ellipsoids (λ = 2 and 5, Ca → 0) in the Re = 470
-//! lid-driven cavity, tracked for 5 s. Writes `paper-figures/fig14/`.
+//! lid-driven cavity, tracked for 5 s. Writes `paper-figures/fig14/`. `fluid-inertia` adds the
+//! undisturbed-flow force and added mass (`scenes::cavity::fluid_inertia`), which the paper's
+//! model leaves out, and writes the same files with `_fluid_inertia` in their names.
 //!
-//! Run: `cargo run --release --example fig14_cavity_rigid`
+//! Run: `cargo run --release --example fig14_cavity_rigid [-- fluid-inertia]`
 
 use pseudorigid::output::{Figure, paper_figure_path};
-use pseudorigid::scenes::cavity::{Cavity, Contact, Release, Shape, outcome_table, trajectory_panel, trajectory_table};
+use pseudorigid::scenes::cavity::{
+    Cavity, Contact, Release, Shape, fluid_inertia, outcome_table, trajectory_panel, trajectory_table,
+};
 use pseudorigid::scenes::particles::Deformability;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -12,7 +16,13 @@ use std::time::Instant;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
     let flow = pseudorigid::scenes::cavity::shipped_flow()?;
-    let cavity = Cavity::new(&flow)?;
+    let with_fluid_inertia = std::env::args().skip(1).any(|a| a == "fluid-inertia");
+    let mut cavity = Cavity::new(&flow)?;
+    if with_fluid_inertia {
+        cavity = cavity.with_forces(fluid_inertia()?);
+    }
+    let terms = if with_fluid_inertia { "_fluid_inertia" } else { "" };
+    let path = |stem: &str, ext: &str| paper_figure_path("fig14", &format!("{stem}{terms}.{ext}"));
     println!("release shear rate γ̇₀ = {:.4} 1/s", cavity.release_shear_rate());
     let releases = [Shape::Prolate(2.0), Shape::Prolate(5.0)].map(|shape| Release {
         shape,
@@ -36,10 +46,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             run.stats.steps
         );
     }
-    trajectory_table(&runs)?.write(paper_figure_path("fig14", "trajectories.csv"))?;
-    outcome_table(&runs)?.write(paper_figure_path("fig14", "outcomes.csv"))?;
-    Figure::single(trajectory_panel(&runs, "Fig. 14: rigid prolates, 5 s"))
-        .write(paper_figure_path("fig14", "trajectories.svg"))?;
+    trajectory_table(&runs)?.write(path("trajectories", "csv"))?;
+    outcome_table(&runs)?.write(path("outcomes", "csv"))?;
+    Figure::single(trajectory_panel(&runs, "Fig. 14: rigid prolates, 5 s")).write(path("trajectories", "svg"))?;
     println!("fig14_cavity_rigid: wall time {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
