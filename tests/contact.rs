@@ -46,6 +46,7 @@ fn support_distance_of_sphere_and_spheroid() {
     assert_relative_eq!(support_distance(&axes, &q, &Vec3::z()), 13.0f64.sqrt(), epsilon = 1e-14);
 }
 
+#[cfg(all(feature = "mesh", feature = "parallel"))] // the cavity's walls
 #[test]
 fn cavity_walls_exit_through_the_lid_and_stick_elsewhere() {
     let l = 0.1;
@@ -146,6 +147,7 @@ impl Boundary for UnguardedBox {
     }
 }
 
+#[cfg(all(feature = "mesh", feature = "parallel"))] // the cavity's walls
 #[test]
 fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
     // A sphere of radius a = 1 mm, 0.5 mm from the floor z = 0 (gap 0.5 mm), moving along the

@@ -124,7 +124,7 @@ where
                 };
             }
         };
-        let plan = match self.injector.plan(&spec, &self.plan) {
+        let plan = match self.injector.plan(index, &spec, &self.plan) {
             Ok(plan) => plan,
             Err(e) => {
                 return ParticleRecord {

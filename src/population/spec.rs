@@ -82,10 +82,10 @@ pub trait Injector: Sync {
         spec.start_state()
     }
 
-    /// The plan of the particle of `spec`, given the case's `plan`: by default the case's. A
+    /// The plan of particle `index` of `spec`, given the case's `plan`: by default the case's. A
     /// scene whose time limit or step cap depends on the particle (its size, its settling
     /// time) gives it here; like [`Injector::draw`], a function of its arguments only.
-    fn plan(&self, _spec: &ParticleSpec<Self::Law>, plan: &Plan) -> Result<Plan, ParamError> {
+    fn plan(&self, _index: u64, _spec: &ParticleSpec<Self::Law>, plan: &Plan) -> Result<Plan, ParamError> {
         Ok(plan.clone())
     }
 }

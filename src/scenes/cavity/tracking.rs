@@ -495,7 +495,7 @@ where
     /// No step may carry the particle further than a quarter of its smallest semi-axis
     /// (|u| ≤ U_lid): in the corners two walls are near at once, and the contact event
     /// watches only the nearest.
-    fn plan(&self, spec: &ParticleSpec<L::Law>, plan: &Plan) -> Result<Plan, ParamError> {
+    fn plan(&self, _index: u64, spec: &ParticleSpec<L::Law>, plan: &Plan) -> Result<Plan, ParamError> {
         let dt_max = 0.25 * spec.shape.semi_axes().min() / LID_VELOCITY;
         Plan::new(plan.t_end(), dt_max)?.with_dt_max(dt_max)
     }
