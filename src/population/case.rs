@@ -142,8 +142,10 @@ where
         let mut memory = I::Memory::default();
         let mut samples = Vec::new();
         // Both callbacks of the driver feed the one watch.
-        let watch: RefCell<Option<Box<dyn Watch + '_>>> =
-            RefCell::new(self.observer.map(|o| o.watch(&particle, self.flow, self.boundary, &start)));
+        let watch: RefCell<Option<Box<dyn Watch + '_>>> = RefCell::new(
+            self.observer
+                .map(|o| o.watch(&particle, self.flow, self.boundary, &start)),
+        );
         let result = integrate(
             self.integrator,
             &particle,

@@ -17,8 +17,8 @@ pub mod study;
 pub mod tracking;
 
 pub use crate::scenes::particles::{Deformability, Shape};
-pub use setup::{PipeFlowData, PipeParticleData, PipeScene};
 #[cfg(feature = "parallel")]
 pub use deposition::deposition_study;
+pub use setup::{PipeFlowData, PipeParticleData, PipeScene};
 pub use study::{PipeCase, orientation_study};
 pub use tracking::{Deposition, PipeSample, ShapeStats, sample_orientation, track_to_deposition};

@@ -218,7 +218,16 @@ pub fn ensemble_checkpointed(
     tol: f64,
     dir: &std::path::Path,
 ) -> Result<Vec<Member>, SceneError> {
-    ensemble_in(flow, shape_model, forces, releases, variants, count, (t_max, tol), Some(dir))
+    ensemble_in(
+        flow,
+        shape_model,
+        forces,
+        releases,
+        variants,
+        count,
+        (t_max, tol),
+        Some(dir),
+    )
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -251,13 +260,24 @@ fn ensemble_in(
             .collect();
         let mut runs: Vec<Option<Result<CavityRun, String>>> = vec![None; jobs.len()];
         for model in [ShapeModel::Inertialess, ShapeModel::Inertial] {
-            let mine: Vec<usize> = (0..jobs.len()).filter(|&j| cavity.model_of(&jobs[j].0) == model).collect();
+            let mine: Vec<usize> = (0..jobs.len())
+                .filter(|&j| cavity.model_of(&jobs[j].0) == model)
+                .collect();
             if mine.is_empty() {
                 continue;
             }
             let pairs: Vec<(Release, Mat3)> = mine.iter().map(|&j| (jobs[j].0, jobs[j].2)).collect();
             let folder = dir.map(|d| d.join(format!("variant-{i}-{}", model.label())));
-            let out = cavity.run_with(model, &pairs, Contact::Barycentre, t_max, tol, t_max, &options, folder.as_deref())?;
+            let out = cavity.run_with(
+                model,
+                &pairs,
+                Contact::Barycentre,
+                t_max,
+                tol,
+                t_max,
+                &options,
+                folder.as_deref(),
+            )?;
             for (j, run) in mine.into_iter().zip(out) {
                 runs[j] = Some(run);
             }

@@ -48,11 +48,13 @@
 //! tilting prolate touches the lid within a fraction of a second.
 //!
 //! # Layout
-//! This module holds the set-up's numbers and releases; `setup` the choices a run is made of
-//! ([`Contact`], [`Release`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]); `tracking` one
-//! particle through the cavity ([`Cavity`], [`CavityRun`], [`Outcome`], [`Slip`]); `datasets`
-//! the tables and panels of single runs; `ensemble` the outcome fractions over orientations and
-//! field variants ([`ensemble`], [`Member`]).
+//! This module holds the set-up's numbers, walls ([`walls`]) and releases; `setup` the choices
+//! a run is made of ([`Contact`], [`Release`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]);
+//! `tracking` particles through the cavity ([`Cavity`], [`CavityRun`], [`Outcome`], [`Slip`]):
+//! releases are a population of [`crate::population`] (an injector, the cavity's observer of
+//! path, validity and slip), and the outcome is read from the record's fate; `datasets` the
+//! tables and panels of single runs; `ensemble` the outcome fractions over orientations and
+//! field variants ([`ensemble`], [`ensemble_checkpointed`], [`Member`]).
 
 use super::SceneError;
 use crate::contact::{Boundary, ContactModel, PatchRule, Plane, Planes};

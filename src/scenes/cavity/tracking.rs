@@ -3,8 +3,8 @@
 
 use super::*;
 use crate::population::{
-    Case, Fate, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate, RunConfig,
-    RunOptions, Shard, Watch,
+    Case, Fate, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate, RunConfig, RunOptions,
+    Shard, Watch,
 };
 
 /// How a run ended.
@@ -422,7 +422,10 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
                 wall: self.boundary.patch_name(patch).to_string(),
             },
             Fate::Suspended => Outcome::Suspended,
-            Fate::Failed { error } => Outcome::Failed { t: end_t, reason: error },
+            Fate::Failed { error } => Outcome::Failed {
+                t: end_t,
+                reason: error,
+            },
         };
         Ok(CavityRun {
             release,
@@ -479,10 +482,14 @@ where
 
     fn particle(&self, spec: &ParticleSpec<L::Law>) -> Result<Particle<SceneResponse<L>, D>, ParamError> {
         // As [`Cavity::particle`]: gravity, the source-flow volumetric traction, the force terms.
-        ParticleTemplate::new(self.cavity.model.drag().clone(), self.cavity.fluid, Vec3::new(0.0, 0.0, -9.81))?
-            .with_volumetric(VolumetricTraction::Source)
-            .with_forces(self.cavity.forces.clone())
-            .build(spec)
+        ParticleTemplate::new(
+            self.cavity.model.drag().clone(),
+            self.cavity.fluid,
+            Vec3::new(0.0, 0.0, -9.81),
+        )?
+        .with_volumetric(VolumetricTraction::Source)
+        .with_forces(self.cavity.forces.clone())
+        .build(spec)
     }
 
     fn start_state(&self, index: u64, spec: &ParticleSpec<L::Law>) -> State {

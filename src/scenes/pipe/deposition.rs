@@ -4,9 +4,9 @@
 use super::orbit::jeffery_period;
 use super::setup::PipeScene;
 use super::study::{DT0, PipeCase, SETTLING_TIMES};
-use super::tracking::{Deposition, ShapeStats};
 #[cfg(doc)]
 use super::tracking::track_to_deposition;
+use super::tracking::{Deposition, ShapeStats};
 use crate::contact::PipeWall;
 use crate::diagnostics::{Monitor, Validity};
 use crate::driver::Plan;
@@ -18,8 +18,8 @@ use crate::integrator::Step;
 use crate::material::{NeoHooke, Softness};
 use crate::particle::{Particle, State};
 use crate::population::{
-    Case, Fate, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate, RunConfig,
-    RunOptions, Shard, Watch,
+    Case, Fate, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate, RunConfig, RunOptions,
+    Shard, Watch,
 };
 use crate::scenes::SceneError;
 
@@ -36,7 +36,9 @@ pub fn deposition_study(
 ) -> Result<Vec<(PipeScene, Deposition)>, SceneError> {
     let scenes = cases.iter().map(PipeCase::scene).collect::<Result<Vec<_>, _>>()?;
     for scene in &scenes {
-        let gap = scene.observe(&scene.initial_state().map_err(crate::error::StepError::from)?).gap;
+        let gap = scene
+            .observe(&scene.initial_state().map_err(crate::error::StepError::from)?)
+            .gap;
         if gap <= 0.0 {
             return Err(SceneError::ReleasedInWall { gap });
         }
@@ -65,7 +67,10 @@ pub fn deposition_study(
         let config = RunConfig {
             seed: 0,
             particles: group.len() as u64,
-            fingerprint: format!("pipe deposition {:?}", mine.iter().map(|&j| cases[j]).collect::<Vec<_>>()),
+            fingerprint: format!(
+                "pipe deposition {:?}",
+                mine.iter().map(|&j| cases[j]).collect::<Vec<_>>()
+            ),
         };
         let output = crate::population::run(&case, &config, Shard::ALL, &RunOptions::default().quiet())?;
         for record in output.records {

@@ -53,4 +53,3 @@ pub fn orientation_study(
     .into_iter()
     .collect()
 }
-
