@@ -135,8 +135,8 @@ impl Injector for Releases<'_> {
         let scene = self.scenes[index as usize];
         let start = scene.initial_state()?;
         Ok(ParticleSpec {
-            shape: scene.particle.shape().clone(),
-            softness: scene.particle.material().clone(),
+            shape: *scene.particle.shape(),
+            softness: *scene.particle.material(),
             density: scene.particle.rho_solid(),
             position: start.x,
             velocity: start.v,
@@ -145,7 +145,7 @@ impl Injector for Releases<'_> {
 
     fn particle(&self, spec: &ParticleSpec<NeoHooke>) -> Result<Particle<Softness<NeoHooke>, Brenner>, ParamError> {
         let p = &self.scenes[0].particle;
-        ParticleTemplate::new(p.drag().clone(), *p.fluid(), *p.gravity())?
+        ParticleTemplate::new(*p.drag(), *p.fluid(), *p.gravity())?
             .with_volumetric(p.volumetric())
             .with_forces(p.forces().clone())
             .build(spec)
