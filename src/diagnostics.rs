@@ -62,7 +62,7 @@ use crate::hydro::forces::{
 use crate::material::Response;
 use crate::particle::{Particle, State};
 use crate::tensor::sym;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Limits beyond which a [`Validity`] quantity is flagged (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -105,17 +105,22 @@ pub const AIR_MOLECULAR_SPEED: f64 = 463.0;
 
 /// Sizes of the force terms a run left out (module docs), each the largest over the run; zero
 /// for the terms the particle carries.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct Omitted {
     /// Undisturbed-flow force: relative change of the quasi-steady slip.
+    #[serde(with = "extended")]
     pub undisturbed_flow: f64,
     /// Added mass: relative change of the response time.
+    #[serde(with = "extended")]
     pub added_mass: f64,
     /// Finite-Re drag: relative change of the drag.
+    #[serde(with = "extended")]
     pub schiller_naumann: f64,
     /// Shear lift over the drag.
+    #[serde(with = "extended")]
     pub saffman_mei: f64,
     /// Gas slip: C_c − 1.
+    #[serde(with = "extended")]
     pub cunningham: f64,
 }
 
@@ -169,17 +174,22 @@ pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -
 }
 
 /// Maxima over a run (0 before any state is observed).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct Validity {
     /// max γ̇ d_eq²/ν.
+    #[serde(with = "extended")]
     pub max_re_shear: f64,
     /// max |u − v| d_eq/ν.
+    #[serde(with = "extended")]
     pub max_re_slip: f64,
     /// max r₁ (units of the run).
+    #[serde(with = "extended")]
     pub max_r1: f64,
     /// max r₁/ℓ_w (ℓ_w: barycentre distance to the nearest boundary; ∞ on or beyond it).
+    #[serde(with = "extended")]
     pub max_r1_over_wall_distance: f64,
     /// max r₁|∇u|/|u| (∞ where u = 0 and ∇u ≠ 0).
+    #[serde(with = "extended")]
     pub max_r1_over_flow_scale: f64,
     /// States observed.
     pub states: u64,
@@ -394,5 +404,40 @@ where
     /// The maxima so far.
     pub fn validity(&self) -> Validity {
         self.validity
+    }
+}
+
+/// f64 in JSON with its infinities: a maximum such as r₁/ℓ_w is ∞ on a wall, which JSON
+/// numbers cannot hold (serde_json writes it as null); non-finite values are written as the
+/// strings `inf`, `-inf` and `NaN`, so a record of a run keeps them
+/// ([`crate::population::observe`]).
+mod extended {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub(super) fn serialize<S: Serializer>(value: &f64, s: S) -> Result<S::Ok, S::Error> {
+        match value {
+            v if v.is_finite() => s.serialize_f64(*v),
+            v if v.is_nan() => s.serialize_str("NaN"),
+            v if *v > 0.0 => s.serialize_str("inf"),
+            _ => s.serialize_str("-inf"),
+        }
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Value {
+            Number(f64),
+            Text(String),
+        }
+        match Value::deserialize(d)? {
+            Value::Number(v) => Ok(v),
+            Value::Text(t) => match t.as_str() {
+                "inf" => Ok(f64::INFINITY),
+                "-inf" => Ok(f64::NEG_INFINITY),
+                "NaN" => Ok(f64::NAN),
+                _ => Err(serde::de::Error::custom(format!("`{t}` is not a number"))),
+            },
+        }
     }
 }

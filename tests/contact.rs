@@ -46,10 +46,11 @@ fn support_distance_of_sphere_and_spheroid() {
     assert_relative_eq!(support_distance(&axes, &q, &Vec3::z()), 13.0f64.sqrt(), epsilon = 1e-14);
 }
 
+#[cfg(all(feature = "mesh", feature = "parallel"))] // the cavity's walls
 #[test]
 fn cavity_walls_exit_through_the_lid_and_stick_elsewhere() {
     let l = 0.1;
-    let b = Planes::cavity(l).unwrap();
+    let b = pseudorigid::scenes::cavity::walls(l).unwrap();
     let axes = Vec3::new(0.005, 0.001, 0.001);
     let id = Mat3::identity();
     assert!(b.nearest(&Vec3::repeat(0.05), &ellipsoid(axes, id)).gap > 0.0);
@@ -146,6 +147,7 @@ impl Boundary for UnguardedBox {
     }
 }
 
+#[cfg(all(feature = "mesh", feature = "parallel"))] // the cavity's walls
 #[test]
 fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
     // A sphere of radius a = 1 mm, 0.5 mm from the floor z = 0 (gap 0.5 mm), moving along the
@@ -157,7 +159,7 @@ fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
     let (floor_gap, slack) = (0.5e-3, 0.5 * a);
     // Along one smooth wall only the normal velocity closes the gap: no cap from the floor
     // (|v·n| = 0 and no flow to sweep the tip), so the particle could cross the side wall.
-    let planes = Planes::cavity(0.1).unwrap();
+    let planes = pseudorigid::scenes::cavity::walls(0.1).unwrap();
     let normal = ContactEvent::new(&planes, &p, &Quiescent, ContactModel::Extent);
     assert!(normal.max_step(&s) > 1e300);
     // With corners unguarded the full speed counts: |v| Δt ≤ g + δ_s = 1 mm, less than the

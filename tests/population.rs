@@ -578,6 +578,7 @@ proptest::proptest! {
             end: Some(state),
             stats: RunStats::default(),
             samples: vec![state],
+            observed: serde_json::Value::Null,
         };
         let back: ParticleRecord<NeoHooke> = serde_json::from_slice(&serde_json::to_vec(&record).unwrap()).unwrap();
         let end = back.end.unwrap();

@@ -2,7 +2,7 @@
 //! guarded by snapshots (positions rounded to 1e-3 L, far above the tolerance-level
 //! differences between machines), and the wall rules.
 use nalgebra::{Rotation3, Vector3};
-use pseudorigid::contact::{Boundary, Extent, Planes};
+use pseudorigid::contact::{Boundary, Extent};
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::BlendedFlow;
 use pseudorigid::scenes::cavity::{
@@ -153,7 +153,7 @@ fn soft_particles_that_crashed_in_the_corner_end_cleanly() {
 /// decided first, so the particle exits (the scene's documented rule).
 #[test]
 fn top_corner_tie_goes_to_the_lid() {
-    let walls = Planes::cavity(EDGE).unwrap();
+    let walls = pseudorigid::scenes::cavity::walls(EDGE).unwrap();
     let delta = 1e-3;
     let corner = Vec3::new(EDGE - 2.0 * delta, 0.5 * EDGE, EDGE - 2.0 * delta);
     let gap = walls.nearest(&corner, &Extent::Point { radius: delta });

@@ -1,4 +1,5 @@
-//! A convex domain bounded by planar walls (the lid-driven cavity of paper §6.3).
+//! A convex domain bounded by planar walls (e.g. the lid-driven cavity of paper §6.3,
+//! [`crate::scenes::cavity::walls`]).
 //!
 //! # Physics
 //! The domain is the intersection of half-spaces $\\{x : (x − p_w)·n_w ≤ 0\\}$, one per wall w
@@ -60,27 +61,6 @@ impl Planes {
             })
             .collect::<Result<_, _>>()?;
         Ok(Self { walls })
-    }
-
-    /// The cube [0, L]³ of paper §6.3: lid z = L ([`PatchRule::Exit`]), the five other walls
-    /// [`PatchRule::Stick`].
-    pub fn cavity(edge: f64) -> Result<Self, ParamError> {
-        let l = crate::error::positive("cavity edge", edge)?;
-        let wall = |name: &str, point: Vec3, normal: Vec3, rule| Plane {
-            name: name.to_string(),
-            point,
-            normal,
-            rule,
-        };
-        let (o, top) = (Vec3::zeros(), Vec3::repeat(l));
-        Self::new(vec![
-            wall("lid", top, Vec3::z(), PatchRule::Exit),
-            wall("bottom", o, -Vec3::z(), PatchRule::Stick),
-            wall("x0", o, -Vec3::x(), PatchRule::Stick),
-            wall("x1", top, Vec3::x(), PatchRule::Stick),
-            wall("y0", o, -Vec3::y(), PatchRule::Stick),
-            wall("y1", top, Vec3::y(), PatchRule::Stick),
-        ])
     }
 
     /// The walls.

@@ -1,5 +1,6 @@
 //! One particle of a population, from its seed to its fate.
 
+use super::observe::{Observer, Watch};
 use super::record::{Fate, ParticleRecord};
 use super::spec::{Injector, particle_rng};
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
@@ -8,16 +9,24 @@ use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::integrator::Stepper;
 use crate::material::Softness;
+use crate::particle::Particle;
+use std::cell::RefCell;
 use std::hash::Hasher;
 
+/// The observer of a case's particles ([`Case::with_observer`]).
+pub type CaseObserver<'a, J, F, B> =
+    dyn Observer<Particle<Softness<<J as Injector>::Law>, <J as Injector>::Drag>, F, B> + 'a;
+
 /// What every particle of a population shares: integrator, flow, boundary, injection rule,
-/// contact model and the driver's plan (end time, first step, step cap, step budget).
+/// contact model, the driver's plan (end time, first step, step cap, step budget) and what is
+/// observed of each run.
 ///
-/// The plan's end time is each particle's time limit (it starts at t = 0). Give the plan a step
+/// The plan's end time is each particle's time limit (it starts at t = 0), unless the injector
+/// gives a particle its own plan ([`Injector::plan`]). Give the plan a step
 /// budget ([`crate::driver::Budget::max_steps`]) but no wall-time limit: a wall-time limit
 /// makes a particle's fate depend on the machine's load, and the run is then no longer the
 /// same whatever its layout.
-pub struct Case<'a, I, F: ?Sized, B: ?Sized, J> {
+pub struct Case<'a, I, F: ?Sized, B: ?Sized, J: Injector> {
     integrator: &'a I,
     flow: &'a F,
     boundary: &'a B,
@@ -25,6 +34,7 @@ pub struct Case<'a, I, F: ?Sized, B: ?Sized, J> {
     contact: ContactModel,
     plan: Plan,
     samples: bool,
+    observer: Option<&'a CaseObserver<'a, J, F, B>>,
 }
 
 impl<'a, I, F, B, J> Case<'a, I, F, B, J>
@@ -45,7 +55,15 @@ where
             contact: ContactModel::Extent,
             plan,
             samples: false,
+            observer: None,
         }
+    }
+
+    /// Watch each particle's run with `observer` and keep its summary in the record
+    /// ([`ParticleRecord::observed`]): the per-run columns of a scene.
+    pub fn with_observer(mut self, observer: &'a CaseObserver<'a, J, F, B>) -> Self {
+        self.observer = Some(observer);
+        self
     }
 
     /// Keep each particle's states at the start, the plan's output times and its event in its
@@ -87,10 +105,11 @@ where
                     end: None,
                     stats: RunStats::default(),
                     samples: Vec::new(),
+                    observed: serde_json::Value::Null,
                 };
             }
         };
-        let start = spec.start_state();
+        let start = self.injector.start_state(index, &spec);
         let particle = match self.injector.particle(&spec) {
             Ok(p) => p,
             Err(e) => {
@@ -101,26 +120,53 @@ where
                     end: Some(start),
                     stats: RunStats::default(),
                     samples: Vec::new(),
+                    observed: serde_json::Value::Null,
+                };
+            }
+        };
+        let plan = match self.injector.plan(index, &spec, &self.plan) {
+            Ok(plan) => plan,
+            Err(e) => {
+                return ParticleRecord {
+                    index,
+                    spec: Some(spec),
+                    fate: Fate::Failed { error: e.to_string() },
+                    end: Some(start),
+                    stats: RunStats::default(),
+                    samples: Vec::new(),
+                    observed: serde_json::Value::Null,
                 };
             }
         };
         let contact = ContactEvent::new(self.boundary, &particle, self.flow, self.contact);
         let mut memory = I::Memory::default();
         let mut samples = Vec::new();
+        // Both callbacks of the driver feed the one watch.
+        let watch: RefCell<Option<Box<dyn Watch + '_>>> = RefCell::new(
+            self.observer
+                .map(|o| o.watch(&particle, self.flow, self.boundary, &start)),
+        );
         let result = integrate(
             self.integrator,
             &particle,
             self.flow,
             start,
             &mut memory,
-            &self.plan,
+            &plan,
             &[&contact],
             |s| {
                 if self.samples {
                     samples.push(*s);
                 }
+                if let Some(w) = watch.borrow_mut().as_mut() {
+                    w.output(s);
+                }
             },
-            |_| {},
+            |step| {
+                if let Some(w) = watch.borrow_mut().as_mut() {
+                    w.step(step);
+                }
+            },
         );
         let (fate, end, stats) = match result {
             Ok(out) => {
@@ -151,6 +197,9 @@ where
                 failure.stats,
             ),
         };
+        let observed = watch
+            .into_inner()
+            .map_or(serde_json::Value::Null, |w| w.finish(&fate, &end));
         ParticleRecord {
             index,
             spec: Some(spec),
@@ -158,6 +207,7 @@ where
             end: Some(end),
             stats,
             samples,
+            observed,
         }
     }
 
@@ -189,6 +239,13 @@ where
         // Records with and without samples differ; the hash of a run without them is unchanged.
         if self.samples {
             h.write(b"samples");
+        }
+        // Likewise with and without observations.
+        if let Some(observer) = self.observer {
+            let text = observer.fingerprint();
+            h.write(b"observed");
+            h.write(&(text.len() as u64).to_le_bytes());
+            h.write(text.as_bytes());
         }
         format!("{:016x}", h.finish())
     }

@@ -25,6 +25,8 @@
 //! - [`sampling`]: uniform points on a disc, uniform rotations;
 //! - [`case`]: [`Case`] (integrator, flow, boundary, injector, plan, contact model),
 //!   [`Case::run_particle`], [`RunConfig`] and the configuration hash;
+//! - [`observe`]: an [`Observer`] of every particle's run, whose summary the record keeps
+//!   (a scene's per-run columns);
 //! - [`record`]: [`Fate`] (deposited, escaped, suspended, failed), [`ParticleRecord`];
 //! - [`runner`]: [`run`] with [`RunOptions`] (parallel or serial, progress, checkpoints);
 //! - [`progress`], [`checkpoint`], [`shard`], [`output`]: progress reports, checkpoint files,
@@ -42,6 +44,7 @@
 
 pub mod case;
 pub mod checkpoint;
+pub mod observe;
 pub mod output;
 pub mod packed;
 pub mod peer;
@@ -54,7 +57,8 @@ pub mod settling_pipe;
 pub mod shard;
 pub mod spec;
 
-pub use case::{Case, RunConfig};
+pub use case::{Case, CaseObserver, RunConfig};
+pub use observe::{Observer, Watch};
 pub use output::{RunOutput, checkpoint_dir};
 pub use progress::Progress;
 pub use record::{Fate, FateCounts, ParticleRecord};

@@ -74,6 +74,10 @@ pub struct ParticleRecord<L> {
     /// ([`super::packed`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty", with = "super::packed")]
     pub samples: Vec<State>,
+    /// What the case's observer kept of the run ([`super::Case::with_observer`]); null
+    /// without an observer, or when the particle could not be drawn, built or planned.
+    #[serde(default, skip_serializing_if = "serde_json::Value::is_null")]
+    pub observed: serde_json::Value,
 }
 
 impl<L> ParticleRecord<L> {

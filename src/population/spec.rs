@@ -9,6 +9,7 @@
 //! particle k's numbers depend on (s, k) alone, never on the thread, shard or order that runs
 //! it. That is what makes a population the same whatever its layout.
 
+use crate::driver::Plan;
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, StepError};
 use crate::hydro::{DragModel, ForceTerms, VolumetricTraction};
@@ -73,6 +74,20 @@ pub trait Injector: Sync {
     /// The particle model of `spec`.
     fn particle(&self, spec: &ParticleSpec<Self::Law>)
     -> Result<Particle<Softness<Self::Law>, Self::Drag>, ParamError>;
+
+    /// The state particle `index` starts from: by default the stress-free state at injection
+    /// ([`ParticleSpec::start_state`]). A scene that turns its releases by an initial
+    /// deformation (F = a rotation) sets it here.
+    fn start_state(&self, _index: u64, spec: &ParticleSpec<Self::Law>) -> State {
+        spec.start_state()
+    }
+
+    /// The plan of particle `index` of `spec`, given the case's `plan`: by default the case's. A
+    /// scene whose time limit or step cap depends on the particle (its size, its settling
+    /// time) gives it here; like [`Injector::draw`], a function of its arguments only.
+    fn plan(&self, _index: u64, _spec: &ParticleSpec<Self::Law>, plan: &Plan) -> Result<Plan, ParamError> {
+        Ok(plan.clone())
+    }
 }
 
 /// What the particles of a population share: drag model, carrier fluid, gravity and the

@@ -34,7 +34,7 @@
 pub mod bend;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 pub mod bifurcation;
-#[cfg(feature = "mesh")]
+#[cfg(all(feature = "mesh", feature = "parallel"))]
 pub mod cavity;
 #[cfg(feature = "mesh")]
 pub mod cavity_benchmark;
@@ -55,6 +55,13 @@ pub mod work_precision;
 
 use crate::error::{ParamError, StepError};
 use thiserror::Error;
+
+#[cfg(feature = "parallel")]
+impl From<crate::population::PopulationError> for SceneError {
+    fn from(e: crate::population::PopulationError) -> Self {
+        SceneError::Population(e.to_string())
+    }
+}
 
 /// Failures of a scene.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -99,6 +106,16 @@ pub enum SceneError {
         crossings: usize,
         /// Length of the averaging window.
         t_average: f64,
+    },
+    /// A study's population run failed (its checkpoint files, or a record the scene cannot
+    /// read), as displayed.
+    #[error("population run: {0}")]
+    Population(String),
+    /// A particle of a study failed; the error as the population runner recorded it.
+    #[error("particle failed: {error}")]
+    ParticleFailed {
+        /// The error, as displayed.
+        error: String,
     },
     /// The released particle already overlaps the wall.
     #[error("particle released touching the wall: gap {gap:.3e}")]

@@ -181,6 +181,11 @@ impl<L: LawFactory, D: DragModel + Clone> ParticleModel<L, D> {
         })
     }
 
+    /// The drag model.
+    pub fn drag(&self) -> &D {
+        &self.drag
+    }
+
     /// λ_s/μ_s.
     pub fn bulk_ratio(&self) -> f64 {
         self.bulk_ratio

@@ -183,8 +183,12 @@ fn event_time(outcome: &Outcome) -> Option<f64> {
 }
 
 /// Run every release in every variant and in `count` orientations ([`orientations`]) for
-/// `t_max` seconds at tolerance `tol` with barycentre contact, in parallel. A failed run is
-/// kept as its error message, so one failure does not hide the rest of the ensemble.
+/// `t_max` seconds at tolerance `tol` with barycentre contact. Each variant's releases are
+/// one population of the runner per shape model ([`crate::population`]; particle k is the
+/// k-th (release, orientation) pair of that model, in the order given, and its fate is read as
+/// an [`Outcome`]), so they run in parallel and a failed particle is kept as its outcome. A
+/// member whose release could not be built is kept as its error message, so one failure does
+/// not hide the rest of the ensemble.
 #[allow(clippy::too_many_arguments)]
 pub fn ensemble(
     flow: &BlendedFlow,
@@ -196,36 +200,93 @@ pub fn ensemble(
     t_max: f64,
     tol: f64,
 ) -> Result<Vec<Member>, SceneError> {
-    let cavities = variants
-        .iter()
-        .map(|v| {
-            let cavity = Cavity::new(flow)?
-                .with_shape_model(shape_model)
-                .with_forces(forces.clone())
-                .with_variant(*v)?;
-            Ok((*v, cavity))
-        })
-        .collect::<Result<Vec<_>, SceneError>>()?;
-    let jobs: Vec<(usize, Release, usize, Mat3)> = cavities
-        .iter()
-        .enumerate()
-        .flat_map(|(c, _)| {
-            releases.iter().flat_map(move |r| {
+    ensemble_in(flow, shape_model, forces, releases, variants, count, (t_max, tol), None)
+}
+
+/// [`ensemble`] with checkpoints: each population (variant `i`, shape model `m`) is run in
+/// `dir/variant-<i>-<m>` ([`crate::population::run_in_dir`]) and resumed from what is there, so
+/// a killed ensemble continues where it stopped and gives the same members.
+#[allow(clippy::too_many_arguments)]
+pub fn ensemble_checkpointed(
+    flow: &BlendedFlow,
+    shape_model: ShapeModel,
+    forces: &ForceTerms,
+    releases: &[Release],
+    variants: &[Variant],
+    count: usize,
+    t_max: f64,
+    tol: f64,
+    dir: &std::path::Path,
+) -> Result<Vec<Member>, SceneError> {
+    ensemble_in(
+        flow,
+        shape_model,
+        forces,
+        releases,
+        variants,
+        count,
+        (t_max, tol),
+        Some(dir),
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn ensemble_in(
+    flow: &BlendedFlow,
+    shape_model: ShapeModel,
+    forces: &ForceTerms,
+    releases: &[Release],
+    variants: &[Variant],
+    count: usize,
+    (t_max, tol): (f64, f64),
+    dir: Option<&std::path::Path>,
+) -> Result<Vec<Member>, SceneError> {
+    let options = crate::population::RunOptions::default().quiet();
+    let mut members = Vec::new();
+    for (i, variant) in variants.iter().enumerate() {
+        let cavity = Cavity::new(flow)?
+            .with_shape_model(shape_model)
+            .with_forces(forces.clone())
+            .with_variant(*variant)?;
+        // (release, orientation index, turn) in the ensemble's order.
+        let jobs: Vec<(Release, usize, Mat3)> = releases
+            .iter()
+            .flat_map(|r| {
                 orientations(r.shape, count)
                     .into_iter()
                     .enumerate()
-                    .map(move |(k, turn)| (c, *r, k, turn))
+                    .map(move |(k, turn)| (*r, k, turn))
             })
-        })
-        .collect();
-    Ok(crate::parallel::map(&jobs, |(c, release, k, turn)| {
-        let (variant, cavity) = &cavities[*c];
-        Member {
+            .collect();
+        let mut runs: Vec<Option<Result<CavityRun, String>>> = vec![None; jobs.len()];
+        for model in [ShapeModel::Inertialess, ShapeModel::Inertial] {
+            let mine: Vec<usize> = (0..jobs.len())
+                .filter(|&j| cavity.model_of(&jobs[j].0) == model)
+                .collect();
+            if mine.is_empty() {
+                continue;
+            }
+            let pairs: Vec<(Release, Mat3)> = mine.iter().map(|&j| (jobs[j].0, jobs[j].2)).collect();
+            let folder = dir.map(|d| d.join(format!("variant-{i}-{}", model.label())));
+            let out = cavity.run_with(
+                model,
+                &pairs,
+                Contact::Barycentre,
+                t_max,
+                tol,
+                t_max,
+                &options,
+                folder.as_deref(),
+            )?;
+            for (j, run) in mine.into_iter().zip(out) {
+                runs[j] = Some(run);
+            }
+        }
+        members.extend(jobs.iter().zip(runs).map(|((_, k, _), run)| Member {
             variant: *variant,
             orientation: *k,
-            run: cavity
-                .track_oriented(*release, Contact::Barycentre, turn, t_max, tol, t_max)
-                .map_err(|e| e.to_string()),
-        }
-    }))
+            run: run.expect("every member belongs to one shape model"),
+        }));
+    }
+    Ok(members)
 }

@@ -48,16 +48,18 @@
 //! tilting prolate touches the lid within a fraction of a second.
 //!
 //! # Layout
-//! This module holds the set-up's numbers and releases; `setup` the choices a run is made of
-//! ([`Contact`], [`Release`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]); `tracking` one
-//! particle through the cavity ([`Cavity`], [`CavityRun`], [`Outcome`], [`Slip`]); `datasets`
-//! the tables and panels of single runs; `ensemble` the outcome fractions over orientations and
-//! field variants ([`ensemble`], [`Member`]).
+//! This module holds the set-up's numbers, walls ([`walls`]) and releases; `setup` the choices
+//! a run is made of ([`Contact`], [`Release`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]);
+//! `tracking` particles through the cavity ([`Cavity`], [`CavityRun`], [`Outcome`], [`Slip`]):
+//! releases are a population of [`crate::population`] (an injector, the cavity's observer of
+//! path, validity and slip), and the outcome is read from the record's fate; `datasets` the
+//! tables and panels of single runs; `ensemble` the outcome fractions over orientations and
+//! field variants ([`ensemble`], [`ensemble_checkpointed`], [`Member`]).
 
 use super::SceneError;
-use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule, Planes};
+use crate::contact::{Boundary, ContactModel, PatchRule, Plane, Planes};
 use crate::diagnostics::{Monitor, Thresholds, Validity};
-use crate::driver::{Plan, RunStats, Stop, integrate};
+use crate::driver::{Plan, RunStats};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::flow::openfoam::{BlendedFlow, FoamError};
@@ -111,6 +113,29 @@ pub fn rho_fluid() -> f64 {
 /// reads to O(h) and the lid and wall velocities hold on the walls.
 pub fn shipped_flow() -> Result<BlendedFlow, FoamError> {
     BlendedFlow::new(crate::scenes::cavity_benchmark::RE470.load()?)
+}
+
+/// The cube [0, L]³ of paper §6.3 with edge `edge`: the lid z = L ([`PatchRule::Exit`]: a
+/// particle touching it leaves the cavity) first, then the five other walls
+/// ([`PatchRule::Stick`]). The lid is listed first so that it wins ties in the top corners
+/// ([`Planes::nearest`]).
+pub fn walls(edge: f64) -> Result<Planes, ParamError> {
+    let l = crate::error::positive("cavity edge", edge)?;
+    let wall = |name: &str, point: Vec3, normal: Vec3, rule| Plane {
+        name: name.to_string(),
+        point,
+        normal,
+        rule,
+    };
+    let (o, top) = (Vec3::zeros(), Vec3::repeat(l));
+    Planes::new(vec![
+        wall("lid", top, Vec3::z(), PatchRule::Exit),
+        wall("bottom", o, -Vec3::z(), PatchRule::Stick),
+        wall("x0", o, -Vec3::x(), PatchRule::Stick),
+        wall("x1", top, Vec3::x(), PatchRule::Stick),
+        wall("y0", o, -Vec3::y(), PatchRule::Stick),
+        wall("y1", top, Vec3::y(), PatchRule::Stick),
+    ])
 }
 
 /// Release point (0.467 L, 0.4 L, 0.983 L).

@@ -16,6 +16,16 @@ pub enum Contact {
 }
 
 impl Contact {
+    /// The contact rule this choice is ([`ContactModel`]).
+    pub fn model(self) -> ContactModel {
+        match self {
+            Contact::Extent => ContactModel::Extent,
+            Contact::Barycentre => ContactModel::Barycentre {
+                radius: BARYCENTRE_CONTACT_DISTANCE,
+            },
+        }
+    }
+
     /// Label for datasets.
     pub fn label(self) -> &'static str {
         match self {

@@ -2,6 +2,10 @@
 //! against the fluid.
 
 use super::*;
+use crate::population::{
+    Case, Fate, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate, RunConfig, RunOptions,
+    Shard, Watch,
+};
 
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -53,7 +57,7 @@ pub struct CavityRun {
 /// The particle's slip |v − u(x)| relative to the undisturbed fluid at its barycentre over a
 /// run's accepted steps [m/s]: the drift that the fluid-inertia force terms act on
 /// (`paper-figures/fig15_fig16/NOTES.md`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct Slip {
     /// Largest slip.
     pub max: f64,
@@ -121,7 +125,7 @@ impl<'a> Cavity<'a> {
                 mesh: flow,
                 variant: Variant::default(),
             },
-            boundary: Planes::cavity(EDGE)?,
+            boundary: walls(EDGE)?,
             fluid: Fluid::new(rho_fluid() * NU, rho_fluid())?,
             shear_rate,
             shape_model: ShapeModel::Inertialess,
@@ -262,7 +266,10 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         t_max: f64,
         tol: f64,
         dt_out: f64,
-    ) -> Result<CavityRun, SceneError> {
+    ) -> Result<CavityRun, SceneError>
+    where
+        L::Law: Releasable,
+    {
         self.track_oriented(release, contact_model, &Mat3::identity(), t_max, tol, dt_out)
     }
 
@@ -276,136 +283,304 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         t_max: f64,
         tol: f64,
         dt_out: f64,
-    ) -> Result<CavityRun, SceneError> {
-        let model = match (self.shape_model, release.softness) {
+    ) -> Result<CavityRun, SceneError>
+    where
+        L::Law: Releasable,
+    {
+        // A release that cannot be built is an error of the call, not an outcome.
+        self.particle(&release)?;
+        self.flow.sample(&release_point(), 0.0).map_err(StepError::from)?;
+        let model = self.model_of(&release);
+        let jobs = [(release, *turn)];
+        let options = RunOptions::default().serial().quiet();
+        let run = self.run_with(model, &jobs, contact_model, t_max, tol, dt_out, &options, None)?;
+        run.into_iter()
+            .next()
+            .expect("one release gives one run")
+            .map_err(SceneError::Population)
+    }
+
+    /// The shape model `release` is tracked with: the rigid limit has no shape dynamics and
+    /// always takes the inertialess path.
+    pub(super) fn model_of(&self, release: &Release) -> ShapeModel {
+        match (self.shape_model, release.softness) {
             (ShapeModel::Inertial, Deformability::Elastic { .. }) => ShapeModel::Inertial,
             _ => ShapeModel::Inertialess,
-        };
+        }
+    }
+
+    /// `jobs` (all tracked with `model`) through [`Self::run_population`] with the model's
+    /// integrator at tolerance `tol`, checkpointed in `dir` if given (and resumed from it). A
+    /// turn that is not a rotation is an error of the call.
+    #[allow(clippy::too_many_arguments)] // the releases, their integrator and the run's limits
+    pub(super) fn run_with(
+        &self,
+        model: ShapeModel,
+        jobs: &[(Release, Mat3)],
+        contact: Contact,
+        t_max: f64,
+        tol: f64,
+        dt_out: f64,
+        options: &RunOptions,
+        dir: Option<&std::path::Path>,
+    ) -> Result<Vec<Result<CavityRun, String>>, SceneError>
+    where
+        L::Law: Releasable,
+    {
+        for (_, turn) in jobs {
+            let defect = (turn.transpose() * turn - Mat3::identity()).amax();
+            if defect > 1e-12 || turn.determinant() <= 0.0 {
+                return Err(crate::error::ParamError::NotARotation {
+                    orthogonality_defect: defect,
+                    det: turn.determinant(),
+                }
+                .into());
+            }
+        }
         match model {
             ShapeModel::Inertial => {
                 let integ = ImexAdaptive::new(tol)?;
-                self.track_with(&integ, model, release, contact_model, turn, t_max, dt_out)
+                self.run_population(&integ, model, jobs, contact, t_max, dt_out, options, dir)
             }
             ShapeModel::Inertialess => {
                 // Rigid releases are rigid particles (see `particle`); the integrator is the same.
                 let mut integ = Stokesian::new(tol)?.with_scheme(self.scheme);
                 integ.barycentre = BarycentreModel::Inertial;
-                self.track_with(&integ, model, release, contact_model, turn, t_max, dt_out)
+                self.run_population(&integ, model, jobs, contact, t_max, dt_out, options, dir)
             }
         }
     }
 
-    #[allow(clippy::too_many_arguments)] // the release, its integrator and the run's limits
-    fn track_with<I: TimeIntegrator>(
+    /// The cavity's releases `jobs` (release, initial rotation) as one population of the
+    /// runner ([`crate::population`]): particle k is `jobs[k]`, tracked by `integ` for `t_max`
+    /// seconds with `contact`, its path sampled about every `dt_out`, and its fate read as an
+    /// [`Outcome`]. A release that could not be drawn or built is its error's text.
+    #[allow(clippy::too_many_arguments)] // the releases, their integrator and the run's limits
+    fn run_population<I: TimeIntegrator + std::fmt::Debug>(
         &self,
         integ: &I,
         shape_model: ShapeModel,
-        release: Release,
-        contact_model: Contact,
-        turn: &Mat3,
+        jobs: &[(Release, Mat3)],
+        contact: Contact,
         t_max: f64,
         dt_out: f64,
-    ) -> Result<CavityRun, SceneError> {
-        let defect = (turn.transpose() * turn - Mat3::identity()).amax();
-        if defect > 1e-12 || turn.determinant() <= 0.0 {
-            return Err(crate::error::ParamError::NotARotation {
-                orthogonality_defect: defect,
-                det: turn.determinant(),
-            }
-            .into());
+        options: &RunOptions,
+        dir: Option<&std::path::Path>,
+    ) -> Result<Vec<Result<CavityRun, String>>, SceneError>
+    where
+        L::Law: Releasable,
+    {
+        let injection = Injection { cavity: self, jobs };
+        let observer = Observe { dt_out };
+        // Each particle's plan is its own ([`Injection::plan`]); this one gives the time limit.
+        let plan = Plan::new(t_max, t_max)?;
+        let case = Case::new(integ, &self.flow, &self.boundary, &injection, plan)
+            .with_contact(contact.model())
+            .with_observer(&observer);
+        let config = RunConfig {
+            seed: 0,
+            particles: jobs.len() as u64,
+            fingerprint: format!("cavity {:?} {:?} {:?}", self.flow.variant, jobs, contact),
+        };
+        let output = match dir {
+            Some(dir) => crate::population::run_in_dir(&case, &config, Shard::ALL, dir, &options.clone().resume(true))?,
+            None => crate::population::run(&case, &config, Shard::ALL, options)?,
+        };
+        Ok(output
+            .records
+            .into_iter()
+            .map(|record| self.cavity_run(record, jobs, contact, shape_model))
+            .collect())
+    }
+
+    /// The scene's reading of a population record: the fate as an [`Outcome`] (an exit is the
+    /// lid, a deposit names its wall), the observed path, validity and slip.
+    fn cavity_run(
+        &self,
+        record: ParticleRecord<L::Law>,
+        jobs: &[(Release, Mat3)],
+        contact: Contact,
+        shape_model: ShapeModel,
+    ) -> Result<CavityRun, String>
+    where
+        L::Law: Releasable,
+    {
+        let release = jobs[record.index as usize].0;
+        if let Fate::Failed { error } = &record.fate
+            && record.observed.is_null()
+        {
+            return Err(error.clone());
         }
-        let p = self.particle(&release)?;
-        let mut s0 = State::at_rest(release_point());
-        s0.f = *turn;
-        s0.v = self.flow.sample(&s0.x, 0.0).map_err(StepError::from)?.u;
-        let model = match contact_model {
-            Contact::Extent => ContactModel::Extent,
-            Contact::Barycentre => ContactModel::Barycentre {
-                radius: BARYCENTRE_CONTACT_DISTANCE,
+        let log: Log = serde_json::from_value(record.observed).map_err(|e| e.to_string())?;
+        let end_t = record.end.map_or(0.0, |s| s.t);
+        let outcome = match record.fate {
+            Fate::Escaped { time, .. } => Outcome::Exited { t: time },
+            Fate::Deposited { patch, time, .. } => Outcome::Deposited {
+                t: time,
+                wall: self.boundary.patch_name(patch).to_string(),
+            },
+            Fate::Suspended => Outcome::Suspended,
+            Fate::Failed { error } => Outcome::Failed {
+                t: end_t,
+                reason: error,
             },
         };
-        let contact = ContactEvent::new(&self.boundary, &p, &self.flow, model);
-        let mut monitor = Monitor::new(&p, &self.flow, &self.boundary);
-        monitor.observe(&s0);
-        // No step may carry the particle further than a quarter of its smallest semi-axis
-        // (|u| ≤ U_lid): in the corners two walls are near at once, and the contact event
-        // watches only the nearest.
-        let dt_max = 0.25 * p.shape().semi_axes().min() / LID_VELOCITY;
-        let plan = Plan::new(t_max, dt_max)?.with_dt_max(dt_max)?;
-        let path = std::cell::RefCell::new(Vec::new());
-        let mut slips = Vec::new();
-        let mut next_out = dt_out;
-        let mut memory = Default::default();
-        let end = match integrate(
-            integ,
-            &p,
-            &self.flow,
-            s0,
-            &mut memory,
-            &plan,
-            &[&contact],
-            |s| path.borrow_mut().push((s.t, s.x)),
-            |step| {
-                monitor.observe(&step.state);
-                if let Ok(fluid) = self.flow.sample(&step.state.x, step.state.t) {
-                    slips.push((step.info.dt, (step.state.v - fluid.u).norm()));
-                }
-                if step.state.t >= next_out {
-                    path.borrow_mut().push((step.state.t, step.state.x));
-                    next_out = dt_out * ((step.state.t / dt_out).floor() + 1.0);
-                }
-            },
-        ) {
-            Ok(end) => end,
-            Err(failure) => {
-                // A failed particle is an outcome of the study, as in the population runner.
-                let mut path = path.into_inner();
-                path.push((failure.state.t, failure.state.x));
-                return Ok(CavityRun {
-                    release,
-                    contact: contact_model,
-                    shape_model,
-                    path,
-                    outcome: Outcome::Failed {
-                        t: failure.state.t,
-                        reason: failure.error.to_string(),
-                    },
-                    stats: failure.stats,
-                    validity: monitor.validity(),
-                    slip: Slip::of(slips),
-                });
-            }
-        };
-        let outcome = match end.stop {
-            Stop::Event { .. } => {
-                let near = contact.nearest(&end.state);
-                match self.boundary.rule(near.patch) {
-                    PatchRule::Exit => Outcome::Exited { t: end.state.t },
-                    PatchRule::Stick => Outcome::Deposited {
-                        t: end.state.t,
-                        wall: self.boundary.patch_name(near.patch).to_string(),
-                    },
-                }
-            }
-            Stop::EndTime => {
-                let mut path = path.borrow_mut();
-                if path.last().is_none_or(|(t, _)| *t < end.state.t) {
-                    path.push((end.state.t, end.state.x));
-                }
-                Outcome::Suspended
-            }
-        };
-        let path = path.into_inner();
-        let stats = end.stats;
         Ok(CavityRun {
             release,
-            contact: contact_model,
+            contact,
             shape_model,
-            path,
+            path: log.path,
             outcome,
-            stats,
-            validity: monitor.validity(),
-            slip: Slip::of(slips),
+            stats: record.stats,
+            validity: log.validity,
+            slip: log.slip,
         })
+    }
+}
+
+/// What a law needs to be a population's ([`crate::population::Injector::Law`]).
+pub trait Releasable:
+    crate::material::StressLaw + Clone + PartialEq + std::fmt::Debug + Serialize + serde::de::DeserializeOwned
+{
+}
+
+impl<T> Releasable for T where
+    T: crate::material::StressLaw + Clone + PartialEq + std::fmt::Debug + Serialize + serde::de::DeserializeOwned
+{
+}
+
+/// The cavity's releases as a population's injection: particle k is release k, at the release
+/// point with the local fluid velocity, turned by its rotation (F = the rotation).
+struct Injection<'c, 'a, L, D> {
+    cavity: &'c Cavity<'a, L, D>,
+    jobs: &'c [(Release, Mat3)],
+}
+
+impl<L: LawFactory, D: DragModel + Clone> Injector for Injection<'_, '_, L, D>
+where
+    L::Law: Releasable,
+{
+    type Law = L::Law;
+    type Drag = D;
+
+    fn draw(&self, index: u64, _rng: &mut ParticleRng) -> Result<ParticleSpec<L::Law>, StepError> {
+        let cavity = self.cavity;
+        let release = self.jobs[index as usize].0;
+        let x = release_point();
+        Ok(ParticleSpec {
+            shape: release.shape.ellipsoid(D_EQ, Mat3::identity())?,
+            softness: cavity
+                .model
+                .response(release.softness, cavity.fluid.mu * cavity.shear_rate)?,
+            density: RHO_PARTICLE,
+            position: x,
+            velocity: cavity.flow.sample(&x, 0.0)?.u,
+        })
+    }
+
+    fn particle(&self, spec: &ParticleSpec<L::Law>) -> Result<Particle<SceneResponse<L>, D>, ParamError> {
+        // As [`Cavity::particle`]: gravity, the source-flow volumetric traction, the force terms.
+        ParticleTemplate::new(
+            self.cavity.model.drag().clone(),
+            self.cavity.fluid,
+            Vec3::new(0.0, 0.0, -9.81),
+        )?
+        .with_volumetric(VolumetricTraction::Source)
+        .with_forces(self.cavity.forces.clone())
+        .build(spec)
+    }
+
+    fn start_state(&self, index: u64, spec: &ParticleSpec<L::Law>) -> State {
+        State {
+            f: self.jobs[index as usize].1,
+            ..spec.start_state()
+        }
+    }
+
+    /// No step may carry the particle further than a quarter of its smallest semi-axis
+    /// (|u| ≤ U_lid): in the corners two walls are near at once, and the contact event
+    /// watches only the nearest.
+    fn plan(&self, _index: u64, spec: &ParticleSpec<L::Law>, plan: &Plan) -> Result<Plan, ParamError> {
+        let dt_max = 0.25 * spec.shape.semi_axes().min() / LID_VELOCITY;
+        Plan::new(plan.t_end(), dt_max)?.with_dt_max(dt_max)
+    }
+}
+
+/// What a cavity run keeps besides its fate.
+#[derive(Serialize, serde::Deserialize)]
+struct Log {
+    path: Vec<(f64, Vec3)>,
+    validity: Validity,
+    slip: Slip,
+}
+
+/// The cavity's observer: the path (the start, the first accepted step at or after each
+/// multiple of `dt_out`, the event or the end), the validity monitor and the slip.
+struct Observe {
+    dt_out: f64,
+}
+
+impl<M: crate::material::Response, D: DragModel> Observer<Particle<M, D>, VariantFlow<'_>, Planes> for Observe {
+    fn fingerprint(&self) -> String {
+        format!("cavity path every {:?} s, validity, slip", self.dt_out)
+    }
+
+    fn watch<'w>(
+        &'w self,
+        particle: &'w Particle<M, D>,
+        flow: &'w VariantFlow<'_>,
+        boundary: &'w Planes,
+        start: &State,
+    ) -> Box<dyn Watch + 'w> {
+        let mut monitor = Monitor::new(particle, flow, boundary);
+        monitor.observe(start);
+        Box::new(Watching {
+            monitor,
+            flow,
+            dt_out: self.dt_out,
+            next_out: self.dt_out,
+            path: Vec::new(),
+            slips: Vec::new(),
+        })
+    }
+}
+
+struct Watching<'w, M, D, F> {
+    monitor: Monitor<'w, M, D, F, Planes>,
+    flow: &'w F,
+    dt_out: f64,
+    next_out: f64,
+    path: Vec<(f64, Vec3)>,
+    slips: Vec<(f64, f64)>,
+}
+
+impl<M: crate::material::Response, D: DragModel, F: FlowField> Watch for Watching<'_, M, D, F> {
+    fn output(&mut self, state: &State) {
+        self.path.push((state.t, state.x));
+    }
+
+    fn step(&mut self, step: &crate::integrator::Step) {
+        self.monitor.observe(&step.state);
+        if let Ok(fluid) = self.flow.sample(&step.state.x, step.state.t) {
+            self.slips.push((step.info.dt, (step.state.v - fluid.u).norm()));
+        }
+        if step.state.t >= self.next_out {
+            self.path.push((step.state.t, step.state.x));
+            self.next_out = self.dt_out * ((step.state.t / self.dt_out).floor() + 1.0);
+        }
+    }
+
+    fn finish(mut self: Box<Self>, fate: &Fate, end: &State) -> serde_json::Value {
+        match fate {
+            Fate::Suspended if self.path.last().is_none_or(|(t, _)| *t < end.t) => self.path.push((end.t, end.x)),
+            Fate::Failed { .. } => self.path.push((end.t, end.x)),
+            _ => {}
+        }
+        let log = Log {
+            path: std::mem::take(&mut self.path),
+            validity: self.monitor.validity(),
+            slip: Slip::of(std::mem::take(&mut self.slips)),
+        };
+        serde_json::to_value(&log).expect("a cavity log is plain data")
     }
 }

@@ -1,17 +1,16 @@
 //! The paper's parameter studies over aspect ratio and softness, one particle per case, run in
 //! parallel (particles are independent).
 
-use super::orbit::jeffery_period;
 use super::setup::PipeScene;
-use super::tracking::{Deposition, PipeSample, sample_orientation, track_to_deposition};
+use super::tracking::{PipeSample, sample_orientation};
 use crate::driver::output_times;
 use crate::scenes::SceneError;
 
 /// First trial step (1/γ̇₀); the adaptive integrators correct it within a few steps.
-const DT0: f64 = 1e-3;
+pub(super) const DT0: f64 = 1e-3;
 /// Time limit of a deposition run in units of the sphere settling time (an upper bound on
 /// the settling speed, see [`PipeScene::sphere_settling_time`]).
-const SETTLING_TIMES: f64 = 50.0;
+pub(super) const SETTLING_TIMES: f64 = 50.0;
 
 /// One Tian/Cui particle: prolate aspect ratio λ₁ and capillary number (0: rigid limit).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,24 +49,6 @@ pub fn orientation_study(
         let times = output_times(t_end_seconds / scene.time_unit, count);
         let samples = sample_orientation(&scene, &scene.integrator(tol)?, &times, DT0)?;
         Ok((scene, samples))
-    })
-    .into_iter()
-    .collect()
-}
-
-/// Deposition runs at rtol = atol = `tol`, recording `per_orbit` samples per Jeffery period
-/// at the release point (0: release and contact only).
-pub fn deposition_study(
-    cases: &[PipeCase],
-    tol: f64,
-    per_orbit: f64,
-) -> Result<Vec<(PipeScene, Deposition)>, SceneError> {
-    crate::parallel::map(cases, |case| {
-        let scene = case.scene()?;
-        let t_max = SETTLING_TIMES * scene.sphere_settling_time();
-        let record_dt = jeffery_period(case.lambda1, 1.0) / per_orbit;
-        let run = track_to_deposition(&scene, &scene.integrator(tol)?, DT0, t_max, record_dt)?;
-        Ok((scene, run))
     })
     .into_iter()
     .collect()

@@ -83,7 +83,7 @@ pub fn sample_orientation<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
 /// Time averages over a run of the shape quantities that set the settling mobility
 /// (stretching, not alignment, dominates the soft particles' extra travel), by the trapezoidal
 /// rule over accepted steps.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ShapeStats {
     /// ∫(p·e₂)² dt.
     alignment_integral: f64,
