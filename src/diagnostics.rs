@@ -52,7 +52,6 @@
 
 use crate::contact::{Boundary, Extent, Unbounded};
 use crate::ellipsoid::EllipsoidIntegrals;
-use crate::ellipsoid::PrincipalFrame;
 use crate::flow::FlowField;
 use crate::flow::analytic::LinearFlow;
 use crate::hydro::DragModel;
@@ -358,7 +357,7 @@ where
             v.unsampled += 1;
             return;
         };
-        let r1 = PrincipalFrame::from_total_distortion(&self.particle.total_distortion(&state.f)).r[0];
+        let r1 = self.particle.frame(&state.f).r[0];
         let d = sym(&sample.grad_u);
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
         let wall = self.boundary.nearest(&state.x, &Extent::Point { radius: 0.0 }).gap;

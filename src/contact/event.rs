@@ -116,7 +116,7 @@ where
     }
 
     fn frame(&self, state: &State) -> PrincipalFrame {
-        PrincipalFrame::from_total_distortion(&self.particle.total_distortion(&state.f))
+        self.particle.frame(&state.f)
     }
 
     fn extent_in(&self, frame: PrincipalFrame) -> Extent {

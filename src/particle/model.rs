@@ -256,6 +256,12 @@ impl<M: Response, D: DragModel> Particle<M, D> {
         f * self.s
     }
 
+    /// The current ellipsoid's principal frame (semi-axes r₁ ≥ r₂ ≥ r₃ and axes) at
+    /// deformation F: the frame of F̄ = F·S. Not counted, like [`Self::geometry`].
+    pub fn frame(&self, f: &Mat3) -> PrincipalFrame {
+        PrincipalFrame::from_total_distortion(&self.total_distortion(f))
+    }
+
     /// Geometry (frame, integrals, traction coefficients) of the shape with deformation F, for
     /// analysis outside a step. Not counted: inside a step use
     /// [`Model::geometry`](super::Model::geometry), which refuses det F ≤ 0, counts the model

@@ -5,7 +5,6 @@ use super::BifurcationError;
 use super::injection::{Injection, Kind};
 use super::setup::{Airway, LENGTH};
 use crate::contact::Boundary;
-use crate::ellipsoid::PrincipalFrame;
 use crate::material::NeoHooke;
 use crate::output::Csv;
 use crate::population::{Fate, Injector, RunOutput};
@@ -36,7 +35,7 @@ pub fn deposits(airway: &Airway, kind: Kind, output: &RunOutput<NeoHooke>) -> Re
             continue;
         };
         let particle = injection.particle(spec)?;
-        let frame = PrincipalFrame::from_total_distortion(&particle.total_distortion(&end.f));
+        let frame = particle.frame(&end.f);
         let v = frame.q.transpose() * Mat3::from_diagonal(&frame.r) * frame.q;
         out.push(Deposit {
             index: r.index,

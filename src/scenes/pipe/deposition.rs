@@ -10,7 +10,6 @@ use super::tracking::{Deposition, ShapeStats};
 use crate::contact::PipeWall;
 use crate::diagnostics::{Monitor, Validity};
 use crate::driver::Plan;
-use crate::ellipsoid::PrincipalFrame;
 use crate::error::{ParamError, StepError};
 use crate::flow::analytic::Poiseuille;
 use crate::hydro::Brenner;
@@ -207,7 +206,7 @@ struct Watching<'w> {
 
 impl Watching<'_> {
     fn see(&mut self, state: &State) {
-        let frame = PrincipalFrame::from_total_distortion(&self.particle.total_distortion(&state.f));
+        let frame = self.particle.frame(&state.f);
         self.shape.add(&frame, state.t);
         self.monitor.observe(state);
     }

@@ -175,7 +175,7 @@ pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
     let contact = scene.contact();
     let mut samples = vec![release];
     let mut shape = ShapeStats::default();
-    let frame = |s: &State| PrincipalFrame::from_total_distortion(&scene.particle.total_distortion(&s.f));
+    let frame = |s: &State| scene.particle.frame(&s.f);
     shape.add(&frame(&state), state.t);
     let mut monitor = Monitor::new(&scene.particle, &scene.flow, &scene.wall);
     monitor.observe(&state);
