@@ -124,4 +124,13 @@ impl Boundary for SceneBoundary {
             SceneBoundary::Mesh(b) => b.approach(),
         }
     }
+
+    fn clearance(&self, x: &Vec3) -> Option<f64> {
+        match self {
+            SceneBoundary::Open(b) => b.clearance(x),
+            SceneBoundary::Pipe(b) => b.clearance(x),
+            SceneBoundary::Planes(b) => b.clearance(x),
+            SceneBoundary::Mesh(b) => b.clearance(x),
+        }
+    }
 }

@@ -73,4 +73,10 @@ impl<B: Boundary> Boundary for Composite<B> {
     fn approach(&self) -> Approach {
         self.rest.approach()
     }
+
+    /// The rest's clearance, capped by the planes' point gap (exact and cheap).
+    fn clearance(&self, x: &crate::tensor::Vec3) -> Option<f64> {
+        let plane = self.planes.nearest(x, &Extent::Point { radius: 0.0 }).gap;
+        self.rest.clearance(x).map(|c| c.min(plane)).filter(|c| *c > 0.0)
+    }
 }

@@ -30,8 +30,8 @@
 //! because the face planes' distances change by at most |x − x₀| and the support distance lies
 //! between the smallest and the largest semi-axis (a point extent has r₃ = r₁ = δ). On mesh
 //! walls ([`Approach::AnyDirection`]) the event answers $g_{lb}$ for the gap and the step cap
-//! while $g_{lb} ≥ g_0/2$, and queries again otherwise, so every answer within half the last
-//! gap of the wall is a query's. The gap to the covering face's plane can exceed the distance
+//! while $g_{lb} ≥ g_0/2$, or the boundary's [`Boundary::clearance`] less the reach
+//! (‖F S‖_F, or the contact radius) where that is larger and positive, and queries otherwise. The gap to the covering face's plane can exceed the distance
 //! to the wall by the sagitta between neighbouring faces where the covering face changes;
 //! the margin g₀/2 keeps the bound below the distance as long as that sagitta is below half
 //! the last gap, and near the wall, where it is not, every gap is queried. Pipes and planes
@@ -156,8 +156,8 @@ where
         if self.boundary.approach() != Approach::AnyDirection {
             return None;
         }
-        let seen = self.seen.get()?;
-        if seen.near.gap <= 0.0 || (seen.x == state.x && seen.f == state.f) {
+        let seen = self.seen.get();
+        if seen.is_some_and(|s| s.x == state.x && s.f == state.f) {
             return None;
         }
         let r1 = self.particle.total_distortion(&state.f).norm();
@@ -165,8 +165,21 @@ where
             ContactModel::Extent => r1,
             ContactModel::Barycentre { radius } => radius,
         };
-        let bound = seen.near.gap + seen.r3 - (state.x - seen.x).norm() - reach;
-        (bound >= 0.5 * seen.near.gap).then_some((bound, r1))
+        let from_query = seen
+            .filter(|s| s.near.gap > 0.0)
+            .map(|s| (s.near.gap + s.r3 - (state.x - s.x).norm() - reach, s.near.gap))
+            .filter(|(bound, gap)| *bound >= 0.5 * gap)
+            .map(|(bound, _)| bound);
+        let from_grid = self
+            .boundary
+            .clearance(&state.x)
+            .map(|c| c - reach)
+            .filter(|b| *b > 0.0);
+        let bound = match (from_query, from_grid) {
+            (Some(a), Some(b)) => a.max(b),
+            (a, b) => a.or(b)?,
+        };
+        Some((bound, r1))
     }
 }
 

@@ -20,11 +20,22 @@
 //! `cyclic`, ...) are not particle boundaries ([`PatchRole`]). [`MeshBoundary`] presents the
 //! wall and exit patches as a [`Boundary`], so [`super::ContactEvent`] detects deposition and
 //! escape on any mesh.
+//!
+//! # Clearance
+//! A nearest-face query visits every face whose bounding box lies within the gap of the
+//! particle, dozens in a tube. Far from the walls a bound does: the gap of a point at the
+//! centre c of a bin of a uniform grid, $g_c$, computed once when a particle first enters the
+//! bin, bounds the gap at x by $g_c − |x − c|$ (the face planes' distances change by at most
+//! |x − c|). [`MeshBoundary::clearance`] answers it where $|x − c| ≤ g_c/2$, so every answer
+//! is at least half a query's, and the sagitta by which the covering face's plane can exceed
+//! the wall's distance where the covering face changes has half the gap as margin. The grid has
+//! 64 bins per face, at most 2²² (64 MiB), over the faces' bounding box.
 
 use super::{Approach, Boundary, Extent, Gap, PatchRule};
 use crate::ellipsoid::frame::support_distance;
 use crate::flow::openfoam::{FoamError, PatchRole, PatchSet, PolyMesh, SetFace};
 use crate::tensor::{Mat3, Vec3};
+use std::sync::OnceLock;
 
 /// The nearest boundary face to a particle and the gap to it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,6 +134,83 @@ pub struct MeshBoundary {
     mesh_patches: Vec<usize>,
     names: Vec<String>,
     rules: Vec<PatchRule>,
+    clearance: Clearance,
+}
+
+/// Largest number of clearance bins (16 bytes each), and per boundary face.
+const MAX_BINS: usize = 1 << 22;
+const BINS_PER_FACE: usize = 64;
+
+/// The point gaps at the centres of a uniform grid's bins, each computed on first use (module
+/// docs, Clearance).
+#[derive(Debug, Clone)]
+struct Clearance {
+    origin: Vec3,
+    size: f64,
+    dims: [usize; 3],
+    gaps: Vec<OnceLock<f64>>,
+}
+
+impl Clearance {
+    /// A grid over the faces' bounding box with bins about a face across; an empty grid if the
+    /// box is not finite.
+    fn new(set: &PatchSet) -> Self {
+        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+        for i in 0..set.len() {
+            let c = set.face(i).centre;
+            lo = lo.inf(&c);
+            hi = hi.sup(&c);
+        }
+        let margin = set.circumradius();
+        let (lo, hi) = (lo.add_scalar(-margin), hi.add_scalar(margin));
+        let extent = hi - lo;
+        let empty = Self {
+            origin: Vec3::zeros(),
+            size: 1.0,
+            dims: [0; 3],
+            gaps: Vec::new(),
+        };
+        if !extent.iter().all(|e| e.is_finite() && *e >= 0.0) || !(margin > 0.0) {
+            return empty;
+        }
+        // As many bins as the limits allow (so that most of a duct's lumen lies more than a bin
+        // from the walls), coarsened until they fit.
+        let limit = MAX_BINS.min(BINS_PER_FACE * set.len()).max(1);
+        let mut size = (extent.iter().map(|e| e.max(margin)).product::<f64>() / limit as f64).cbrt();
+        let count = |size: f64| extent.map(|e| (e / size).floor() as usize + 1);
+        while count(size).iter().product::<usize>() > limit {
+            size *= 1.1;
+        }
+        let dims = count(size);
+        Self {
+            origin: lo,
+            size,
+            dims: [dims[0], dims[1], dims[2]],
+            gaps: (0..dims.iter().product::<usize>()).map(|_| OnceLock::new()).collect(),
+        }
+    }
+
+    /// The bound at x from its bin (module docs), `None` outside the grid, where the bin's
+    /// centre touches or lies beyond a face, or beyond half its gap from the centre.
+    fn at(&self, set: &PatchSet, x: &Vec3) -> Option<f64> {
+        let s = (x - self.origin) / self.size;
+        let mut index = [0usize; 3];
+        for a in 0..3 {
+            if !(s[a] >= 0.0 && s[a] < self.dims[a] as f64) {
+                return None;
+            }
+            index[a] = s[a] as usize;
+        }
+        let bin = index[0] + self.dims[0] * (index[1] + self.dims[1] * index[2]);
+        let centre =
+            self.origin + Vec3::new(index[0] as f64 + 0.5, index[1] as f64 + 0.5, index[2] as f64 + 0.5) * self.size;
+        let gap = *self.gaps[bin].get_or_init(|| {
+            set.nearest_gap(&centre, &Vec3::zeros(), &Mat3::identity())
+                .map_or(f64::NEG_INFINITY, |g| g.gap)
+        });
+        let away = (x - centre).norm();
+        (gap > 0.0 && away <= 0.5 * gap).then_some(gap - away)
+    }
 }
 
 impl MeshBoundary {
@@ -157,9 +245,11 @@ impl MeshBoundary {
                 .join(", "),
             mesh.content_hash()
         );
+        let set = PatchSet::new(mesh, &mesh_patches);
         Ok(Self {
             fingerprint,
-            set: PatchSet::new(mesh, &mesh_patches),
+            clearance: Clearance::new(&set),
+            set,
             names,
             mesh_patches,
             rules,
@@ -206,5 +296,10 @@ impl Boundary for MeshBoundary {
     /// Mesh walls have ridges (a carina) and corners.
     fn approach(&self) -> Approach {
         Approach::AnyDirection
+    }
+
+    /// From the bins of a grid (module docs, Clearance).
+    fn clearance(&self, x: &Vec3) -> Option<f64> {
+        self.clearance.at(&self.set, x)
     }
 }

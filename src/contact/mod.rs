@@ -98,6 +98,13 @@ pub trait Boundary: Send + Sync {
     fn approach(&self) -> Approach {
         Approach::Normal
     }
+
+    /// A lower bound c > 0 of the gap of a point (zero extent) at x, where the boundary knows
+    /// one without a query: the gap of any extent reaching at most R from x is then at least
+    /// c − R ([`ContactEvent`] skips its query with it). `None` (the default) where it does not.
+    fn clearance(&self, _x: &Vec3) -> Option<f64> {
+        None
+    }
 }
 
 /// No boundary at all: the unbounded linear flows of the shear scenes. Every gap is +∞, so a

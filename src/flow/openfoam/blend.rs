@@ -357,7 +357,10 @@ mod tests {
         let mesh = cavity_block(12, 0.1).unwrap();
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data/cavity-ci-foam");
         let mut u = read_vol_field(&dir, "U", &mesh, 3).unwrap();
-        u.internal.iter_mut().chain(u.boundary.iter_mut()).for_each(|v| *v *= scale);
+        u.internal
+            .iter_mut()
+            .chain(u.boundary.iter_mut())
+            .for_each(|v| *v *= scale);
         let flow = BlendedFlow::new(FoamFlow::new(mesh, vec![(0.0, u)]).unwrap()).unwrap();
         (flow, 0.1, 0.0813 * scale)
     }
