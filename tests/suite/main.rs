@@ -21,9 +21,13 @@
 //! `snapshots/` next to the module that asserts them, proptest regressions next to their file;
 //! the shipped test data stay in `tests/data`.
 //!
-//! All tests share one process: none may set environment variables or change the current
-//! directory, and scratch folders carry the test's name (and the process id) so that no two
-//! tests share one.
+//! All tests share one process and run on parallel threads: none may set environment variables,
+//! change the current directory or install a process-wide panic hook that drops other tests'
+//! messages (`cross::fuzz_api` silences only its own `fuzz-…` worker threads), and every scratch
+//! folder is named after its test (under `CARGO_TARGET_TMPDIR`, or the system's temporary folder
+//! with the process id), so no two tests share one. A test that needs a process of its own
+//! spawns one: `population::checkpoint` re-runs this binary on its ignored `child_run`,
+//! `cli::run` runs the `pseudorigid` command.
 
 mod common;
 

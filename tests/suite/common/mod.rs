@@ -1,5 +1,5 @@
-//! Shared test helpers: proptest strategies and independent reference computations.
-#![allow(dead_code)] // each test crate uses a different subset
+//! Shared test helpers: proptest strategies, independent reference computations and (feature
+//! `mesh`) generated OpenFOAM cases (`build`).
 
 #[cfg(feature = "mesh")]
 pub mod build;

@@ -62,8 +62,3 @@ pub fn traceless(s: f64) -> impl Strategy<Value = Matrix3<f64>> {
 pub fn deformation() -> impl Strategy<Value = Matrix3<f64>> {
     (rotation(), matrix(0.15)).prop_map(|(r, m)| r * (Matrix3::identity() + (m + m.transpose()) * 0.5))
 }
-
-/// Random vector with coefficients in [-s, s].
-pub fn vector(s: f64) -> impl Strategy<Value = Vector3<f64>> {
-    proptest::array::uniform3(-s..s).prop_map(Vector3::from)
-}

@@ -1,6 +1,5 @@
 //! Shared set-up of the population tests: the settling pipe as a population, with an
 //! injector wrapper that fails some particles on purpose and can slow every draw down.
-#![allow(dead_code)] // each test crate uses a different subset
 
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::error::{ParamError, StepError};
