@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     std::fs::create_dir_all(&out)?;
 
-    // The cellwise reconstruction, as `tests/flow_openfoam_cavity.rs` checks it.
+    // The cellwise reconstruction, as `tests/suite/flow/openfoam/block.rs` checks it.
     let (flow, source) = match &case_dir {
         Some(dir) => {
             let case = FoamCase::open(dir)?;

@@ -9,11 +9,11 @@
 //! there is, writes `hiemenz_snappy.csv` and `hiemenz_snappy.svg` to OUT_DIR (default
 //! `paper-figures/near-wall`) and fails unless, on every mesh, the blended normal velocity is
 //! within 10 % of the exact one in the first cell and v/δ² within 10 % of continuity's
-//! coefficient (the targets; the arguments are in `tests/flow_openfoam.rs`), and the
+//! coefficient (the targets; the arguments are in `tests/suite/flow/openfoam/mod.rs`), and the
 //! observed order of the wall-layer |u| error, fitted over all levels (at least three), is
 //! 2 ± 0.3: the error is C δ₁² (1 + O(δ₁/ℓ)) with δ₁/ℓ up to 0.45 on the coarse level, so the
 //! next term may move the observed order by a few tenths; the lower bound 1.7 is that of the
-//! other convergence tests (`tests/flow_openfoam.rs`). The step-to-step orders are printed
+//! other convergence tests (`tests/suite/flow/openfoam/mod.rs`). The step-to-step orders are printed
 //! and written, not asserted: the snapped meshes are similar under refinement only nearly
 //! (`scenes::stagnation::fitted_order`), and they move by ±0.2.
 

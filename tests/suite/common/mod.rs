@@ -1,0 +1,58 @@
+//! Shared test helpers: proptest strategies, independent reference computations and (feature
+//! `mesh`) generated OpenFOAM cases (`build`).
+
+#[cfg(feature = "mesh")]
+pub mod build;
+pub mod reference;
+pub mod strategies;
+
+/// `x` rounded to `digits` significant digits, as text: stable across machines for snapshots.
+pub fn sig(x: f64, digits: i32) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let decimals = (digits - 1 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.starts_with("-") && s[1..].chars().all(|c| c == '0' || c == '.') {
+        s[1..].to_string()
+    } else {
+        s
+    }
+}
+
+/// The Re = 1000 cavity benchmark on `flow`: the three centreline extrema against Albensoeder &
+/// Kuhlmann (2005), each within 5 % (a uniform 60³ finite-volume grid is expected 2–5 % shallow:
+/// Ben Beya & Lili, 1–2 % at 48³–64³ with a finer scheme, 5 % at 32³), as a table rounded to 3
+/// decimals for a snapshot.
+#[cfg(feature = "mesh")]
+pub fn cavity_re1000_extrema(flow: &impl pseudorigid::flow::FlowField) -> String {
+    use pseudorigid::scenes::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
+    let case = CavityCase {
+        edge: 0.1,
+        lid_speed: 0.173,
+    };
+    let root = env!("CARGO_MANIFEST_DIR");
+    let table =
+        ReferenceTable::read_csv(format!("{root}/reference-data/cavity_re1000_albensoeder_kuhlmann.csv").as_ref())
+            .unwrap();
+    let rows = compare_extrema(&case, flow, &table).unwrap();
+    assert_eq!(rows.len(), 3);
+    let mut text = String::from("extremum,simulated,position,reference,error_percent\n");
+    for r in &rows {
+        assert!(
+            r.relative_error().abs() <= 0.05,
+            "{}: {:+.2} %",
+            r.which.name(),
+            100.0 * r.relative_error()
+        );
+        text.push_str(&format!(
+            "{},{:.3},{:.3},{:.3},{:.1}\n",
+            r.which.name(),
+            r.simulated.value,
+            r.simulated.position,
+            r.reference.value,
+            100.0 * r.relative_error()
+        ));
+    }
+    text
+}

@@ -1,0 +1,4 @@
+//! Flow fields (src/flow).
+
+#[cfg(feature = "mesh")]
+mod openfoam;

@@ -1,0 +1,3 @@
+//! The paper's IMEX scheme (src/integrator/imex).
+
+mod stability;

@@ -1,0 +1,5 @@
+//! The population runner (src/population).
+
+mod checkpoint;
+mod common;
+mod runner;
