@@ -21,21 +21,23 @@
 //!
 //! # Queries skipped far from the walls
 //! The nearest-face query of mesh walls costs as much as a third of a Radau step. Between two
-//! queries the gap cannot close faster than the barycentre moves and the extent grows: with
-//! $g_0$, $x_0$ and the smallest semi-axis $r_{3,0}$ at the last query, and $r_1 ≤ \|F S\|_F$
-//! now (the largest singular value is at most the Frobenius norm),
+//! queries the particle's distance to the walls cannot shrink faster than the barycentre moves
+//! and the extent grows: with $g_0$, $x_0$ and the smallest semi-axis $r_{3,0}$ at the last
+//! query, and $r_1 ≤ \|F S\|_F$ now (the largest singular value is at most the Frobenius
+//! norm),
 //! ```math
-//! g(x) ≥ g_0 + r_{3,0} − |x − x_0| − \|F S\|_F =: g_{lb},
+//! d(x) ≥ g_0 + r_{3,0} − |x − x_0| − \|F S\|_F =: d_{lb},
 //! ```
-//! because the face planes' distances change by at most |x − x₀| and the support distance lies
-//! between the smallest and the largest semi-axis (a point extent has r₃ = r₁ = δ). On mesh
-//! walls ([`Approach::AnyDirection`]) the event answers $g_{lb}$ for the gap and the step cap
-//! while $g_{lb} ≥ g_0/2$, or the boundary's [`Boundary::clearance`] less the reach
-//! (‖F S‖_F, or the contact radius) where that is larger and positive, and queries otherwise. The gap to the covering face's plane can exceed the distance
-//! to the wall by the sagitta between neighbouring faces where the covering face changes;
-//! the margin g₀/2 keeps the bound below the distance as long as that sagitta is below half
-//! the last gap, and near the wall, where it is not, every gap is queried. Pipes and planes
-//! (their queries cost a few flops) always query.
+//! and likewise from the boundary's [`Boundary::clearance`] less the reach (‖F S‖_F, or the
+//! contact radius). On mesh walls ([`Approach::AnyDirection`]) the event uses the larger of
+//! the two where it is positive (the first only while it is at least half of $g_0$) and queries
+//! otherwise. The step cap takes $d_{lb}$: moving less than its distance to the walls, the
+//! particle cannot reach any. The gap is measured to the plane of the face the support point
+//! covers, and that face can change between two states: over a convex ridge (a carina) the new
+//! face's plane can lie nearer than the walls, by a factor cos θ for an exterior angle θ
+//! between the faces. So the event's gap is $\tfrac12 d_{lb}$, a lower bound of the gap for θ up
+//! to 60°; its sign is what the event needs, and near the walls every gap is a query's.
+//! Pipes and planes (their queries cost a few flops) always query.
 
 use super::{Approach, Boundary, Extent, Gap};
 use crate::driver::Event;
@@ -149,9 +151,10 @@ where
         seen
     }
 
-    /// The lower bound $g_{lb}$ of the gap in `state` from the last query, with the upper bound
-    /// ‖F S‖_F on the particle's r₁, when it is at least half the last gap on mesh walls
-    /// (module docs); `None` where a query must answer.
+    /// A lower bound of the distance from the particle to the walls in `state` (module docs:
+    /// from the last query, or the boundary's clearance less the reach), with the upper bound
+    /// ‖F S‖_F on the particle's r₁, on mesh walls; `None` where a query must answer. Half of it
+    /// bounds the gap.
     fn bound(&self, state: &State) -> Option<(f64, f64)> {
         if self.boundary.approach() != Approach::AnyDirection {
             return None;
@@ -192,7 +195,7 @@ where
 {
     fn gap(&self, state: &State) -> f64 {
         match self.bound(state) {
-            Some((bound, _)) => bound,
+            Some((bound, _)) => 0.5 * bound,
             None => self.nearest(state).gap,
         }
     }

@@ -23,13 +23,18 @@
 //!
 //! # Clearance
 //! A nearest-face query visits every face whose bounding box lies within the gap of the
-//! particle, dozens in a tube. Far from the walls a bound does: the gap of a point at the
-//! centre c of a bin of a uniform grid, $g_c$, computed once when a particle first enters the
-//! bin, bounds the gap at x by $g_c − |x − c|$ (the face planes' distances change by at most
-//! |x − c|). [`MeshBoundary::clearance`] answers it where $|x − c| ≤ g_c/2$, so every answer
-//! is at least half a query's, and the sagitta by which the covering face's plane can exceed
-//! the wall's distance where the covering face changes has half the gap as margin. The grid has
-//! 64 bins per face, at most 2²² (64 MiB), over the faces' bounding box.
+//! particle, dozens in a tube. Far from the walls a bound does: the distance $d_c$ from the
+//! centre c of a bin of a uniform grid to the nearest boundary face (to the face, not its
+//! plane), computed once when a particle first enters the bin, bounds the distance from x to
+//! the boundary by $d_c − |x − c|$. [`MeshBoundary::clearance`] answers it where
+//! $|x − c| ≤ d_c/2$. A bin centre outside the domain cannot lend a bound to a point inside:
+//! the segment between them crosses the boundary, so $d_c ≤ |x − c|$. The gap of a point is
+//! the distance to the plane of the face its projection covers, which is the distance to that
+//! face; where the projection covers none (over a convex ridge, a carina), it is the distance to
+//! the plane of the nearest face, at least cos θ times the distance to the ridge for an
+//! exterior angle θ between the faces. The answer bounds the distance to the walls; the
+//! contact event halves it for the gap ([`super::ContactEvent`]). The grid has 64 bins per face, at most 2²² (64 MiB),
+//! over the faces' bounding box.
 
 use super::{Approach, Boundary, Extent, Gap, PatchRule};
 use crate::ellipsoid::frame::support_distance;
@@ -141,14 +146,14 @@ pub struct MeshBoundary {
 const MAX_BINS: usize = 1 << 22;
 const BINS_PER_FACE: usize = 64;
 
-/// The point gaps at the centres of a uniform grid's bins, each computed on first use (module
-/// docs, Clearance).
+/// The distances from the centres of a uniform grid's bins to the nearest face, each computed on
+/// first use (module docs, Clearance).
 #[derive(Debug, Clone)]
 struct Clearance {
     origin: Vec3,
     size: f64,
     dims: [usize; 3],
-    gaps: Vec<OnceLock<f64>>,
+    distances: Vec<OnceLock<f64>>,
 }
 
 impl Clearance {
@@ -168,7 +173,7 @@ impl Clearance {
             origin: Vec3::zeros(),
             size: 1.0,
             dims: [0; 3],
-            gaps: Vec::new(),
+            distances: Vec::new(),
         };
         if !extent.iter().all(|e| e.is_finite() && *e >= 0.0) || !(margin > 0.0) {
             return empty;
@@ -186,12 +191,12 @@ impl Clearance {
             origin: lo,
             size,
             dims: [dims[0], dims[1], dims[2]],
-            gaps: (0..dims.iter().product::<usize>()).map(|_| OnceLock::new()).collect(),
+            distances: (0..dims.iter().product::<usize>()).map(|_| OnceLock::new()).collect(),
         }
     }
 
-    /// The bound at x from its bin (module docs), `None` outside the grid, where the bin's
-    /// centre touches or lies beyond a face, or beyond half its gap from the centre.
+    /// The bound at x from its bin (module docs), `None` outside the grid or beyond half the
+    /// centre's distance from the centre.
     fn at(&self, set: &PatchSet, x: &Vec3) -> Option<f64> {
         let s = (x - self.origin) / self.size;
         let mut index = [0usize; 3];
@@ -204,12 +209,9 @@ impl Clearance {
         let bin = index[0] + self.dims[0] * (index[1] + self.dims[1] * index[2]);
         let centre =
             self.origin + Vec3::new(index[0] as f64 + 0.5, index[1] as f64 + 0.5, index[2] as f64 + 0.5) * self.size;
-        let gap = *self.gaps[bin].get_or_init(|| {
-            set.nearest_gap(&centre, &Vec3::zeros(), &Mat3::identity())
-                .map_or(f64::NEG_INFINITY, |g| g.gap)
-        });
+        let distance = *self.distances[bin].get_or_init(|| set.surface_distance(&centre));
         let away = (x - centre).norm();
-        (gap > 0.0 && away <= 0.5 * gap).then_some(gap - away)
+        (distance.is_finite() && away <= 0.5 * distance).then_some(distance - away)
     }
 }
 

@@ -99,9 +99,10 @@ pub trait Boundary: Send + Sync {
         Approach::Normal
     }
 
-    /// A lower bound c > 0 of the gap of a point (zero extent) at x, where the boundary knows
-    /// one without a query: the gap of any extent reaching at most R from x is then at least
-    /// c − R ([`ContactEvent`] skips its query with it). `None` (the default) where it does not.
+    /// A lower bound c > 0 of the distance from x to the boundary's faces, where the boundary
+    /// knows one without a query: an extent reaching at most R from x is then at least c − R
+    /// from them ([`ContactEvent`] skips its query with it). `None` (the default) where it does
+    /// not.
     fn clearance(&self, _x: &Vec3) -> Option<f64> {
         None
     }

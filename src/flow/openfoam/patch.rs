@@ -136,6 +136,24 @@ impl PatchSet {
         })
     }
 
+    /// Distance from x to the nearest face of the set (to the face, not its plane; the fans of
+    /// triangles around the face centres): faces in order of their bounding boxes' distance,
+    /// until a box lies beyond the nearest face found. +∞ for an empty set.
+    pub fn surface_distance(&self, x: &Vec3) -> f64 {
+        let mut best = f64::INFINITY;
+        for (i, box_distance) in self.by_box_distance(x) {
+            if box_distance >= best {
+                break;
+            }
+            let (c, poly) = (&self.centres[i], &self.vertices[self.offsets[i]..self.offsets[i + 1]]);
+            for (k, a) in poly.iter().enumerate() {
+                let b = &poly[(k + 1) % poly.len()];
+                best = best.min(super::walls::triangle_offset(x, c, a, b).norm());
+            }
+        }
+        best
+    }
+
     /// All patches with the given role.
     pub fn with_role(mesh: &PolyMesh, role: PatchRole) -> Self {
         let ids: Vec<usize> = (0..mesh.patches().len())

@@ -94,7 +94,7 @@ impl WallFaces {
 /// p − q for q the point of the triangle (a, b, c) nearest to p: the closest point of the
 /// vertex, edge or interior region p projects into (Ericson 2005, §5.1.5). A degenerate
 /// triangle falls through to its edges and vertices.
-fn triangle_offset(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> Vec3 {
+pub(super) fn triangle_offset(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> Vec3 {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
     if d1 <= 0.0 && d2 <= 0.0 {
