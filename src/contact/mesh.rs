@@ -175,7 +175,7 @@ impl Clearance {
             dims: [0; 3],
             distances: Vec::new(),
         };
-        if !extent.iter().all(|e| e.is_finite() && *e >= 0.0) || !(margin > 0.0) {
+        if !extent.iter().all(|e| e.is_finite() && *e >= 0.0) || margin.is_nan() || margin <= 0.0 {
             return empty;
         }
         // As many bins as the limits allow (so that most of a duct's lumen lies more than a bin

@@ -1,7 +1,9 @@
 //! Boundaries and wall contact (src/contact) and event location in the driver.
 
 use approx::assert_relative_eq;
-use pseudorigid::contact::{Approach, Boundary, ContactEvent, ContactModel, Extent, PatchRule, PipeWall, Planes};
+#[cfg(all(feature = "mesh", feature = "parallel"))] // the cavity's walls
+use pseudorigid::contact::{Approach, PatchRule, Planes};
+use pseudorigid::contact::{Boundary, Extent, PipeWall};
 use pseudorigid::driver::{Event, Plan, Stop, integrate};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::ellipsoid::frame::support_distance;
@@ -130,8 +132,10 @@ fn time_event_is_located_within_one_large_step() {
 }
 
 /// A box whose corners are not guarded by the scene: its walls as [`Approach::AnyDirection`].
+#[cfg(all(feature = "mesh", feature = "parallel"))]
 struct UnguardedBox(Planes);
 
+#[cfg(all(feature = "mesh", feature = "parallel"))]
 impl Boundary for UnguardedBox {
     fn nearest(&self, x: &Vec3, extent: &Extent) -> pseudorigid::contact::Gap {
         self.0.nearest(x, extent)
@@ -160,6 +164,7 @@ fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
     // Along one smooth wall only the normal velocity closes the gap: no cap from the floor
     // (|v·n| = 0 and no flow to sweep the tip), so the particle could cross the side wall.
     let planes = pseudorigid::scenes::cavity::walls(0.1).unwrap();
+    use pseudorigid::contact::{ContactEvent, ContactModel};
     let normal = ContactEvent::new(&planes, &p, &Quiescent, ContactModel::Extent);
     assert!(normal.max_step(&s) > 1e300);
     // With corners unguarded the full speed counts: |v| Δt ≤ g + δ_s = 1 mm, less than the

@@ -10,6 +10,7 @@ use crate::scenes::SceneError;
 pub(super) const DT0: f64 = 1e-3;
 /// Time limit of a deposition run in units of the sphere settling time (an upper bound on
 /// the settling speed, see [`PipeScene::sphere_settling_time`]).
+#[cfg(feature = "parallel")]
 pub(super) const SETTLING_TIMES: f64 = 50.0;
 
 /// One Tian/Cui particle: prolate aspect ratio λ₁ and capillary number (0: rigid limit).
