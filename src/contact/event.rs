@@ -23,7 +23,7 @@
 //! The nearest-face query of mesh walls costs as much as a third of a Radau step. Between two
 //! queries the particle's distance to the walls cannot shrink faster than the barycentre moves
 //! and the extent grows: with $g_0$, $x_0$ and the smallest semi-axis $r_{3,0}$ at the last
-//! query, and $r_1 ≤ \|F S\|_F$ now (the largest singular value is at most the Frobenius
+//! query, and $r_1 ≤ \lVert F S\rVert_F$ now (the largest singular value is at most the Frobenius
 //! norm),
 //! ```math
 //! d(x) ≥ g_0 + r_{3,0} − |x − x_0| − \|F S\|_F =: d_{lb},

@@ -34,7 +34,7 @@
 //! \frac{\partial u}{\partial x} = \frac{\sum_i w_i G_i + \sum_i \big(L_i(x) − u(x)\big)\,∇w_i^T}{\sum_i w_i},
 //! ```
 //! times u, with $∇\phi(s_c) = −20(1 − s_c)^3 M_c(x − x_c)$ for a cell and
-//! $∇\omega_f = (\phi'(s)/s^2 − 2\phi(s)/s^3)(x − q_f)/(d_f\,2\rho_f)$ for a wall face
+//! $∇\omega_f = (\frac{d\phi}{ds}/s^2 − 2\phi/s^3)(x − q_f)/(2\rho_f d_f)$ for a wall face
 //! ($q_f$ its point nearest to x). `grad_u`, and so every dataset without the fluid-inertia
 //! terms, is unchanged.
 //!
@@ -315,7 +315,7 @@ struct Blend {
     u: Vec3,
     grad_u: Mat3,
     du_dt: Vec3,
-    /// $\sum_i L_i(x)\,∇w_i^T$.
+    /// $\sum_i L_i(x) ∇w_i^T$.
     u_grad_w: Mat3,
 }
 
