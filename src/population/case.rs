@@ -98,44 +98,20 @@ where
         let spec = match self.injector.draw(index, &mut rng) {
             Ok(spec) => spec,
             Err(e) => {
-                return ParticleRecord {
-                    index,
-                    spec: None,
-                    fate: Fate::Failed { error: e.to_string() },
-                    end: None,
-                    stats: RunStats::default(),
-                    samples: Vec::new(),
-                    observed: serde_json::Value::Null,
-                };
+                return ParticleRecord::not_started(index, None, None, &e);
             }
         };
         let start = self.injector.start_state(index, &spec);
         let particle = match self.injector.particle(&spec) {
             Ok(p) => p,
             Err(e) => {
-                return ParticleRecord {
-                    index,
-                    spec: Some(spec),
-                    fate: Fate::Failed { error: e.to_string() },
-                    end: Some(start),
-                    stats: RunStats::default(),
-                    samples: Vec::new(),
-                    observed: serde_json::Value::Null,
-                };
+                return ParticleRecord::not_started(index, Some(spec), Some(start), &e);
             }
         };
         let plan = match self.injector.plan(index, &spec, &self.plan) {
             Ok(plan) => plan,
             Err(e) => {
-                return ParticleRecord {
-                    index,
-                    spec: Some(spec),
-                    fate: Fate::Failed { error: e.to_string() },
-                    end: Some(start),
-                    stats: RunStats::default(),
-                    samples: Vec::new(),
-                    observed: serde_json::Value::Null,
-                };
+                return ParticleRecord::not_started(index, Some(spec), Some(start), &e);
             }
         };
         let contact = ContactEvent::new(self.boundary, &particle, self.flow, self.contact);
@@ -248,6 +224,29 @@ where
             h.write(text.as_bytes());
         }
         format!("{:016x}", h.finish())
+    }
+}
+
+impl<L> ParticleRecord<L> {
+    /// A particle that failed before its first step (it could not be drawn, built or planned):
+    /// no work, no samples.
+    fn not_started(
+        index: u64,
+        spec: Option<super::ParticleSpec<L>>,
+        end: Option<crate::particle::State>,
+        error: &dyn std::fmt::Display,
+    ) -> Self {
+        ParticleRecord {
+            index,
+            spec,
+            fate: Fate::Failed {
+                error: error.to_string(),
+            },
+            end,
+            stats: RunStats::default(),
+            samples: Vec::new(),
+            observed: serde_json::Value::Null,
+        }
     }
 }
 
