@@ -167,7 +167,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // pseudorigid.
         let start = Instant::now();
         let ours = if point {
-            let integ = study::integrator()?;
+            let integ = study::integrator(&airway, kind)?.integrator;
             let case = Case::new(
                 &integ,
                 airway.flow(),

@@ -21,30 +21,12 @@
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
+use pseudorigid::population::progress::{process_cpu_seconds, process_resident_bytes};
 use pseudorigid::population::settling_pipe::SettlingPipe;
 use pseudorigid::population::{Case, RunConfig, RunOptions, RunOutput, Shard, run};
 use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures, study};
 use pseudorigid::scenes::cavity::Shape;
 use std::time::Instant;
-
-/// CPU time (user + system) of this process in seconds (Linux), if known: fields 14 and 15 of
-/// /proc/self/stat, in USER_HZ = 100 ticks per second (fixed for user space on Linux).
-fn cpu_seconds() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // The command name (field 2) is in parentheses and may hold spaces: count after it.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
-    Some(ticks / 100.0)
-}
-
-/// Resident set size in bytes (Linux), if known.
-fn rss() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024.0)
-}
 
 /// One timed run of N particles; its records are dropped before the next.
 type Runner<'a> = Box<dyn Fn(u64) -> Result<RunOutput<NeoHooke>, String> + Sync + 'a>;
@@ -111,16 +93,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for threads in threads.split(',') {
             let threads: usize = threads.parse()?;
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
-            let before = rss();
-            let cpu_before = cpu_seconds();
+            let before = process_resident_bytes();
+            let cpu_before = process_cpu_seconds();
             let start = Instant::now();
             let out = pool.install(|| runner(n))?;
             let wall = start.elapsed().as_secs_f64();
-            let cpu = match (cpu_before, cpu_seconds()) {
+            let cpu = match (cpu_before, process_cpu_seconds()) {
                 (Some(a), Some(b)) => format!("{:.2}", b - a),
                 _ => String::new(),
             };
-            let per_particle = match (before, rss()) {
+            let per_particle = match (before, process_resident_bytes()) {
                 (Some(a), Some(b)) => format!("{:.0}", (b - a) / n as f64),
                 _ => String::new(),
             };

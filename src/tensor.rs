@@ -80,9 +80,40 @@ pub fn lift<S: Scalar>(a: &Mat3) -> Mat3<S> {
     a.map(S::from)
 }
 
-/// The nearest rotation to `f` (the orthogonal polar factor U Vᵀ of its SVD); `f` itself when
-/// the SVD does not return both factors.
+/// Iterations of [`nearest_rotation`]'s Newton method before it falls back to the SVD. From
+/// F with singular values in [σ_min, σ_max] the unscaled iteration needs about
+/// log₂(σ_max/σ_min) steps to reach the quadratic regime, and then about five more: 64 covers
+/// every non-singular F whose singular values f64 can hold a quotient of.
+const POLAR_ITERATIONS: usize = 64;
+
+/// The nearest rotation to `f` (det F > 0): the orthogonal polar factor R of F = R U.
+///
+/// Newton's iteration for the polar factor (Higham 1986, *SIAM J. Sci. Stat. Comput.* 7),
+/// ```math
+/// X_0 = F, \qquad X_{k+1} = \tfrac12\left(X_k + X_k^{-T}\right),
+/// ```
+/// converges quadratically to R from any non-singular F: a rigid particle's F, a rotation up
+/// to the step's error ε, takes about log₂ log₂(1/u) − log₂ log₂(1/ε) + 1 ≈ 3 steps (one 3×3
+/// inverse each), where the SVD costs an order of magnitude more. It stops one step after the
+/// change falls below 10⁻⁹ (the next is then at round-off, ≈ 10⁻¹⁸ before rounding). An F for
+/// which it does not settle within [`POLAR_ITERATIONS`] (singular, or not finite) goes to the
+/// SVD's U Vᵀ, and `f` itself is returned when the SVD does not give both factors.
 pub fn nearest_rotation(f: &Mat3) -> Mat3 {
+    let mut x = *f;
+    let mut settled = false;
+    for _ in 0..POLAR_ITERATIONS {
+        let Some(inv) = x.try_inverse() else { break };
+        let next = (x + inv.transpose()) * 0.5;
+        let change = (next - x).abs().max();
+        x = next;
+        if settled {
+            return x;
+        }
+        if !change.is_finite() {
+            break;
+        }
+        settled = change <= 1e-9;
+    }
     let svd = f.svd(true, true);
     match (svd.u, svd.v_t) {
         (Some(u), Some(v_t)) => u * v_t,

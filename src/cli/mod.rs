@@ -29,7 +29,7 @@
 //! | `[[particles.list]]` | `density` (default `particles.density`), `semi_axes`, `position`, `orientation = { axis, angle }` (radians), `velocity` or `fluid_velocity = true`, `material` |
 //! | `[particles.inject]` or several `[[particles.inject]]` groups | `count`, `density` (default `particles.density`), `region` (`{ type = "point", at }`, `{ type = "disc", centre, normal, radius }` or `{ type = "patch", name }`: on an OpenFOAM patch weighted by the inflow through each face, moved inside by the particle's largest semi-axis, or by `boundary.contact_radius` if that is larger), `semi_axes`, `orientation` or `random_orientation = true`, `fluid_velocity`, `material`; group g's particles follow those of groups 0..g in the index, and particle k draws from stream k whichever group it is in |
 //! | `material` | a registered law (`crate::material::registry`) and its parameters: `{ law = "neo_hooke", mu, lambda }`, `{ law = "mooney_rivlin", mu1, mu2, lambda }`, `{ law = "rigid" }`, or a law written in the scene: `{ law = "expression", energy = "…", parameters = { name = value, … } }` with W(I1, I2, J) in `+ - * / ^ ( )`, `ln`, `exp`, `sqrt` (`material::expression`; μ_s and λ_s are read off its tangent at F = 1; `scenes/yeoh_oblate.toml`) |
-//! | `[integrator] type` | a registered integrator (`crate::integrator::registry`): `imex` (the paper's, fixed `dt`; also `imex_paper`), `imex_adaptive`, `radau_iia` (inertialess, Radau IIA of order 5: the library's `Stokesian` default), `rosenbrock_w23` (inertialess, the Rosenbrock-W 2(3) pair) (all three need `tol`); earlier scene files' `stokesian` and `stokesian_radau5` are read as `radau_iia`, `stokesian_rosenbrock23` as `rosenbrock_w23` |
+//! | `[integrator] type` | a registered integrator (`crate::integrator::registry`): `imex` (the paper's, fixed `dt`; also `imex_paper`), `imex_adaptive`, `radau_iia` (inertialess, Radau IIA of order 5: the library's `Stokesian` default), `rosenbrock_w23` (inertialess, the Rosenbrock-W 2(3) pair), `auto` (chosen per particle from its Stokes number and the tolerance, `crate::integrator::choice`; the choice per injection group is printed as a `note:` line) (all four need `tol`); earlier scene files' `stokesian` and `stokesian_radau5` are read as `radau_iia`, `stokesian_rosenbrock23` as `rosenbrock_w23` |
 //! | `integrator.dt`, `dt_max`, `overdamped` | first (or fixed) step, largest step, overdamped barycentre (`radau_iia`, `rosenbrock_w23`) |
 //! | `[end] t_end`, `max_steps` | end time of every particle's run; accepted steps allowed per particle |
 //! | `[output] every`, `vtk` | output interval (default: the end only); write ParaView files (default true) |
@@ -151,10 +151,12 @@ fn default_out(scene: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}-out"))
 }
 
-/// `line` after the scene's warnings about force terms it leaves out
-/// ([`Scene::force_advice`]), one `warning:` line each.
+/// `line` after the integrator's choices ([`Scene::integrator_log`]), one `note:` line each,
+/// and the scene's warnings about force terms it leaves out ([`Scene::force_advice`]), one
+/// `warning:` line each.
 fn with_advice(scene: &Scene, line: String) -> String {
-    let mut text: String = scene.force_advice().iter().map(|w| format!("warning: {w}\n")).collect();
+    let mut text: String = scene.integrator_log().iter().map(|n| format!("note: {n}\n")).collect();
+    text.extend(scene.force_advice().iter().map(|w| format!("warning: {w}\n")));
     text.push_str(&line);
     text
 }

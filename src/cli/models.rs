@@ -73,6 +73,16 @@ impl FlowField for SceneFlow {
             SceneFlow::Blended(f) => f.sample(x, t),
         }
     }
+
+    fn strain_rate(&self) -> Option<f64> {
+        match self {
+            SceneFlow::Quiescent => Quiescent.strain_rate(),
+            SceneFlow::Linear(f) => f.strain_rate(),
+            SceneFlow::Poiseuille(f) => f.strain_rate(),
+            SceneFlow::Foam(f) => f.strain_rate(),
+            SceneFlow::Blended(f) => f.strain_rate(),
+        }
+    }
 }
 
 /// A boundary named in a scene, or none.

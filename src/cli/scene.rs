@@ -121,6 +121,36 @@ impl Scene {
         SceneInjector::new(&self.template, &self.particles, &self.flow)
     }
 
+    /// Each list entry and injection group with its scene-file key.
+    fn placements(&self) -> Vec<(String, &Placement)> {
+        match &self.particles {
+            ParticleSource::List(list) => list
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (format!("particles.list[{i}]"), p))
+                .collect(),
+            ParticleSource::Inject(groups) => groups
+                .iter()
+                .enumerate()
+                .map(|(g, group)| (format!("particles.inject[{g}]"), &group.placement))
+                .collect(),
+        }
+    }
+
+    /// What the integrator does for each list entry and injection group, where that depends
+    /// on the particle (`type = "auto"`, [`crate::integrator::choice::Auto`]): one line each,
+    /// for the run log.
+    pub fn integrator_log(&self) -> Vec<String> {
+        self.placements()
+            .into_iter()
+            .filter_map(|(key, placement)| {
+                let particle = self.template.build(&placement.spec(Vec3::zeros())).ok()?;
+                let what = self.integrator.describe(&particle, &self.flow)?;
+                Some(format!("{key}: integrator {}: {what}", self.integrator.name()))
+            })
+            .collect()
+    }
+
     /// Force terms the scene leaves out although its numbers say they matter, before any
     /// run: for each list entry and injection group, the sizes that depend only on the
     /// particle and the fluid ([`crate::diagnostics::omitted_constants`]: added mass from
@@ -141,20 +171,8 @@ impl Scene {
             crate::hydro::forces::UndisturbedFlow::NAME,
             crate::hydro::forces::AddedMass::NAME,
         ];
-        let placements: Vec<(String, &Placement)> = match &self.particles {
-            ParticleSource::List(list) => list
-                .iter()
-                .enumerate()
-                .map(|(i, p)| (format!("particles.list[{i}]"), p))
-                .collect(),
-            ParticleSource::Inject(groups) => groups
-                .iter()
-                .enumerate()
-                .map(|(g, group)| (format!("particles.inject[{g}]"), &group.placement))
-                .collect(),
-        };
         let mut advice = Vec::new();
-        for (key, placement) in placements {
+        for (key, placement) in self.placements() {
             let Ok(particle) = self.template.build(&placement.spec(Vec3::zeros())) else {
                 continue;
             };

@@ -61,6 +61,15 @@ impl PrincipalFrame {
         Ok(frame)
     }
 
+    /// The frame of the same ellipsoid turned by the rotation `rotation`: axes n_a ↦ R n_a, so
+    /// Q ↦ Q Rᵀ, and the same semi-axes (F̄ ↦ R F̄ turns the eigenvectors of F̄F̄ᵀ by R).
+    pub fn turned(&self, rotation: &Mat3) -> Self {
+        Self {
+            r: self.r,
+            q: self.q * rotation.transpose(),
+        }
+    }
+
     /// Principal components X′ = Q X Qᵀ of a global tensor.
     pub fn to_principal(&self, x: &Mat3) -> Mat3 {
         self.q * x * self.q.transpose()

@@ -115,6 +115,10 @@ impl FlowField for LinearFlow {
         let sample = FlowSample::steady(self.u0 + self.grad_u * x, self.grad_u);
         finite_sample(sample, x, t)
     }
+
+    fn strain_rate(&self) -> Option<f64> {
+        Some(super::strain_rate_magnitude(&self.grad_u))
+    }
 }
 
 /// Hagen–Poiseuille flow in a straight circular pipe whose axis is the x₁ axis.
@@ -177,5 +181,10 @@ impl FlowField for Poiseuille {
         grad_u[(0, 2)] = -wall_rate * z;
         let sample = FlowSample::steady(Vec3::new(umax * (1.0 - rho2), 0.0, 0.0), grad_u);
         finite_sample(sample, x, t)
+    }
+
+    /// The cross-section mean of |du/dr| = 4Ū r/R²: (1/πR²) ∫₀^R (4Ū r/R²) 2πr dr = 8|Ū|/(3R).
+    fn strain_rate(&self) -> Option<f64> {
+        Some(8.0 * self.mean_velocity.abs() / (3.0 * self.radius))
     }
 }

@@ -64,11 +64,30 @@ impl FlowSample {
 pub trait FlowField: Send + Sync {
     /// Sample u and ∇u at position `x` and time `t`.
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError>;
+
+    /// The flow's rate γ̇: the strain-rate magnitude √(2 D:D), D = sym ∇u, averaged over the
+    /// domain by volume. 1/γ̇ is the flow's time scale in a particle's Stokes number τ γ̇
+    /// ([`crate::integrator::choice`]). `None` (the default) where the field cannot say; the
+    /// automatic integrator choice then keeps the particle's inertia.
+    fn strain_rate(&self) -> Option<f64> {
+        None
+    }
+}
+
+/// √(2 D:D) with D = sym ∇u: the shear rate of a simple shear, the strain-rate magnitude of
+/// any linear flow.
+pub fn strain_rate_magnitude(grad_u: &Mat3) -> f64 {
+    let d = (grad_u + grad_u.transpose()) * 0.5;
+    (2.0 * d.dot(&d)).sqrt()
 }
 
 impl<T: FlowField + ?Sized> FlowField for &T {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         (**self).sample(x, t)
+    }
+
+    fn strain_rate(&self) -> Option<f64> {
+        (**self).strain_rate()
     }
 }
 

@@ -101,6 +101,15 @@ impl JefferyRoscoe {
         }
     }
 
+    /// The coefficients of the same ellipsoid turned by the rotation `rotation`: they depend on
+    /// the semi-axes only, so only the frame turns ([`PrincipalFrame::turned`]).
+    pub fn turned(&self, rotation: &Mat3) -> Self {
+        Self {
+            frame: self.frame.turned(rotation),
+            ..*self
+        }
+    }
+
     /// Coefficients for `frame` and `ints`, or the first that is not finite (an ellipsoid too
     /// slender for f64, or non-finite input).
     pub fn try_new(frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Result<Self, ParamError> {

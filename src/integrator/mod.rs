@@ -15,8 +15,9 @@
 //! tolerances, step-controller limits and Jacobian-reuse rule through [`control`].
 //!
 //! Scene files and the Python package choose an integrator by name ([`registry`]): each
-//! registers itself in its own file.
+//! registers itself in its own file. [`choice`] picks one from the particle's numbers.
 
+pub mod choice;
 pub mod control;
 pub mod dense;
 pub mod imex;
@@ -125,6 +126,16 @@ pub trait TimeIntegrator: Send + Sync {
         flow: &F,
         dt: f64,
     ) -> Result<Step, StepError>;
+
+    /// What this integrator does for `particle` in `flow`, where that depends on them (the
+    /// automatic choice, [`choice::Auto`]): a line for the run log. `None` for a fixed scheme.
+    fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        _particle: &Particle<M, D>,
+        _flow: &F,
+    ) -> Option<String> {
+        None
+    }
 
     /// One step from a fresh memory (a first step, or a test of a single step).
     fn step<M: Response, D: DragModel, F: FlowField + ?Sized>(

@@ -77,6 +77,7 @@ pub fn inertial_only(p: &Parameters) -> Result<(), ParamError> {
 trait SceneStep: Send + Sync + fmt::Debug {
     fn scheme(&self) -> &'static str;
     fn barycentre_model(&self) -> BarycentreModel;
+    fn describe_scene(&self, particle: &SceneParticle, flow: &dyn FlowField) -> Option<String>;
     fn step_scene(
         &self,
         particle: &SceneParticle,
@@ -93,6 +94,9 @@ impl<I: TimeIntegrator + fmt::Debug + 'static> SceneStep for I {
     }
     fn barycentre_model(&self) -> BarycentreModel {
         self.barycentre()
+    }
+    fn describe_scene(&self, particle: &SceneParticle, flow: &dyn FlowField) -> Option<String> {
+        self.describe(particle, flow)
     }
     fn step_scene(
         &self,
@@ -148,6 +152,11 @@ impl SceneIntegrator {
     /// Its barycentre model ([`TimeIntegrator::barycentre`]).
     pub fn barycentre(&self) -> BarycentreModel {
         self.0.barycentre_model()
+    }
+
+    /// What it does for `particle` in `flow` ([`TimeIntegrator::describe`]).
+    pub fn describe(&self, particle: &SceneParticle, flow: &dyn FlowField) -> Option<String> {
+        self.0.describe_scene(particle, flow)
     }
 }
 

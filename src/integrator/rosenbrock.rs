@@ -21,7 +21,7 @@
 
 use super::control::{ErrorOrder, StepControl, Tolerances};
 use crate::error::{StepError, positive};
-use nalgebra::{Const, DimMin, SMatrix, SVector};
+use nalgebra::{Const, DimMin, LU, SMatrix, SVector};
 
 const D: f64 = 0.292_893_218_813_452_5; // 1/(2+√2)
 const E32: f64 = 7.414_213_562_373_095; // 6+√2
@@ -36,6 +36,41 @@ pub const CONTROL: StepControl = StepControl {
     failure_shrink: 0.25,
     max_rejections: 60,
 };
+
+/// The Jacobian as a step needs it: W = 1 − γh J factorised once per attempt. A dense J is one
+/// LU; a caller whose J has structure (blocks, a Kronecker factor) factorises that instead.
+pub trait Jacobian<const N: usize> {
+    /// The factorisation of W.
+    type Factor: Factor<N>;
+    /// Factorise W = 1 − `gamma_h` J.
+    fn factor(&self, gamma_h: f64) -> Self::Factor;
+}
+
+/// A factorised W = 1 − γh J.
+pub trait Factor<const N: usize> {
+    /// W⁻¹ b, or `None` where W is singular.
+    fn solve(&self, b: &SVector<f64, N>) -> Option<SVector<f64, N>>;
+}
+
+impl<const N: usize> Jacobian<N> for SMatrix<f64, N, N>
+where
+    Const<N>: DimMin<Const<N>, Output = Const<N>>,
+{
+    type Factor = LU<f64, Const<N>, Const<N>>;
+
+    fn factor(&self, gamma_h: f64) -> Self::Factor {
+        (SMatrix::<f64, N, N>::identity() - self * gamma_h).lu()
+    }
+}
+
+impl<const N: usize> Factor<N> for LU<f64, Const<N>, Const<N>>
+where
+    Const<N>: DimMin<Const<N>, Output = Const<N>>,
+{
+    fn solve(&self, b: &SVector<f64, N>) -> Option<SVector<f64, N>> {
+        LU::solve(self, b)
+    }
+}
 
 /// Outcome of one accepted adaptive step.
 pub struct Accepted<const N: usize, P> {
@@ -61,21 +96,18 @@ pub fn step<const N: usize, P>(
     t: f64,
     y: &SVector<f64, N>,
     f0: &SVector<f64, N>,
-    j: &SMatrix<f64, N, N>,
+    j: &impl Jacobian<N>,
     h: f64,
     tol: Tolerances,
     mut rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<(SVector<f64, N>, P), StepError>,
-) -> Result<Accepted<N, P>, StepError>
-where
-    Const<N>: DimMin<Const<N>, Output = Const<N>>,
-{
+) -> Result<Accepted<N, P>, StepError> {
     let mut h = positive("h", h)?;
     for rejected in 0..=CONTROL.max_rejections {
         if h < tol.h_min() {
             break;
         }
         let attempt = (|| {
-            let w = (SMatrix::<f64, N, N>::identity() - j * (h * D)).lu();
+            let w = j.factor(h * D);
             let solve = |b: SVector<f64, N>| {
                 w.solve(&b).ok_or(StepError::NonFinite {
                     what: "Rosenbrock matrix",

@@ -28,9 +28,12 @@ use crate::flow::FlowField;
 use crate::hydro::DragModel;
 use crate::material::Response;
 pub use crate::particle::inertialess::BarycentreModel;
-use crate::particle::inertialess::{InertialessRate, InertialessState as Y, pack, unpack};
+use crate::particle::inertialess::{
+    InertialessJacobian, InertialessRate, InertialessState as Y, ShapeJacobian, pack, unpack,
+};
 use crate::particle::{Model, Particle, State};
-use crate::tensor::nearest_rotation;
+use crate::tensor::{Mat3, nearest_rotation};
+use nalgebra::{LU, SMatrix, U3, U6, U9};
 use serde::{Deserialize, Serialize};
 
 /// The time-stepping scheme of [`Stokesian`].
@@ -177,9 +180,9 @@ impl TimeIntegrator for Stokesian {
                     },
                     |t, y| {
                         if t == state.t && *y == y0 {
-                            Ok(jacobian(y, &e0))
+                            Ok(jacobian(y, &e0).dense())
                         } else {
-                            eval(t, y).map(|e| jacobian(y, &e))
+                            eval(t, y).map(|e| jacobian(y, &e).dense())
                         }
                     },
                 )?;
@@ -204,7 +207,7 @@ impl TimeIntegrator for Stokesian {
         let (a, x_dot, _) = unpack(&acc.f_new);
         let v = match barycentre {
             BarycentreModel::Inertial => v,
-            BarycentreModel::Overdamped => x_dot,
+            BarycentreModel::Overdamped | BarycentreModel::Equilibrium => x_dot,
         };
         if state.t + acc.h <= state.t {
             return Err(StepError::NoProgress { t: state.t, dt: acc.h });
@@ -240,6 +243,56 @@ impl TimeIntegrator for Stokesian {
                 ..StepInfo::from_work(model.work(), acc.h, acc.h_next)
             },
         })
+    }
+}
+
+/// W = 1 − γh J of the block-diagonal inertialess Jacobian, factorised block by block: a
+/// 3×3 LU for a rigid particle's shape (1₃ ⊗ (1 − γh l_s) acts on each column of F) or a 9×9
+/// one, and a 6×6 LU for the barycentre, where one 15×15 LU cost about 12 times as much.
+pub struct InertialessFactor {
+    shape: ShapeFactor,
+    barycentre: LU<f64, U6, U6>,
+}
+
+// One per step, on the stack: boxing the larger variant would allocate in every step.
+#[allow(clippy::large_enum_variant)]
+enum ShapeFactor {
+    Spin(LU<f64, U3, U3>),
+    Full(LU<f64, U9, U9>),
+}
+
+impl rosenbrock::Jacobian<15> for InertialessJacobian {
+    type Factor = InertialessFactor;
+
+    fn factor(&self, gamma_h: f64) -> InertialessFactor {
+        InertialessFactor {
+            shape: match &self.shape {
+                ShapeJacobian::Spin(l_s) => ShapeFactor::Spin((Mat3::identity() - l_s * gamma_h).lu()),
+                ShapeJacobian::Full(block) => {
+                    ShapeFactor::Full((SMatrix::<f64, 9, 9>::identity() - block * gamma_h).lu())
+                }
+            },
+            barycentre: (SMatrix::<f64, 6, 6>::identity() - self.barycentre * gamma_h).lu(),
+        }
+    }
+}
+
+impl rosenbrock::Factor<15> for InertialessFactor {
+    fn solve(&self, b: &Y) -> Option<Y> {
+        let mut out = Y::zeros();
+        match &self.shape {
+            ShapeFactor::Spin(lu) => {
+                let columns = lu.solve(&Mat3::from_column_slice(&b.as_slice()[..9]))?;
+                out.fixed_rows_mut::<9>(0).copy_from_slice(columns.as_slice());
+            }
+            ShapeFactor::Full(lu) => {
+                out.fixed_rows_mut::<9>(0)
+                    .copy_from(&lu.solve(&b.fixed_rows::<9>(0).into_owned())?);
+            }
+        }
+        out.fixed_rows_mut::<6>(9)
+            .copy_from(&self.barycentre.solve(&b.fixed_rows::<6>(9).into_owned())?);
+        Some(out)
     }
 }
 

@@ -57,6 +57,17 @@ impl Geometry {
         }
     }
 
+    /// The geometry of the same ellipsoid turned by the rotation `rotation` (a rigid particle's
+    /// F): the semi-axes, the integrals and the traction coefficients depend on the semi-axes
+    /// only, so only the frame turns, Q ↦ Q Rᵀ.
+    pub fn turned(&self, rotation: &Mat3) -> Self {
+        Self {
+            frame: self.frame.turned(rotation),
+            ints: self.ints,
+            traction: self.traction.turned(rotation),
+        }
+    }
+
     /// Geometry of the total distortion F̄ = F·S, or why it does not exist: a frame,
     /// integrals or traction coefficients that are not finite.
     pub fn try_of_total_distortion(f_bar: &Mat3) -> Result<Self, ParamError> {
@@ -99,12 +110,15 @@ impl Forcing {
         self.a_g + self.drag_rate * (u - v)
     }
 
-    /// Overdamped (St → 0) velocity: R(u − v) + a = 0 ⇒ v = u + R⁻¹a.
-    pub fn overdamped_velocity(&self, u: &Vec3, t: f64) -> Result<Vec3, StepError> {
+    /// The velocity at which the drag balances every other acceleration and the particle's
+    /// own acceleration `accel`: a + R(u − v) = v̇ ⇒ v = u + R⁻¹(a − v̇). With v̇ = 0 this is
+    /// the overdamped (St → 0) velocity; with v̇ = Du/Dt, the equilibrium velocity
+    /// ([`crate::particle::inertialess::BarycentreModel::Equilibrium`]).
+    pub fn overdamped_velocity(&self, u: &Vec3, accel: &Vec3, t: f64) -> Result<Vec3, StepError> {
         let drift = self
             .drag_rate
             .lu()
-            .solve(&self.a_g)
+            .solve(&(self.a_g - accel))
             .ok_or(StepError::NonFinite { what: "drag tensor", t })?;
         Ok(u + drift)
     }
@@ -240,25 +254,28 @@ impl<'a, M: Response, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
         })
     }
 
-    /// The overdamped barycentre velocity at the shape `geo` (St → 0: drag balances every
-    /// other force), given the `forcing` there at any velocity. Force terms that depend on the
-    /// slip are iterated to their fixed point from v = u (at most [`MAX_SLIP_ITERATIONS`]
-    /// times); without force terms the forcing does not depend on v and one solve is exact.
+    /// The overdamped barycentre velocity at the shape `geo` (drag balances every other force
+    /// and the particle's assumed acceleration `accel`: zero for St → 0, Du/Dt for the
+    /// equilibrium velocity), given the `forcing` there at any velocity. Force terms that
+    /// depend on the slip are iterated to their fixed point from v = u (at most
+    /// [`MAX_SLIP_ITERATIONS`] times); without force terms the forcing does not depend on v
+    /// and one solve is exact.
     pub fn overdamped_velocity(
         &self,
         geo: &Geometry,
         det_f: f64,
         sample: &FlowSample,
         forcing: &Forcing,
+        accel: &Vec3,
         t: f64,
     ) -> Result<Vec3, StepError> {
         if self.particle.forces().is_empty() {
-            return forcing.overdamped_velocity(&sample.u, t);
+            return forcing.overdamped_velocity(&sample.u, accel, t);
         }
         let mut v = sample.u;
         let mut next = self
             .forcing(geo, det_f, sample, &v, t)?
-            .overdamped_velocity(&sample.u, t)?;
+            .overdamped_velocity(&sample.u, accel, t)?;
         let mut change = (next - v).norm();
         for _ in 0..MAX_SLIP_ITERATIONS {
             if change <= SLIP_TOLERANCE * (next - sample.u).norm() {
@@ -267,7 +284,7 @@ impl<'a, M: Response, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
             v = next;
             next = self
                 .forcing(geo, det_f, sample, &v, t)?
-                .overdamped_velocity(&sample.u, t)?;
+                .overdamped_velocity(&sample.u, accel, t)?;
             change = (next - v).norm();
         }
         Err(StepError::SlipNotConverged {

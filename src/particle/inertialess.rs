@@ -8,8 +8,9 @@
 //! i.e. σ̃(l_s) = σ_el(F) with σ_el = P Fᵀ/J; with tr l_s = 0 (incompressible particle) this
 //! is the 9×9 linear system of [`InertialessSolver`], and the shape evolves by Ḟ = l_s(F) F
 //! ([`Model::inertialess_rate`]). A rigid particle spins with Jeffery's torque-free rate. The
-//! barycentre is either inertial (eq. 17), v̇ = a_G + R(u − v), ẋ = v, or overdamped (St → 0),
-//! ẋ = u + R⁻¹a_G, with the drag rate R = μ_f K̂/m ([`BarycentreModel`]).
+//! barycentre is inertial (eq. 17), v̇ = a_G + R(u − v), ẋ = v; overdamped (St → 0),
+//! ẋ = u + R⁻¹a_G; or at its equilibrium velocity to first order in the response time,
+//! ẋ = u + R⁻¹(a_G − Du/Dt); with the drag rate R = μ_f K̂/m ([`BarycentreModel`]).
 //!
 //! # Jacobian
 //! Exact in the elastic response and frozen in the hydrodynamic operator: with the principal
@@ -20,7 +21,7 @@
 //! ```
 //! with δP from the material tangent and δl_s from [`InertialessSolver`]; for a rigid particle
 //! the spin is frozen, δḞ = l_s δF. The barycentre block is ∂ẋ/∂v = 1, ∂v̇/∂x = R l_f,
-//! ∂v̇/∂v = −R (inertial) or ∂ẋ/∂x = l_f (overdamped). Radau IIA's order does not depend on the
+//! ∂v̇/∂v = −R (inertial) or ∂ẋ/∂x = l_f (overdamped and equilibrium). Radau IIA's order does not depend on the
 //! Jacobian and the Rosenbrock-W pair keeps its order with such an approximation
 //! ([`crate::integrator::stokesian`]).
 //!
@@ -36,8 +37,45 @@ use nalgebra::{SMatrix, SVector};
 
 /// The inertialess state y = (vec F, x, v).
 pub type InertialessState = SVector<f64, 15>;
-/// ∂f/∂y of the inertialess right-hand side.
-pub type InertialessJacobian = SMatrix<f64, 15, 15>;
+/// ∂f/∂y of the inertialess right-hand side (module docs), block-diagonal: with the
+/// hydrodynamic operator frozen, Ḟ does not depend on (x, v) and (ẋ, v̇) not on F, so the
+/// shape block (9×9) and the barycentre block (6×6) are all there is. A rigid particle's shape
+/// block is the frozen spin acting on each column of δF, δḞ = l_s δF.
+#[derive(Debug, Clone)]
+pub struct InertialessJacobian {
+    /// ∂Ḟ/∂F.
+    pub shape: ShapeJacobian,
+    /// ∂(ẋ, v̇)/∂(x, v).
+    pub barycentre: SMatrix<f64, 6, 6>,
+}
+
+/// The shape block ∂ vec Ḟ/∂ vec F of an [`InertialessJacobian`].
+#[derive(Debug, Clone)]
+// One per step, on the stack: boxing the larger variant would allocate in every step.
+#[allow(clippy::large_enum_variant)]
+pub enum ShapeJacobian {
+    /// δḞ = l_s δF (rigid: the spin frozen over the step): the 9×9 block is 1₃ ⊗ l_s.
+    Spin(Mat3),
+    /// The full 9×9 block (elastic).
+    Full(SMatrix<f64, 9, 9>),
+}
+
+impl InertialessJacobian {
+    /// The 15×15 matrix.
+    pub fn dense(&self) -> SMatrix<f64, 15, 15> {
+        let mut jac = SMatrix::<f64, 15, 15>::zeros();
+        match &self.shape {
+            ShapeJacobian::Spin(l_s) => {
+                for c in 0..3 {
+                    jac.fixed_view_mut::<3, 3>(3 * c, 3 * c).copy_from(l_s);
+                }
+            }
+            ShapeJacobian::Full(block) => jac.fixed_view_mut::<9, 9>(0, 0).copy_from(block),
+        }
+        jac.fixed_view_mut::<6, 6>(9, 9).copy_from(&self.barycentre);
+        jac
+    }
+}
 
 /// How the barycentre moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -47,6 +85,20 @@ pub enum BarycentreModel {
     Inertial,
     /// St → 0: ẋ = u + (μ_f K̂/m)⁻¹ a_G; v is reported as that velocity.
     Overdamped,
+    /// The equilibrium velocity to first order in the response time τ = ‖R⁻¹‖ (Maxey 1987,
+    /// *J. Fluid Mech.* 174; Ferry & Balachandar 2001, *Int. J. Multiphase Flow* 27):
+    /// ```math
+    /// \dot x = u + R^{-1}\left(a - \frac{Du}{Dt}\right) + O(\tau^2),
+    /// \qquad \frac{Du}{Dt} = \partial_t u + (u\cdot\nabla)u .
+    /// ```
+    /// Eq. 17 reads v = u + R⁻¹(a − v̇); along the path v̇ = ∂_t u + (v·∇)u + O(τ) and
+    /// v − u = O(τ), so v̇ = Du/Dt + O(τ), and the neglected terms (including Ṙ, the drag
+    /// tensor turning with the particle) are O(τ²). The slip, and so the inertial drift that
+    /// deposits particles by impaction, is kept to first order, where [`Self::Overdamped`]
+    /// drops it; the stiff relaxation of v towards u, which sets the steps of [`Self::Inertial`]
+    /// at small τ, is gone. The velocity error is O(St²) of the flow speed, with St the
+    /// response time over the flow's time scale; `v` is reported as ẋ.
+    Equilibrium,
 }
 
 /// y = (vec F, x, v).
@@ -113,7 +165,18 @@ impl<M: Response, D: DragModel, F: FlowField + ?Sized> Model<'_, M, D, F> {
         let (x_dot, v_dot) = match barycentre {
             BarycentreModel::Inertial => (v, forcing.acceleration(&sample.u, &v)),
             BarycentreModel::Overdamped => (
-                self.overdamped_velocity(&geo, f.determinant(), &sample, &forcing, t)?,
+                self.overdamped_velocity(&geo, f.determinant(), &sample, &forcing, &Vec3::zeros(), t)?,
+                Vec3::zeros(),
+            ),
+            BarycentreModel::Equilibrium => (
+                self.overdamped_velocity(
+                    &geo,
+                    f.determinant(),
+                    &sample,
+                    &forcing,
+                    &sample.material_acceleration(),
+                    t,
+                )?,
                 Vec3::zeros(),
             ),
         };
@@ -137,26 +200,24 @@ impl<M: Response, D: DragModel, F: FlowField + ?Sized> Model<'_, M, D, F> {
         e: &InertialessRate,
     ) -> InertialessJacobian {
         self.count_jacobian();
-        let (f, _, _) = unpack(y);
-        let mut jac = InertialessJacobian::zeros();
-        barycentre_jacobian(&mut jac, barycentre, e);
+        let barycentre = barycentre_jacobian(barycentre, e);
         let Some(solver) = &e.solver else {
             // Rigid: d(W_s F) ≈ W_s dF with the spin frozen over the step (W-method).
-            for q in 0..9 {
-                let mut df = Mat3::zeros();
-                df[q] = 1.0;
-                jac.fixed_view_mut::<9, 1>(0, q).copy_from(&vec9(&(e.l_s * df)));
-            }
-            return jac;
+            return InertialessJacobian {
+                shape: ShapeJacobian::Spin(e.l_s),
+                barycentre,
+            };
         };
         let Some(law) = self.particle.elastic() else {
             unreachable!("an evaluation with an inertialess solver belongs to an elastic particle")
         };
+        let (f, _, _) = unpack(y);
         let det_f = f.determinant();
         let p = law.piola(&f);
         let sigma = p * f.transpose() / det_f;
         let tangent = law.tangent(&f);
         let f_inv_t = inv_transpose(&f);
+        let mut block = SMatrix::<f64, 9, 9>::zeros();
         for q in 0..9 {
             let mut df = Mat3::zeros();
             df[q] = 1.0;
@@ -164,22 +225,28 @@ impl<M: Response, D: DragModel, F: FlowField + ?Sized> Model<'_, M, D, F> {
             // δσ = (δP Fᵀ + P δFᵀ)/J − σ tr(F⁻¹δF)
             let d_sigma = (dp * f.transpose() + p * df.transpose()) / det_f - sigma * f_inv_t[q];
             let dl_s = solver.velocity_gradient_increment(&d_sigma);
-            jac.fixed_view_mut::<9, 1>(0, q)
-                .copy_from(&vec9(&(dl_s * f + e.l_s * df)));
+            block.column_mut(q).copy_from(&vec9(&(dl_s * f + e.l_s * df)));
         }
-        jac
+        InertialessJacobian {
+            shape: ShapeJacobian::Full(block),
+            barycentre,
+        }
     }
 }
 
-fn barycentre_jacobian(jac: &mut InertialessJacobian, model: BarycentreModel, e: &InertialessRate) {
+/// ∂(ẋ, v̇)/∂(x, v): ∂ẋ/∂v = 1, ∂v̇/∂x = R l_f, ∂v̇/∂v = −R (inertial), or ∂ẋ/∂x = l_f.
+fn barycentre_jacobian(model: BarycentreModel, e: &InertialessRate) -> SMatrix<f64, 6, 6> {
+    let mut jac = SMatrix::<f64, 6, 6>::zeros();
     match model {
         BarycentreModel::Inertial => {
-            jac.fixed_view_mut::<3, 3>(9, 12).copy_from(&Mat3::identity());
-            jac.fixed_view_mut::<3, 3>(12, 9).copy_from(&(e.drag_rate * e.l_f));
-            jac.fixed_view_mut::<3, 3>(12, 12).copy_from(&(-e.drag_rate));
+            jac.fixed_view_mut::<3, 3>(0, 3).copy_from(&Mat3::identity());
+            jac.fixed_view_mut::<3, 3>(3, 0).copy_from(&(e.drag_rate * e.l_f));
+            jac.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-e.drag_rate));
         }
-        BarycentreModel::Overdamped => {
-            jac.fixed_view_mut::<3, 3>(9, 9).copy_from(&e.l_f);
+        // The drift R⁻¹(a − Du/Dt) varies with x on the flow's scale, τ times slower than u.
+        BarycentreModel::Overdamped | BarycentreModel::Equilibrium => {
+            jac.fixed_view_mut::<3, 3>(0, 0).copy_from(&e.l_f);
         }
     }
+    jac
 }

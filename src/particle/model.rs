@@ -12,7 +12,7 @@ use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use crate::error::{ParamError, derived, finite, positive};
 use crate::hydro::{Brenner, DragModel, ForceTerms, JefferyRoscoe, VolumetricTraction};
 use crate::material::{Response, StressLaw};
-use crate::tensor::{Mat3, Vec3};
+use crate::tensor::{Mat3, Vec3, nearest_rotation};
 use serde::{Deserialize, Serialize};
 
 /// Largest rest-state rate (1/time, in the particle's units) a particle may have: 10¹⁵⁰, so
@@ -75,8 +75,9 @@ pub struct Particle<M, D = Brenner> {
     gravity: Vec3,
     volumetric: VolumetricTraction,
     forces: ForceTerms,
-    // Derived, cached: S, m, vol(B₀), Θ⁻¹.
+    // Derived, cached: S, m, vol(B₀), Θ⁻¹, and a rigid particle's rest geometry.
     s: Mat3,
+    rigid: Option<Geometry>,
     mass: f64,
     volume0: f64,
     theta_inv: Mat3,
@@ -113,12 +114,17 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             volumetric: VolumetricTraction::default(),
             forces: ForceTerms::default(),
             s,
+            rigid: None,
             mass,
             volume0,
             theta_inv,
         };
         particle.check_rest_geometry()?;
-        Ok(particle)
+        let rigid = match particle.material.elastic() {
+            None => Some(Geometry::try_of_total_distortion(&s)?),
+            Some(_) => None,
+        };
+        Ok(Self { rigid, ..particle })
     }
 
     /// The rest state's integrals, traction coefficients and drag must be finite: an ellipsoid
@@ -257,23 +263,55 @@ impl<M: Response, D: DragModel> Particle<M, D> {
     }
 
     /// The current ellipsoid's principal frame (semi-axes r₁ ≥ r₂ ≥ r₃ and axes) at
-    /// deformation F: the frame of F̄ = F·S. Not counted, like [`Self::geometry`].
+    /// deformation F: the frame of F̄ = F·S; for a rigid particle the rest frame turned by the
+    /// rotation nearest F ([`Self::geometry`]). Not counted, like [`Self::geometry`].
     pub fn frame(&self, f: &Mat3) -> PrincipalFrame {
-        PrincipalFrame::from_total_distortion(&self.total_distortion(f))
+        match &self.rigid {
+            Some(rest) => rest.frame.turned(&nearest_rotation(f)),
+            None => PrincipalFrame::from_total_distortion(&self.total_distortion(f)),
+        }
     }
 
     /// Geometry (frame, integrals, traction coefficients) of the shape with deformation F, for
     /// analysis outside a step. Not counted: inside a step use
     /// [`Model::geometry`](super::Model::geometry), which refuses det F ≤ 0, counts the model
     /// evaluation and then calls this, so the two cannot drift apart.
+    ///
+    /// A rigid particle's shape is its rest shape turned by F's rotation R (F is a rotation up
+    /// to the integration error, and the integrator projects it back onto SO(3) after every
+    /// step): its semi-axes, integrals and traction coefficients are computed once, at
+    /// construction, and only the frame turns, Q = Q₀ Rᵀ with R the rotation nearest F. This
+    /// skips the eigen-decomposition and Carlson's integrals, most of a rigid particle's
+    /// evaluation; for F ∈ SO(3) it is the same geometry up to round-off (tested).
     pub fn geometry(&self, f: &Mat3) -> Geometry {
-        Geometry::of_total_distortion(&self.total_distortion(f))
+        match &self.rigid {
+            Some(rest) => rest.turned(&nearest_rotation(f)),
+            None => Geometry::of_total_distortion(&self.total_distortion(f)),
+        }
     }
 
     /// The geometry at `f`, or why it does not exist (`f` not finite or singular, an
     /// ellipsoid too slender for f64): [`Self::geometry`] for F from user data.
     pub fn try_geometry(&self, f: &Mat3) -> Result<Geometry, ParamError> {
-        Geometry::try_of_total_distortion(&self.total_distortion(f))
+        match &self.rigid {
+            Some(rest) => {
+                if let Some(&value) = f.iter().find(|v| !v.is_finite()) {
+                    return Err(ParamError::NonFinite {
+                        name: "deformation gradient F",
+                        value,
+                    });
+                }
+                let det_f = f.determinant();
+                if !(det_f > 0.0) {
+                    return Err(ParamError::NotPositive {
+                        name: "det F of a rigid particle",
+                        value: det_f,
+                    });
+                }
+                Ok(rest.turned(&nearest_rotation(f)))
+            }
+            None => Geometry::try_of_total_distortion(&self.total_distortion(f)),
+        }
     }
 
     /// The hyperelastic law, or `None` for a rigid particle.

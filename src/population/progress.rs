@@ -162,3 +162,24 @@ impl Reporter {
         }
     }
 }
+
+/// CPU time (user + system) of this process in seconds, where the system says (Linux: fields
+/// 14 and 15 of /proc/self/stat, in USER_HZ = 100 ticks per second, fixed for user space). It
+/// does not depend on the machine's load, unlike wall time.
+pub fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The command name (field 2) is in parentheses and may hold spaces: count after it.
+    let rest = stat.get(stat.rfind(')')? + 2..)?;
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// Resident set size of this process in bytes, where the system says (Linux: VmRSS of
+/// /proc/self/status).
+pub fn process_resident_bytes() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}

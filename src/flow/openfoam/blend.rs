@@ -261,6 +261,10 @@ impl FlowField for BlendedFlow {
         LAST_SAMPLE.set(Some((self.id, key, sample)));
         Ok(sample)
     }
+
+    fn strain_rate(&self) -> Option<f64> {
+        self.flow.strain_rate()
+    }
 }
 
 impl BlendedFlow {

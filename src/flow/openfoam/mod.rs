@@ -176,6 +176,8 @@ pub struct FoamFlow {
     walls: Vec<u32>,
     wall_layer: WallGeometry,
     frames: Vec<Frame>,
+    /// Volume mean of √(2 D:D) over the cells of the first time level.
+    strain_rate: f64,
 }
 
 thread_local! {
@@ -330,6 +332,17 @@ impl FoamFlow {
                 wall_fits,
             });
         }
+        let strain_rate = frames.first().map_or(0.0, |frame| {
+            let volumes = mesh.cell_volumes();
+            let total: f64 = volumes.iter().sum();
+            let weighted: f64 = frame
+                .grad
+                .iter()
+                .zip(volumes)
+                .map(|(g, v)| crate::flow::strain_rate_magnitude(g) * v)
+                .sum();
+            weighted / total
+        });
         Ok(Self {
             locator: CellLocator::new(&mesh),
             boundary: PatchSet::all(&mesh),
@@ -337,6 +350,7 @@ impl FoamFlow {
             walls,
             wall_layer,
             frames,
+            strain_rate,
         })
     }
 
@@ -436,5 +450,10 @@ impl FlowField for FoamFlow {
         })?;
         LAST_CELL.with(|c| c.set(cell));
         Ok(self.sample_cell(cell, x, t))
+    }
+
+    /// The volume mean of the cells' √(2 D:D) at the first time level.
+    fn strain_rate(&self) -> Option<f64> {
+        Some(self.strain_rate).filter(|r| r.is_finite())
     }
 }

@@ -7,9 +7,14 @@
 //!   gives none, and a randomly oriented aerosol is the neutral reading.
 //! - The injection velocity is the fluid velocity at the injection point (paper: "the local
 //!   fluid velocity"); the particle starts stress-free (F = 1).
-//! - The shape follows the inertialess (Stokesian) model: the solid's nondimensional density
-//!   ρ* = ρ_p γ̇ d_eq²/μ_f stays below 0.1 (d_eq ≤ 18 µm, γ̇ ≤ 2·10³ s⁻¹), so solid inertia is
-//!   negligible against the viscous load; the barycentre is inertial (that is what Stk measures).
+//! - The shape follows the inertialess (Stokesian) model, the barycentre is inertial (that is
+//!   what Stk measures) or, for tracer-like particles, at its equilibrium velocity
+//!   ([`crate::integrator::choice`]). The solid's nondimensional density
+//!   ρ* = ρ_p γ̇ d_eq²/μ_f at γ̇ ≤ 2·10³ s⁻¹ is 0.87 (Stk 0.005, d_eq = 1.8 µm) to 87
+//!   (Stk 0.5, 18 µm): not small, so the shape's (for a rigid particle: the rotation's) inertia
+//!   is a neglected effect of order ρ* in the orientation; the barycentre, which decides
+//!   impaction, keeps its inertia. (An earlier reading stated ρ* < 0.1 here, which these
+//!   numbers contradict.)
 
 use super::setup::{Airway, GRAVITY, INJECTION_DIAMETER, INJECTION_X, d_eq_for_stokes, fluid, rho_particle};
 use crate::error::{ParamError, StepError};

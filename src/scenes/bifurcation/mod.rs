@@ -31,6 +31,9 @@ pub enum BifurcationError {
     /// Invalid parameters.
     #[error(transparent)]
     Param(#[from] crate::error::ParamError),
+    /// A particle could not be drawn or stepped.
+    #[error(transparent)]
+    Step(#[from] crate::error::StepError),
     /// The OpenFOAM case could not be read.
     #[error(transparent)]
     Foam(#[from] crate::flow::openfoam::FoamError),

@@ -19,7 +19,7 @@ use crate::population::{Injector, particle_rng};
 /// fails keeps the maxima observed before the failure.
 pub fn sample(airway: &Airway, kind: Kind, seed: u64, count: u64) -> Result<Vec<Validity>, BifurcationError> {
     let injection = Injection::new(airway, kind)?;
-    let integ = integrator()?;
+    let integ = integrator(airway, kind)?.integrator;
     let plan = plan(airway)?;
     let mut out = Vec::with_capacity(count.min(1 << 20) as usize);
     for k in 0..count {

@@ -114,6 +114,10 @@ impl FlowField for VariantFlow<'_> {
         sample.grad_u = j * sample.grad_u * j * s;
         Ok(sample)
     }
+
+    fn strain_rate(&self) -> Option<f64> {
+        self.mesh.strain_rate().map(|r| r * self.variant.scale.abs())
+    }
 }
 
 /// The fluid-inertia force terms a particle of nearly the fluid's density needs (the cavity's

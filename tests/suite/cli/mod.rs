@@ -841,3 +841,34 @@ fn a_law_written_in_the_scene_runs_like_the_built_in_law() {
         other => panic!("expected a scene error, got {:?}", other.map(|s| s.count())),
     }
 }
+
+/// `type = "auto"` chooses per injection group from the particle's numbers and says so: the
+/// bifurcation scene's soft spheres at Stk = 0.1 keep their inertia (St = τγ̇ with the field's
+/// mean strain rate, several U/D, is well above 0.06), spheres a quarter the size
+/// (Stk = 0.006) move at the equilibrium velocity; both runs end every particle at a wall or an
+/// outlet.
+#[test]
+fn auto_integrator_chooses_per_group_and_says_so() {
+    let auto = [("type = \"radau_iia\"\ntol = 1e-5", "type = \"auto\"\ntol = 1e-2")];
+    let stk = scene("bifurcation.toml", &auto);
+    let log = stk.integrator_log();
+    assert_eq!(log.len(), 1, "{log:?}");
+    assert!(log[0].starts_with("particles.inject[0]: integrator auto: elastic inertialess shape, inertial barycentre, rosenbrock_w23"), "{log:?}");
+    let small = [
+        auto[0],
+        (
+            "semi_axes = [4.0309733612015035e-06, 4.0309733612015035e-06, 4.0309733612015035e-06]",
+            "semi_axes = [1.0077e-06, 1.0077e-06, 1.0077e-06]",
+        ),
+    ];
+    let tracer = scene("bifurcation.toml", &small);
+    let log = tracer.integrator_log();
+    assert!(log[0].contains("equilibrium barycentre"), "{log:?}");
+    for (s, name) in [(&stk, "cli_auto_stk"), (&tracer, "cli_auto_tracer")] {
+        for r in &run(s, name).records {
+            assert!(matches!(r.fate, Fate::Escaped { .. } | Fate::Deposited { .. }), "{name} particle {}: {:?}", r.index, r.fate);
+        }
+    }
+    // A fixed scheme has nothing to say per particle.
+    assert!(scene("bifurcation.toml", &[]).integrator_log().is_empty());
+}

@@ -1,5 +1,6 @@
 //! Time integrators (src/integrator) and the driver (src/driver).
 
+mod choice;
 mod every_scheme;
 mod imex;
 mod radau5;

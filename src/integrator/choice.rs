@@ -1,0 +1,231 @@
+//! The integrator chosen for the particle: the scheme and the barycentre model of
+//! [`Stokesian`] from the particle's numbers, with the reason written out for the run log.
+//!
+//! # Rules (each measured; the numbers are in the constants' docs)
+//! - **Shape**: inertialess (eq. 18 with Θ → 0), the only shape model this choice gives. Its
+//!   error is O(ρ*) with ρ* = ρ_p γ̇ d_eq²/μ_f (the shape's inertial time over the flow's);
+//!   above [`RHO_STAR_INERTIALESS`] the reason says so, and an elastic particle that needs its
+//!   shape inertia must force the paper's IMEX scheme (`imex_adaptive`).
+//! - **Barycentre**: the equilibrium velocity ([`BarycentreModel::Equilibrium`], first order
+//!   in the response time) for St ≤ [`EQUILIBRIUM_STOKES`], its full inertia
+//!   ([`BarycentreModel::Inertial`]) above. St = τ γ̇ is the particle's largest response time
+//!   over the flow's time scale, the volume mean of the strain rate ([`ParticleNumbers::of`]).
+//! - **Scheme**: the Rosenbrock-W 2(3) pair at loose tolerances (rtol ≥ [`ROSENBROCK_RTOL`]),
+//!   where its two evaluations per step beat Radau IIA's three to four, and Radau IIA(5)
+//!   below, where accuracy sets the step and order 5 takes 15–20× fewer ([`Scheme`]'s table).
+//!   Rigid or soft does not change the scheme: both measurements below hold for either.
+//!
+//! The user can still force any integrator: this is a default, not a restriction. Scene files
+//! and Python name it `auto` ([`Auto`]: the choice made per particle at its first step, from
+//! [`ParticleNumbers::of`], and printed per injection group in the run log).
+
+use super::stokesian::StokesianMemory;
+use super::{BarycentreModel, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
+use crate::error::{ParamError, StepError};
+use crate::flow::FlowField;
+use crate::hydro::DragModel;
+use crate::material::Response;
+use crate::particle::{Particle, State};
+use crate::tensor::Mat3;
+use serde::{Deserialize, Serialize};
+
+/// Largest St for the equilibrium barycentre. Measured on the airway bifurcation (rigid
+/// λ = 20 prolates, rtol 10⁻², 4 000 particles paired with the inertial barycentre,
+/// `examples/barycentre_choice.rs`, `paper-figures/fig18/barycentre_choice.csv`; for these
+/// particles St = τ γ̇ = 2.71 Stk, with Stk of paper eq. 25): at Stk ≤ 0.02 (St ≤ 0.054) at most
+/// 1 fate in 4 000 changes (the integration tolerance itself moves about 1 in 10³,
+/// `scenes::bifurcation::study::RTOL`) with 2.4–4.3× fewer steps; at Stk = 0.04 (St = 0.11) the
+/// equilibrium model loses 3 of 23 deposits, at 0.06 4 of 30 and at 0.1 20 of 53: the O(St²)
+/// terms it drops decide impaction at the carina, where the flow's local time scale is much
+/// shorter than the volume mean 1/γ̇. 0.06 lies between the last passing and the first failing
+/// measurement.
+pub const EQUILIBRIUM_STOKES: f64 = 0.06;
+
+/// Smallest rtol at which the Rosenbrock-W pair is chosen. At rtol 10⁻² (the deposition
+/// studies) it costs half of Radau's CPU time on the bifurcation's rigid prolates (1.6 s against
+/// 3.1 s at Stk 0.005, equilibrium barycentre; 2.4 s against 3.7 s at Stk 0.1, inertial; 1 000
+/// particles, `examples/population_scaling`); at 10⁻³ the two cost the same (soft sphere,
+/// [`Scheme`]'s table), and from 10⁻⁶ down Radau costs 2–20× less.
+pub const ROSENBROCK_RTOL: f64 = 1e-3;
+
+/// ρ* above which the reason states that the shape's inertia is neglected. The shape's
+/// inertia relaxes on the time ρ_p d_eq²/μ_f = ρ*/γ̇, so the inertialess shape departs from the
+/// inertial one by O(ρ*) (`tests/suite/integrator/every_scheme.rs` bounds it by 10 ρ* in
+/// shear); 0.1 keeps that below the studies' 10⁻² tolerance.
+pub const RHO_STAR_INERTIALESS: f64 = 0.1;
+
+/// The numbers the choice reads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParticleNumbers {
+    /// Stokes number: the particle's response time over the flow's time scale.
+    pub stokes: f64,
+    /// ρ* = ρ_p γ̇ d_eq²/μ_f, the shape's inertia against the viscous traction.
+    pub rho_star: f64,
+    /// A rigid particle (Ca → 0).
+    pub rigid: bool,
+}
+
+impl ParticleNumbers {
+    /// The numbers of `particle` in `flow`: the largest response time of the rest shape,
+    /// τ = m/(μ_f λ_min(K̂)) (the slowest direction of the drag tensor), over the flow's time
+    /// scale 1/γ̇ ([`FlowField::strain_rate`]; a flow without one gives St = ∞, so the particle
+    /// keeps its inertia), and ρ* = ρ_p γ̇ d_eq²/μ_f.
+    pub fn of<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        particle: &Particle<M, D>,
+        flow: &F,
+    ) -> Result<Self, ParamError> {
+        let rest = particle.try_geometry(&Mat3::identity())?;
+        let resistance = particle.drag().resistance(&rest.frame, &rest.ints);
+        let slowest = resistance.symmetric_eigenvalues().min();
+        let tau = particle.mass() / (particle.fluid().mu * slowest);
+        let rate = flow.strain_rate().unwrap_or(f64::INFINITY);
+        let d_eq = 2.0 * particle.shape().semi_axes().product().cbrt();
+        Ok(Self {
+            stokes: tau * rate,
+            rho_star: particle.rho_solid() * rate * d_eq * d_eq / particle.fluid().mu,
+            rigid: particle.elastic().is_none(),
+        })
+    }
+}
+
+/// An integrator and why it was chosen.
+#[derive(Debug, Clone)]
+pub struct Choice {
+    /// The integrator.
+    pub integrator: Stokesian,
+    /// One line for the run log: the numbers and the rules they met.
+    pub reason: String,
+}
+
+/// The integrator for a particle with `numbers` at tolerances `tol` (module docs).
+pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, ParamError> {
+    // St = ∞ (a flow with no time scale) is allowed: the particle keeps its inertia.
+    if numbers.stokes.is_nan() || numbers.stokes < 0.0 {
+        return Err(ParamError::NotPositive {
+            name: "Stokes number",
+            value: numbers.stokes,
+        });
+    }
+    let stokes = numbers.stokes;
+    let rho_star = numbers.rho_star;
+    if rho_star.is_nan() || rho_star < 0.0 {
+        return Err(ParamError::NotPositive {
+            name: "rho*",
+            value: rho_star,
+        });
+    }
+    let equilibrium = stokes <= EQUILIBRIUM_STOKES;
+    let rosenbrock = tol.rtol() >= ROSENBROCK_RTOL;
+    let scheme = if rosenbrock {
+        Scheme::Rosenbrock23
+    } else {
+        Scheme::Radau5
+    };
+    let reason = format!(
+        "{} inertialess shape, {} barycentre, {}: St = {stokes:.3e} {} {EQUILIBRIUM_STOKES}, rtol = {:.0e} {} \
+         {ROSENBROCK_RTOL:.0e}, rho* = {rho_star:.3e}{}",
+        if numbers.rigid { "rigid" } else { "elastic" },
+        if equilibrium { "equilibrium" } else { "inertial" },
+        scheme.name(),
+        if equilibrium { "<=" } else { ">" },
+        tol.rtol(),
+        if rosenbrock { ">=" } else { "<" },
+        if rho_star > RHO_STAR_INERTIALESS {
+            format!(" > {RHO_STAR_INERTIALESS}: the shape's inertia is neglected (an O(rho*) error)")
+        } else {
+            String::new()
+        }
+    );
+    Ok(Choice {
+        integrator: Stokesian {
+            tol,
+            barycentre: if equilibrium {
+                BarycentreModel::Equilibrium
+            } else {
+                BarycentreModel::Inertial
+            },
+            scheme,
+        },
+        reason,
+    })
+}
+
+/// The integrator chosen per particle ([`choose`] on [`ParticleNumbers::of`]) at tolerances
+/// `tol`, at the particle's first step.
+#[derive(Debug, Clone, Copy)]
+pub struct Auto {
+    /// Error tolerances.
+    pub tol: Tolerances,
+}
+
+impl Auto {
+    /// The choice for `particle` in `flow`.
+    pub fn choice<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        flow: &F,
+    ) -> Result<Choice, ParamError> {
+        choose(ParticleNumbers::of(particle, flow)?, self.tol)
+    }
+}
+
+/// Step memory of [`Auto`]: the chosen integrator and its memory. The choice is a function of
+/// the particle, the flow and the tolerances, so a checkpoint need not keep it.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct AutoMemory {
+    #[serde(skip)]
+    chosen: Option<Stokesian>,
+    inner: StokesianMemory,
+}
+
+impl TimeIntegrator for Auto {
+    type Memory = AutoMemory;
+
+    fn name(&self) -> &'static str {
+        "auto"
+    }
+
+    fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        state: &State,
+        memory: &mut AutoMemory,
+        flow: &F,
+        dt: f64,
+    ) -> Result<Step, StepError> {
+        let chosen = match memory.chosen {
+            Some(chosen) => chosen,
+            None => {
+                let chosen = self.choice(particle, flow).map_err(StepError::Param)?.integrator;
+                memory.chosen = Some(chosen);
+                chosen
+            }
+        };
+        chosen.step_with(particle, state, &mut memory.inner, flow, dt)
+    }
+
+    fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        flow: &F,
+    ) -> Option<String> {
+        Some(match self.choice(particle, flow) {
+            Ok(choice) => choice.reason,
+            Err(e) => format!("no choice: {e}"),
+        })
+    }
+}
+
+// Selectable by name: `[integrator] type = "auto"` with `tol` (rtol = atol).
+inventory::submit! {
+    super::IntegratorRegistration {
+        name: "auto",
+        aliases: &[],
+        build: |p| {
+            p.only(&["tol"])?;
+            Ok(super::SceneIntegrator::new(Auto {
+                tol: Tolerances::uniform(p.positive("tol")?)?,
+            }))
+        },
+    }
+}
