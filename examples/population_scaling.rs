@@ -25,18 +25,8 @@ use pseudorigid::population::settling_pipe::SettlingPipe;
 use pseudorigid::population::{Case, RunConfig, RunOptions, RunOutput, Shard, run};
 use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures, study};
 use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::scenes::peer::process_cpu_seconds as cpu_seconds;
 use std::time::Instant;
-
-/// CPU time (user + system) of this process in seconds (Linux), if known: fields 14 and 15 of
-/// /proc/self/stat, in USER_HZ = 100 ticks per second (fixed for user space on Linux).
-fn cpu_seconds() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // The command name (field 2) is in parentheses and may hold spaces: count after it.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
-    Some(ticks / 100.0)
-}
 
 /// Resident set size in bytes (Linux), if known.
 fn rss() -> Option<f64> {
