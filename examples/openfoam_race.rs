@@ -241,6 +241,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             p.both, p.only_ours, p.only_peer, p.neither
         )?;
     }
+    // Paths in the repository as the repository sees them, not as this machine does.
+    let md = md.replace(&format!("{}/", root.display()), "");
     std::fs::write(out.join("race.md"), &md)?;
     println!("{md}");
 
