@@ -88,7 +88,7 @@ pub struct Settings {
     /// for the others.
     pub integrator: &'static str,
     /// `None`: rigid spheres (the dataset's). `Some(μ_s)`: soft ones, neo-Hookean with shear
-    /// modulus μ_s [Pa] and λ_s = [`BULK_RATIO`] μ_s, starting undeformed. In the bend's
+    /// modulus μ_s (Pa) and λ_s = [`BULK_RATIO`] μ_s, starting undeformed. In the bend's
     /// scales the capillary number is Ca = μ_f (U/2a)/μ_s (1.1·10⁻² at μ_s = 1 Pa).
     pub shear_modulus: Option<f64>,
 }

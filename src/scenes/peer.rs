@@ -46,13 +46,13 @@ use thiserror::Error;
 /// What the peer needs of one particle: where it starts, how fast, its size and density (SI).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PeerParticle {
-    /// Barycentre at injection [m].
+    /// Barycentre at injection (m).
     pub position: Vec3,
-    /// Initial velocity [m/s].
+    /// Initial velocity (m/s).
     pub velocity: Vec3,
-    /// Diameter [m] (the volume-equivalent one).
+    /// Diameter (m) (the volume-equivalent one).
     pub diameter: f64,
-    /// Density [kg/m³].
+    /// Density (kg/m³).
     pub density: f64,
 }
 
@@ -115,11 +115,11 @@ pub enum PeerRunError {
 pub struct OpenFoamTracker {
     /// `benches/peers/openfoam_tracker/run.sh`.
     pub script: PathBuf,
-    /// Tracking time [s] (`END_TIME`).
+    /// Tracking time (s) (`END_TIME`).
     pub end_time: f64,
-    /// Gravity [m/s²] (`GRAVITY`).
+    /// Gravity (m/s²) (`GRAVITY`).
     pub gravity: Vec3,
-    /// Fluid density [kg/m³] (`FLUID_RHO`).
+    /// Fluid density (kg/m³) (`FLUID_RHO`).
     pub fluid_density: f64,
 }
 
@@ -135,11 +135,11 @@ pub struct OpenFoamRun {
 /// What `run.sh` reports of its run (`summary.txt`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrackerSummary {
-    /// Wall time of both phases (injection and tracking) and the script's helpers [s].
+    /// Wall time of both phases (injection and tracking) and the script's helpers (s).
     pub wall_seconds: f64,
-    /// Wall time of the tracking process alone [s].
+    /// Wall time of the tracking process alone (s).
     pub track_wall_seconds: f64,
-    /// CPU time of the tracking process (its last `ExecutionTime`) [s].
+    /// CPU time of the tracking process (its last `ExecutionTime`) (s).
     pub cpu_seconds: f64,
     /// Outer time steps.
     pub outer_steps: u64,
@@ -245,9 +245,9 @@ pub fn process_cpu_seconds() -> Option<f64> {
 /// Wall and CPU time of some work.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cost {
-    /// Wall time [s].
+    /// Wall time (s).
     pub wall_seconds: f64,
-    /// CPU time of the process over the same span [s] (`None` where `/proc` is missing).
+    /// CPU time of the process over the same span (s) (`None` where `/proc` is missing).
     pub cpu_seconds: Option<f64>,
 }
 
@@ -390,12 +390,12 @@ impl RaceRow {
         self.particles - self.finished
     }
 
-    /// Wall time per particle [s].
+    /// Wall time per particle (s).
     pub fn wall_per_particle(&self) -> f64 {
         self.cost.wall_seconds / self.particles.max(1) as f64
     }
 
-    /// CPU time per particle [s], if measured.
+    /// CPU time per particle (s), if measured.
     pub fn cpu_per_particle(&self) -> Option<f64> {
         self.cost.cpu_seconds.map(|c| c / self.particles.max(1) as f64)
     }
