@@ -24,10 +24,10 @@
 //! de_stderr,reference_de`), `fates.csv` (every fate per Stk) and `deposition.svg` to
 //! `paper-figures/bend/`, or to the folder `$BEND_OUT` if set (the CI check's reduced study).
 
-use pseudorigid::population::peer::{Pairing, read_peer_fates};
+use pseudorigid::population::peer::Pairing;
 use pseudorigid::population::{Fate, RunOptions};
 use pseudorigid::scenes::bend::{
-    BEND_WALL, BendCase, FLUID_DENSITY, PARTICLE_DENSITY, SEED, Settings, deposition_figure, deposition_table,
+    BendCase, SEED, Settings, deposition_figure, deposition_table, on_bend_wall, peer_on_bend_wall,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -163,40 +163,11 @@ fn compare_with_openfoam(
 ) -> Result<(), Box<dyn std::error::Error>> {
     let name = format!("{}_stk{stk}", case.cells);
     let work = root.join("target/bend-peer").join(&name);
-    std::fs::create_dir_all(&work)?;
-    let d = case.diameter_for_stokes(stk)?;
-    let specs = case.particle_specs(stk, n, SEED)?;
-    let mut csv = String::from("index,x,y,z,u,v,w,d,rho\n");
-    for (k, spec) in specs.iter().enumerate() {
-        let (x, u) = (spec.position, spec.velocity);
-        writeln!(
-            csv,
-            "{k},{},{},{},{},{},{},{d},{PARTICLE_DENSITY}",
-            x.x, x.y, x.z, u.x, u.y, u.z
-        )?;
-    }
-    let particles = work.join("particles.csv");
-    std::fs::write(&particles, csv)?;
-    let end_time = Settings::default().residence_times * case.residence_time;
-    let status = Command::new("sh")
-        .arg(root.join("benches/peers/openfoam_tracker/run.sh"))
-        .arg(&case.dir)
-        .arg(&particles)
-        .arg(work.join("openfoam"))
-        .env("END_TIME", format!("{end_time:e}"))
-        .env("GRAVITY", "(0 0 0)")
-        .env("FLUID_RHO", format!("{FLUID_DENSITY:e}"))
-        .status()?;
-    if !status.success() {
-        return Err(format!("run.sh: {status}").into());
-    }
-    let peer = read_peer_fates(&work.join("openfoam/fates.csv"))?;
-    let summary = std::fs::read_to_string(work.join("openfoam/summary.txt"))?;
-    let wall_openfoam: f64 = summary
-        .lines()
-        .find_map(|l| l.strip_prefix("wall_seconds="))
-        .and_then(|v| v.trim().parse().ok())
-        .unwrap_or(f64::NAN);
+    let particles = case.peer_particles(stk, n, SEED)?;
+    let peer = case
+        .openfoam_tracker(root, Settings::default())?
+        .run(&case.dir, &particles, &work)?;
+    let wall_openfoam = peer.summary.wall_seconds;
 
     let start = Instant::now();
     let ours = case.run_output(stk, n, SEED, Settings::default(), RunOptions::default().quiet())?;
@@ -207,11 +178,12 @@ fn compare_with_openfoam(
     let mut pairs = String::from("index,ours,ours_patch,openfoam,openfoam_patch,openfoam_t\n");
     for r in &ours.records {
         let p = peer
+            .fates
             .get(&r.index)
             .ok_or_else(|| format!("particle {} missing from fates.csv", r.index))?;
         let patch = r.fate.patch().map_or("", |i| ours.patches[i].as_str());
-        let ours_bend = matches!(r.fate, Fate::Deposited { .. }) && patch == BEND_WALL;
-        let peer_bend = p.fate == "deposited" && p.patch == BEND_WALL;
+        let ours_bend = on_bend_wall(r, &ours.patches);
+        let peer_bend = peer_on_bend_wall(p);
         pairing.add(ours_bend, peer_bend);
         match (&r.fate, ours_bend) {
             (Fate::Deposited { .. }, false) => counts[0] += 1,

@@ -42,14 +42,14 @@
 //! fraction (b + c)/n is at most [`DISCORDANT_MAX`].
 
 use pseudorigid::contact::ContactModel;
-use pseudorigid::population::peer::read_peer_fates;
 use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, Shard, run};
 use pseudorigid::scenes::bifurcation::setup::{GRAVITY, RHO_FLUID, rho_particle};
 use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, run_kind, study};
 use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::scenes::peer::{OpenFoamTracker, PeerParticle};
+use pseudorigid::tensor::Vec3;
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::Command;
 use std::time::Instant;
 
 /// `--check`: |DE_ours − DE_openfoam| ≤ DE_SIGMAS·√(se_ours² + se_openfoam²) + DE_SLACK. The
@@ -89,12 +89,6 @@ fn label(dir: &Path) -> String {
     }
 }
 
-fn summary_value(text: &str, key: &str) -> Option<f64> {
-    text.lines()
-        .find_map(|l| l.strip_prefix(key).and_then(|v| v.strip_prefix('=')))
-        .and_then(|v| v.trim().parse().ok())
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let check = args.iter().any(|a| a == "--check");
@@ -108,9 +102,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let n: u64 = n.parse()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let script = root.join("benches/peers/openfoam_tracker/run.sh");
     let case_label = label(Path::new(dir)) + if point { "-point" } else { "" };
     let airway = Airway::open(dir)?;
+    let tracker = OpenFoamTracker::new(root, airway.tracking_time(), Vec3::new(GRAVITY, 0.0, 0.0), RHO_FLUID)?;
     let mut failures = Vec::new();
     for stk in stks {
         let stokes: f64 = stk.parse()?;
@@ -121,48 +115,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         let name = format!("{case_label}_stk{stk}");
         let work = root.join("target/openfoam-peer").join(&name);
-        std::fs::create_dir_all(&work)?;
 
         // The particles, as the population runner draws them.
         let injection = Injection::new(&airway, kind)?;
-        let mut csv = String::from("index,x,y,z,u,v,w,d,rho\n");
-        let mut points = Vec::new();
-        for k in 0..n {
-            let spec = injection.particle_spec(figures::SEED, k)?;
-            let (x, u) = (spec.position, spec.velocity);
-            writeln!(
-                csv,
-                "{k},{},{},{},{},{},{},{},{}",
-                x.x,
-                x.y,
-                x.z,
-                u.x,
-                u.y,
-                u.z,
-                injection.d_eq(),
-                rho_particle()
-            )?;
-            points.push(x);
-        }
-        let particles = work.join("particles.csv");
-        std::fs::write(&particles, csv)?;
+        let particles = (0..n)
+            .map(|k| {
+                let spec = injection.particle_spec(figures::SEED, k)?;
+                Ok(PeerParticle {
+                    position: spec.position,
+                    velocity: spec.velocity,
+                    diameter: injection.d_eq(),
+                    density: rho_particle(),
+                })
+            })
+            .collect::<Result<Vec<_>, pseudorigid::error::StepError>>()?;
+        let points: Vec<_> = particles.iter().map(|p| p.position).collect();
 
         // OpenFOAM.
-        let status = Command::new("sh")
-            .arg(&script)
-            .arg(dir)
-            .arg(&particles)
-            .arg(work.join("openfoam"))
-            .env("END_TIME", format!("{:e}", airway.tracking_time()))
-            .env("GRAVITY", format!("({GRAVITY:e} 0 0)"))
-            .env("FLUID_RHO", format!("{RHO_FLUID:e}"))
-            .status()?;
-        if !status.success() {
-            return Err(format!("{}: {status}", script.display()).into());
-        }
-        let peer = read_peer_fates(&work.join("openfoam/fates.csv"))?;
-        let summary = std::fs::read_to_string(work.join("openfoam/summary.txt"))?;
-        let wall_openfoam = summary_value(&summary, "wall_seconds").unwrap_or(f64::NAN);
+        let openfoam = tracker.run(Path::new(dir), &particles, &work)?;
+        let peer = openfoam.fates;
+        let wall_openfoam = openfoam.summary.wall_seconds;
 
         // pseudorigid.
         let start = Instant::now();
@@ -295,13 +267,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     "{name}: ours failed {o_fail}, suspended {o_sus}; OpenFOAM not injected {f_not}, suspended {f_sus}"
                 ));
             }
-            if !((de_ours - de_of).abs() <= bound) {
+            // NaN (no finished particle) fails too.
+            if (de_ours - de_of).is_nan() || (de_ours - de_of).abs() > bound {
                 failures.push(format!(
                     "{name}: |DE difference| {:.4} > {bound:.4}",
                     (de_ours - de_of).abs()
                 ));
             }
-            if !(discordant <= DISCORDANT_MAX) {
+            if discordant.is_nan() || discordant > DISCORDANT_MAX {
                 failures.push(format!(
                     "{name}: discordant fraction {discordant:.3} > {DISCORDANT_MAX}"
                 ));

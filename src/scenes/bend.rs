@@ -35,7 +35,10 @@ use crate::cli::{CliError, Scene};
 use crate::error::ParamError;
 use crate::output::plot::{Figure, Panel, Series};
 use crate::output::{Csv, OutputError};
-use crate::population::{Fate, Injector, ParticleSpec, RunOptions, RunOutput, Shard, particle_rng};
+use crate::population::peer::PeerFate;
+use crate::population::{Fate, Injector, ParticleRecord, ParticleSpec, RunOptions, RunOutput, Shard, particle_rng};
+use crate::scenes::peer::{OpenFoamTracker, PeerParticle};
+use crate::tensor::Vec3;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -56,6 +59,11 @@ pub const BEND_WALL: &str = "wall_bend";
 pub const TOL: f64 = 1e-5;
 /// Run seed of the datasets.
 pub const SEED: u64 = 1;
+/// The scenes' integrator (`integrator.type`): Radau IIA(5), the library's default.
+pub const INTEGRATOR: &str = "radau_iia";
+/// Bulk modulus ratio λ_s/μ_s of [`Settings::shear_modulus`]'s neo-Hookean spheres: nearly
+/// incompressible, the bifurcation studies' ratio.
+pub const BULK_RATIO: f64 = 1e3;
 
 /// What a study may vary for a measurement of its own error; [`Default`] is the dataset's.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,6 +82,21 @@ pub struct Settings {
     pub contact_radius: Option<f64>,
     /// `particles.forces`: force terms beyond the paper's (default none, the dataset's).
     pub forces: &'static [&'static str],
+    /// `integrator.type`, a registered integrator (default [`INTEGRATOR`]; [`integrator_name`]
+    /// turns a user's name into one). It is given `tol` = [`Settings::tol`], so it must be an
+    /// adaptive one (`radau_iia`, `rosenbrock_w23`, `imex_adaptive`): the scene refuses `tol`
+    /// for the others.
+    pub integrator: &'static str,
+    /// `None`: rigid spheres (the dataset's). `Some(μ_s)`: soft ones, neo-Hookean with shear
+    /// modulus μ_s (Pa) and λ_s = [`BULK_RATIO`] μ_s, starting undeformed. In the bend's
+    /// scales the capillary number is Ca = μ_f (U/2a)/μ_s (1.1·10⁻² at μ_s = 1 Pa).
+    pub shear_modulus: Option<f64>,
+}
+
+/// The registered integrator called `name` (or one of its aliases), by its own name: what
+/// [`Settings::integrator`] takes. An unknown name is an error listing the known ones.
+pub fn integrator_name(name: &str) -> Result<&'static str, ParamError> {
+    Ok(crate::registry::find::<crate::integrator::registry::IntegratorRegistration>(name)?.name)
 }
 
 impl Default for Settings {
@@ -84,6 +107,8 @@ impl Default for Settings {
             blend: true,
             contact_radius: None,
             forces: &[],
+            integrator: INTEGRATOR,
+            shear_modulus: None,
         }
     }
 }
@@ -201,10 +226,26 @@ impl BendCase {
     pub fn scene_text(&self, stokes: f64, n: u64, seed: u64, settings: Settings) -> Result<String, ParamError> {
         crate::error::positive("integrator.tol", settings.tol)?;
         crate::error::positive("residence times", settings.residence_times)?;
+        let material = match settings.shear_modulus {
+            None => "{ law = \"rigid\" }".to_string(),
+            Some(mu) => {
+                let mu = crate::error::positive("shear modulus", mu)?;
+                format!("{{ law = \"neo_hooke\", mu = {mu:e}, lambda = {:e} }}", BULK_RATIO * mu)
+            }
+        };
         let r = 0.5 * self.diameter_for_stokes(stokes)?;
         let mut s = String::new();
         // Writing to a String cannot fail.
-        let _ = writeln!(s, "# cases/bend: rigid spheres of Stk = {stokes} (d = {:e} m)", 2.0 * r);
+        let _ = writeln!(
+            s,
+            "# cases/bend: {} spheres of Stk = {stokes} (d = {:e} m)",
+            if settings.shear_modulus.is_some() {
+                "soft"
+            } else {
+                "rigid"
+            },
+            2.0 * r
+        );
         let _ = writeln!(s, "seed = {seed}");
         let _ = writeln!(
             s,
@@ -227,12 +268,12 @@ impl BendCase {
         let _ = writeln!(
             s,
             "[particles.inject]\ncount = {n}\nsemi_axes = [{r:e}, {r:e}, {r:e}]\nfluid_velocity = true\n\
-             region = {{ type = \"patch\", name = \"inlet\" }}\nmaterial = {{ law = \"rigid\" }}"
+             region = {{ type = \"patch\", name = \"inlet\" }}\nmaterial = {material}"
         );
         let _ = writeln!(
             s,
-            "[integrator]\ntype = \"radau_iia\"\ntol = {:e}\ndt = 1e-6",
-            settings.tol
+            "[integrator]\ntype = \"{}\"\ntol = {:e}\ndt = 1e-6",
+            settings.integrator, settings.tol
         );
         let _ = writeln!(s, "[end]\nt_end = {:e}", settings.residence_times * self.residence_time);
         let _ = writeln!(s, "[output]\nvtk = false");
@@ -296,6 +337,45 @@ impl BendCase {
             })
             .collect()
     }
+}
+
+impl BendCase {
+    /// Spheres 0..n of Stokes number `stokes` as OpenFOAM's tracker takes them
+    /// ([`Self::particle_specs`]: the same particles as [`Self::run_output`]).
+    pub fn peer_particles(&self, stokes: f64, n: u64, seed: u64) -> Result<Vec<PeerParticle>, BendError> {
+        let diameter = self.diameter_for_stokes(stokes)?;
+        Ok(self
+            .particle_specs(stokes, n, seed)?
+            .iter()
+            .map(|spec| PeerParticle {
+                position: spec.position,
+                velocity: spec.velocity,
+                diameter,
+                density: PARTICLE_DENSITY,
+            })
+            .collect())
+    }
+
+    /// OpenFOAM's tracker (the repository at `root`) on this case, as the scene runs: the
+    /// same tracking time, no gravity, the scene's fluid density.
+    pub fn openfoam_tracker(&self, root: &Path, settings: Settings) -> Result<OpenFoamTracker, ParamError> {
+        OpenFoamTracker::new(
+            root,
+            settings.residence_times * self.residence_time,
+            Vec3::zeros(),
+            FLUID_DENSITY,
+        )
+    }
+}
+
+/// Whether a record deposited on the bend's wall (the DE's count), given the run's patches.
+pub fn on_bend_wall<L>(record: &ParticleRecord<L>, patches: &[String]) -> bool {
+    matches!(record.fate, Fate::Deposited { patch, .. } if patches.get(patch).map(String::as_str) == Some(BEND_WALL))
+}
+
+/// Whether OpenFOAM's parcel deposited on the bend's wall.
+pub fn peer_on_bend_wall(fate: &PeerFate) -> bool {
+    fate.fate == "deposited" && fate.patch == BEND_WALL
 }
 
 /// Fates of one Stokes number's spheres.

@@ -28,7 +28,9 @@
 //! - `cavity_benchmark` (feature `mesh`): the cavity flow field against Albensoeder & Kuhlmann
 //!   (2005);
 //! - `stagnation` (feature `mesh`): the exact Hiemenz stagnation flow written into meshed boxes
-//!   (snappyHexMesh prism layers, `cases/stagnation`), the wall layer against it.
+//!   (snappyHexMesh prism layers, `cases/stagnation`), the wall layer against it;
+//! - `peer` (feature `parallel`): OpenFOAM's own tracker on the same particles
+//!   (`benches/peers/openfoam_tracker`), and the race of the two trackers' cost.
 
 #[cfg(all(feature = "cli", feature = "plot"))]
 pub mod bend;
@@ -40,6 +42,8 @@ pub mod cavity;
 pub mod cavity_benchmark;
 pub mod forces;
 pub mod particles;
+#[cfg(feature = "parallel")]
+pub mod peer;
 pub mod phase_boundary;
 pub mod phase_map;
 pub mod pipe;

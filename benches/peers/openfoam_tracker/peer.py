@@ -9,7 +9,8 @@ Subcommands (run.sh calls them in this order):
   control WORK --start T0 --end T1 --dt DT [--write-steps K]   system/controlDict.
   personalise WORK TIME PARTICLES   give each injected parcel its row's U, d, rho.
   cloud WORK --track   the tracking cloud dictionary (no injection).
-  fates WORK PARTICLES OUT.csv --wall S --end-time T   parse the patch records.
+  fates WORK PARTICLES OUT.csv --wall S [--track-wall S] --end-time T   parse the patch records
+      and the tracking log (outer steps, parcel outer steps, ExecutionTime).
 
 Stdlib and NumPy only.
 """
@@ -353,6 +354,13 @@ def fates(a):
     log = open(os.path.join(a.work, "log.track")).read()
     steps = len(re.findall(r"^Time = ", log, re.M))
     exec_time = re.findall(r"ExecutionTime = ([0-9.eE+\-]+) s", log)
+    # Parcel outer steps: the parcels moved in outer step k are those left after step k - 1
+    # (the cloud's report after each step; phase 2 injects none), starting from the injected
+    # ones. v1912 reports no finer count: each outer step of a parcel is at least one sub-step
+    # (one force evaluation and analytical velocity update), more where maxCo or a face
+    # crossing splits it.
+    left = [int(n) for n in re.findall(r"Current number of parcels\s*=\s*(\d+)", log)]
+    parcel_steps = sum([len(to_index)] + left[:-1]) if left else 0
     print(f"particles={len(rows)}")
     for k, v in counts.items():
         print(f"{k}={v}")
@@ -360,8 +368,11 @@ def fates(a):
     print(f"time_steps={steps}")
     times = re.findall(r"^Time = (\S+)", log, re.M)
     print(f"last_time={times[-1] if times else 0}")
+    print(f"parcel_steps={parcel_steps}")
     print(f"execution_seconds={exec_time[-1] if exec_time else 'nan'}")
     print(f"wall_seconds={a.wall:.3f}")
+    if a.track_wall is not None:
+        print(f"track_wall_seconds={a.track_wall:.3f}")
 
 
 def header_columns(header):
@@ -401,6 +412,7 @@ def main():
     s.add_argument("particles")
     s.add_argument("out")
     s.add_argument("--wall", type=float, required=True)
+    s.add_argument("--track-wall", type=float)
     s.add_argument("--end-time", required=True)
     a = p.parse_args()
     if a.cmd == "cloud":

@@ -22,7 +22,9 @@
 #   0.3 of a cell), U_INTERPOLATION (cellPoint; cell: the cell value), U_INTEGRATION
 #   (analytical: exact over a sub-step for the frozen interpolated velocity; Euler: implicit Euler)
 # Output: OUT_DIR/fates.csv (index,fate,patch,t,x,y,z; fate deposited | escaped | suspended |
-# not_injected), OUT_DIR/summary.txt (key=value: wall times, steps, counts), logs in OUT_DIR/case.
+# not_injected), OUT_DIR/summary.txt (key=value: wall times of both phases and of the tracking
+# phase alone, its CPU time (ExecutionTime), outer steps, parcel outer steps, counts), logs in
+# OUT_DIR/case.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 case_dir=$(cd "${1:?usage: run.sh CASE_DIR PARTICLES.csv OUT_DIR}" && pwd)
@@ -75,8 +77,11 @@ python3 "$here/peer.py" control "$work" --start "$t0" --end "$END_TIME" --dt "$d
 python3 "$here/peer.py" cloud "$work" --track --particles "$particles"
 # It runs to END_TIME: the steps after the cloud has emptied cost little (0.3 mm airway,
 # 10^4 parcels at Stk 0.1: empty from t = 0.30 s, 0.4 s of the 8.1 s of CPU time).
+# track_wall_seconds is this process alone (reading the case, tracking, writing the log).
+track_start=$(date +%s.%N)
 icoUncoupledKinematicParcelFoam > log.track 2>&1 || { echo "run.sh: tracking failed (see $work/log.track)" >&2; exit 1; }
 end=$(date +%s.%N)
 grep -q "^End" log.track || { echo "run.sh: icoUncoupledKinematicParcelFoam did not finish (see $work/log.track)" >&2; exit 1; }
-python3 "$here/peer.py" fates "$work" "$particles" "$out/fates.csv" --wall "$(awk "BEGIN { print $end - $start }")" --end-time "$END_TIME" > "$out/summary.txt"
+python3 "$here/peer.py" fates "$work" "$particles" "$out/fates.csv" --wall "$(awk "BEGIN { print $end - $start }")" \
+    --track-wall "$(awk "BEGIN { print $end - $track_start }")" --end-time "$END_TIME" > "$out/summary.txt"
 cat "$out/summary.txt"

@@ -133,3 +133,82 @@ fn peer_pairing_by_hand() {
     assert!(matches!(read_peer_fates(&file), Err(PeerError::Format { .. })));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The race's settings: an integrator chosen by name (aliases to the registered name, unknown
+/// names a typed error listing the known ones; one that takes no `tol` refused by the scene)
+/// and soft spheres (neo-Hookean, λ_s = 10³ μ_s; a shear modulus ≤ 0 refused).
+#[test]
+fn race_settings_in_the_scene() {
+    use pseudorigid::scenes::bend::{BULK_RATIO, integrator_name};
+    assert_eq!(integrator_name("stokesian").unwrap(), "radau_iia");
+    assert_eq!(integrator_name("rosenbrock_w23").unwrap(), "rosenbrock_w23");
+    assert!(integrator_name("bogus").unwrap_err().to_string().contains("radau_iia"));
+    let case = BendCase::open(coarse()).unwrap();
+    let soft = Settings {
+        shear_modulus: Some(1.0),
+        integrator: "rosenbrock_w23",
+        ..Settings::default()
+    };
+    let text = case.scene_text(0.3, 4, SEED, soft).unwrap();
+    assert!(
+        text.contains(&format!("law = \"neo_hooke\", mu = 1e0, lambda = {:e}", BULK_RATIO)),
+        "{text}"
+    );
+    assert!(text.contains("type = \"rosenbrock_w23\""), "{text}");
+    assert!(case.scene(0.3, 4, SEED, soft).is_ok());
+    let bad = Settings {
+        shear_modulus: Some(-1.0),
+        ..Settings::default()
+    };
+    assert!(case.scene_text(0.3, 4, SEED, bad).is_err());
+    let fixed_step = Settings {
+        integrator: integrator_name("imex").unwrap(),
+        ..Settings::default()
+    };
+    assert!(matches!(case.scene(0.3, 4, SEED, fixed_step), Err(BendError::Cli(_))));
+}
+
+/// The race's spheres: OpenFOAM's particles are the runner's (same points and velocities, the
+/// diameter of the Stokes number); rigid spheres on 1 and 2 threads give the same records
+/// (the runner is deterministic for any thread count), and soft ones run to a fate.
+#[test]
+fn race_spheres_on_the_coarse_bend() {
+    use pseudorigid::scenes::bend::on_bend_wall;
+    let case = BendCase::open(coarse()).unwrap();
+    let n = 8;
+    let particles = case.peer_particles(0.3, n, SEED).unwrap();
+    let specs = case.particle_specs(0.3, n, SEED).unwrap();
+    assert_eq!(particles.len(), n as usize);
+    for (p, s) in particles.iter().zip(&specs) {
+        assert_eq!((p.position, p.velocity), (s.position, s.velocity));
+        assert_eq!(p.diameter, case.diameter_for_stokes(0.3).unwrap());
+    }
+    let run = |threads: usize, settings: Settings| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| case.run_output(0.3, n, SEED, settings, RunOptions::default().quiet()))
+            .unwrap()
+    };
+    let one = run(1, Settings::default());
+    let two = run(2, Settings::default());
+    assert_eq!(one.records, two.records);
+    let soft = run(
+        1,
+        Settings {
+            shear_modulus: Some(1.0),
+            ..Settings::default()
+        },
+    );
+    assert!(
+        soft.records
+            .iter()
+            .all(|r| !matches!(r.fate, pseudorigid::population::Fate::Failed { .. }))
+    );
+    // Deposition on the bend's wall by name, as the DE counts it.
+    let bend = one.records.iter().filter(|r| on_bend_wall(r, &one.patches)).count();
+    assert_eq!(
+        bend as u64,
+        case.run(0.3, n, SEED, Settings::default(), RunOptions::default().quiet())
+            .unwrap()
+            .bend
+    );
+}

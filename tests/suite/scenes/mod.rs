@@ -7,6 +7,7 @@ mod bifurcation;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 mod cavity;
 mod particles;
+mod peer;
 mod pipe;
 mod work_precision;
 
