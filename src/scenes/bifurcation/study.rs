@@ -9,13 +9,17 @@
 use super::BifurcationError;
 use super::injection::{Injection, Kind};
 use super::setup::{Airway, zhang_reference};
+use crate::contact::MeshBoundary;
 use crate::driver::{Budget, Plan};
 use crate::error::ParamError;
+use crate::flow::openfoam::BlendedFlow;
 use crate::hydro::ForceTerms;
 use crate::integrator::{BarycentreModel, Scheme, Stokesian, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
-use crate::population::{Case, Fate, FateCounts, PopulationError, RunConfig, RunOptions, RunOutput, Shard, run};
+use crate::population::{
+    Case, CaseObserver, Fate, FateCounts, PopulationError, RunConfig, RunOptions, RunOutput, Shard, run,
+};
 use serde::Serialize;
 use std::path::Path;
 
@@ -94,10 +98,36 @@ pub fn run_kind_with(
     options: &RunOptions,
     cache: Option<&Path>,
 ) -> Result<RunOutput<NeoHooke>, BifurcationError> {
+    run_kind_observed(airway, kind, forces, None, n, seed, shard, options, cache)
+}
+
+/// The observer of a study's particles ([`run_kind_observed`]).
+pub type StudyObserver<'a> = CaseObserver<'a, Injection<'a>, BlendedFlow, MeshBoundary>;
+
+/// [`run_kind_with`] with each particle's run watched by `observer` (its summary in the
+/// records' `observed`; its fingerprint enters the configuration hash, so a cached run without
+/// it, or with another observer, is never read for it). The fates are those of the unobserved
+/// run: an observer only reads what it is shown.
+#[allow(clippy::too_many_arguments)]
+pub fn run_kind_observed<'a>(
+    airway: &'a Airway,
+    kind: Kind,
+    forces: &ForceTerms,
+    observer: Option<&'a StudyObserver<'a>>,
+    n: u64,
+    seed: u64,
+    shard: Shard,
+    options: &RunOptions,
+    cache: Option<&Path>,
+) -> Result<RunOutput<NeoHooke>, BifurcationError> {
     let injection = Injection::new(airway, kind)?.with_forces(forces.clone());
     let integ = integrator()?;
     let plan = plan(airway)?;
     let case = Case::new(&integ, airway.flow(), airway.boundary(), &injection, plan);
+    let case = match observer {
+        Some(observer) => case.with_observer(observer),
+        None => case,
+    };
     let config = RunConfig {
         seed,
         particles: n,
