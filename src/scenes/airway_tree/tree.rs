@@ -191,7 +191,9 @@ impl Tree {
         for (i, t) in tubes.iter().enumerate() {
             let finite = t.start.iter().chain(&t.end).all(|c| c.is_finite());
             let length = t.length();
-            if t.id != i || !finite || !(length > 0.0) || !(t.radius > 0.0) || !(t.start_radius >= t.radius) {
+            // Comparisons with NaN are false, so a NaN length or radius fails here too.
+            let ok = t.id == i && finite && length > 0.0 && t.radius > 0.0 && t.start_radius >= t.radius;
+            if !ok {
                 return Err(invalid(format!(
                     "tube {i}: id {}, start {:?}, end {:?}, length {length:e}, radius {:e}, start radius {:e}",
                     t.id, t.start, t.end, t.radius, t.start_radius

@@ -194,7 +194,7 @@ fn shipped_field_carries_the_flow_rate_through_every_generation() {
     let q_in = setup::inlet_velocity() * std::f64::consts::PI * setup::RADIUS * setup::RADIUS;
     let h = 5e-5;
     let flow = a.airway().flow().cellwise();
-    let mut per_generation = vec![0.0; 4];
+    let mut per_generation = [0.0; 4];
     for tube in a.tree().tubes() {
         let d = tube.direction();
         let n1 = normal_to(&d);
