@@ -60,6 +60,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 kind,
                 &ForceTerms::default(),
                 &integ,
+                None,
                 n,
                 figures::SEED,
                 Shard::ALL,

@@ -49,10 +49,22 @@ def sdf(x, y, z):
         radial = np.sqrt(np.maximum((x - X_B) ** 2 + y**2 + z**2 - t**2, 0.0))
         daughters.append(np.maximum(radial - R, -t))
     a, b = daughters
-    k = K * np.clip(1.0 - (z / R) ** 2, 0.0, None)
-    h = np.clip(k - np.abs(a - b), 0.0, None)
-    blend = np.minimum(a, b) - np.where(k > 0, h * h / (4 * np.where(k > 0, k, 1.0)), 0.0)
+    blend = smooth_min(a, b, carina_width(K, z, R))
     return np.minimum(np.minimum(parent, joint), blend)
+
+
+def carina_width(k_apex, z, r):
+    """Blend width of the carina at height z above the bifurcation plane: k_apex at the apex,
+    tapered as (1 − (z/r)²)₊ to nothing where the two daughter walls meet tangentially (|z| = r
+    at the branch point)."""
+    return k_apex * np.clip(1.0 - (z / r) ** 2, 0.0, None)
+
+
+def smooth_min(a, b, k):
+    """Polynomial smooth minimum of a and b over the width k ≥ 0 (k = 0: the plain minimum):
+    min(a, b) − h²/(4k) with h = (k − |a − b|)₊."""
+    h = np.clip(k - np.abs(a - b), 0.0, None)
+    return np.minimum(a, b) - np.where(k > 0, h * h / (4 * np.where(k > 0, k, 1.0)), 0.0)
 
 
 def carina_radius():

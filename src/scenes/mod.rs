@@ -22,6 +22,8 @@
 //!   Re = 1000 against Pui et al. (1987) (`cases/bend`);
 //! - `bifurcation` (features `mesh`, `parallel`): deposition of soft ellipsoids in an airway
 //!   bifurcation (§6.4);
+//! - `airway_tree` (features `mesh`, `parallel`): the same particles through a symmetric
+//!   Weibel tree of generations 3 to 6, deposition efficiency per generation (issue 24);
 //! - [`pipe`]: the Tian/Cui laminar pipe flow (§6.2): orientation and deposition of soft
 //!   prolate particles;
 //! - `cavity` (feature `mesh`): soft and quasi-rigid ellipsoids in the lid-driven cavity (§6.3);
@@ -32,6 +34,8 @@
 //! - `peer` (feature `parallel`): OpenFOAM's own tracker on the same particles
 //!   (`benches/peers/openfoam_tracker`), and the race of the two trackers' cost.
 
+#[cfg(all(feature = "mesh", feature = "parallel"))]
+pub mod airway_tree;
 #[cfg(all(feature = "cli", feature = "plot"))]
 pub mod bend;
 #[cfg(all(feature = "mesh", feature = "parallel"))]

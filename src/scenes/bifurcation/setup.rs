@@ -94,6 +94,12 @@ pub fn zhang_reference(stokes: f64) -> Result<f64, ParamError> {
 /// `outlet2`: exits; `wall`: deposition). The flow is the continuous blend of the cells' linear
 /// fits ([`BlendedFlow`]): the cellwise field's jumps at faces cost the adaptive integrator most
 /// of its steps and trap some particles on faces.
+///
+/// Any case of this family opens the same way: an `inlet` patch in the plane x₁ = 0 with the
+/// uniform inflow [`inlet_velocity`] along e₁ into a parent of diameter [`DIAMETER`], `wall`
+/// patches and exits of type patch. The multi-generation tree (`cases/airway-tree`,
+/// [`crate::scenes::airway_tree`], eight outlets) is one: its G3 tube is this parent, so the
+/// Stokes and capillary numbers, the injection and the tracking rule carry over unchanged.
 #[derive(Debug, Clone)]
 pub struct Airway {
     flow: BlendedFlow,

@@ -9,15 +9,19 @@
 use super::BifurcationError;
 use super::injection::{Injection, Kind};
 use super::setup::{Airway, zhang_reference};
+use crate::contact::MeshBoundary;
 use crate::driver::{Budget, Plan};
 use crate::error::ParamError;
+use crate::flow::openfoam::BlendedFlow;
 use crate::hydro::ForceTerms;
 use crate::integrator::choice::{self, Choice, ParticleNumbers};
 use crate::integrator::{Stokesian, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
 use crate::population::Injector;
-use crate::population::{Case, Fate, FateCounts, PopulationError, RunConfig, RunOptions, RunOutput, Shard, run};
+use crate::population::{
+    Case, CaseObserver, Fate, FateCounts, PopulationError, RunConfig, RunOptions, RunOutput, Shard, run,
+};
 use serde::Serialize;
 use std::path::Path;
 
@@ -98,18 +102,41 @@ pub fn run_kind_with(
     options: &RunOptions,
     cache: Option<&Path>,
 ) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    let integ = integrator(airway, kind)?.integrator;
-    run_kind_using(airway, kind, forces, &integ, n, seed, shard, options, cache)
+    run_kind_observed(airway, kind, forces, None, n, seed, shard, options, cache)
 }
 
-/// [`run_kind_with`] with the integrator `integ` instead of the studies' choice (paired
+/// The observer of a study's particles ([`run_kind_observed`]).
+pub type StudyObserver<'a> = CaseObserver<'a, Injection<'a>, BlendedFlow, MeshBoundary>;
+
+/// [`run_kind_with`] with each particle's run watched by `observer` (its summary in the
+/// records' `observed`; its fingerprint enters the configuration hash, so a cached run without
+/// it, or with another observer, is never read for it). The fates are those of the unobserved
+/// run: an observer only reads what it is shown.
+#[allow(clippy::too_many_arguments)]
+pub fn run_kind_observed<'a>(
+    airway: &'a Airway,
+    kind: Kind,
+    forces: &ForceTerms,
+    observer: Option<&'a StudyObserver<'a>>,
+    n: u64,
+    seed: u64,
+    shard: Shard,
+    options: &RunOptions,
+    cache: Option<&Path>,
+) -> Result<RunOutput<NeoHooke>, BifurcationError> {
+    let integ = integrator(airway, kind)?.integrator;
+    run_kind_using(airway, kind, forces, &integ, observer, n, seed, shard, options, cache)
+}
+
+/// [`run_kind_observed`] with the integrator `integ` instead of the studies' choice (paired
 /// comparisons of integrators and models; the integrator enters the configuration hash).
 #[allow(clippy::too_many_arguments)]
-pub fn run_kind_using(
-    airway: &Airway,
+pub fn run_kind_using<'a>(
+    airway: &'a Airway,
     kind: Kind,
     forces: &ForceTerms,
     integ: &Stokesian,
+    observer: Option<&'a StudyObserver<'a>>,
     n: u64,
     seed: u64,
     shard: Shard,
@@ -119,6 +146,10 @@ pub fn run_kind_using(
     let injection = Injection::new(airway, kind)?.with_forces(forces.clone());
     let plan = plan(airway)?;
     let case = Case::new(integ, airway.flow(), airway.boundary(), &injection, plan);
+    let case = match observer {
+        Some(observer) => case.with_observer(observer),
+        None => case,
+    };
     let config = RunConfig {
         seed,
         particles: n,

@@ -1,6 +1,8 @@
 //! Shear-flow scenes (src/scenes): the paper's §6.1 statements, the tank-treading state,
 //! integrator convergence of the TU/TR classification, and snapshots of reduced datasets.
 
+#[cfg(all(feature = "mesh", feature = "parallel"))]
+mod airway_tree;
 mod bend;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 mod bifurcation;

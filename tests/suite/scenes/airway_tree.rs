@@ -1,0 +1,278 @@
+//! The multi-generation airway tree of issue 24 (src/scenes/airway_tree): the generation
+//! classifier on points built from the tree's own description, the shipped field's flow rates
+//! per generation, and a reduced deposition snapshot.
+
+use pseudorigid::flow::FlowField;
+use pseudorigid::scenes::airway_tree::study::{de_table, paired};
+use pseudorigid::scenes::airway_tree::tree::{Bifurcation, Tube};
+use pseudorigid::scenes::airway_tree::{AirwayTree, Location, Part, Tree, by_generation, run_kind};
+use pseudorigid::scenes::bifurcation::setup;
+use pseudorigid::tensor::Vec3;
+use std::sync::OnceLock;
+
+fn shipped() -> &'static AirwayTree {
+    static TREE: OnceLock<AirwayTree> = OnceLock::new();
+    TREE.get_or_init(|| AirwayTree::open(AirwayTree::shipped_dir("rotated")).expect("shipped airway tree"))
+}
+
+/// A unit vector normal to `d`.
+fn normal_to(d: &Vec3) -> Vec3 {
+    let helper = if d[2].abs() < 0.9 { Vec3::z() } else { Vec3::x() };
+    d.cross(&helper).normalize()
+}
+
+/// The shipped tree is the one of the issue: 1 + 2 + 4 + 8 tubes of generations 3 to 6, seven
+/// bifurcations, eight outlets that are patches of the mesh; every daughter is 60° from its
+/// sibling; the G3 tube starts on the inlet plane along e₁ with the bifurcation's diameter.
+#[test]
+fn shipped_tree_has_seven_bifurcations_and_eight_outlets() {
+    let tree = shipped().tree();
+    let per_generation: Vec<usize> = tree
+        .generations()
+        .map(|g| tree.tubes().iter().filter(|t| t.generation == g).count())
+        .collect();
+    assert_eq!(per_generation, vec![1, 2, 4, 8]);
+    assert_eq!(tree.bifurcations().len(), 7);
+    assert_eq!(tree.tubes().iter().filter(|t| t.outlet.is_some()).count(), 8);
+    let first = &tree.tubes()[0];
+    assert_eq!(first.start, [0.0, 0.0, 0.0]);
+    assert!((first.direction() - Vec3::x()).norm() < 1e-12);
+    assert!((2.0 * first.radius - setup::DIAMETER).abs() < 1e-12);
+    for b in tree.bifurcations() {
+        let d: Vec<Vec3> = tree
+            .tubes()
+            .iter()
+            .filter(|t| t.parent == Some(b.tube))
+            .map(|t| t.direction())
+            .collect();
+        let angle = d[0].dot(&d[1]).clamp(-1.0, 1.0).acos().to_degrees();
+        assert!((angle - 60.0).abs() < 1e-9, "bifurcation of tube {}: {angle}°", b.tube);
+    }
+}
+
+/// Points of each tube proper map to that tube and its generation: on its centreline halfway
+/// between its entry and its end, and 0.9 radii off it in two directions normal to its axis
+/// (inside the tube, nearer its own centreline than any other by construction: the nearest
+/// other centreline is at least a radius away from the wall).
+#[test]
+fn points_of_each_tube_map_to_its_generation() {
+    let tree = shipped().tree();
+    for tube in tree.tubes() {
+        let t = tube.entry + 0.5 * (tube.length() - tube.entry);
+        let d = tube.direction();
+        let n1 = normal_to(&d);
+        let n2 = d.cross(&n1);
+        let want = Location {
+            generation: tube.generation,
+            part: Part::Tube,
+            tube: tube.id,
+        };
+        for offset in [Vec3::zeros(), 0.9 * tube.radius * n1, -0.9 * tube.radius * n2] {
+            let x = tube.point(t) + offset;
+            assert_eq!(tree.classify(&x).unwrap(), want, "tube {} at {x:?}", tube.id);
+        }
+    }
+}
+
+/// Points at each bifurcation map to it: the branch point, the rounded carina apex (on the
+/// wall) and a point on each daughter's axis 0.1 R_d before its entry count as the parent's
+/// generation (a bifurcation zone or the parent tube's end); 0.1 R_d past the entry the
+/// daughter's own generation begins.
+#[test]
+fn points_near_each_carina_map_to_that_bifurcation() {
+    let tree = shipped().tree();
+    for b in tree.bifurcations() {
+        let g = b.generation;
+        for x in [Vec3::from(b.branch_point), Vec3::from(b.apex)] {
+            let got = tree.classify(&x).unwrap();
+            assert_eq!(got.generation, g, "bifurcation of tube {} at {x:?}: {got:?}", b.tube);
+        }
+        let apex = tree.classify(&Vec3::from(b.apex)).unwrap();
+        assert_eq!((apex.part, apex.tube), (Part::Bifurcation, b.tube));
+        for daughter in tree.tubes().iter().filter(|t| t.parent == Some(b.tube)) {
+            let before = tree
+                .classify(&daughter.point(daughter.entry - 0.1 * daughter.radius))
+                .unwrap();
+            assert_eq!(
+                before,
+                Location {
+                    generation: g,
+                    part: Part::Bifurcation,
+                    tube: b.tube
+                }
+            );
+            let after = tree
+                .classify(&daughter.point(daughter.entry + 0.1 * daughter.radius))
+                .unwrap();
+            assert_eq!(
+                after,
+                Location {
+                    generation: g + 1,
+                    part: Part::Tube,
+                    tube: daughter.id
+                }
+            );
+        }
+    }
+}
+
+/// The entry of a daughter lies one daughter radius past the carina apex along its axis (the
+/// zone rule of `scenes::airway_tree::tree`), to the round-off of the JSON's 17 digits.
+#[test]
+fn entries_are_one_radius_past_the_apex() {
+    let tree = shipped().tree();
+    for b in tree.bifurcations() {
+        for d in tree.tubes().iter().filter(|t| t.parent == Some(b.tube)) {
+            let t_apex = (Vec3::from(b.apex) - Vec3::from(d.start)).dot(&d.direction());
+            assert!((d.entry - t_apex - d.radius).abs() < 1e-12, "tube {}", d.id);
+        }
+    }
+}
+
+fn small_tree(
+    edit: impl FnOnce(&mut Vec<Tube>, &mut Vec<Bifurcation>),
+) -> Result<Tree, pseudorigid::scenes::airway_tree::TreeError> {
+    let tube = |id, generation, parent, start: [f64; 3], end: [f64; 3], entry| Tube {
+        id,
+        generation,
+        parent,
+        start,
+        end,
+        radius: 1e-3,
+        start_radius: 1e-3,
+        entry,
+        outlet: None,
+    };
+    let mut tubes = vec![
+        tube(0, 3, None, [0.0; 3], [1e-2, 0.0, 0.0], 0.0),
+        tube(1, 4, Some(0), [1e-2, 0.0, 0.0], [2e-2, 5e-3, 0.0], 3e-3),
+        tube(2, 4, Some(0), [1e-2, 0.0, 0.0], [2e-2, -5e-3, 0.0], 3e-3),
+    ];
+    let mut bifs = vec![Bifurcation {
+        generation: 3,
+        tube: 0,
+        branch_point: [1e-2, 0.0, 0.0],
+        normal: [0.0, 1.0, 0.0],
+        apex: [1.2e-2, 0.0, 0.0],
+        apex_radius: 4e-4,
+    }];
+    edit(&mut tubes, &mut bifs);
+    Tree::new("test".into(), tubes, bifs)
+}
+
+/// A consistent description is accepted; each inconsistency is refused with its numbers, and
+/// a non-finite point is refused, not classified.
+#[test]
+fn inconsistent_trees_are_refused() {
+    let tree = small_tree(|_, _| {}).unwrap();
+    assert_eq!(tree.generations(), 3..=4);
+    assert!(tree.classify(&Vec3::new(f64::NAN, 0.0, 0.0)).is_err());
+    let refused = [
+        small_tree(|t, _| t[1].generation = 5),
+        small_tree(|t, _| t[2].entry = 1.0),
+        small_tree(|t, _| t[1].parent = Some(2)),
+        small_tree(|t, _| t[1].start = [0.0, 1e-3, 0.0]),
+        small_tree(|t, _| t[0].radius = f64::NAN),
+        small_tree(|_, b| b.clear()),
+        small_tree(|t, _| t.clear()),
+    ];
+    for (k, r) in refused.into_iter().enumerate() {
+        assert!(r.is_err(), "case {k} accepted");
+    }
+}
+
+/// The shipped field carries the inlet flow rate Q = U π R₃² through every generation: the
+/// flux of the cellwise field through a cross-section of each tube (normal to its axis,
+/// halfway through the tube proper), summed over the tubes of a generation, is Q to 3 %, the
+/// bifurcation test's error budget for the same midpoint rule on a 0.05 mm grid (O(h²)
+/// reconstruction error, faceted wall, boundary band); here the G6 tubes have 6 cells of
+/// 0.25 mm per radius, the bifurcation's 10 of 0.3 mm, so the wall cells' share grows, and the
+/// bound is checked generation by generation.
+#[test]
+fn shipped_field_carries_the_flow_rate_through_every_generation() {
+    let a = shipped();
+    let q_in = setup::inlet_velocity() * std::f64::consts::PI * setup::RADIUS * setup::RADIUS;
+    let h = 5e-5;
+    let flow = a.airway().flow().cellwise();
+    let mut per_generation = [0.0; 4];
+    for tube in a.tree().tubes() {
+        let d = tube.direction();
+        let n1 = normal_to(&d);
+        let n2 = d.cross(&n1);
+        let centre = tube.point(tube.entry + 0.5 * (tube.length() - tube.entry));
+        let half = tube.radius + h;
+        let m = (2.0 * half / h).round() as i64;
+        let mut q = 0.0;
+        for i in 0..m {
+            for j in 0..m {
+                let (u, v) = (-half + (i as f64 + 0.5) * h, -half + (j as f64 + 0.5) * h);
+                if u * u + v * v > half * half {
+                    continue;
+                }
+                if let Ok(s) = flow.sample(&(centre + u * n1 + v * n2), 0.0) {
+                    q += s.u.dot(&d) * h * h;
+                }
+            }
+        }
+        per_generation[usize::from(tube.generation - 3)] += q;
+    }
+    for (k, q) in per_generation.iter().enumerate() {
+        assert!((q / q_in - 1.0).abs() < 0.03, "G{}: {q:e} vs {q_in:e}", k + 3);
+    }
+}
+
+/// 200 rigid and 200 soft (μ_s = 0.5 Pa) spheres at Stk = 0.4 through the shipped tree, the
+/// same particles (same seed): the per-generation table is snapshot (integer counts and DE to
+/// five digits), no particle fails, every particle entered G3, the entered counts do not grow
+/// with the generation, and a particle deposited in generation g entered it. The soft run is
+/// paired with the rigid one: per generation, the particles only one run deposits there.
+#[test]
+fn spheres_at_stokes_0_4_snapshot() {
+    use pseudorigid::population::{RunOptions, Shard};
+    use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
+    use pseudorigid::scenes::particles::Shape;
+    let a = shipped();
+    let n = 200;
+    let mut rows = Vec::new();
+    let mut outs = Vec::new();
+    for material in [Material::Rigid, Material::ShearModulus(0.5)] {
+        let kind = Kind {
+            shape: Shape::Sphere,
+            material,
+            stokes: 0.4,
+        };
+        let out = run_kind(
+            a,
+            kind,
+            n,
+            figures::SEED,
+            Shard::ALL,
+            &RunOptions::default().quiet(),
+            None,
+        )
+        .unwrap();
+        assert_eq!(out.counts().failed, 0);
+        let counts = by_generation(a.tree(), &out).unwrap();
+        assert_eq!(counts[0].entered, n);
+        for w in counts.windows(2) {
+            assert!(w[1].entered <= w[0].entered);
+        }
+        for c in &counts {
+            assert!(c.deposited <= c.entered);
+        }
+        rows.push((kind, counts));
+        outs.push(out);
+    }
+    let table = de_table(&rows).unwrap().to_text();
+    let pairs = paired(a.tree(), &outs[0], &outs[1]).unwrap();
+    let changes: Vec<String> = pairs
+        .iter()
+        .map(|p| {
+            format!(
+                "G{}: rigid only {}, soft only {}",
+                p.reference.generation, p.reference_only, p.soft_only
+            )
+        })
+        .collect();
+    insta::assert_snapshot!(format!("{table}\n{}", changes.join("\n")));
+}
