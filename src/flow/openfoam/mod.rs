@@ -12,6 +12,16 @@
 //! are linear in time; a steady case is one directory. Patches become particle boundaries in
 //! [`patch`].
 //!
+//! # Decomposed cases
+//! A case decomposed by `decomposePar` is read without `reconstructPar` ([`decomposed`]): the
+//! `processorN/` meshes and fields are reassembled through the decomposition's addressing into
+//! the undecomposed mesh and fields, bit for bit. Where both exist the reconstructed data are
+//! read ([`Layout::Auto`], what [`FoamCase::open`] does): the top-level mesh if there is one,
+//! each time from the top level if it is there, else from the processors (whose mesh must then
+//! be the top level's); [`FoamCase::open_with`] can ask for either side only. Processor
+//! directories without the addressing (a mesh made in parallel) are a
+//! [`FoamError::NoProcAddressing`] naming `reconstructParMesh`.
+//!
 //! # Accuracy
 //! For a smooth field the reconstruction error is O(h²) in u and O(h) in ∇u, including the
 //! cells at walls (checked on three snappyHexMesh refinements in the tests: observed orders
