@@ -244,7 +244,10 @@ impl Decomposition {
         let (face_cap, point_cap) = (total(PolyMesh::n_faces), total(|m| m.points().len()));
         let patch_cap = total(|m| m.patches().len());
         if n_cells >= UNSET as usize || face_cap >= UNSET as usize || point_cap >= UNSET as usize {
-            return Err(inconsistent(case, "the processors hold more than 2³² − 1 cells, faces or points"));
+            return Err(inconsistent(
+                case,
+                "the processors hold more than 2³² − 1 cells, faces or points",
+            ));
         }
 
         // Cells: a permutation of 0..n_cells.
@@ -278,7 +281,11 @@ impl Decomposition {
             for (&g, x) in list.iter().zip(mesh.points()) {
                 let g = g as usize;
                 if std::mem::replace(&mut point_seen[g], true) {
-                    if points[g].iter().zip(x.iter()).any(|(a, b): (&f64, &f64)| a.to_bits() != b.to_bits()) {
+                    if points[g]
+                        .iter()
+                        .zip(x.iter())
+                        .any(|(a, b): (&f64, &f64)| a.to_bits() != b.to_bits())
+                    {
                         return Err(inconsistent(
                             &dirs[k].1.join("constant/polyMesh/points"),
                             format!(
@@ -376,7 +383,12 @@ impl Decomposition {
             }
             face_lists.push(list);
         }
-        let n_faces = face_lists.iter().flatten().map(|a| a.unsigned_abs() as usize).max().unwrap_or(0);
+        let n_faces = face_lists
+            .iter()
+            .flatten()
+            .map(|a| a.unsigned_abs() as usize)
+            .max()
+            .unwrap_or(0);
         let mut owner = vec![UNSET; n_faces];
         let mut neighbour = vec![UNSET; n_faces];
         let mut patch_of = vec![UNSET; n_faces];
@@ -455,7 +467,10 @@ impl Decomposition {
             } else {
                 continue;
             };
-            return Err(inconsistent(case, format!("global face {g} (of {n_faces}) is {reason}")));
+            return Err(inconsistent(
+                case,
+                format!("global face {g} (of {n_faces}) is {reason}"),
+            ));
         }
         let mut patches = Vec::with_capacity(n_patches);
         let mut start = n_internal;
@@ -472,8 +487,8 @@ impl Decomposition {
         for s in source.iter().flatten() {
             global_face(&meshes, &point_lists, *s, &mut here);
             face_points.extend_from_slice(&here);
-            let end = u32::try_from(face_points.len())
-                .map_err(|_| inconsistent(case, "more than 2³² − 1 face vertices"))?;
+            let end =
+                u32::try_from(face_points.len()).map_err(|_| inconsistent(case, "more than 2³² − 1 face vertices"))?;
             face_offsets.push(end);
         }
         neighbour.truncate(n_internal);
@@ -552,7 +567,12 @@ impl Decomposition {
                         path: dir.join(name).display().to_string(),
                         reason: format!(
                             "the condition of patch `{}` prescribes the value here but not in another processor, or the reverse",
-                            p.mesh.patches().iter().zip(&p.patches).find(|(_, q)| **q == Some(g)).map_or("?", |(q, _)| &q.name)
+                            p.mesh
+                                .patches()
+                                .iter()
+                                .zip(&p.patches)
+                                .find(|(_, q)| **q == Some(g))
+                                .map_or("?", |(q, _)| &q.name)
                         ),
                     });
                 }

@@ -142,7 +142,8 @@ impl FoamCase {
                 })
                 .collect()
         };
-        let in_processors = |times: Vec<(f64, OsString)>| times.into_iter().map(|(time, name)| TimeDir { time, top: None, name });
+        let in_processors =
+            |times: Vec<(f64, OsString)>| times.into_iter().map(|(time, name)| TimeDir { time, top: None, name });
         let mut times = match layout {
             Layout::Reconstructed => top(time_dirs(&dir)?),
             Layout::Decomposed => in_processors(time_dirs(&dir.join("processor0"))?).collect(),

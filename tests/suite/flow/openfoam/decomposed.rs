@@ -36,11 +36,22 @@ fn copy_of_shipped(name: &str) -> PathBuf {
 
 /// Every array of the two meshes, bit for bit (points and derived geometry by their f64 bits).
 fn assert_same_mesh(a: &PolyMesh, b: &PolyMesh) {
-    let bits = |v: &[Vec3]| v.iter().flat_map(|x| x.iter().map(|c| c.to_bits())).collect::<Vec<u64>>();
+    let bits = |v: &[Vec3]| {
+        v.iter()
+            .flat_map(|x| x.iter().map(|c| c.to_bits()))
+            .collect::<Vec<u64>>()
+    };
     assert_eq!(bits(a.points()), bits(b.points()));
-    assert_eq!((a.n_faces(), a.n_internal_faces(), a.n_cells()), (b.n_faces(), b.n_internal_faces(), b.n_cells()));
+    assert_eq!(
+        (a.n_faces(), a.n_internal_faces(), a.n_cells()),
+        (b.n_faces(), b.n_internal_faces(), b.n_cells())
+    );
     for f in 0..a.n_faces() {
-        assert_eq!((a.face(f), a.owner(f), a.neighbour(f)), (b.face(f), b.owner(f), b.neighbour(f)), "face {f}");
+        assert_eq!(
+            (a.face(f), a.owner(f), a.neighbour(f)),
+            (b.face(f), b.owner(f), b.neighbour(f)),
+            "face {f}"
+        );
     }
     assert_eq!(a.patches(), b.patches());
     assert_eq!(bits(a.face_centres()), bits(b.face_centres()));
@@ -93,18 +104,36 @@ fn compare_layouts(case: &Path, n: usize, tracks: usize) -> Agreement {
     let parts = FoamCase::open_with(case, Layout::Decomposed).unwrap();
     assert!(parts.is_decomposed() && !whole.is_decomposed());
     assert_same_mesh(whole.mesh(), parts.mesh());
-    let times: Vec<f64> = parts.times().into_iter().filter(|t| whole.times().contains(t)).collect();
+    let times: Vec<f64> = parts
+        .times()
+        .into_iter()
+        .filter(|t| whole.times().contains(t))
+        .collect();
     assert!(!times.is_empty(), "{}: no time in both layouts", case.display());
     for &t in &times {
-        assert_eq!(whole.read_field(t, "U", 3).unwrap(), parts.read_field(t, "U", 3).unwrap(), "U at {t}");
+        assert_eq!(
+            whole.read_field(t, "U", 3).unwrap(),
+            parts.read_field(t, "U", 3).unwrap(),
+            "U at {t}"
+        );
         if whole.time_dir(t).unwrap().join("p").is_file() {
-            assert_eq!(whole.read_field(t, "p", 1).unwrap(), parts.read_field(t, "p", 1).unwrap(), "p at {t}");
+            assert_eq!(
+                whole.read_field(t, "p", 1).unwrap(),
+                parts.read_field(t, "p", 1).unwrap(),
+                "p at {t}"
+            );
         }
     }
     let last = [*times.last().unwrap()];
-    let (a, b) = (FoamFlow::read(&whole, &last).unwrap(), FoamFlow::read(&parts, &last).unwrap());
+    let (a, b) = (
+        FoamFlow::read(&whole, &last).unwrap(),
+        FoamFlow::read(&parts, &last).unwrap(),
+    );
     assert_eq!(a.fingerprint(), b.fingerprint());
-    let (ba, bb) = (BlendedFlow::new(a.clone()).unwrap(), BlendedFlow::new(b.clone()).unwrap());
+    let (ba, bb) = (
+        BlendedFlow::new(a.clone()).unwrap(),
+        BlendedFlow::new(b.clone()).unwrap(),
+    );
     assert_eq!(ba.fingerprint(), bb.fingerprint());
     let m = whole.mesh();
     let lo = m.points().iter().fold(Vec3::repeat(f64::INFINITY), |l, p| l.inf(p));
@@ -138,7 +167,9 @@ fn compare_layouts(case: &Path, n: usize, tracks: usize) -> Agreement {
     for x0 in box_points(tracks, lo + 0.1 * (hi - lo), hi - 0.1 * (hi - lo)) {
         let (mut x, mut y) = (x0, x0);
         for _ in 0..200 {
-            let (Ok(sx), Ok(sy)) = (ba.sample(&x, t), bb.sample(&y, t)) else { break };
+            let (Ok(sx), Ok(sy)) = (ba.sample(&x, t), bb.sample(&y, t)) else {
+                break;
+            };
             let (Ok(mx), Ok(my)) = (ba.sample(&(x + 0.5 * h * sx.u), t), bb.sample(&(y + 0.5 * h * sy.u), t)) else {
                 break;
             };
@@ -156,12 +187,17 @@ fn compare_layouts(case: &Path, n: usize, tracks: usize) -> Agreement {
 fn shipped_decomposed_case_reads_as_its_undecomposed_mesh_and_field() {
     let agreement = compare_layouts(&shipped(), 2000, 20);
     assert_eq!((agreement.cells, agreement.times), (18, 1));
-    assert!(agreement.outside > 0 && agreement.outside < agreement.samples / 2, "{agreement:?}");
+    assert!(
+        agreement.outside > 0 && agreement.outside < agreement.samples / 2,
+        "{agreement:?}"
+    );
     assert!(agreement.track_steps > 1000, "{agreement:?}");
     // OpenFOAM reversed faces in every processor: the neighbour side of each of its processor
     // faces, whose vertex order the reader has turned back.
     for k in 0..3 {
-        let text = std::fs::read_to_string(shipped().join(format!("processor{k}/constant/polyMesh/faceProcAddressing"))).unwrap();
+        let text =
+            std::fs::read_to_string(shipped().join(format!("processor{k}/constant/polyMesh/faceProcAddressing")))
+                .unwrap();
         assert!(text.lines().any(|l| l.starts_with('-')), "processor{k}");
     }
 }
@@ -191,18 +227,31 @@ fn layouts_choose_where_the_mesh_and_each_time_come_from() {
     assert_eq!(case.times(), vec![T]);
     assert_eq!(case.read_field(T, "U", 3).unwrap(), u);
     assert!(matches!(case.time_dir(T), Err(FoamError::Decomposed { .. })));
-    assert!(matches!(case.read_field(1.0, "U", 3), Err(FoamError::NoSuchTime { .. })));
+    assert!(matches!(
+        case.read_field(1.0, "U", 3),
+        Err(FoamError::NoSuchTime { .. })
+    ));
     // Read as serial, the time is not there and the error says to reconstruct it.
     let serial = FoamCase::open_with(&dir, Layout::Reconstructed).unwrap();
     assert!(serial.times().is_empty());
     let err = serial.read_field(T, "U", 3).unwrap_err();
-    assert!(matches!(err, FoamError::Decomposed { .. }) && err.to_string().contains("reconstructPar"), "{err}");
+    assert!(
+        matches!(err, FoamError::Decomposed { .. }) && err.to_string().contains("reconstructPar"),
+        "{err}"
+    );
 
     // Both have the time: the top level's is read, unless the processors are asked for.
     let dir = copy_of_shipped("both");
     let top = dir.join("127/U");
     let text = std::fs::read_to_string(&top).unwrap();
-    std::fs::write(&top, text.replace("value           uniform (0.0813 0 0)", "value           uniform (1 0 0)")).unwrap();
+    std::fs::write(
+        &top,
+        text.replace(
+            "value           uniform (0.0813 0 0)",
+            "value           uniform (1 0 0)",
+        ),
+    )
+    .unwrap();
     let lid = |case: &FoamCase| {
         let patch = &case.mesh().patches()[0];
         let u = case.read_field(T, "U", 3).unwrap();
@@ -240,18 +289,29 @@ fn layouts_choose_where_the_mesh_and_each_time_come_from() {
     std::fs::write(&neighbour, swapped.join("\n")).unwrap();
     let case = FoamCase::open(&dir).unwrap();
     let err = case.read_field(T, "U", 3).unwrap_err();
-    assert!(matches!(&err, FoamError::Decomposition { reason, .. } if reason.contains("stale")), "{err}");
+    assert!(
+        matches!(&err, FoamError::Decomposition { reason, .. } if reason.contains("stale")),
+        "{err}"
+    );
 }
 
 #[test]
 fn missing_addressing_names_reconstruct_par_mesh() {
-    for file in ["cellProcAddressing", "faceProcAddressing", "pointProcAddressing", "boundaryProcAddressing"] {
+    for file in [
+        "cellProcAddressing",
+        "faceProcAddressing",
+        "pointProcAddressing",
+        "boundaryProcAddressing",
+    ] {
         let dir = copy_of_shipped(&format!("missing-{file}"));
         std::fs::remove_dir_all(dir.join("constant")).unwrap();
         std::fs::remove_file(dir.join("processor1/constant/polyMesh").join(file)).unwrap();
         let err = FoamCase::open(&dir).unwrap_err();
         match &err {
-            FoamError::NoProcAddressing { path } => assert!(path.ends_with(&format!("processor1/constant/polyMesh/{file}")), "{path}"),
+            FoamError::NoProcAddressing { path } => assert!(
+                path.ends_with(&format!("processor1/constant/polyMesh/{file}")),
+                "{path}"
+            ),
             other => panic!("{file}: {other:?}"),
         }
         assert!(err.to_string().contains("reconstructParMesh"), "{err}");
@@ -294,9 +354,18 @@ fn inconsistent_decompositions_are_typed_errors() {
     // A processor face turned (its sign flipped): its owner side listed twice or not at all.
     let dir = copy_of_shipped("face-sign");
     let body = text(&dir, face_list);
-    let first = body[body.find("\n(\n").unwrap() + 3..].lines().next().unwrap().to_string();
+    let first = body[body.find("\n(\n").unwrap() + 3..]
+        .lines()
+        .next()
+        .unwrap()
+        .to_string();
     let reversed = body.lines().find(|l| l.starts_with('-')).unwrap().to_string();
-    edit(&dir, face_list, &format!("\n{reversed}\n"), &format!("\n{}\n", &reversed[1..]));
+    edit(
+        &dir,
+        face_list,
+        &format!("\n{reversed}\n"),
+        &format!("\n{}\n", &reversed[1..]),
+    );
     decomposition_error(&dir, "reversed face unreversed");
     // A face label 0 (the labels are 1-based), and one past every face.
     let dir = copy_of_shipped("face-zero");
@@ -307,14 +376,24 @@ fn inconsistent_decompositions_are_typed_errors() {
     decomposition_error(&dir, "face 2^31 - 1");
     // A processor patch mapped to a real patch, and a real patch to none.
     let dir = copy_of_shipped("patch-map");
-    edit(&dir, "processor1/constant/polyMesh/boundaryProcAddressing", "4(0 1 -1 -1)", "4(0 -1 -1 -1)");
+    edit(
+        &dir,
+        "processor1/constant/polyMesh/boundaryProcAddressing",
+        "4(0 1 -1 -1)",
+        "4(0 -1 -1 -1)",
+    );
     decomposition_error(&dir, "fixedWalls unmapped");
     let dir = copy_of_shipped("patch-renamed");
     edit(&dir, "processor2/constant/polyMesh/boundary", "fixedWalls", "walls");
     decomposition_error(&dir, "patch renamed in one processor");
     // A point moved in one processor only.
     let dir = copy_of_shipped("point-moved");
-    edit(&dir, "processor1/constant/polyMesh/points", "(0 0.03333333333 0)", "(0 0.03333333334 0)");
+    edit(
+        &dir,
+        "processor1/constant/polyMesh/points",
+        "(0 0.03333333333 0)",
+        "(0 0.03333333334 0)",
+    );
     decomposition_error(&dir, "point moved");
     // A missing processor in the numbering, and the collated format.
     let dir = copy_of_shipped("gap");
@@ -332,7 +411,10 @@ fn inconsistent_decompositions_are_typed_errors() {
     std::fs::remove_file(dir.join("processor2/127/U")).unwrap();
     let case = FoamCase::open_with(&dir, Layout::Decomposed).unwrap();
     let err = case.read_field(T, "U", 3).unwrap_err();
-    assert!(matches!(&err, FoamError::Missing { path } if path.contains("processor2")), "{err}");
+    assert!(
+        matches!(&err, FoamError::Missing { path } if path.contains("processor2")),
+        "{err}"
+    );
 }
 
 /// The cases `cases/decomposed-ci.sh` prepares (a colon-separated list in
@@ -340,7 +422,9 @@ fn inconsistent_decompositions_are_typed_errors() {
 /// and times kept): read both ways, compared bit for bit. Does nothing without the variable.
 #[test]
 fn decomposed_ci_cases() {
-    let Some(cases) = std::env::var_os("PSEUDORIGID_DECOMPOSED_CASES") else { return };
+    let Some(cases) = std::env::var_os("PSEUDORIGID_DECOMPOSED_CASES") else {
+        return;
+    };
     for case in std::env::split_paths(&cases) {
         let a = compare_layouts(&case, 20_000, 50);
         println!(

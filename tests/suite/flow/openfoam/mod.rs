@@ -13,9 +13,7 @@ use pseudorigid::contact::{MeshBoundary, PatchGap};
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
-use pseudorigid::flow::openfoam::{
-    BlendedFlow, FoamCase, FoamError, FoamFlow, Layout, PatchRole, PatchSet, PolyMesh,
-};
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, Layout, PatchRole, PatchSet, PolyMesh};
 use pseudorigid::scenes::stagnation::{
     FRACTIONS, NU, STRAIN, StagnationBox, WallLayerRow, coefficient_ratio, hiemenz, normal_velocity_error,
     velocity_errors, wall_layer_points, wall_layer_table,
