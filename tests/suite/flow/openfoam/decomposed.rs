@@ -438,3 +438,36 @@ fn decomposed_ci_cases() {
         );
     }
 }
+
+/// A patch without faces, as a processor has a patch whose faces are all elsewhere: its value
+/// is written `nonuniform 0()`, which reads as no values; the same for a patch with faces is an
+/// error.
+#[test]
+fn patches_without_faces_read_their_empty_value_lists() {
+    let dir = copy_of_shipped("empty-patch");
+    edit(&dir, "constant/polyMesh/boundary", "\n2\n(", "\n3\n(");
+    edit(
+        &dir,
+        "constant/polyMesh/boundary",
+        "\n)",
+        "\n    spare { type patch; nFaces 0; startFace 75; }\n)",
+    );
+    edit(
+        &dir,
+        "127/U",
+        "    fixedWalls",
+        "    spare { type fixedValue; value nonuniform 0(); }\n    fixedWalls",
+    );
+    let case = FoamCase::open_with(&dir, Layout::Reconstructed).unwrap();
+    let u = case.read_field(T, "U", 3).unwrap();
+    assert_eq!(u.fixed, vec![true; 3]);
+    assert_eq!(u.boundary.len(), 3 * 42);
+    edit(
+        &dir,
+        "127/U",
+        "value           uniform (0.0813 0 0)",
+        "value nonuniform 0()",
+    );
+    let err = case.read_field(T, "U", 3).unwrap_err();
+    assert!(err.to_string().contains("an empty list for 9 faces"), "{err}");
+}
