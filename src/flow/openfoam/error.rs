@@ -45,6 +45,23 @@ pub enum FoamError {
         /// What is missing from the undecomposed case.
         what: String,
     },
+    /// A processor directory of a decomposed case lacks the addressing that places it in the
+    /// global mesh (`decomposePar` writes it; a mesh made in parallel has none).
+    #[error(
+        "{path} not found: the decomposed case has no addressing back to the undecomposed mesh; run `reconstructParMesh` (then `reconstructPar` for the fields) first"
+    )]
+    NoProcAddressing {
+        /// The addressing file looked for.
+        path: String,
+    },
+    /// The processor directories of a decomposed case do not fit together.
+    #[error("{path}: decomposed case: {reason}")]
+    Decomposition {
+        /// File or directory concerned.
+        path: String,
+        /// First inconsistency found.
+        reason: String,
+    },
     /// No time directory matches the requested time.
     #[error("{case}: no time directory for t = {time}; available: {available:?}")]
     NoSuchTime {

@@ -180,6 +180,16 @@ fn values(v: &[Value], comps: usize, n: usize) -> Result<Vec<f64>, String> {
                 data.clone()
             }
         }
+        // What OpenFOAM writes for a patch without faces (in a processor directory, a patch
+        // whose faces are all in other processors).
+        [Value::Word(u), Value::Word(zero), Value::List(items)]
+            if u == "nonuniform" && zero == "0" && items.is_empty() =>
+        {
+            if n != 0 {
+                return Err(format!("an empty list for {n} faces"));
+            }
+            Vec::new()
+        }
         _ => return Err("expected `uniform <value>` or `nonuniform List<...> n (...)`".into()),
     };
     if let Some(i) = data.iter().position(|x| !x.is_finite()) {

@@ -12,6 +12,16 @@
 //! are linear in time; a steady case is one directory. Patches become particle boundaries in
 //! [`patch`].
 //!
+//! # Decomposed cases
+//! A case decomposed by `decomposePar` is read without `reconstructPar` ([`decomposed`]): the
+//! `processorN/` meshes and fields are reassembled through the decomposition's addressing into
+//! the undecomposed mesh and fields, bit for bit. Where both exist the reconstructed data are
+//! read ([`Layout::Auto`], what [`FoamCase::open`] does): the top-level mesh if there is one,
+//! each time from the top level if it is there, else from the processors (whose mesh must then
+//! be the top level's); [`FoamCase::open_with`] can ask for either side only. Processor
+//! directories without the addressing (a mesh made in parallel) are a
+//! [`FoamError::NoProcAddressing`] naming `reconstructParMesh`.
+//!
 //! # Accuracy
 //! For a smooth field the reconstruction error is O(h²) in u and O(h) in ∇u, including the
 //! cells at walls (checked on three snappyHexMesh refinements in the tests: observed orders
@@ -30,6 +40,7 @@
 
 pub mod blend;
 pub mod block;
+pub mod decomposed;
 pub mod error;
 pub mod field;
 pub mod grid;
@@ -43,6 +54,7 @@ pub mod walls;
 
 pub use blend::BlendedFlow;
 pub use block::cavity_block;
+pub use decomposed::{Decomposition, Layout};
 pub use error::FoamError;
 pub use field::{VolField, read_vol_field};
 pub use locate::CellLocator;
@@ -54,63 +66,107 @@ pub use wall_layer::{WallFit, WallGeometry};
 use super::{FlowField, FlowSample, check_query};
 use crate::error::FlowError;
 use crate::tensor::{Mat3, Vec3};
+use decomposed::{processor_dirs, time_dirs};
 use std::cell::Cell;
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 /// Relative tolerance when matching a requested time to a time directory's name.
 const TIME_MATCH: f64 = 1e-9;
 
-/// An undecomposed OpenFOAM case: its mesh and time directories.
+/// An OpenFOAM case: its mesh and time directories, undecomposed or decomposed
+/// ([`decomposed`]: the `processorN/` directories read directly, where [`Layout`] says).
 #[derive(Debug, Clone)]
 pub struct FoamCase {
     dir: PathBuf,
     mesh: PolyMesh,
-    times: Vec<(f64, PathBuf)>,
+    layout: Layout,
+    /// Whether the mesh was reassembled from the processor directories.
+    decomposed: bool,
+    times: Vec<TimeDir>,
+    /// The processors, read when the mesh is or when a time only they have is first read.
+    decomposition: OnceLock<Decomposition>,
 }
 
-fn processor_dirs(dir: &Path) -> usize {
-    std::fs::read_dir(dir).map_or(0, |entries| {
-        entries
-            .filter_map(Result::ok)
-            .filter(|e| {
-                e.file_name()
-                    .to_str()
-                    .and_then(|n| n.strip_prefix("processor"))
-                    .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
-            })
-            .count()
-    })
+/// One time directory: at the top level (`top`), or only in the processors (`None`), under
+/// the directory name `name`.
+#[derive(Debug, Clone)]
+struct TimeDir {
+    time: f64,
+    top: Option<PathBuf>,
+    name: OsString,
 }
 
 impl FoamCase {
-    /// Read the mesh of the case in `dir` and list its time directories.
+    /// Read the mesh of the case in `dir` and list its time directories: the reconstructed
+    /// data where present, else the processor directories' ([`Layout::Auto`]).
     pub fn open(dir: impl AsRef<Path>) -> Result<Self, FoamError> {
+        Self::open_with(dir, Layout::Auto)
+    }
+
+    /// Read the mesh of the case in `dir` and list its time directories, from the top level,
+    /// the processor directories or both as `layout` says.
+    pub fn open_with(dir: impl AsRef<Path>, layout: Layout) -> Result<Self, FoamError> {
         let dir = dir.as_ref().to_path_buf();
         let poly = dir.join("constant").join("polyMesh");
         let has_faces = poly.join("faces").is_file() || poly.join("faces.gz").is_file();
-        let processors = processor_dirs(&dir);
-        if !has_faces && processors > 0 {
-            return Err(FoamError::Decomposed {
-                case: dir.display().to_string(),
-                processors,
-                what: "constant/polyMesh".into(),
-            });
-        }
-        let mesh = PolyMesh::read(&dir)?;
-        let entries = std::fs::read_dir(&dir).map_err(|source| FoamError::Io {
-            path: dir.display().to_string(),
-            source,
-        })?;
-        let mut times: Vec<(f64, PathBuf)> = entries
-            .filter_map(Result::ok)
-            .filter(|e| e.path().is_dir())
-            .filter_map(|e| {
-                let t = e.file_name().to_str()?.parse::<f64>().ok()?;
-                t.is_finite().then(|| (t, e.path()))
-            })
-            .collect();
-        times.sort_by(|a, b| a.0.total_cmp(&b.0));
-        Ok(Self { dir, mesh, times })
+        let processors = processor_dirs(&dir).len();
+        let from_processors = match layout {
+            Layout::Decomposed => true,
+            Layout::Auto => !has_faces && processors > 0,
+            Layout::Reconstructed if !has_faces && processors > 0 => {
+                return Err(FoamError::Decomposed {
+                    case: dir.display().to_string(),
+                    processors,
+                    what: "constant/polyMesh".into(),
+                });
+            }
+            Layout::Reconstructed => false,
+        };
+        let decomposition = OnceLock::new();
+        let mesh = if from_processors {
+            let (d, mesh) = Decomposition::read(&dir)?;
+            let _ = decomposition.set(d);
+            mesh
+        } else {
+            PolyMesh::read(&dir)?
+        };
+        let top = |times: Vec<(f64, OsString)>| -> Vec<TimeDir> {
+            times
+                .into_iter()
+                .map(|(time, name)| TimeDir {
+                    time,
+                    top: Some(dir.join(&name)),
+                    name,
+                })
+                .collect()
+        };
+        let in_processors =
+            |times: Vec<(f64, OsString)>| times.into_iter().map(|(time, name)| TimeDir { time, top: None, name });
+        let mut times = match layout {
+            Layout::Reconstructed => top(time_dirs(&dir)?),
+            Layout::Decomposed => in_processors(time_dirs(&dir.join("processor0"))?).collect(),
+            Layout::Auto => {
+                let mut times = top(time_dirs(&dir)?);
+                if processors > 0 {
+                    let more: Vec<TimeDir> = in_processors(time_dirs(&dir.join("processor0"))?)
+                        .filter(|p| !times.iter().any(|t| same_time(t.time, p.time)))
+                        .collect();
+                    times.extend(more);
+                }
+                times
+            }
+        };
+        times.sort_by(|a, b| a.time.total_cmp(&b.time));
+        Ok(Self {
+            dir,
+            mesh,
+            layout,
+            decomposed: from_processors,
+            times,
+            decomposition,
+        })
     }
 
     /// The mesh.
@@ -118,22 +174,23 @@ impl FoamCase {
         &self.mesh
     }
 
-    /// Times of the time directories, ascending.
-    pub fn times(&self) -> Vec<f64> {
-        self.times.iter().map(|t| t.0).collect()
+    /// Whether the mesh was reassembled from the processor directories ([`decomposed`]).
+    pub fn is_decomposed(&self) -> bool {
+        self.decomposed
     }
 
-    /// The directory of time `t` (matched to a relative 1e-9).
-    pub fn time_dir(&self, t: f64) -> Result<&Path, FoamError> {
-        let hit = self
-            .times
-            .iter()
-            .find(|(s, _)| (s - t).abs() <= TIME_MATCH * s.abs().max(t.abs()).max(1.0));
-        match hit {
-            Some((_, p)) => Ok(p),
+    /// Times of the time directories, ascending.
+    pub fn times(&self) -> Vec<f64> {
+        self.times.iter().map(|t| t.time).collect()
+    }
+
+    fn find_time(&self, t: f64) -> Result<&TimeDir, FoamError> {
+        match self.times.iter().find(|d| same_time(d.time, t)) {
+            Some(d) => Ok(d),
             None => {
-                let processors = processor_dirs(&self.dir);
-                if processors > 0 {
+                // Only a case read as serial leaves the processors' times unlisted.
+                let processors = processor_dirs(&self.dir).len();
+                if self.layout == Layout::Reconstructed && processors > 0 {
                     return Err(FoamError::Decomposed {
                         case: self.dir.display().to_string(),
                         processors,
@@ -149,10 +206,47 @@ impl FoamCase {
         }
     }
 
-    /// Read field `name` (`comps` = 1 or 3 components) at time `t`.
-    pub fn read_field(&self, t: f64, name: &str, comps: usize) -> Result<VolField, FoamError> {
-        read_vol_field(self.time_dir(t)?, name, &self.mesh, comps)
+    /// The top-level directory of time `t` (matched to a relative 1e-9). A time that only the
+    /// processor directories have is a [`FoamError::Decomposed`] error: read its fields with
+    /// [`FoamCase::read_field`].
+    pub fn time_dir(&self, t: f64) -> Result<&Path, FoamError> {
+        let d = self.find_time(t)?;
+        d.top.as_deref().ok_or_else(|| FoamError::Decomposed {
+            case: self.dir.display().to_string(),
+            processors: processor_dirs(&self.dir).len(),
+            what: format!("time directory {t} at the top level (FoamCase::read_field reads it from the processors)"),
+        })
     }
+
+    /// The processors of the case, read on first use; their mesh must be this case's.
+    fn decomposition(&self) -> Result<&Decomposition, FoamError> {
+        if let Some(d) = self.decomposition.get() {
+            return Ok(d);
+        }
+        let (d, mesh) = Decomposition::read(&self.dir)?;
+        if !Decomposition::fits(&mesh, &self.mesh) {
+            return Err(FoamError::Decomposition {
+                path: self.dir.display().to_string(),
+                reason: "the processors' mesh is not constant/polyMesh (a stale decomposition?): run `decomposePar -force`, or `reconstructPar`".into(),
+            });
+        }
+        Ok(self.decomposition.get_or_init(|| d))
+    }
+
+    /// Read field `name` (`comps` = 1 or 3 components) at time `t`: from the top-level time
+    /// directory, or reassembled from the processors' ([`decomposed`]).
+    pub fn read_field(&self, t: f64, name: &str, comps: usize) -> Result<VolField, FoamError> {
+        let d = self.find_time(t)?;
+        match &d.top {
+            Some(dir) => read_vol_field(dir, name, &self.mesh, comps),
+            None => self.decomposition()?.read_field(&d.name, name, comps),
+        }
+    }
+}
+
+/// Whether two times name the same time directory (a relative 1e-9).
+fn same_time(a: f64, b: f64) -> bool {
+    (a - b).abs() <= TIME_MATCH * a.abs().max(b.abs()).max(1.0)
 }
 
 /// One time level: cell velocities and gradients, and the no-slip walls' fits.

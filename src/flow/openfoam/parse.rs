@@ -454,15 +454,26 @@ impl<'a> Parser<'a> {
 
     /// `n ( ... )` or `n {l}` of non-negative labels below `u32::MAX`, expanded.
     pub fn labels(&mut self) -> Result<Vec<u32>, FoamError> {
+        self.label_list(0, i64::from(u32::MAX), |v| v as u32)
+    }
+
+    /// `n ( ... )` or `n {l}` of labels in `-(2³² − 1)..2³² − 1`, expanded: the decomposition's
+    /// addressing, whose signs carry meaning (`faceProcAddressing`, `boundaryProcAddressing`).
+    pub fn signed_labels(&mut self) -> Result<Vec<i64>, FoamError> {
+        self.label_list(-i64::from(u32::MAX) + 1, i64::from(u32::MAX), |v| v)
+    }
+
+    /// A label list whose values lie in `lo..hi`, each stored as `cast` of it.
+    fn label_list<T: Copy>(&mut self, lo: i64, hi: i64, cast: fn(i64) -> T) -> Result<Vec<T>, FoamError> {
         let offset = self.skip_then_offset()?;
         let count = self.count()?;
         let open = self.skip_then_offset()?;
         let out = match self.token()? {
             Tok::Punct(b'{') => {
                 let l = if self.binary {
-                    self.binary_labels(1, offset)?[0]
+                    self.binary_labels(1, (lo, hi), |v| v, offset)?[0]
                 } else {
-                    self.ascii_label()?
+                    self.ascii_label(lo, hi)?
                 };
                 self.expect(b'}')?;
                 // The uniform form costs no bytes per element, so bound it by the file size:
@@ -473,16 +484,16 @@ impl<'a> Parser<'a> {
                         format!("uniform list of {count} labels is longer than the file"),
                     ));
                 }
-                vec![l; count]
+                vec![cast(l); count]
             }
             Tok::Punct(b'(') => {
                 let out = if self.binary {
-                    self.binary_labels(count, offset)?
+                    self.binary_labels(count, (lo, hi), cast, offset)?
                 } else {
                     self.check_room(count, 2, offset)?;
                     let mut out = Vec::with_capacity(count);
                     for _ in 0..count {
-                        out.push(self.ascii_label()?);
+                        out.push(cast(self.ascii_label(lo, hi)?));
                     }
                     out
                 };
@@ -499,15 +510,14 @@ impl<'a> Parser<'a> {
         Ok(out)
     }
 
-    fn ascii_label(&mut self) -> Result<u32, FoamError> {
+    fn ascii_label(&mut self, lo: i64, hi: i64) -> Result<i64, FoamError> {
         let at = self.skip_then_offset()?;
         match self.token()? {
-            Tok::Word(w) => w.parse::<u32>().ok().filter(|&v| v != u32::MAX).ok_or_else(|| {
-                self.error_at(
-                    at,
-                    format!("expected a label (integer in 0..{}), found `{w}`", u32::MAX),
-                )
-            }),
+            Tok::Word(w) => w
+                .parse::<i64>()
+                .ok()
+                .filter(|v| (lo..hi).contains(v))
+                .ok_or_else(|| self.error_at(at, format!("expected a label (integer in {lo}..{hi}), found `{w}`"))),
             other => Err(self.error_at(at, format!("expected a label, found {}", describe(other)))),
         }
     }
@@ -566,7 +576,13 @@ impl<'a> Parser<'a> {
             .collect())
     }
 
-    fn binary_labels(&mut self, count: usize, offset: usize) -> Result<Vec<u32>, FoamError> {
+    fn binary_labels<T>(
+        &mut self,
+        count: usize,
+        (lo, hi): (i64, i64),
+        cast: fn(i64) -> T,
+        offset: usize,
+    ) -> Result<Vec<T>, FoamError> {
         let lb = self.label_bytes;
         let block = self.binary_block(count, 1, lb, offset)?;
         let mut out = Vec::with_capacity(count);
@@ -575,9 +591,10 @@ impl<'a> Parser<'a> {
                 4 => i64::from(i32::from_le_bytes(c.try_into().expect("4-byte chunk"))),
                 _ => i64::from_le_bytes(c.try_into().expect("8-byte chunk")),
             };
-            out.push(u32::try_from(v).ok().filter(|&v| v != u32::MAX).ok_or_else(|| {
-                self.error_at(offset, format!("label {i} of the list is {v}, outside 0..{}", u32::MAX))
-            })?);
+            if !(lo..hi).contains(&v) {
+                return Err(self.error_at(offset, format!("label {i} of the list is {v}, outside {lo}..{hi}")));
+            }
+            out.push(cast(v));
         }
         Ok(out)
     }

@@ -16,7 +16,7 @@
 
 use pseudorigid::driver::{Budget, Plan, integrate};
 use pseudorigid::ellipsoid::integrals::{carlson_rd, carlson_rf};
-use pseudorigid::flow::openfoam::{FoamFlow, cavity_block, read_vol_field};
+use pseudorigid::flow::openfoam::{FoamCase, FoamFlow, Layout, cavity_block, read_vol_field};
 use pseudorigid::integrator::imex::StabilityGuard;
 use pseudorigid::integrator::newton::NewtonOptions;
 use pseudorigid::integrator::{ImexAdaptive, Scheme, Stokesian, Tolerances};
@@ -77,6 +77,7 @@ const CLASSES: &[(&str, Case)] = &[
     ("outputs", output_case),
     ("driver", driver_case),
     ("steps", step_case),
+    ("foam_decomposed", foam_decomposed_case),
 ];
 
 // ---------------------------------------------------------------------------------------------
@@ -813,8 +814,110 @@ fn foam_mesh_case(seed: u64) -> Outcome {
     if !written {
         return Outcome::Silent("could not write the scratch case".into());
     }
-    let case = typed!(pseudorigid::flow::openfoam::FoamCase::open(&dir.0));
+    let case = typed!(FoamCase::open(&dir.0));
     let field = typed!(case.read_field(0.0, "U", 3));
+    let flow = typed!(FoamFlow::new(case.mesh().clone(), vec![(0.0, field)]));
+    sample_cavity(&flow, &mut rng)
+}
+
+/// The files of the shipped decomposed case (`tests/data/cavity-decomposed`: 18 cells,
+/// `decomposePar` into 3 processors), by path relative to the case.
+fn decomposed_texts() -> &'static [(PathBuf, Vec<u8>)] {
+    static TEXTS: std::sync::OnceLock<Vec<(PathBuf, Vec<u8>)>> = std::sync::OnceLock::new();
+    TEXTS.get_or_init(|| {
+        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/cavity-decomposed");
+        let mut files = Vec::new();
+        for k in 0..3 {
+            let dir = PathBuf::from(format!("processor{k}"));
+            let mesh = dir.join("constant/polyMesh");
+            for name in [
+                "cellProcAddressing",
+                "faceProcAddressing",
+                "pointProcAddressing",
+                "boundaryProcAddressing",
+                "points",
+                "faces",
+                "owner",
+                "neighbour",
+                "boundary",
+            ] {
+                files.push(mesh.join(name));
+            }
+            files.push(dir.join("127/U"));
+        }
+        files
+            .into_iter()
+            .map(|f| {
+                let text = std::fs::read(root.join(&f)).expect("shipped decomposed case");
+                (f, text)
+            })
+            .collect()
+    })
+}
+
+/// The decomposed reader: one file of a processor of the shipped decomposed case corrupted
+/// (the addressing files two times in three): a label or list size set out of range (2³¹ − 1,
+/// 2⁴⁰, 0, −1, the cell count), a label's sign flipped (a face turned), bytes flipped, or the
+/// file truncated; then the case opened from its processors, `U` read and the flow sampled.
+/// Every outcome must be a typed error or a finite field, and no allocation is sized by a
+/// corrupt count.
+fn foam_decomposed_case(seed: u64) -> Outcome {
+    let mut rng = Rng::new(seed);
+    let texts = decomposed_texts();
+    // Files 0..4 of each processor (of 10) are its addressing.
+    let target = if rng.chance(2.0 / 3.0) {
+        10 * rng.below(3) as usize + rng.below(4) as usize
+    } else {
+        rng.below(texts.len() as u64) as usize
+    };
+    let mut bytes = texts[target].1.clone();
+    match rng.below(5) {
+        0 | 1 => {
+            let tokens = integer_tokens(&bytes);
+            if let Some(r) = tokens.get(rng.below(tokens.len().max(1) as u64) as usize) {
+                let with = match rng.below(6) {
+                    0 => "2147483647".to_string(),
+                    1 => (1u64 << 40).to_string(),
+                    2 => "0".to_string(),
+                    3 => "-1".to_string(),
+                    4 => "18".to_string(),
+                    _ => rng.below(200).to_string(),
+                };
+                bytes.splice(r.clone(), with.bytes());
+            }
+        }
+        2 => {
+            // A sign flipped: a line that is one label, negated or made positive.
+            let lines: Vec<usize> = (0..bytes.len())
+                .filter(|&i| (i == 0 || bytes[i - 1] == b'\n') && (bytes[i].is_ascii_digit() || bytes[i] == b'-'))
+                .collect();
+            if let Some(&at) = lines.get(rng.below(lines.len().max(1) as u64) as usize) {
+                if bytes[at] == b'-' {
+                    bytes.remove(at);
+                } else {
+                    bytes.insert(at, b'-');
+                }
+            }
+        }
+        3 => {
+            for _ in 0..=rng.below(8) {
+                let i = rng.below(bytes.len() as u64) as usize;
+                bytes[i] = rng.below(256) as u8;
+            }
+        }
+        _ => bytes.truncate(rng.below(bytes.len() as u64) as usize),
+    }
+    let dir = Scratch::new("foam_decomposed", seed);
+    let written = texts.iter().enumerate().all(|(k, (path, text))| {
+        let to = dir.0.join(path);
+        to.parent().is_some_and(|p| std::fs::create_dir_all(p).is_ok())
+            && std::fs::write(to, if k == target { &bytes } else { text }).is_ok()
+    });
+    if !written {
+        return Outcome::Silent("could not write the scratch case".into());
+    }
+    let case = typed!(FoamCase::open_with(&dir.0, Layout::Decomposed));
+    let field = typed!(case.read_field(127.0, "U", 3));
     let flow = typed!(FoamFlow::new(case.mesh().clone(), vec![(0.0, field)]));
     sample_cavity(&flow, &mut rng)
 }

@@ -3,6 +3,7 @@
 //! of the reconstruction, patch gaps, time interpolation.
 
 mod block;
+mod decomposed;
 
 use crate::common::build;
 
@@ -12,7 +13,7 @@ use pseudorigid::contact::{MeshBoundary, PatchGap};
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
-use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, PatchRole, PatchSet, PolyMesh};
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, Layout, PatchRole, PatchSet, PolyMesh};
 use pseudorigid::scenes::stagnation::{
     FRACTIONS, NU, STRAIN, StagnationBox, WallLayerRow, coefficient_ratio, hiemenz, normal_velocity_error,
     velocity_errors, wall_layer_points, wall_layer_table,
@@ -335,14 +336,22 @@ fn decomposed_case_asks_for_reconstruct_par() {
     for p in ["processor0/constant/polyMesh", "processor1/constant/polyMesh"] {
         std::fs::create_dir_all(dir.join(p)).unwrap();
     }
-    let err = FoamCase::open(&dir).unwrap_err();
+    // Read as serial: the mesh is missing. Read as it is: the processors have no addressing.
+    let err = FoamCase::open_with(&dir, Layout::Reconstructed).unwrap_err();
     assert!(matches!(err, FoamError::Decomposed { processors: 2, .. }), "{err:?}");
     assert!(err.to_string().contains("reconstructPar"));
-    // Reconstructed mesh but the time directory only in the processors.
+    let err = FoamCase::open(&dir).unwrap_err();
+    assert!(matches!(err, FoamError::NoProcAddressing { .. }), "{err:?}");
+    assert!(err.to_string().contains("reconstructParMesh"));
+    // Reconstructed mesh but the time directory in neither: read as serial, the error says to
+    // reconstruct; read as it is, the processors' times are listed, and it is not there.
     let raw = cube(Shape::Hex, 1);
     write_case(&dir, &raw, &sampled(&raw.mesh(), |x| *x), "0", Format::Ascii);
-    let err = FoamCase::open(&dir).unwrap().read_field(10.0, "U", 3).unwrap_err();
+    let serial = FoamCase::open_with(&dir, Layout::Reconstructed).unwrap();
+    let err = serial.read_field(10.0, "U", 3).unwrap_err();
     assert!(matches!(err, FoamError::Decomposed { .. }), "{err:?}");
+    let err = FoamCase::open(&dir).unwrap().read_field(10.0, "U", 3).unwrap_err();
+    assert!(matches!(err, FoamError::NoSuchTime { .. }), "{err:?}");
 }
 
 // ---------------------------------------------------------------------------------------
