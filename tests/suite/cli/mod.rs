@@ -853,7 +853,12 @@ fn auto_integrator_chooses_per_group_and_says_so() {
     let stk = scene("bifurcation.toml", &auto);
     let log = stk.integrator_log();
     assert_eq!(log.len(), 1, "{log:?}");
-    assert!(log[0].starts_with("particles.inject[0]: integrator auto: elastic inertialess shape, inertial barycentre, rosenbrock_w23"), "{log:?}");
+    assert!(
+        log[0].starts_with(
+            "particles.inject[0]: integrator auto: elastic inertialess shape, inertial barycentre, rosenbrock_w23"
+        ),
+        "{log:?}"
+    );
     let small = [
         auto[0],
         (
@@ -866,7 +871,12 @@ fn auto_integrator_chooses_per_group_and_says_so() {
     assert!(log[0].contains("equilibrium barycentre"), "{log:?}");
     for (s, name) in [(&stk, "cli_auto_stk"), (&tracer, "cli_auto_tracer")] {
         for r in &run(s, name).records {
-            assert!(matches!(r.fate, Fate::Escaped { .. } | Fate::Deposited { .. }), "{name} particle {}: {:?}", r.index, r.fate);
+            assert!(
+                matches!(r.fate, Fate::Escaped { .. } | Fate::Deposited { .. }),
+                "{name} particle {}: {:?}",
+                r.index,
+                r.fate
+            );
         }
     }
     // A fixed scheme has nothing to say per particle.
