@@ -89,7 +89,7 @@
 //! particles). Farther out (in no support) the point is refused as by [`FoamFlow`], with the
 //! nearest patch.
 
-use super::grid::RadiusGrid;
+use super::grid::BallGrid;
 use super::walls::WallFaces;
 use super::{FoamError, FoamFlow};
 use crate::error::FlowError;
@@ -102,10 +102,11 @@ use std::sync::atomic::{AtomicU64, Ordering};
 #[derive(Debug, Clone)]
 pub struct BlendedFlow {
     flow: FoamFlow,
-    /// The cell centres, binned for the largest support's radius.
-    centres: RadiusGrid,
-    /// Each cell's support ellipsoid: $M_c$ and the radius of the sphere around it.
-    supports: Vec<(Mat3, f64)>,
+    /// Each cell's support ellipsoid's bounding ball (its centre, the radius of the sphere
+    /// around the ellipsoid), binned.
+    balls: BallGrid,
+    /// Each cell's support ellipsoid: $M_c$.
+    metrics: Vec<Mat3>,
     /// The no-slip wall faces ([`FoamFlow::walls`]), found within their cells' height of a sample.
     walls: WallFaces,
     /// The wall faces owned by cell c: `cell_walls[wall_offsets[c]..wall_offsets[c + 1]]`.
@@ -187,12 +188,10 @@ impl BlendedFlow {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let radius = supports.iter().map(|s| s.1).fold(0.0, f64::max);
-        // A mesh without cells has r = 0 and gets an empty grid of radius f64::MIN_POSITIVE.
-        let centres =
-            RadiusGrid::new(mesh.cell_centres(), radius.max(f64::MIN_POSITIVE)).ok_or_else(|| FoamError::Mesh {
-                reason: format!("cannot bin the cell centres for blending (radius {radius}): a centre is not finite"),
-            })?;
+        let (metrics, radii): (Vec<Mat3>, Vec<f64>) = supports.into_iter().unzip();
+        let balls = BallGrid::new(mesh.cell_centres(), &radii).ok_or_else(|| FoamError::Mesh {
+            reason: "cannot bin the cell supports for blending: a centre or radius is not finite".into(),
+        })?;
         let layer = flow.wall_layer();
         let heights: Vec<f64> = (0..layer.len()).map(|k| 2.0 * layer.depth(k)).collect();
         let walls = WallFaces::new(mesh, flow.walls(), &heights).ok_or_else(|| FoamError::Mesh {
@@ -209,8 +208,8 @@ impl BlendedFlow {
         }
         Ok(Self {
             flow,
-            centres,
-            supports,
+            balls,
+            metrics,
             walls,
             wall_offsets,
             cell_walls: owned.into_iter().map(|(_, k)| k).collect(),
@@ -220,7 +219,7 @@ impl BlendedFlow {
 
     /// The radius of the largest cell support.
     pub fn radius(&self) -> f64 {
-        self.centres.radius()
+        self.balls.largest_radius()
     }
 
     /// The fit of cell c in the blend: its linear fit, or for a wall cell the mean of its wall
@@ -271,13 +270,9 @@ impl BlendedFlow {
     /// The blend at (x, t) (module docs).
     fn blend(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         let mut blend = Blend::default();
-        self.centres.for_each_within(x, |c, centre, d| {
-            let (metric, radius) = &self.supports[c];
-            if d >= *radius {
-                return;
-            }
+        self.balls.for_each_containing(x, |c, centre, _| {
             let offset = x - centre;
-            let metric_offset = metric * offset;
+            let metric_offset = self.metrics[c] * offset;
             let s = offset.dot(&metric_offset).sqrt();
             let w = weight(s);
             if w > 0.0 {

@@ -5,19 +5,19 @@
 //! particle boundaries and the cell location use, so the distance is zero exactly on the faces
 //! a particle touches. The distance to a triangle is that to its closest point (Ericson 2005,
 //! *Real-Time Collision Detection*, §5.1.5: the Voronoi regions of the vertices, edges and
-//! face). The face centres are binned in bins of at least the largest support plus the largest
-//! centre-to-vertex distance of a wall face; a query scans the centres within the largest sum of a
-//! face's support and circumradius, so no face nearer than its support is missed.
+//! face). Each face is binned as the ball around its centre of radius its support plus its
+//! circumradius (the largest centre-to-vertex distance), which holds every point nearer to the
+//! face than its support: a query scans the faces whose ball holds x, so none is missed.
 
-use super::grid::RadiusGrid;
+use super::grid::BallGrid;
 use super::mesh::PolyMesh;
 use crate::tensor::Vec3;
 
 /// The wall faces of a mesh, as triangle fans, binned by centre.
 #[derive(Debug, Clone)]
 pub struct WallFaces {
-    /// Face centres, binned within the largest support plus the largest face's circumradius.
-    centres: RadiusGrid,
+    /// Face k's ball: its centre, radius its support plus its circumradius (module docs).
+    balls: BallGrid,
     /// Vertices of wall face k: `vertices[offsets[k]..offsets[k + 1]]`.
     offsets: Vec<usize>,
     vertices: Vec<Vec3>,
@@ -25,9 +25,6 @@ pub struct WallFaces {
     supports: Vec<f64>,
     /// Largest distance from wall face k's centre to its vertices.
     circumradii: Vec<f64>,
-    /// Bound on the centre distance of any face nearer than its support: the largest support
-    /// plus circumradius (with a margin of 10⁻⁹ for round-off).
-    near: f64,
 }
 
 impl WallFaces {
@@ -52,17 +49,15 @@ impl WallFaces {
             circumradii.push(circumradius);
             offsets.push(vertices.len());
         }
-        let largest = circumradii.iter().copied().fold(0.0, f64::max);
-        let widest = supports.iter().copied().fold(0.0, f64::max);
-        let near = supports
+        // A margin of 10⁻⁹ for round-off; a face with no support gets a ball of the smallest
+        // radius, whose test below still refuses every point.
+        let radii: Vec<f64> = supports
             .iter()
             .zip(&circumradii)
-            .map(|(s, c)| s + c)
-            .fold(0.0, f64::max)
-            * (1.0 + 1e-9);
+            .map(|(s, c)| ((s + c) * (1.0 + 1e-9)).max(f64::MIN_POSITIVE))
+            .collect();
         Some(Self {
-            near,
-            centres: RadiusGrid::new(&centres, (widest + largest).max(f64::MIN_POSITIVE))?,
+            balls: BallGrid::new(&centres, &radii)?,
             circumradii,
             offsets,
             vertices,
@@ -74,7 +69,7 @@ impl WallFaces {
     /// below its support, in a fixed order; `away` = x − q, q the face's point nearest to x, so
     /// away/d is the gradient of the distance.
     pub fn for_each_within(&self, x: &Vec3, mut visit: impl FnMut(usize, Vec3, f64)) {
-        self.centres.for_each_closer(x, self.near, |k, centre, to_centre| {
+        self.balls.for_each_containing(x, |k, centre, to_centre| {
             let support = self.supports[k];
             // The face lies within its circumradius of its centre: no point of it is nearer.
             if to_centre - self.circumradii[k] >= support {
