@@ -1,8 +1,8 @@
 //! Run time of the population runner against N and threads, on the settling pipe (rigid
 //! spheres, overdamped barycentre, tol 1e-6: the runner bench's case) or, with
 //! `--bifurcation STK`, on the airway bifurcation (rigid spheres at that Stokes number, or
-//! prolates with `--prolate LAMBDA`, the shipped field and the studies' integrator: the case of
-//! Figs 17–23).
+//! prolates with `--prolate LAMBDA`, Neo-Hookean with `--mu-s PA` (shear modulus, Pa) instead of
+//! rigid, the shipped field and the studies' integrator: the case of Figs 17–23).
 //!
 //! ```text
 //! cargo run --release --example population_scaling -- 1000:1,2 10000:1,2 100000:2
@@ -49,6 +49,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         None => 1.0,
     };
+    let material = match args.iter().position(|a| a == "--mu-s") {
+        Some(i) => {
+            let mu_s: f64 = args.get(i + 1).ok_or("--mu-s needs a shear modulus (Pa)")?.parse()?;
+            args.drain(i..i + 2);
+            Material::ShearModulus(mu_s)
+        }
+        None => Material::Rigid,
+    };
     if args.is_empty() {
         args.push("1000:1,2".to_string());
     }
@@ -67,7 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (Some(airway), Some(stk)) => {
             let kind = Kind {
                 shape: Shape::Prolate(prolate),
-                material: Material::Rigid,
+                material,
                 stokes: stk,
             };
             let quiet = RunOptions::default().quiet();

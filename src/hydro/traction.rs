@@ -30,7 +30,7 @@
 
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::error::ParamError;
-use crate::tensor::{Mat3, Mat9, Vec9, dev, mat3, skw, sym, vec9};
+use crate::tensor::{Mat3, dev, skw, sym};
 use serde::{Deserialize, Serialize};
 
 /// Treatment of the volumetric part tr d_s, about which Jeffery–Roscoe is silent.
@@ -197,39 +197,76 @@ impl JefferyRoscoe {
 }
 
 /// The inertialess (Θ → 0) balance P̃ = P, i.e. σ̃(l_s) = σ_el, for an incompressible particle:
-/// dev σ̃(l_s) = dev σ_el with tr l_s = 0 (paper eq. 18 with Θ → 0). σ̃ is affine in l_s, so this is a
-/// 9×9 linear system in the principal frame; one diagonal row of dev is replaced by the trace
-/// condition. The LU factors are kept so that Jacobians reuse them.
+/// dev σ̃(l_s) = dev σ_el with tr l_s = 0 (paper eq. 18 with Θ → 0).
+///
+/// σ̃ is affine in l_s, and in the principal frame its linear part decouples (module docs: s_ij
+/// depends on d_ij and w_ij, s_ii on the diagonal of d): the nine equations are one 3×3 system
+/// for the diagonal of l_s (the deviatoric normal stresses of rows 1 and 2, and tr l_s = 0 in
+/// place of row 3) and three 2×2 systems for the pairs (l_ij, l_ji). The part of σ̃′/μ_f linear
+/// in l_s (g = l_f − l_s contributes −l_s) is, for a pair i < j,
+/// ```math
+/// \begin{pmatrix}\tilde\sigma'_{ij}\\ \tilde\sigma'_{ji}\end{pmatrix} / \mu_f =
+/// \begin{pmatrix} 1 - \tfrac12 (c^d_{ij} + c^w_{ij}) & 1 - \tfrac12 (c^d_{ij} - c^w_{ij})\\
+///  1 - \tfrac12 (c^d_{ji} - c^w_{ji}) & 1 - \tfrac12 (c^d_{ji} + c^w_{ji})\end{pmatrix}
+/// \begin{pmatrix} l_{ij}\\ l_{ji}\end{pmatrix},
+/// ```
+/// and on the diagonal $\tilde\sigma^{\prime}_{ii}/\mu_f = \sum_m K_{im} l_{mm} - \bar p/\mu_f$ with
+/// $K_{im} = -c^{\mathrm{diag}}_{im} + \tfrac13 \sum_k c^{\mathrm{diag}}_{ik} + 2\delta_{im} - \tfrac23$
+/// (the viscous 2 dev d_s; p̄ drops out of dev). Four small solves replace the 9×9 operator
+/// probed column by column and its LU (a quarter of a soft particle's model evaluation). Tested
+/// against the defining equations through σ̃ itself (random ellipsoids with axis ratios up to
+/// 36) and the sphere's closed form.
 #[derive(Debug, Clone)]
 pub struct InertialessSolver {
     q: Mat3,
-    lu: nalgebra::LU<f64, nalgebra::Const<9>, nalgebra::Const<9>>,
+    /// Inverse of the diagonal block: (l_00, l_11, l_22) from (dev σ̃′_00, dev σ̃′_11, tr l_s).
+    diagonal: nalgebra::Matrix3<f64>,
+    /// Inverses of the pairs' blocks: (l_ij, l_ji) from (σ̃′_ij, σ̃′_ji), for [`PAIRS`].
+    pairs: [nalgebra::Matrix2<f64>; 3],
     base: Mat3,
     mu_f: f64,
 }
+
+/// The off-diagonal pairs (i, j), i < j.
+const PAIRS: [(usize, usize); 3] = [(0, 1), (0, 2), (1, 2)];
 
 impl InertialessSolver {
     fn new(traction: &JefferyRoscoe, l_f: &Mat3, mu_f: f64) -> Option<Self> {
         let frame = traction.frame();
         let lf = frame.to_principal(l_f);
         // The volumetric variant is irrelevant once tr l_s = 0 and dev is taken.
-        let vol = VolumetricTraction::Dev;
-        let base = dev(&traction.sigma_principal(&lf, &Mat3::zeros(), vol));
-        let mut op = Mat9::zeros();
-        for q in 0..9 {
-            let mut e = Mat3::zeros();
-            e[q] = 1.0;
-            let col = dev(&traction.sigma_principal(&lf, &e, vol)) - base;
-            op.set_column(q, &vec9(&col));
-        }
-        op.set_row(
-            TRACE_ROW,
-            &Vec9::from_fn(|q, _| if q % 4 == 0 { 1.0 } else { 0.0 }).transpose(),
-        );
-        let lu = op.lu();
-        lu.is_invertible().then_some(Self {
+        let base = dev(&traction.sigma_principal(&lf, &Mat3::zeros(), VolumetricTraction::Dev));
+        let (c_d, c_w, c_diag) = (&traction.c_d, &traction.c_w, &traction.c_diag);
+        let k = Mat3::from_fn(|i, m| {
+            let mean: f64 = (0..3).map(|l| c_diag[(i, l)]).sum::<f64>() / 3.0;
+            -c_diag[(i, m)] + mean + if i == m { 2.0 } else { 0.0 } - 2.0 / 3.0
+        });
+        let diagonal = Mat3::from_fn(|i, m| {
+            if i == 2 {
+                1.0
+            } else {
+                k[(i, m)] - (0..3).map(|l| k[(l, m)]).sum::<f64>() / 3.0
+            }
+        })
+        .try_inverse()?;
+        let pair = |(i, j): (usize, usize)| {
+            nalgebra::Matrix2::new(
+                1.0 - 0.5 * (c_d[(i, j)] + c_w[(i, j)]),
+                1.0 - 0.5 * (c_d[(i, j)] - c_w[(i, j)]),
+                1.0 - 0.5 * (c_d[(j, i)] - c_w[(j, i)]),
+                1.0 - 0.5 * (c_d[(j, i)] + c_w[(j, i)]),
+            )
+            .try_inverse()
+        };
+        let pairs = [pair(PAIRS[0])?, pair(PAIRS[1])?, pair(PAIRS[2])?];
+        let finite = diagonal
+            .iter()
+            .chain(pairs.iter().flat_map(|p| p.iter()))
+            .all(|v| v.is_finite());
+        finite.then_some(Self {
             q: frame.q,
-            lu,
+            diagonal,
+            pairs,
             base,
             mu_f,
         })
@@ -246,16 +283,19 @@ impl InertialessSolver {
         self.solve(dev(&(self.q * d_sigma_el * self.q.transpose())) / self.mu_f)
     }
 
-    fn solve(&self, rhs_principal: Mat3) -> Mat3 {
-        let mut rhs = vec9(&rhs_principal);
-        rhs[TRACE_ROW] = 0.0;
-        let ls = self.lu.solve(&rhs).expect("invertibility checked at construction");
-        self.q.transpose() * mat3(&ls) * self.q
+    /// l_s (principal components turned back to global) with dev σ̃′(l_s) − (its value at
+    /// l_s = 0) = `rhs` and tr l_s = 0 (the (2, 2) entry of `rhs` is not used).
+    fn solve(&self, rhs: Mat3) -> Mat3 {
+        let diagonal = self.diagonal * nalgebra::Vector3::new(rhs[(0, 0)], rhs[(1, 1)], 0.0);
+        let mut ls = Mat3::from_diagonal(&diagonal);
+        for (&(i, j), inverse) in PAIRS.iter().zip(&self.pairs) {
+            let pair = inverse * nalgebra::Vector2::new(rhs[(i, j)], rhs[(j, i)]);
+            ls[(i, j)] = pair[0];
+            ls[(j, i)] = pair[1];
+        }
+        self.q.transpose() * ls * self.q
     }
 }
-
-/// Row of the (2,2) component in column-major order; replaced by tr l_s′ = 0.
-const TRACE_ROW: usize = 8;
 
 /// Jeffery's (1922) torque-free spin of a rigid ellipsoid in the flow gradient `l_f`: the skew
 /// l_s with skw σ̃ = 0 and d_s = 0. In the principal frame

@@ -122,6 +122,23 @@ proptest! {
     }
 }
 
+/// A sphere's inertialess solution in closed form: with σ̃ = μ(5d + 3w + 2 dev d_s) and
+/// tr l_s = 0, dev σ̃ = dev σ_el gives d_s = (5 d_f − dev σ_el/μ)/3 and w_s = w_f, in any basis.
+#[test]
+fn sphere_inertialess_solution_in_closed_form() {
+    let q = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0).into_inner();
+    let tr = traction_for([0.7, 0.7, 0.7], &q);
+    let lf = Mat3::new(0.2, -1.3, 0.4, 0.9, 0.5, -0.2, 0.1, 0.6, -0.7);
+    let sigma_el = sym(&Mat3::new(1.5, 0.3, -0.8, 0.2, -0.4, 0.6, 0.9, 0.1, 2.2));
+    let mu = 1.7;
+    let ls = tr.inertialess(&lf, mu).unwrap().velocity_gradient(&sigma_el);
+    let expected = (dev(&sym(&lf)) * 5.0 - dev(&sigma_el) / mu) / 3.0 + skw(&lf);
+    assert!(
+        (ls - expected).abs().max() <= 1e-13 * expected.abs().max(),
+        "{ls} against {expected}"
+    );
+}
+
 /// The normal-stress functions of a rigid-surface-free torque-free ellipsoid reproduce
 /// Roscoe's I and J (Jeffery 1922, Roscoe 1967) in units abc = 1.
 #[test]
