@@ -13,7 +13,8 @@
 //! `paper-figures/airway-tree/`: `release.csv`
 //! (`shape,mu_s,stk,threshold,generation,n_released,fraction,fraction_stderr`),
 //! `release_times.csv` (whole tree and release times per threshold), `release.svg`,
-//! `release_map.vtp` (ParaView: one point per release event) and `release_map.parquet`, and
+//! `release_map.vtp` (ParaView: one point per release event of particles 0 to 999) and
+//! `release_map.parquet` (the same events), and
 //! `release_timing.csv`. Finished runs are kept with the tree study's
 //! (`target/airway-tree-runs` or `PSEUDORIGID_TREE_CACHE`) and read back.
 
@@ -29,6 +30,9 @@ use pseudorigid::scenes::particles::Shape;
 
 /// Particles per point when neither the command line nor `PSEUDORIGID_RELEASE_N` says.
 const DEFAULT_N: u64 = 1000;
+
+/// The release maps show the particles with index below this (the statistics use all N).
+const MAP_PARTICLES: u64 = 1000;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -88,9 +92,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     release_figure(tree.tree(), &rows, &format!("{} tree", tree.tree().variant()))
         .write(paper_figure_path("airway-tree", "release.svg"))?;
     let map: Vec<_> = rows.iter().map(|(kind, r)| (*kind, r)).collect();
-    release_map(&map)?
+    release_map(&map, MAP_PARTICLES)?
         .single_precision()?
         .write(paper_figure_path("airway-tree", "release_map.vtp"))?;
-    write_release_parquet(&map, &paper_figure_path("airway-tree", "release_map.parquet"))?;
+    write_release_parquet(&map, MAP_PARTICLES, &paper_figure_path("airway-tree", "release_map.parquet"))?;
     Ok(())
 }

@@ -391,14 +391,17 @@ pub fn release_figure(tree: &Tree, rows: &[(Kind, Releases)], title: &str) -> Fi
 /// Per kind: a number for the map's `kind` array, and its releases.
 type Map<'r> = [(Kind, &'r Releases)];
 
-/// The release map for ParaView: one vertex per release event at its barycentre, with point
-/// arrays `time`, `threshold`, `stretch` (λ₁ there), `generation`, `tube`, `zone` (1 in a
-/// bifurcation zone), `particle` (index) and `kind` (position in `rows`).
-pub fn release_map(rows: &Map<'_>) -> Result<PolyData, VtkError> {
+/// The release map for ParaView: one vertex per release event of the particles with index
+/// below `particles` (the same particles in every kind; a map of every particle of a large
+/// run is tens of megabytes) at its barycentre, with point arrays `time`, `threshold`,
+/// `stretch` (λ₁ there), `generation`, `tube`, `zone` (1 in a bifurcation zone), `particle`
+/// (index) and `kind` (position in `rows`).
+pub fn release_map(rows: &Map<'_>, particles: u64) -> Result<PolyData, VtkError> {
     let events: Vec<(usize, &ReleaseEvent)> = rows
         .iter()
         .enumerate()
         .flat_map(|(k, (_, r))| r.events.iter().map(move |e| (k, e)))
+        .filter(|(_, e)| e.index < particles)
         .collect();
     let f = |g: fn(&ReleaseEvent) -> f64| Values::Float64(events.iter().map(|(_, e)| g(e)).collect());
     let i = |g: fn(usize, &ReleaseEvent) -> i64| Values::Int64(events.iter().map(|(k, e)| g(*k, e)).collect());
@@ -420,14 +423,16 @@ pub fn release_map(rows: &Map<'_>) -> Result<PolyData, VtkError> {
 
 /// The release map as a Parquet table: `shape`, `mu_s` (null for rigid), `stk`, `threshold`,
 /// `particle`, `t`, `x1`–`x3`, `value` (the criterion), `stretch`, `generation`, `tube`,
-/// `zone`, one row per release event.
+/// `zone`, one row per release event of the particles with index below `particles` (as
+/// [`release_map`]).
 #[cfg(feature = "parquet")]
-pub fn write_release_parquet(rows: &Map<'_>, path: &Path) -> Result<(), AirwayTreeError> {
+pub fn write_release_parquet(rows: &Map<'_>, particles: u64, path: &Path) -> Result<(), AirwayTreeError> {
     use crate::output::parquet::Table;
     use crate::scenes::bifurcation::Material;
     let events: Vec<(&Kind, &ReleaseEvent)> = rows
         .iter()
         .flat_map(|(k, r)| r.events.iter().map(move |e| (k, e)))
+        .filter(|(_, e)| e.index < particles)
         .collect();
     let mut t = Table::default();
     t.text("shape", events.iter().map(|(k, _)| Some(k.shape.label())).collect());
