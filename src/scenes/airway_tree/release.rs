@@ -290,8 +290,10 @@ pub fn release_table(rows: &[(Kind, Vec<ReleaseCounts>)]) -> Result<Csv, AirwayT
     Ok(csv)
 }
 
-/// `shape,mu_s,stk,threshold,n,n_released,fraction,fraction_stderr,t_mean,t_stderr,t_median`:
-/// the released fraction over the whole tree and the release times (s) per threshold.
+/// `shape,mu_s,stk,threshold,n,n_released,fraction,fraction_stderr,t_mean,t_stderr,t_median,
+/// zone_share`: the released fraction over the whole tree, the release times (s) per
+/// threshold, and the share of the releases that lie in a bifurcation zone (a carina region)
+/// rather than a tube proper.
 pub fn release_times_table(rows: &[(Kind, Releases)]) -> Result<Csv, AirwayTreeError> {
     let mut csv = Csv::new(&[
         "shape",
@@ -305,6 +307,7 @@ pub fn release_times_table(rows: &[(Kind, Releases)]) -> Result<Csv, AirwayTreeE
         "t_mean",
         "t_stderr",
         "t_median",
+        "zone_share",
     ]);
     for (kind, releases) in rows {
         for &threshold in releases.thresholds.levels() {
@@ -328,10 +331,21 @@ pub fn release_times_table(rows: &[(Kind, Releases)]) -> Result<Csv, AirwayTreeE
                 time(|t| t.mean),
                 time(|t| t.stderr),
                 time(|t| t.median),
+                zone_share(releases, threshold).map_or(String::new(), |z| format!("{z:.5}")),
             ])?;
         }
     }
     Ok(csv)
+}
+
+/// The share of the releases at `threshold` located in a bifurcation zone; `None` if none.
+fn zone_share(releases: &Releases, threshold: f64) -> Option<f64> {
+    let at: Vec<&ReleaseEvent> = releases.events.iter().filter(|e| e.threshold == threshold).collect();
+    let zones = at
+        .iter()
+        .filter(|e| e.location.part == super::tree::Part::Bifurcation)
+        .count();
+    (!at.is_empty()).then(|| zones as f64 / at.len() as f64)
 }
 
 /// Released fraction against the threshold, one panel per generation of `tree`, one series
