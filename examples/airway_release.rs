@@ -21,8 +21,8 @@
 use pseudorigid::output::{Csv, paper_figure_path};
 use pseudorigid::scenes::airway_tree::AirwayTree;
 use pseudorigid::scenes::airway_tree::release::{
-    Releases, release_figure, release_map, release_table, release_times_table, run_release_cached,
-    stretch_thresholds, write_release_parquet,
+    Releases, release_figure, release_map, release_table, release_times_table, run_release_cached, stretch_thresholds,
+    write_release_parquet,
 };
 use pseudorigid::scenes::airway_tree::study::mu_s_label;
 use pseudorigid::scenes::bifurcation::{Kind, Material};
@@ -95,6 +95,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     release_map(&map, MAP_PARTICLES)?
         .single_precision()?
         .write(paper_figure_path("airway-tree", "release_map.vtp"))?;
-    write_release_parquet(&map, MAP_PARTICLES, &paper_figure_path("airway-tree", "release_map.parquet"))?;
+    write_release_parquet(
+        &map,
+        MAP_PARTICLES,
+        &paper_figure_path("airway-tree", "release_map.parquet"),
+    )?;
     Ok(())
 }

@@ -95,4 +95,3 @@ impl Table {
         Ok(write_atomic(path, &bytes)?)
     }
 }
-

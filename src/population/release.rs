@@ -26,8 +26,8 @@
 use super::observe::{Observer, Watch};
 use super::record::Fate;
 use crate::driver::locate_root;
-use crate::integrator::{Dense, Step};
 use crate::hydro::DragModel;
+use crate::integrator::{Dense, Step};
 use crate::material::Response;
 use crate::particle::release::{ReleaseThresholds, largest_stretch};
 use crate::particle::{Particle, State};
@@ -181,8 +181,14 @@ impl<M: Response, D: DragModel> Watching<'_, M, D> {
                 }
                 let gap = |s: &State| level - self.value(s);
                 // A NaN on the interpolant has no crossing to locate: keep the sample.
-                let at = locate_root(&gap, dense, (self.last.0, level - self.last.1), (t, level - value), level)
-                    .unwrap_or(state);
+                let at = locate_root(
+                    &gap,
+                    dense,
+                    (self.last.0, level - self.last.1),
+                    (t, level - value),
+                    level,
+                )
+                .unwrap_or(state);
                 let v = self.value(&at);
                 self.crossings[k] = Some(self.crossing(&at, v));
             }

@@ -5,6 +5,7 @@
 //! threshold at which release just fires.
 
 use crate::common::strategies::rotation;
+use proptest::prelude::*;
 use pseudorigid::driver::{Plan, integrate};
 use pseudorigid::ellipsoid::Ellipsoid;
 use pseudorigid::integrator::dense::Knot;
@@ -19,7 +20,6 @@ use pseudorigid::scenes::shear_run::unit_shear;
 use pseudorigid::scenes::shear_shape::ShearShape;
 use pseudorigid::scenes::tank_treading::roscoe;
 use pseudorigid::tensor::{Mat3, Vec3};
-use proptest::prelude::*;
 
 const MU: f64 = 2.0;
 
@@ -40,14 +40,7 @@ type History = dyn Fn(f64) -> (Vec3, Vec3, Mat3, Mat3);
 /// Hermite interpolant of exact knots), watched by `release`, finished at `t_stop` (the end
 /// state's time; the last step may run past it, as the driver's last step runs past an
 /// event); `rigid` marks the interpolants as rotations, as the driver does for rigid particles.
-fn watch_history(
-    release: &Release,
-    history: &History,
-    h: f64,
-    t_end: f64,
-    t_stop: f64,
-    rigid: bool,
-) -> Released {
+fn watch_history(release: &Release, history: &History, h: f64, t_end: f64, t_stop: f64, rigid: bool) -> Released {
     let particle = sphere();
     let state = |t: f64| {
         let (x, v, f, a) = history(t);
@@ -86,7 +79,10 @@ fn planar_extension(eps: f64) -> impl Fn(f64) -> (Vec3, Vec3, Mat3, Mat3) {
 #[test]
 fn thresholds_validate_themselves() {
     use ReleaseCriterion::*;
-    assert_eq!(ReleaseThresholds::new(PrincipalStretch, vec![]), Err(ReleaseError::Empty));
+    assert_eq!(
+        ReleaseThresholds::new(PrincipalStretch, vec![]),
+        Err(ReleaseError::Empty)
+    );
     assert!(matches!(
         ReleaseThresholds::new(PrincipalStretch, vec![1.2, f64::NAN]),
         Err(ReleaseError::NonFinite { index: 1, .. })
@@ -141,7 +137,11 @@ fn crossing_matches_planar_extension_closed_form() {
                 continue;
             }
             let c = c.expect("reached");
-            assert!((c.t - exact).abs() <= bound + 1e-9 / eps, "{criterion:?} {s}: {} vs {exact}", c.t);
+            assert!(
+                (c.t - exact).abs() <= bound + 1e-9 / eps,
+                "{criterion:?} {s}: {} vs {exact}",
+                c.t
+            );
             assert!((c.x[0] - c.t).abs() <= 1e-14 && c.x[1] == 0.0);
             assert!((c.value - s).abs() <= 1e-9 * s && (c.stretch - s).abs() <= 1e-9 * s);
         }
@@ -173,7 +173,8 @@ fn rigid_rotation_never_releases() {
         let f = *nalgebra::Rotation3::from_axis_angle(&Vec3::z_axis(), omega * t).matrix();
         (Vec3::zeros(), Vec3::zeros(), f, w * f)
     };
-    let release = Release::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, vec![1.0 + 1e-12, 1.01]).unwrap());
+    let release =
+        Release::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, vec![1.0 + 1e-12, 1.01]).unwrap());
     let got = watch_history(&release, &history, 0.1, 2.0, 2.0, true);
     assert_eq!(got.crossings, vec![None, None]);
     assert!((got.peak.value - 1.0).abs() < 1e-14, "{}", got.peak.value);
@@ -258,7 +259,18 @@ fn tank_treading_sphere_releases_just_below_roscoe_stretch() {
     let integ = Stokesian::overdamped(1e-8).unwrap();
     let mut memory = <Stokesian as TimeIntegrator>::Memory::default();
     let plan = Plan::new(70.0, 1e-3).unwrap();
-    let out = integrate(&integ, &particle, &flow, start, &mut memory, &plan, &[], |_| {}, |s| watch.step(s)).unwrap();
+    let out = integrate(
+        &integ,
+        &particle,
+        &flow,
+        start,
+        &mut memory,
+        &plan,
+        &[],
+        |_| {},
+        |s| watch.step(s),
+    )
+    .unwrap();
     let got = Released::of(&watch.finish(&Fate::Suspended, &out.state)).unwrap();
     assert!(got.crossings[0].is_some(), "peak {} vs steady {lambda}", got.peak.value);
     assert!(
@@ -266,5 +278,9 @@ fn tank_treading_sphere_releases_just_below_roscoe_stretch() {
         "peak {} vs steady {lambda}",
         got.peak.value
     );
-    assert!((largest_stretch(&out.state.f) - lambda).abs() <= 1e-6, "end λ₁ {}", largest_stretch(&out.state.f));
+    assert!(
+        (largest_stretch(&out.state.f) - lambda).abs() <= 1e-6,
+        "end λ₁ {}",
+        largest_stretch(&out.state.f)
+    );
 }

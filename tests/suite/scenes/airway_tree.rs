@@ -303,7 +303,12 @@ fn release_of_soft_spheres_snapshot() {
     let reference = run_kind(a, kind, n, figures::SEED, Shard::ALL, &options, None).unwrap();
     assert_eq!(watched.counts().failed, 0);
     for (w, r) in watched.records.iter().zip(&reference.records) {
-        assert_eq!((&w.fate, &w.end, &w.stats), (&r.fate, &r.end, &r.stats), "particle {}", w.index);
+        assert_eq!(
+            (&w.fate, &w.end, &w.stats),
+            (&r.fate, &r.end, &r.stats),
+            "particle {}",
+            w.index
+        );
     }
     let releases = Releases::of(a.tree(), &thresholds, &watched).unwrap();
     assert_eq!(releases.n, n);
