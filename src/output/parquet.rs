@@ -92,6 +92,6 @@ impl Table {
         let mut writer = ArrowWriter::try_new(&mut bytes, schema, Some(props)).map_err(failed)?;
         writer.write(&batch).map_err(failed)?;
         let _ = writer.close().map_err(failed)?;
-        Ok(write_atomic(path, &bytes)?)
+        write_atomic(path, &bytes)
     }
 }
