@@ -405,6 +405,20 @@ fn first_event(
 
 /// Illinois regula falsi for g(state(t)) = 0 on `dense` between a (g > 0) and b (g ≤ 0).
 fn locate(e: &dyn Event, dense: &Dense, a: (f64, f64), b: (f64, f64), scale: f64) -> Result<State, StepError> {
+    locate_root(&|s| e.gap(s), dense, a, b, scale)
+}
+
+/// The state where `gap`(state(t)) = 0 on the step's interpolant `dense`, between
+/// a = (t_a, g_a) with g_a > 0 and b = (t_b, g_b) with g_b ≤ 0: the driver's event location
+/// (Illinois regula falsi until |g| ≤ 10⁻⁹ · `scale`, [`EVENT_TOL`]), for watches that locate
+/// non-terminal crossings on the same interpolant (the release watch, `population::release`).
+pub fn locate_root(
+    gap: &dyn Fn(&State) -> f64,
+    dense: &Dense,
+    a: (f64, f64),
+    b: (f64, f64),
+    scale: f64,
+) -> Result<State, StepError> {
     let ((mut ta, mut ga), (mut tb, mut gb)) = (a, b);
     let tol = EVENT_TOL * scale.abs().max(f64::MIN_POSITIVE);
     if -gb <= tol {
@@ -414,7 +428,7 @@ fn locate(e: &dyn Event, dense: &Dense, a: (f64, f64), b: (f64, f64), scale: f64
     for _ in 0..MAX_EVENT_ITERS {
         let tc = ta + ga / (ga - gb) * (tb - ta);
         let sc = dense.state_at(tc);
-        let gc = e.gap(&sc);
+        let gc = gap(&sc);
         if gc.is_nan() {
             return Err(StepError::NonFinite {
                 what: "event gap",

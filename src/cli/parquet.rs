@@ -16,93 +16,12 @@ use super::error::CliError;
 use super::frames::at_time;
 use super::models::SceneLaw;
 use crate::material::{Softness, StressLaw};
+use crate::output::parquet::Table;
 use crate::output::vtk::stretch;
-use crate::output::{OutputError, write_atomic};
 use crate::population::{Fate, RunOutput};
-use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray, UInt64Array};
-use arrow_schema::{DataType, Field, Schema};
-use parquet::arrow::ArrowWriter;
-use parquet::basic::{Compression, Encoding};
-use parquet::file::properties::WriterProperties;
-use parquet::schema::types::ColumnPath;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::path::Path;
-use std::sync::Arc;
-
-fn failed(e: impl std::fmt::Display) -> CliError {
-    OutputError::Parquet(e.to_string()).into()
-}
-
-/// Columns by name, written atomically as one Parquet file.
-#[derive(Default)]
-struct Table {
-    fields: Vec<Field>,
-    columns: Vec<ArrayRef>,
-    /// Columns written BYTE_STREAM_SPLIT without a dictionary.
-    split: Vec<String>,
-}
-
-impl Table {
-    fn f64(&mut self, name: &str, v: Vec<f64>) {
-        self.fields.push(Field::new(name, DataType::Float64, false));
-        self.columns.push(Arc::new(Float64Array::from(v)));
-    }
-
-    /// A column of measured values (few repeats): BYTE_STREAM_SPLIT, no dictionary.
-    fn f64_measured(&mut self, name: &str, v: Vec<f64>) {
-        self.split.push(name.to_string());
-        self.f64(name, v);
-    }
-
-    fn f64_or_null(&mut self, name: &str, v: Vec<Option<f64>>) {
-        self.fields.push(Field::new(name, DataType::Float64, true));
-        self.columns.push(Arc::new(Float64Array::from(v)));
-    }
-
-    fn i64(&mut self, name: &str, v: Vec<i64>) {
-        self.fields.push(Field::new(name, DataType::Int64, false));
-        self.columns.push(Arc::new(Int64Array::from(v)));
-    }
-
-    fn i64_or_null(&mut self, name: &str, v: Vec<Option<i64>>) {
-        self.fields.push(Field::new(name, DataType::Int64, true));
-        self.columns.push(Arc::new(Int64Array::from(v)));
-    }
-
-    fn u64(&mut self, name: &str, v: Vec<u64>) {
-        self.fields.push(Field::new(name, DataType::UInt64, false));
-        self.columns.push(Arc::new(UInt64Array::from(v)));
-    }
-
-    fn text(&mut self, name: &str, v: Vec<Option<String>>) {
-        self.fields.push(Field::new(name, DataType::Utf8, true));
-        self.columns.push(Arc::new(StringArray::from(v)));
-    }
-
-    fn write(self, path: &Path) -> Result<(), CliError> {
-        let schema = Arc::new(Schema::new(self.fields));
-        let batch = RecordBatch::try_new(schema.clone(), self.columns).map_err(failed)?;
-        let props = self
-            .split
-            .into_iter()
-            .fold(
-                WriterProperties::builder().set_compression(Compression::SNAPPY),
-                |props, name| {
-                    let column = ColumnPath::from(name);
-                    props
-                        .set_column_dictionary_enabled(column.clone(), false)
-                        .set_column_encoding(column, Encoding::BYTE_STREAM_SPLIT)
-                },
-            )
-            .build();
-        let mut bytes = Vec::new();
-        let mut writer = ArrowWriter::try_new(&mut bytes, schema, Some(props)).map_err(failed)?;
-        writer.write(&batch).map_err(failed)?;
-        let _ = writer.close().map_err(failed)?;
-        Ok(write_atomic(path, &bytes)?)
-    }
-}
 
 /// `records.parquet`: index, fate, patch and its name, the end state (t, x, r₁..r₃, F), the
 /// particle's spec (injection point, rest semi-axes, μ_s), step statistics and the error of a
@@ -184,7 +103,7 @@ pub fn write_records<L: StressLaw + Serialize + DeserializeOwned>(
             })
             .collect(),
     );
-    t.write(path)
+    Ok(t.write(path)?)
 }
 
 /// Columns of `frames.parquet`.
@@ -231,5 +150,5 @@ pub fn write_frames(output: &RunOutput<SceneLaw>, times: &[f64], path: &Path) ->
         t.f64_measured(name, c);
     }
     t.i64("flag", flag);
-    t.write(path)
+    Ok(t.write(path)?)
 }

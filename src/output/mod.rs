@@ -1,11 +1,13 @@
-//! Output helpers shared by the examples: atomic file writes, CSV tables, SVG figures and
-//! ParaView files.
+//! Output helpers shared by the examples: atomic file writes, CSV tables, SVG figures,
+//! ParaView files and Parquet tables.
 //!
 //! Every file is written atomically (temporary file in the same folder, then `rename`), so a
 //! reader never sees a half-written dataset and an interrupted run leaves the old one intact.
 
 pub mod atomic;
 pub mod csv;
+#[cfg(feature = "parquet")]
+pub mod parquet;
 pub mod plot;
 pub mod vtk;
 

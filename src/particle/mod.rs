@@ -10,12 +10,14 @@
 //! the barycentre's (eq. 6) and the shape's (eq. 7), with mass m and Euler tensor Θ (eq. 8).
 //! [`State`] holds (x_c, v_c, F, A); [`Particle`] the constants; [`dynamics`] the loads of §3
 //! inserted into eqs. 6, 7, which gives eqs. 17, 18; [`inertialess`] their limit Θ → 0 as a
-//! right-hand side y′ = f(t, y) with its Jacobian.
+//! right-hand side y′ = f(t, y) with its Jacobian; [`release`] the deformation measures a drug
+//! release is triggered by (largest principal stretch, semi-axis ratio, energy density).
 
 pub mod dynamics;
 pub mod inertialess;
 pub mod lines;
 pub mod model;
+pub mod release;
 pub mod scaling;
 
 pub use dynamics::{Forcing, Geometry, Model, Work};

@@ -28,6 +28,8 @@
 //! - [`observe`]: an [`Observer`] of every particle's run, whose summary the record keeps
 //!   (a scene's per-run columns);
 //! - [`record`]: [`Fate`] (deposited, escaped, suspended, failed), [`ParticleRecord`];
+//! - [`release`]: drug release at a critical deformation, a non-terminal event recorded by
+//!   an observer (where and when each threshold is first crossed);
 //! - [`runner`]: [`run`] with [`RunOptions`] (parallel or serial, progress, checkpoints);
 //! - [`progress`], [`checkpoint`], [`shard`], [`output`]: progress reports, checkpoint files,
 //!   shards `k/N`, result files, their standard paths and their merge;
@@ -50,6 +52,7 @@ pub mod packed;
 pub mod peer;
 pub mod progress;
 pub mod record;
+pub mod release;
 pub mod runner;
 pub mod sampling;
 pub mod seal;

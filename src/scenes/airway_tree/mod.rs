@@ -12,8 +12,9 @@
 //! along e₁, deposition on contact of the particle's extent, ten mean residence times. The
 //! flow is read and tracked by the bifurcation's [`Airway`]; this module adds the tree's
 //! centrelines ([`tree`]), the generation classifier, an observer of the generations each
-//! particle enters ([`observe`]) and the per-generation study ([`study`]). Every choice the
-//! issue leaves open is in `cases/airway-tree/README.md`.
+//! particle enters ([`observe`]), the per-generation study ([`study`]) and drug release at a
+//! critical stretch, where and when soft particles first reach it ([`release`]). Every choice
+//! the issue leaves open is in `cases/airway-tree/README.md`.
 //!
 //! # Deposition efficiency per generation
 //! ```math
@@ -25,6 +26,7 @@
 //! particle, hence the binomial error.
 
 pub mod observe;
+pub mod release;
 pub mod study;
 pub mod tree;
 

@@ -2,4 +2,5 @@
 
 mod checkpoint;
 mod common;
+mod release;
 mod runner;

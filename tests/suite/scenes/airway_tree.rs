@@ -276,3 +276,55 @@ fn spheres_at_stokes_0_4_snapshot() {
         .collect();
     insta::assert_snapshot!(format!("{table}\n{}", changes.join("\n")));
 }
+
+/// 200 soft spheres (μ_s = 0.5 Pa) at Stk = 0.4 watched for release at the study's λ₁
+/// thresholds: the fates, end states and work are those of the same particles watched by the
+/// generation observer (an observer only reads the run); a particle releases only in a
+/// generation it entered and no later than its run's end; at each threshold the released
+/// count is the number of particles whose peak reaches it, and fewer release at a higher
+/// threshold. The per-generation release table is snapshot (counts, fractions to five digits).
+#[test]
+fn release_of_soft_spheres_snapshot() {
+    use pseudorigid::population::{RunOptions, Shard};
+    use pseudorigid::scenes::airway_tree::release::{Releases, release_table, run_release, stretch_thresholds};
+    use pseudorigid::scenes::airway_tree::study::outcome;
+    use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
+    use pseudorigid::scenes::particles::Shape;
+    let a = shipped();
+    let n = 200;
+    let kind = Kind {
+        shape: Shape::Sphere,
+        material: Material::ShearModulus(0.5),
+        stokes: 0.4,
+    };
+    let options = RunOptions::default().quiet();
+    let thresholds = stretch_thresholds();
+    let watched = run_release(a, kind, &thresholds, n, figures::SEED, Shard::ALL, &options, None).unwrap();
+    let reference = run_kind(a, kind, n, figures::SEED, Shard::ALL, &options, None).unwrap();
+    assert_eq!(watched.counts().failed, 0);
+    for (w, r) in watched.records.iter().zip(&reference.records) {
+        assert_eq!(
+            (&w.fate, &w.end, &w.stats),
+            (&r.fate, &r.end, &r.stats),
+            "particle {}",
+            w.index
+        );
+    }
+    let releases = Releases::of(a.tree(), &thresholds, &watched).unwrap();
+    assert_eq!(releases.n, n);
+    for e in &releases.events {
+        let k = e.index as usize;
+        let deepest = outcome(a.tree(), &reference.records[k]).unwrap().unwrap().deepest;
+        assert!(e.location.generation <= deepest, "{e:?}: deepest G{deepest}");
+        assert!(e.crossing.t <= watched.records[k].end.unwrap().t);
+    }
+    let mut last = u64::MAX;
+    for &s in thresholds.levels() {
+        let released = releases.events.iter().filter(|e| e.threshold == s).count() as u64;
+        assert_eq!(released, releases.peaks.iter().filter(|&&p| p >= s).count() as u64);
+        assert!(released <= last);
+        last = released;
+    }
+    let table = release_table(&[(kind, releases.by_generation(a.tree()))]).unwrap();
+    insta::assert_snapshot!(table.to_text());
+}
