@@ -32,8 +32,13 @@
 //! Higher order (cubic through four levels) would cut the error to $O(Δt_w^4)$ but hold four
 //! levels instead of two, and it overshoots where the flow changes abruptly (a valve opening,
 //! the turn from inspiration to expiration), inventing velocities the solver never had. Linear
-//! interpolation is bounded by its levels, and its order is measured in the tests (a flow
-//! $u(x) \sin\omega t$ written as time directories: observed order 2.0 in u at the midpoints).
+//! interpolation is bounded by its levels, and its order is measured: in the tests (a flow
+//! $u(x) \sin\omega t$ written as time directories: observed order 1.98 at the midpoints), and
+//! on icoFoam's cavity with a lid oscillating in T = 0.5 s, written every 2.5 ms step
+//! (`cases/oscillating-cavity`, `examples/transient_interpolation`: every k-th level kept, the
+//! others compared at the cell centres): relative errors 4.9·10⁻⁴, 2.0·10⁻³, 7.9·10⁻³,
+//! 3.1·10⁻², 0.12 for N = 100, 50, 25, 12.5, 6.25 levels a period, order 2.00, on the estimate
+//! $\pi^2/(2N^2)$.
 //!
 //! # Periodic fields
 //! [`Cycle::Periodic`] repeats the levels with period P (a breathing cycle solved once): the
