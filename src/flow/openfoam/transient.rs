@@ -215,8 +215,11 @@ impl<F: Windowed> TransientFlow<F> {
     }
 
     /// Hold the levels that answer every time in [start, end] (module docs): those held already
-    /// are kept, the others dropped before the new ones are computed. On an error (a level
-    /// that cannot be read) the field answers no time until a window is held.
+    /// are kept, the others dropped before the new ones are computed. Every level inside the
+    /// window is held too, so memory grows with the window's width: slide in steps of about
+    /// the levels' spacing. A periodic field refuses a window that would hold more than one
+    /// cycle's levels and the two around them. On an error (a level that cannot be read) the
+    /// field answers no time until a window is held.
     pub fn slide(&mut self, start: f64, end: f64) -> Result<(), FoamError> {
         let refuse = |reason: String| FoamError::Window { start, end, reason };
         if !(start.is_finite() && end.is_finite() && start <= end) {
@@ -260,6 +263,14 @@ impl<F: Windowed> TransientFlow<F> {
             ),
             Cycle::Periodic { .. } => (self.time_of(first), self.time_of(last)),
         };
+        // A window longer than the period would hold (and compute) levels twice.
+        if last - first > self.levels.len() as i64 + 1 {
+            return Err(refuse(format!(
+                "it would hold {} levels of a cycle of {}: slide by at most a period",
+                last - first + 1,
+                self.levels.len()
+            )));
+        }
         // Far from the first level, τ + cP rounds away the spacing of the levels.
         if let Some(j) = (first..last).find(|&j| self.time_of(j + 1) <= self.time_of(j)) {
             return Err(refuse(format!(

@@ -269,7 +269,9 @@ fn bad_windows_periods_and_times_are_typed_errors() {
             other => panic!("{levels:?} with period {period}: {other:?}"),
         }
     }
-    assert!(open(&times, periodic(2.0)).is_ok());
+    let mut cycling = open(&times, periodic(2.0)).unwrap();
+    assert!(matches!(cycling.slide(0.1, 2.6), Err(FoamError::Window { .. })));
+    cycling.slide(0.1, 2.3).unwrap();
     assert!(matches!(
         open(&[0.0, 0.7], Cycle::Once),
         Err(FoamError::NoSuchTime { .. })
