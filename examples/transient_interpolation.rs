@@ -2,7 +2,8 @@
 //! CFD case written at every solver step: the levels of the second half of the case's times,
 //! thinned to every k-th, interpolated at the levels left out and compared with them at every
 //! cell centre (where a cell's reconstruction is its value). Prints the largest error relative
-//! to the largest |u| of the levels left out, for k = 2, 4, ..., 32, and the observed order.
+//! to the largest |u| of the levels left out, for k = 2, 4, ..., 32, and the observed order;
+//! then the samples per second of the window against the field of every level held.
 //!
 //! `cases/oscillating-cavity/Allrun` solves the case (icoFoam, a lid oscillating with period
 //! 0.5 s, 2.5 ms steps) and runs this: `cargo run --release --example transient_interpolation
@@ -52,6 +53,59 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let order = previous.map_or(String::new(), |p| format!("{:.2}", (relative / p).log2()));
         println!("{k}\t{:.4}\t{relative:.3e}\t{order}", kept[1] - kept[0]);
         previous = Some(relative);
+    }
+    throughput(&case, levels, centres)
+}
+
+/// Samples per second of the field of every level against the window's (f64 and f32): at the
+/// cell centres shifted off them, at four times in each interval, the window slid interval
+/// by interval (its reading and gradients timed too).
+fn throughput(
+    case: &FoamCase,
+    levels: &[f64],
+    centres: &[pseudorigid::tensor::Vec3],
+) -> Result<(), Box<dyn std::error::Error>> {
+    use std::time::Instant;
+    let offset = pseudorigid::tensor::Vec3::new(1e-4, -2e-4, 0.0);
+    let points: Vec<_> = centres.iter().map(|c| c + offset).collect();
+    let times = |w: &[f64]| {
+        let (a, b) = (w[0], w[1]);
+        (0..4).map(move |i| a + (b - a) * f64::from(i) / 4.0)
+    };
+    let all = FoamFlow::read(case, levels)?;
+    let clock = Instant::now();
+    let mut sum = 0.0;
+    let mut count = 0u64;
+    for w in levels.windows(2) {
+        for t in times(w) {
+            for x in &points {
+                sum += all.sample(x, t)?.u[0];
+                count += 1;
+            }
+        }
+    }
+    let every = count as f64 / clock.elapsed().as_secs_f64();
+    println!("samples per second: every level held {every:.3e}");
+    for precision in [Precision::F64, Precision::F32] {
+        let mut flow = TransientFlow::<FoamFlow>::open(case.clone(), levels, Cycle::Once, precision)?;
+        let clock = Instant::now();
+        let mut windowed = 0.0;
+        for w in levels.windows(2) {
+            flow.slide(w[0], w[1])?;
+            for t in times(w) {
+                for x in &points {
+                    windowed += flow.sample(x, t)?.u[0];
+                }
+            }
+        }
+        let rate = count as f64 / clock.elapsed().as_secs_f64();
+        println!(
+            "samples per second: window ({precision:?}, slides included) {rate:.3e}, {:.2} of every level held's",
+            rate / every
+        );
+        if precision == Precision::F64 && windowed != sum {
+            return Err("the window's samples differ from every level held's".into());
+        }
     }
     Ok(())
 }
