@@ -123,6 +123,9 @@ where
     }
 }
 
+/// A particle launched ([`Case::launch`]), or its record if it could not be.
+type Launched<J, M> = Result<InFlight<J, M>, ParticleRecord<<J as Injector>::Law>>;
+
 /// Run shard `shard` of the population `config` window by window: `windows` = [t₀, t₁, ...,
 /// t_n] (ascending, finite) are the window ends; every live particle is advanced to t₁, the
 /// flow slides to [t₁, t₂], and so on. Particles still in flight at t_n are suspended there.
@@ -132,6 +135,8 @@ where
 /// the next window end. Progress is not reported.
 ///
 /// Records are returned by ascending index.
+// As Case::launch: the in-flight particle is as large as the record.
+#[allow(clippy::result_large_err)]
 pub fn run_batch<I, W, B, J>(
     batch: &Batch<'_, I, B, J>,
     flow: &mut W,
@@ -184,7 +189,7 @@ where
         .filter(|k| !records.contains_key(k))
         .collect();
     let launch = |k: &u64| batch.case(&*flow).launch(config.seed, *k);
-    let launched: Vec<Result<InFlight<J, I::Memory>, ParticleRecord<J::Law>>> = if options.parallel {
+    let launched: Vec<Launched<J, I::Memory>> = if options.parallel {
         indices.par_iter().map(launch).collect()
     } else {
         indices.iter().map(launch).collect()

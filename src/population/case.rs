@@ -160,7 +160,6 @@ where
     }
 
     /// The fate of a run's `result`, its end state and work.
-    #[allow(clippy::result_large_err)]
     fn fate(
         &self,
         contact: &ContactEvent<'_, B, Softness<J::Law>, J::Drag, F>,
@@ -200,6 +199,8 @@ where
     /// Particle `index` of a run with seed `seed` drawn, built and planned, ready for
     /// [`Case::advance`]; a particle that cannot be is its record, as in
     /// [`Case::run_particle`].
+    // The in-flight particle (the Ok variant) is as large as its record: boxing saves nothing.
+    #[allow(clippy::result_large_err)]
     pub fn launch(&self, seed: u64, index: u64) -> Result<InFlight<J, I::Memory>, ParticleRecord<J::Law>> {
         let mut rng = particle_rng(seed, index);
         let spec = self
