@@ -135,3 +135,47 @@ fn batch_records_are_the_same_for_threads_shards_and_a_resume() {
         ));
     }
 }
+
+/// On a transient field the window's records are those over every level held, bit for bit:
+/// Poiseuille flow whose amplitude changes as 1 + ½ sin(2πt/150), written as 11 time levels
+/// on a meshed pipe (the settling pipe's, along x₁), particles of the settling pipe.
+#[test]
+fn batch_over_a_sliding_window_is_the_batch_over_every_level() {
+    use crate::common::build::{Format, pipe as pipe_mesh, sampled, write_case, write_field};
+    use pseudorigid::flow::openfoam::{Cycle, FoamCase, FoamFlow, Precision, TransientFlow};
+    use pseudorigid::tensor::Vec3;
+    let mut raw = pipe_mesh(20.0, 200.0, 4, 3, 1.0, 20);
+    // The generated pipe runs along z; a cyclic permutation turns it onto x₁.
+    raw.points.iter_mut().for_each(|p| *p = Vec3::new(p[2], p[0], p[1]));
+    let mesh = raw.mesh();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("population-batch-transient");
+    let _ = std::fs::remove_dir_all(&dir);
+    let times: Vec<f64> = (0..=10).map(|k| 15.0 * f64::from(k)).collect();
+    for (i, &t) in times.iter().enumerate() {
+        let amplitude = 1.0 + 0.5 * (2.0 * std::f64::consts::PI * t / 150.0).sin();
+        let u = sampled(&mesh, |x| {
+            Vec3::new(2.0 * amplitude * (1.0 - (x[1] * x[1] + x[2] * x[2]) / 400.0), 0.0, 0.0)
+        });
+        if i == 0 {
+            write_case(&dir, &raw, &u, &format!("{t}"), Format::Binary);
+        } else {
+            write_field(&dir, &raw, &u, &format!("{t}"), Format::Binary);
+        }
+    }
+    let case = FoamCase::open(&dir).unwrap();
+    let every = FoamFlow::read(&case, &times).unwrap();
+    let mut window = TransientFlow::<FoamFlow>::open(case, &times, Cycle::Once, Precision::F64).unwrap();
+    let (stokes, pipe) = (integrator(), soft_pipe());
+    let faulty = Faulty {
+        inner: pipe.clone(),
+        delay: None,
+    };
+    let batch = Batch::new(&stokes, pipe.boundary(), &faulty, plan());
+    let config = config(24);
+    let quiet = RunOptions::default().quiet();
+    let held = run_batch(&batch, &mut Steady(&every), &windows(), &config, Shard::ALL, &quiet).unwrap();
+    let slid = run_batch(&batch, &mut window, &windows(), &config, Shard::ALL, &quiet).unwrap();
+    println!("transient pipe, 24 particles: {:?}", slid.counts());
+    assert!(slid.counts().deposited > 0, "{:?}", slid.counts());
+    assert!(slid.to_json().unwrap() == held.to_json().unwrap());
+}
