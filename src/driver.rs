@@ -116,6 +116,9 @@ pub struct Outcome {
     pub stats: RunStats,
     /// Why the run ended.
     pub stop: Stop,
+    /// The step the driver would have tried next: its proposal, not shortened to land on the
+    /// end time. [`resume`] starts with it.
+    pub dt_next: f64,
 }
 
 /// A run that stopped on an error: the error and what the run had done until then.
@@ -198,6 +201,17 @@ impl Plan {
     pub fn t_end(&self) -> f64 {
         self.t_end
     }
+
+    /// This plan ending at `t_end` if that is earlier: the output times up to it kept, the
+    /// rest dropped (a segment of a run that [`resume`] continues).
+    pub fn until(&self, t_end: f64) -> Self {
+        let t_end = self.t_end.min(t_end);
+        Self {
+            t_end,
+            outputs: self.outputs.iter().copied().filter(|&t| t <= t_end).collect(),
+            ..self.clone()
+        }
+    }
 }
 
 /// Consecutive retries of a step whose trial state left the flow's domain, each with the step
@@ -241,7 +255,58 @@ where
     let mut stats = RunStats::default();
     let mut last = state;
     integrate_recorded(
-        integrator, particle, flow, state, memory, plan, events, observe, on_step, &mut stats, &mut last,
+        integrator, particle, flow, state, memory, plan, events, observe, on_step, &mut stats, &mut last, None,
+    )
+    .map_err(|error| RunFailure {
+        error,
+        state: last,
+        stats,
+    })
+}
+
+/// Continue a run that stopped at its plan's end time (`from`, a [`Stop::EndTime`] outcome) as
+/// `plan` says (a later end time: [`Plan::until`]), as if it had not stopped: from its state,
+/// with its step proposal ([`Outcome::dt_next`], not `plan`'s first step) and `memory`, its
+/// statistics counted on (the step budget is the whole run's) and its last state not observed
+/// again. The run differs from an uninterrupted one only in the step that landed on the
+/// stop's time.
+///
+/// # Errors
+/// As [`integrate`].
+#[allow(clippy::too_many_arguments)]
+#[allow(clippy::result_large_err)]
+pub fn resume<I, M, D, F>(
+    integrator: &I,
+    particle: &Particle<M, D>,
+    flow: &F,
+    from: &Outcome,
+    memory: &mut I::Memory,
+    plan: &Plan,
+    events: &[&dyn Event],
+    observe: impl FnMut(&State),
+    on_step: impl FnMut(&Step),
+) -> Result<Outcome, RunFailure>
+where
+    I: Stepper<M, D>,
+    M: Response,
+    D: DragModel,
+    F: FlowField + ?Sized,
+{
+    let mut stats = from.stats;
+    let mut last = from.state;
+    integrate_recorded(
+        integrator,
+        particle,
+        flow,
+        from.state,
+        memory,
+        plan,
+        events,
+        observe,
+        on_step,
+        &mut stats,
+        &mut last,
+        Some(from.dt_next),
     )
     .map_err(|error| RunFailure {
         error,
@@ -251,7 +316,8 @@ where
 }
 
 /// [`integrate`], accumulating into `stats` and keeping the last accepted state in `last`, so
-/// that a failure still reports both.
+/// that a failure still reports both; `resumed`: the first step of a [`resume`]d run, whose
+/// start was the last run's end (and observed then).
 #[allow(clippy::too_many_arguments)] // integrate's arguments and its two records
 fn integrate_recorded<I, M, D, F>(
     integrator: &I,
@@ -265,6 +331,7 @@ fn integrate_recorded<I, M, D, F>(
     mut on_step: impl FnMut(&Step),
     stats: &mut RunStats,
     last: &mut State,
+    resumed: Option<f64>,
 ) -> Result<Outcome, StepError>
 where
     I: Stepper<M, D>,
@@ -284,15 +351,18 @@ where
     }
     let started = Instant::now();
     let mut s = state;
-    let mut h = plan.dt0.min(plan.dt_max);
+    let mut h = resumed.unwrap_or(plan.dt0).min(plan.dt_max);
     let mut outside_retries = 0;
-    observe(&s);
+    if resumed.is_none() {
+        observe(&s);
+    }
     for (index, e) in events.iter().enumerate() {
         if e.gap(&s) <= 0.0 {
             return Ok(Outcome {
                 state: s,
                 stats: *stats,
                 stop: Stop::Event { index },
+                dt_next: h,
             });
         }
     }
@@ -311,6 +381,7 @@ where
                 state: s,
                 stats: *stats,
                 stop: Stop::EndTime,
+                dt_next: h,
             });
         }
         if stats.steps >= plan.budget.max_steps {
@@ -368,6 +439,7 @@ where
                 state: at,
                 stats: *stats,
                 stop: Stop::Event { index },
+                dt_next: h,
             });
         }
         s = step.state;

@@ -182,6 +182,17 @@ pub enum FlowError {
         /// The non-finite velocity (the gradient may be the non-finite part).
         u: [f64; 3],
     },
+    /// The time lies outside the time levels a windowed transient field holds
+    /// (`flow::openfoam::TransientFlow`): the window must be slid there first.
+    #[error("t = {t} is outside the time window [{start}, {end}] the field holds")]
+    OutsideTimeWindow {
+        /// Query time.
+        t: f64,
+        /// First time the window answers.
+        start: f64,
+        /// Last time the window answers.
+        end: f64,
+    },
     /// The query itself is not finite.
     #[error("non-finite query point {x:?} at t = {t}")]
     NonFiniteQuery {

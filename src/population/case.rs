@@ -4,12 +4,12 @@ use super::observe::{Observer, Watch};
 use super::record::{Fate, ParticleRecord};
 use super::spec::{Injector, particle_rng};
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
-use crate::driver::{Plan, RunStats, Stop, integrate};
+use crate::driver::{Outcome, Plan, RunFailure, RunStats, Stop, integrate, resume};
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::integrator::Stepper;
 use crate::material::Softness;
-use crate::particle::Particle;
+use crate::particle::{Particle, State};
 use std::cell::RefCell;
 use std::hash::Hasher;
 
@@ -144,7 +144,28 @@ where
                 }
             },
         );
-        let (fate, end, stats) = match result {
+        let (fate, end, stats) = self.fate(&contact, result);
+        let observed = watch
+            .into_inner()
+            .map_or(serde_json::Value::Null, |w| w.finish(&fate, &end));
+        ParticleRecord {
+            index,
+            spec: Some(spec),
+            fate,
+            end: Some(end),
+            stats,
+            samples,
+            observed,
+        }
+    }
+
+    /// The fate of a run's `result`, its end state and work.
+    fn fate(
+        &self,
+        contact: &ContactEvent<'_, B, Softness<J::Law>, J::Drag, F>,
+        result: Result<Outcome, RunFailure>,
+    ) -> (Fate, State, RunStats) {
+        match result {
             Ok(out) => {
                 let fate = match out.stop {
                     Stop::EndTime => Fate::Suspended,
@@ -172,19 +193,125 @@ where
                 failure.state,
                 failure.stats,
             ),
-        };
-        let observed = watch
-            .into_inner()
-            .map_or(serde_json::Value::Null, |w| w.finish(&fate, &end));
-        ParticleRecord {
+        }
+    }
+
+    /// Particle `index` of a run with seed `seed` drawn, built and planned, ready for
+    /// [`Case::advance`]; a particle that cannot be is its record, as in
+    /// [`Case::run_particle`].
+    // The in-flight particle (the Ok variant) is as large as its record: boxing saves nothing.
+    #[allow(clippy::result_large_err)]
+    pub fn launch(&self, seed: u64, index: u64) -> Result<InFlight<J, I::Memory>, ParticleRecord<J::Law>> {
+        let mut rng = particle_rng(seed, index);
+        let spec = self
+            .injector
+            .draw(index, &mut rng)
+            .map_err(|e| ParticleRecord::not_started(index, None, None, &e))?;
+        let start = self.injector.start_state(index, &spec);
+        let not_started =
+            |e: &dyn std::fmt::Display| ParticleRecord::not_started(index, Some(spec.clone()), Some(start), e);
+        let particle = self.injector.particle(&spec).map_err(|e| not_started(&e))?;
+        let plan = self
+            .injector
+            .plan(index, &spec, &self.plan)
+            .map_err(|e| not_started(&e))?;
+        Ok(InFlight {
             index,
-            spec: Some(spec),
-            fate,
+            spec,
+            particle,
+            plan,
+            memory: I::Memory::default(),
+            start,
+            last: None,
+            samples: Vec::new(),
+        })
+    }
+
+    /// Advance `particle` to `until` (or its plan's end time, if earlier): `None` while it is
+    /// still in flight, its record once it has its fate. The run is [`Case::run_particle`]'s
+    /// cut at `until`: [`crate::driver::resume`] continues it with its step proposal and
+    /// memory, and only the step that lands on `until` differs. Observers are not supported
+    /// (a watch would hold the flow across the cut); samples are.
+    pub fn advance(&self, particle: &mut InFlight<J, I::Memory>, until: f64) -> Option<ParticleRecord<J::Law>> {
+        let own_end = particle.plan.t_end();
+        let plan = particle.plan.until(until);
+        if particle.last.is_none() && particle.start.t > plan.t_end() && plan.t_end() < own_end {
+            // Released after `until`: nothing to do yet.
+            return None;
+        }
+        let contact = ContactEvent::new(self.boundary, &particle.particle, self.flow, self.contact);
+        let keep = self.samples;
+        let samples = &mut particle.samples;
+        let observe = |s: &State| {
+            if keep {
+                samples.push(*s);
+            }
+        };
+        let result = match &particle.last {
+            None => integrate(
+                self.integrator,
+                &particle.particle,
+                self.flow,
+                particle.start,
+                &mut particle.memory,
+                &plan,
+                &[&contact],
+                observe,
+                |_| {},
+            ),
+            Some(last) => resume(
+                self.integrator,
+                &particle.particle,
+                self.flow,
+                last,
+                &mut particle.memory,
+                &plan,
+                &[&contact],
+                observe,
+                |_| {},
+            ),
+        };
+        match result {
+            Ok(out) if out.stop == Stop::EndTime && plan.t_end() < own_end => {
+                particle.last = Some(out);
+                None
+            }
+            result => {
+                let (fate, end, stats) = self.fate(&contact, result);
+                Some(ParticleRecord {
+                    index: particle.index,
+                    spec: Some(particle.spec.clone()),
+                    fate,
+                    end: Some(end),
+                    stats,
+                    samples: std::mem::take(&mut particle.samples),
+                    observed: serde_json::Value::Null,
+                })
+            }
+        }
+    }
+
+    /// The record of `particle` suspended where its last segment ended (its start, if it has
+    /// not started): the end of a batch run cut before the particle's end time.
+    pub fn suspend(&self, particle: &mut InFlight<J, I::Memory>) -> ParticleRecord<J::Law> {
+        let (end, stats) = particle
+            .last
+            .as_ref()
+            .map_or((particle.start, RunStats::default()), |o| (o.state, o.stats));
+        ParticleRecord {
+            index: particle.index,
+            spec: Some(particle.spec.clone()),
+            fate: Fate::Suspended,
             end: Some(end),
             stats,
-            samples,
-            observed,
+            samples: std::mem::take(&mut particle.samples),
+            observed: serde_json::Value::Null,
         }
+    }
+
+    /// Whether the case has an observer ([`Case::with_observer`]).
+    pub fn observed(&self) -> bool {
+        self.observer.is_some()
     }
 
     /// A hash (16 hex digits) of what determines the results of a run with `config`: the code
@@ -257,6 +384,31 @@ fn failure_text(error: &StepError) -> String {
     match error {
         StepError::BudgetExceeded { steps, t, .. } => format!("step budget exceeded after {steps} steps at t = {t}"),
         other => other.to_string(),
+    }
+}
+
+/// A particle between two cuts of its run ([`Case::launch`], [`Case::advance`]): drawn, built
+/// and planned, with its integrator memory and where its last segment ended.
+pub struct InFlight<J: Injector, M> {
+    index: u64,
+    spec: super::ParticleSpec<J::Law>,
+    particle: Particle<Softness<J::Law>, J::Drag>,
+    plan: Plan,
+    memory: M,
+    start: State,
+    last: Option<Outcome>,
+    samples: Vec<State>,
+}
+
+impl<J: Injector, M> InFlight<J, M> {
+    /// The particle's index.
+    pub fn index(&self) -> u64 {
+        self.index
+    }
+
+    /// Accepted steps so far.
+    pub fn steps(&self) -> u64 {
+        self.last.as_ref().map_or(0, |o| o.stats.steps)
     }
 }
 

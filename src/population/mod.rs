@@ -44,6 +44,7 @@
 //! plan (a particle's fate would depend on the machine's load), and an [`Injector::draw`] that
 //! reads anything but its arguments.
 
+pub mod batch;
 pub mod case;
 pub mod checkpoint;
 pub mod observe;
@@ -242,6 +243,17 @@ pub enum PopulationError {
         done: u64,
         /// Particles of the shard.
         total: u64,
+    },
+    /// The time windows of a batch run ([`batch`]) are not ascending and finite, or the flow
+    /// cannot hold one.
+    #[error("time window [{start}, {end}]: {reason}")]
+    Window {
+        /// Window start.
+        start: f64,
+        /// Window end.
+        end: f64,
+        /// What is wrong.
+        reason: String,
     },
     /// Writing a file failed.
     #[error(transparent)]

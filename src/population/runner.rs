@@ -25,11 +25,11 @@ use std::time::{Duration, Instant};
 /// checkpoints.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunOptions {
-    parallel: bool,
+    pub(super) parallel: bool,
     progress: Progress,
-    checkpoint: Option<(PathBuf, Duration)>,
-    resume: bool,
-    control: Option<Arc<RunControl>>,
+    pub(super) checkpoint: Option<(PathBuf, Duration)>,
+    pub(super) resume: bool,
+    pub(super) control: Option<Arc<RunControl>>,
 }
 
 /// A handle on a running population from another thread: how far it is, and a request to
@@ -208,7 +208,7 @@ where
 }
 
 /// Names of patches 0..=p, p the largest patch index of `records` (none: empty).
-fn patch_names<B: Boundary + ?Sized, L>(boundary: &B, records: &[ParticleRecord<L>]) -> Vec<String> {
+pub(super) fn patch_names<B: Boundary + ?Sized, L>(boundary: &B, records: &[ParticleRecord<L>]) -> Vec<String> {
     match records.iter().filter_map(|r| r.fate.patch()).max() {
         Some(max) => (0..=max).map(|p| boundary.patch_name(p).to_string()).collect(),
         None => Vec::new(),

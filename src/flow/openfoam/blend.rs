@@ -244,11 +244,23 @@ impl BlendedFlow {
     pub fn cellwise(&self) -> &FoamFlow {
         &self.flow
     }
+
+    /// Forget the samples remembered for this field: its levels are about to change
+    /// ([`super::Windowed::cellwise_mut`]). A new identity, so no thread's memo matches.
+    pub(super) fn forget_samples(&mut self) {
+        self.id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// The cellwise field underneath, to replace its levels.
+    pub(super) fn cellwise_levels(&mut self) -> &mut FoamFlow {
+        &mut self.flow
+    }
 }
 
 impl FlowField for BlendedFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         crate::flow::check_query(x, t)?;
+        self.flow.check_time(t)?;
         let key = [x[0].to_bits(), x[1].to_bits(), x[2].to_bits(), t.to_bits()];
         if let Some((id, at, sample)) = LAST_SAMPLE.get()
             && id == self.id

@@ -104,6 +104,29 @@ pub enum FoamError {
         /// Conditioning of the normal matrix.
         ratio: f64,
     },
+    /// Time levels that cannot be cycled with the period asked for
+    /// ([`super::transient`]: they must cover one period, and no more).
+    #[error("time levels {first} to {last} cannot be cycled with period {period}: {reason}")]
+    Period {
+        /// The period asked for.
+        period: f64,
+        /// First level's time.
+        first: f64,
+        /// Last level's time.
+        last: f64,
+        /// What is wrong, with the spacing of the levels where it matters.
+        reason: String,
+    },
+    /// A time window that cannot be held ([`super::TransientFlow::slide`]).
+    #[error("cannot hold the time window [{start}, {end}]: {reason}")]
+    Window {
+        /// Window start.
+        start: f64,
+        /// Window end.
+        end: f64,
+        /// What is wrong.
+        reason: String,
+    },
     /// Query point outside the mesh.
     #[error("point {x:?} is outside the mesh; nearest patch `{patch}` at distance {distance:.3e}")]
     Outside {

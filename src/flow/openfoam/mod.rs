@@ -10,7 +10,9 @@
 //! queries by locating the cell ([`locate`]: tetrahedral decomposition, neighbour walk from the
 //! previous cell, R*-tree fallback) and evaluating the fit. Between time directories u and ∇u
 //! are linear in time; a steady case is one directory. Patches become particle boundaries in
-//! [`patch`].
+//! [`patch`]. A time level's data (u, ∇u, wall fits; f64 or f32) is a [`frame`]; a transient
+//! case too large to hold every level is read lazily, one window of levels at a time, and
+//! optionally cycled with a period ([`transient`]).
 //!
 //! # Decomposed cases
 //! A case decomposed by `decomposePar` is read without `reconstructPar` ([`decomposed`]): the
@@ -31,7 +33,8 @@
 //! # Outside the mesh, outside the time range
 //! [`FoamFlow::locate`] reports a point outside the mesh as [`FoamError::Outside`] with the
 //! nearest patch; through [`FlowField`] it is a [`FlowError::OutsideMesh`] naming that patch. Before the first
-//! and after the last time level the field holds that level.
+//! and after the last time level the field holds that level; a [`TransientFlow`] refuses a time
+//! outside its window ([`FlowError::OutsideTimeWindow`]).
 //!
 //! # The cube cavity
 //! The shipped cavity fields of paper §6.3 are simpleFoam's `U` alone; [`block::cavity_block`]
@@ -43,12 +46,14 @@ pub mod block;
 pub mod decomposed;
 pub mod error;
 pub mod field;
+pub mod frame;
 pub mod grid;
 pub mod locate;
 pub mod mesh;
 pub mod parse;
 pub mod patch;
 pub mod reconstruct;
+pub mod transient;
 pub mod wall_layer;
 pub mod walls;
 
@@ -57,16 +62,19 @@ pub use block::cavity_block;
 pub use decomposed::{Decomposition, Layout};
 pub use error::FoamError;
 pub use field::{VolField, read_vol_field};
+pub use frame::Precision;
 pub use locate::CellLocator;
 pub use mesh::{Patch, PolyMesh};
 pub use patch::{PatchRole, PatchSet, SetFace};
 pub use reconstruct::Stencils;
+pub use transient::{Cycle, TransientFlow, Windowed};
 pub use wall_layer::{WallFit, WallGeometry};
 
 use super::{FlowField, FlowSample, check_query};
 use crate::error::FlowError;
 use crate::tensor::{Mat3, Vec3};
 use decomposed::{processor_dirs, time_dirs};
+use frame::{Frame, Geometry};
 use std::cell::Cell;
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -244,19 +252,48 @@ impl FoamCase {
     }
 }
 
+/// The no-slip wall faces: those of every `wall`-type patch p with `fixed[p]` (its velocity
+/// prescribed in every time level).
+fn no_slip_walls(mesh: &PolyMesh, fixed: &[bool]) -> Vec<u32> {
+    (0..mesh.patches().len())
+        .filter(|&p| PatchRole::of(&mesh.patches()[p].kind) == PatchRole::Wall && fixed[p])
+        .flat_map(|p| {
+            let patch = &mesh.patches()[p];
+            (patch.start..patch.start + patch.size).map(|f| f as u32)
+        })
+        .collect()
+}
+
+/// The start of a fingerprint's hash of `levels` time levels.
+fn level_hash(levels: usize) -> Fnv {
+    let mut h = Fnv::new(b"pseudorigid FoamFlow v1");
+    h.u64(levels as u64);
+    h
+}
+
+/// Hash one level: its time and cell velocities (the f64 values as read).
+fn hash_level(h: &mut Fnv, time: f64, cells: usize, u: impl Iterator<Item = f64>) {
+    h.u64(time.to_bits());
+    h.u64(cells as u64);
+    h.f64s(u);
+}
+
+/// A fingerprint from its levels' hash `h` ([`FoamFlow::fingerprint`]).
+fn describe(mesh: &PolyMesh, levels: usize, walls: &[u32], mut h: Fnv) -> String {
+    h.u64(walls.len() as u64);
+    walls.iter().for_each(|&w| h.u64(u64::from(w)));
+    format!(
+        "openfoam field: {} cells, {} time levels, mesh {}, U {}",
+        mesh.n_cells(),
+        levels,
+        mesh.content_hash(),
+        h.hex()
+    )
+}
+
 /// Whether two times name the same time directory (a relative 1e-9).
 fn same_time(a: f64, b: f64) -> bool {
     (a - b).abs() <= TIME_MATCH * a.abs().max(b.abs()).max(1.0)
-}
-
-/// One time level: cell velocities and gradients, and the no-slip walls' fits.
-#[derive(Debug, Clone)]
-struct Frame {
-    time: f64,
-    u: Vec<Vec3>,
-    grad: Vec<Mat3>,
-    /// The fit of wall face k of [`FoamFlow::walls`] ([`wall_layer`]).
-    wall_fits: Vec<WallFit>,
 }
 
 /// A velocity field on a polyhedral mesh, steady or linear in time between time levels.
@@ -269,7 +306,11 @@ pub struct FoamFlow {
     /// in every time level ([`VolField::fixed`]).
     walls: Vec<u32>,
     wall_layer: WallGeometry,
+    /// The levels held: every level of the field, or a [`transient`] window's.
     frames: Vec<Frame>,
+    /// The times at which the levels held answer: every time for a field that holds all its
+    /// levels, the held levels' span for a window ([`FoamFlow::check_time`]).
+    span: (f64, f64),
     /// Volume mean of √(2 D:D) over the cells of the first time level.
     strain_rate: f64,
 }
@@ -321,22 +362,16 @@ impl FoamFlow {
     /// too. By content, not by path or file times: a copy of the case elsewhere (another node
     /// of a sharded run) gives the same fingerprint, and a field solved again gives another.
     pub fn fingerprint(&self) -> String {
-        let mut h = Fnv::new(b"pseudorigid FoamFlow v1");
-        h.u64(self.frames.len() as u64);
+        let mut h = level_hash(self.frames.len());
         for f in &self.frames {
-            h.u64(f.time.to_bits());
-            h.u64(f.u.len() as u64);
-            h.f64s(f.u.iter().flat_map(|u| u.iter().copied()));
+            hash_level(
+                &mut h,
+                f.time,
+                f.n_cells(),
+                (0..f.n_cells()).flat_map(|c| <[f64; 3]>::from(f.u(c))),
+            );
         }
-        h.u64(self.walls.len() as u64);
-        self.walls.iter().for_each(|&w| h.u64(u64::from(w)));
-        format!(
-            "openfoam field: {} cells, {} time levels, mesh {}, U {}",
-            self.mesh.n_cells(),
-            self.frames.len(),
-            self.mesh.content_hash(),
-            h.hex()
-        )
+        describe(&self.mesh, self.frames.len(), &self.walls, h)
     }
 
     /// Velocity `U` of `case` at the given times (one time: steady).
@@ -350,102 +385,81 @@ impl FoamFlow {
 
     /// Field from a mesh and velocity fields at distinct times (any order).
     pub fn new(mesh: PolyMesh, mut fields: Vec<(f64, VolField)>) -> Result<Self, FoamError> {
-        let bad = |reason: String| FoamError::Field {
-            path: "(velocity)".into(),
-            reason,
-        };
         if fields.is_empty() {
-            return Err(bad("no time levels".into()));
+            return Err(FoamError::Field {
+                path: "(velocity)".into(),
+                reason: "no time levels".into(),
+            });
         }
         fields.sort_by(|a, b| a.0.total_cmp(&b.0));
         if let Some(w) = fields
             .windows(2)
             .find(|w| w[1].0.partial_cmp(&w[0].0) != Some(std::cmp::Ordering::Greater))
         {
-            return Err(bad(format!(
-                "time levels must be distinct and finite, got {} and {}",
-                w[0].0, w[1].0
-            )));
-        }
-        let n_boundary = mesh.n_faces() - mesh.n_internal_faces();
-        let n_patches = mesh.patches().len();
-        for (time, field) in &fields {
-            if field.comps != 3
-                || field.internal.len() != 3 * mesh.n_cells()
-                || field.boundary.len() != 3 * n_boundary
-                || field.fixed.len() != n_patches
-            {
-                return Err(bad(format!(
-                    "field at t = {time} has {} components, {} cell and {} boundary values and {} patch conditions for {} cells, {n_boundary} boundary faces and {n_patches} patches",
-                    field.comps,
-                    field.internal.len(),
-                    field.boundary.len(),
-                    field.fixed.len(),
-                    mesh.n_cells()
-                )));
-            }
-            if !time.is_finite() {
-                return Err(bad(format!("time {time} is not finite")));
-            }
-        }
-        let walls: Vec<u32> = (0..n_patches)
-            .filter(|&p| {
-                PatchRole::of(&mesh.patches()[p].kind) == PatchRole::Wall && fields.iter().all(|(_, f)| f.fixed[p])
-            })
-            .flat_map(|p| {
-                let patch = &mesh.patches()[p];
-                (patch.start..patch.start + patch.size).map(|f| f as u32)
-            })
-            .collect();
-        let stencils = Stencils::new(&mesh)?;
-        let wall_layer = WallGeometry::new(&mesh, &walls);
-        let mut frames = Vec::with_capacity(fields.len());
-        for (time, field) in fields {
-            let grad = stencils.gradients(&mesh, &field);
-            let u: Vec<Vec3> = field.internal.chunks_exact(3).map(Vec3::from_row_slice).collect();
-            let velocity: Vec<Vec3> = walls
-                .iter()
-                .map(|&f| Vec3::from_row_slice(field.boundary_face(f as usize - mesh.n_internal_faces())))
-                .collect();
-            let wall_fits = wall_layer.fits(&velocity, &u, &grad);
-            // Finite values whose differences overflow (|u| near f64::MAX) give no field.
-            if let Some(cell) = grad.iter().position(|g| !g.iter().all(|c| c.is_finite())) {
-                return Err(bad(format!(
-                    "field at t = {time}: the gradient of cell {cell} overflows"
-                )));
-            }
-            if let Some(k) = wall_fits.iter().position(|f| !f.is_finite()) {
-                return Err(bad(format!(
-                    "field at t = {time}: the wall fit of wall face {k} overflows"
-                )));
-            }
-            frames.push(Frame {
-                time,
-                u,
-                grad,
-                wall_fits,
+            return Err(FoamError::Field {
+                path: "(velocity)".into(),
+                reason: format!("time levels must be distinct and finite, got {} and {}", w[0].0, w[1].0),
             });
         }
-        let strain_rate = frames.first().map_or(0.0, |frame| {
-            let volumes = mesh.cell_volumes();
-            let total: f64 = volumes.iter().sum();
-            let weighted: f64 = frame
-                .grad
-                .iter()
-                .zip(volumes)
-                .map(|(g, v)| crate::flow::strain_rate_magnitude(g) * v)
-                .sum();
-            weighted / total
-        });
-        Ok(Self {
+        for (time, field) in &fields {
+            frame::check_shape(&mesh, *time, field)?;
+        }
+        let fixed: Vec<bool> = (0..mesh.patches().len())
+            .map(|p| fields.iter().all(|(_, f)| f.fixed[p]))
+            .collect();
+        let walls = no_slip_walls(&mesh, &fixed);
+        let stencils = Stencils::new(&mesh)?;
+        let wall_layer = WallGeometry::new(&mesh, &walls);
+        let geometry = Geometry {
+            mesh: &mesh,
+            stencils: &stencils,
+            walls: &walls,
+            wall_layer: &wall_layer,
+        };
+        let frames = fields
+            .iter()
+            .map(|(time, field)| Frame::compute(&geometry, *time, field, Precision::F64))
+            .collect::<Result<Vec<_>, _>>()?;
+        let strain_rate = frames[0].strain_rate(&mesh);
+        Ok(Self::assemble(mesh, walls, wall_layer, frames, strain_rate))
+    }
+
+    /// The field of `frames` (ascending, at least one) on `mesh`, answering at every time.
+    fn assemble(
+        mesh: PolyMesh,
+        walls: Vec<u32>,
+        wall_layer: WallGeometry,
+        frames: Vec<Frame>,
+        strain_rate: f64,
+    ) -> Self {
+        Self {
             locator: CellLocator::new(&mesh),
             boundary: PatchSet::all(&mesh),
             mesh,
             walls,
             wall_layer,
             frames,
+            span: (f64::NEG_INFINITY, f64::INFINITY),
             strain_rate,
-        })
+        }
+    }
+
+    /// Hold `frames` (ascending, at least one) instead of the present levels, answering at
+    /// the times of `span` ([`transient`]'s window).
+    pub(crate) fn hold(&mut self, frames: Vec<Frame>, span: (f64, f64)) {
+        debug_assert!(!frames.is_empty());
+        self.frames = frames;
+        self.span = span;
+    }
+
+    /// Refuse a time the levels held cannot answer: outside a [`transient`] window's span
+    /// (a field that holds all its levels answers at every time).
+    pub fn check_time(&self, t: f64) -> Result<(), FlowError> {
+        let (start, end) = self.span;
+        if t < start || t > end {
+            return Err(FlowError::OutsideTimeWindow { t, start, end });
+        }
+        Ok(())
     }
 
     /// The mesh.
@@ -461,7 +475,9 @@ impl FoamFlow {
     /// Whether the velocity is zero in every cell at every level (an unsolved initial
     /// condition, as `0/U` usually is).
     pub fn is_zero(&self) -> bool {
-        self.frames.iter().all(|f| f.u.iter().all(|u| *u == Vec3::zeros()))
+        self.frames
+            .iter()
+            .all(|f| (0..f.n_cells()).all(|c| f.u(c) == Vec3::zeros()))
     }
 
     /// The cell containing `x` (walking from `hint` when given), or
@@ -486,8 +502,8 @@ impl FoamFlow {
     /// or after the last hold that level (a steady case has one).
     pub fn sample_cell(&self, cell: usize, x: &Vec3, t: f64) -> FlowSample {
         self.in_time(t, |f: &Frame| {
-            let g = f.grad[cell];
-            (f.u[cell] + g * (x - self.mesh.cell_centres()[cell]), g)
+            let g = f.grad(cell);
+            (f.u(cell) + g * (x - self.mesh.cell_centres()[cell]), g)
         })
     }
 
@@ -537,6 +553,7 @@ impl FoamFlow {
 impl FlowField for FoamFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         check_query(x, t)?;
+        self.check_time(t)?;
         let hint = LAST_CELL.with(Cell::get);
         let cell = self.locate(x, Some(hint)).map_err(|e| match e {
             FoamError::Outside { x, patch, distance } => FlowError::OutsideMesh { x, patch, distance },

@@ -485,7 +485,13 @@ pub fn write_case(dir: &Path, raw: &Raw, u: &VolField, time: &str, format: Forma
     }
     boundary.push_str(")\n");
     put(&poly.join("boundary"), boundary.as_bytes(), gz);
+    write_field(dir, raw, u, time, format);
+}
 
+/// Write `u` as `<dir>/<time>/U` on the mesh `raw` (the mesh itself written by [`write_case`]).
+pub fn write_field(dir: &Path, raw: &Raw, u: &VolField, time: &str, format: Format) {
+    let binary = format != Format::Ascii;
+    let gz = format == Format::BinaryGz;
     let mut field = header(binary, "volVectorField", "U").into_bytes();
     field.extend(b"dimensions [0 1 -1 0 0 0 0];\n\ninternalField nonuniform List<vector> ");
     field.extend(vector_list(binary, &u.internal));

@@ -1,5 +1,6 @@
 //! The population runner (src/population).
 
+mod batch;
 mod checkpoint;
 mod common;
 mod release;
