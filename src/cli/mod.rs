@@ -131,7 +131,7 @@ pub enum Command {
     },
     /// u and ∇u of an OpenFOAM case at listed points.
     Probe {
-        /// Undecomposed OpenFOAM case.
+        /// OpenFOAM case: reconstructed, or decomposed (`processorN/`, read directly).
         case: PathBuf,
         /// Time directory, or `latest`.
         time: String,
