@@ -26,6 +26,7 @@ use pseudorigid::scenes::airway_tree::release::{
 };
 use pseudorigid::scenes::airway_tree::study::mu_s_label;
 use pseudorigid::scenes::bifurcation::{Kind, Material};
+use pseudorigid::scenes::count_and_case;
 use pseudorigid::scenes::particles::Shape;
 
 /// Particles per point when neither the command line nor `PSEUDORIGID_RELEASE_N` says.
@@ -35,16 +36,8 @@ const DEFAULT_N: u64 = 1000;
 const MAP_PARTICLES: u64 = 1000;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let n: u64 = match (args.first(), std::env::var("PSEUDORIGID_RELEASE_N")) {
-        (Some(a), _) => a.parse()?,
-        (None, Ok(v)) => v.parse()?,
-        (None, Err(_)) => DEFAULT_N,
-    };
-    let dir = args
-        .get(1)
-        .map_or_else(|| AirwayTree::shipped_dir("rotated"), Into::into);
-    let tree = AirwayTree::open(&dir)?;
+    let (n, dir) = count_and_case("PSEUDORIGID_RELEASE_N", DEFAULT_N)?;
+    let tree = AirwayTree::open(dir.unwrap_or_else(|| AirwayTree::shipped_dir("rotated")))?;
     let thresholds = stretch_thresholds();
     let mut rows = Vec::new();
     let mut timing = Csv::new(&["shape", "mu_s", "stk", "n", "seconds", "steps"]);

@@ -18,22 +18,15 @@ use pseudorigid::output::{Csv, paper_figure_path};
 use pseudorigid::scenes::airway_tree::study::{self, de_figure, de_table, paired, paired_table};
 use pseudorigid::scenes::airway_tree::{AirwayTree, by_generation};
 use pseudorigid::scenes::bifurcation::{Kind, Material};
+use pseudorigid::scenes::count_and_case;
 use pseudorigid::scenes::particles::Shape;
 
 /// Particles per point when neither the command line nor `PSEUDORIGID_TREE_N` says.
 const DEFAULT_N: u64 = 10_000;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let n: u64 = match (args.first(), std::env::var("PSEUDORIGID_TREE_N")) {
-        (Some(a), _) => a.parse()?,
-        (None, Ok(v)) => v.parse()?,
-        (None, Err(_)) => DEFAULT_N,
-    };
-    let dir = args
-        .get(1)
-        .map_or_else(|| AirwayTree::shipped_dir("rotated"), Into::into);
-    let tree = AirwayTree::open(&dir)?;
+    let (n, dir) = count_and_case("PSEUDORIGID_TREE_N", DEFAULT_N)?;
+    let tree = AirwayTree::open(dir.unwrap_or_else(|| AirwayTree::shipped_dir("rotated")))?;
     eprintln!(
         "{} tree, {} cells, tracking time {:.4} s",
         tree.tree().variant(),

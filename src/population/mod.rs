@@ -45,6 +45,7 @@
 //! reads anything but its arguments.
 
 pub mod batch;
+pub mod binomial;
 pub mod case;
 pub mod checkpoint;
 pub mod observe;

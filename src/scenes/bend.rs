@@ -424,20 +424,12 @@ impl BendDeposition {
 
     /// DE = deposited on the bend / injected (0 if none injected).
     pub fn de(&self) -> f64 {
-        if self.injected == 0 {
-            0.0
-        } else {
-            self.bend as f64 / self.injected as f64
-        }
+        crate::population::binomial::fraction(self.bend, self.injected)
     }
 
     /// Binomial standard error √(DE(1 − DE)/N).
     pub fn stderr(&self) -> f64 {
-        if self.injected == 0 {
-            0.0
-        } else {
-            (self.de() * (1.0 - self.de()) / self.injected as f64).sqrt()
-        }
+        crate::population::binomial::stderr(self.bend, self.injected)
     }
 
     /// The reference DE at this Stokes number (Pui et al. 1987, 90°).

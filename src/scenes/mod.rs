@@ -64,6 +64,18 @@ pub mod work_precision;
 use crate::error::{ParamError, StepError};
 use thiserror::Error;
 
+/// An example's `[N] [CASE_DIR]` command line: N from the first argument, else the environment
+/// variable `var`, else `default`; the case folder from the second argument, if there is one.
+pub fn count_and_case(var: &str, default: u64) -> Result<(u64, Option<std::path::PathBuf>), std::num::ParseIntError> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let n = match (args.first(), std::env::var(var)) {
+        (Some(a), _) => a.parse()?,
+        (None, Ok(v)) => v.parse()?,
+        (None, Err(_)) => default,
+    };
+    Ok((n, args.get(1).map(Into::into)))
+}
+
 #[cfg(feature = "parallel")]
 impl From<crate::population::PopulationError> for SceneError {
     fn from(e: crate::population::PopulationError) -> Self {

@@ -358,20 +358,12 @@ impl RaceRow {
 
     /// DE = deposited / finished (0 if none finished).
     pub fn de(&self) -> f64 {
-        if self.finished == 0 {
-            0.0
-        } else {
-            self.deposited as f64 / self.finished as f64
-        }
+        crate::population::binomial::fraction(self.deposited, self.finished)
     }
 
     /// Binomial standard error √(DE(1 − DE)/n) over the finished particles.
     pub fn de_stderr(&self) -> f64 {
-        if self.finished == 0 {
-            0.0
-        } else {
-            (self.de() * (1.0 - self.de()) / self.finished as f64).sqrt()
-        }
+        crate::population::binomial::stderr(self.deposited, self.finished)
     }
 
     /// Particles that failed or were never injected.

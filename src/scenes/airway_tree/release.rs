@@ -244,20 +244,12 @@ pub struct ReleaseCounts {
 impl ReleaseCounts {
     /// f_g = n_rel,g/N (0 if N = 0).
     pub fn fraction(&self) -> f64 {
-        if self.n == 0 {
-            0.0
-        } else {
-            self.released as f64 / self.n as f64
-        }
+        crate::population::binomial::fraction(self.released, self.n)
     }
 
     /// Binomial standard error √(f(1 − f)/N) (0 if N = 0).
     pub fn stderr(&self) -> f64 {
-        if self.n == 0 {
-            0.0
-        } else {
-            (self.fraction() * (1.0 - self.fraction()) / self.n as f64).sqrt()
-        }
+        crate::population::binomial::stderr(self.released, self.n)
     }
 }
 

@@ -94,20 +94,12 @@ pub struct GenerationCounts {
 impl GenerationCounts {
     /// DE_g = n_dep/n_ent (0 if none entered).
     pub fn de(&self) -> f64 {
-        if self.entered == 0 {
-            0.0
-        } else {
-            self.deposited as f64 / self.entered as f64
-        }
+        crate::population::binomial::fraction(self.deposited, self.entered)
     }
 
     /// Binomial standard error √(DE(1 − DE)/n_ent) (0 if none entered).
     pub fn stderr(&self) -> f64 {
-        if self.entered == 0 {
-            0.0
-        } else {
-            (self.de() * (1.0 - self.de()) / self.entered as f64).sqrt()
-        }
+        crate::population::binomial::stderr(self.deposited, self.entered)
     }
 }
 

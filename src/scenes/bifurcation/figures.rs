@@ -27,14 +27,8 @@ pub const DEFAULT_N: u64 = 100_000;
 /// `[N] [CASE_DIR]` from the command line: N particles per kind (else `PSEUDORIGID_BIF_N`,
 /// else [`DEFAULT_N`]) in the case `CASE_DIR` (else the shipped field).
 pub fn arguments() -> Result<(u64, Airway), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let n = match (args.first(), std::env::var("PSEUDORIGID_BIF_N")) {
-        (Some(a), _) => a.parse()?,
-        (None, Ok(v)) => v.parse()?,
-        (None, Err(_)) => DEFAULT_N,
-    };
-    let dir = args.get(1).map_or_else(Airway::shipped_dir, Into::into);
-    Ok((n, Airway::open(dir)?))
+    let (n, dir) = crate::scenes::count_and_case("PSEUDORIGID_BIF_N", DEFAULT_N)?;
+    Ok((n, Airway::open(dir.unwrap_or_else(Airway::shipped_dir))?))
 }
 
 /// The folder where finished runs are kept between examples: `PSEUDORIGID_BIF_CACHE`, else

@@ -211,22 +211,12 @@ impl Efficiency {
 
     /// DE = n_dep/n over the finished particles (0 if none).
     pub fn de(&self) -> f64 {
-        let n = self.finished();
-        if n == 0 {
-            0.0
-        } else {
-            self.counts.deposited as f64 / n as f64
-        }
+        crate::population::binomial::fraction(self.counts.deposited, self.finished())
     }
 
     /// Binomial standard error √(DE(1 − DE)/n).
     pub fn stderr(&self) -> f64 {
-        let n = self.finished();
-        if n == 0 {
-            0.0
-        } else {
-            (self.de() * (1.0 - self.de()) / n as f64).sqrt()
-        }
+        crate::population::binomial::stderr(self.counts.deposited, self.finished())
     }
 }
 
