@@ -30,6 +30,7 @@
 use super::case::{Case, InFlight, RunConfig};
 use super::checkpoint::Checkpoint;
 use super::output::RunOutput;
+use super::progress::Reporter;
 use super::record::ParticleRecord;
 use super::runner::{RunOptions, patch_names};
 use super::shard::Shard;
@@ -129,6 +130,16 @@ where
     }
 }
 
+/// The configuration of a batch run of `config` with window ends `windows`, whose hash its
+/// checkpoints carry: the cuts change the landing steps, so the windows are part of what
+/// determines the records (a merge of a batch run's shards checks against it).
+pub fn batch_config(config: &RunConfig, windows: &[f64]) -> RunConfig {
+    RunConfig {
+        fingerprint: format!("{}; batch windows {windows:?}", config.fingerprint),
+        ..config.clone()
+    }
+}
+
 /// A particle launched ([`Case::launch`]), or its record if it could not be.
 type Launched<J, M> = Result<InFlight<J, M>, ParticleRecord<<J as Injector>::Law>>;
 
@@ -138,7 +149,10 @@ type Launched<J, M> = Result<InFlight<J, M>, ParticleRecord<<J as Injector>::Law
 /// The first slide is to [t₀, t₁]; particles start at their own start times (usually t₀).
 /// Checkpoints and resumption as in [`super::run`] (module docs); the checkpoint interval of
 /// `options` is not used (every window end is a checkpoint); a stop request takes effect at
-/// the next window end. Progress is not reported.
+/// the next window end. Progress is reported as `options` says at every window end, in
+/// particles: those finished, plus those in flight weighted by the share of the run's time
+/// the windows have covered (most particles of a transient run may live to its end, and a
+/// count of fates alone would stand still until then).
 ///
 /// Records are returned by ascending index.
 // As Case::launch: the in-flight particle is as large as the record.
@@ -175,11 +189,7 @@ where
             reason: "at least two window ends are needed".into(),
         });
     }
-    // The cuts change the landing steps: the windows are part of what determines the records.
-    let config = RunConfig {
-        fingerprint: format!("{}; batch windows {windows:?}", config.fingerprint),
-        ..config.clone()
-    };
+    let config = batch_config(config, windows);
     let hash = batch.case(&*flow).config_hash(&config);
     let (mut checkpoint, done) = match &options.checkpoint {
         Some((dir, _)) => {
@@ -190,6 +200,20 @@ where
     };
     let mut records: BTreeMap<u64, ParticleRecord<J::Law>> = done;
     let total = shard.len(config.particles);
+    let mut reporter = Reporter::start(
+        options.progress,
+        &format!("batch shard {shard}"),
+        total,
+        records.len() as u64,
+    );
+    let (first, last) = (windows[0], windows[windows.len() - 1]);
+    let report = |reporter: &mut Reporter, finished: usize, live: usize, at: f64| {
+        let done = finished as u64 + (live as f64 * (at - first) / (last - first)) as u64;
+        reporter.update(done);
+        if let Some(c) = &options.control {
+            c.report(done, total);
+        }
+    };
     let indices: Vec<u64> = (0..total)
         .map(|j| shard.index() + j * shard.count())
         .filter(|k| !records.contains_key(k))
@@ -229,6 +253,7 @@ where
             cp.write(&finished, &names(&finished))?;
         }
         records.extend(finished.drain(..).map(|r| (r.index, r)));
+        report(&mut reporter, records.len(), live.len(), end);
         if options.control.as_ref().is_some_and(|c| c.stopped()) && end < windows[windows.len() - 1] {
             return Err(PopulationError::Interrupted {
                 done: records.len() as u64,
@@ -245,6 +270,8 @@ where
         cp.write(&rest, &names(&rest))?;
     }
     records.extend(rest.into_iter().map(|r| (r.index, r)));
+    report(&mut reporter, records.len(), 0, last);
+    reporter.finish(records.len() as u64);
     let records: Vec<_> = records.into_values().collect();
     Ok(RunOutput {
         format: FORMAT,

@@ -26,7 +26,7 @@ use std::time::{Duration, Instant};
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunOptions {
     pub(super) parallel: bool,
-    progress: Progress,
+    pub(super) progress: Progress,
     pub(super) checkpoint: Option<(PathBuf, Duration)>,
     pub(super) resume: bool,
     pub(super) control: Option<Arc<RunControl>>,
@@ -56,6 +56,12 @@ impl RunControl {
     /// Whether a stop was asked for.
     pub fn stopped(&self) -> bool {
         self.stop.load(Ordering::Relaxed)
+    }
+
+    /// `done` of `total` particles are finished (the batch runner's report at a window end).
+    pub(super) fn report(&self, done: u64, total: u64) {
+        self.total.store(total, Ordering::Relaxed);
+        self.done.store(done, Ordering::Relaxed);
     }
 }
 
