@@ -7,11 +7,13 @@ use crate::contact::MeshBoundary;
 use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Planes, Unbounded};
 use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
-use crate::flow::openfoam::{BlendedFlow, FoamFlow};
+use crate::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, TransientFlow};
 use crate::flow::{FlowField, FlowSample};
 use crate::hydro::drag::NamedDrag;
 use crate::material::NamedLaw;
+use crate::population::batch::Sliding;
 use crate::tensor::Vec3;
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError, RwLock};
 
 /// The law a scene names: any registered law ([`crate::material::registry`]).
 pub type SceneLaw = NamedLaw;
@@ -32,6 +34,162 @@ pub enum SceneFlow {
     Foam(Box<FoamFlow>),
     /// An OpenFOAM case, blended into a continuous field.
     Blended(Box<BlendedFlow>),
+    /// A transient OpenFOAM case, read window by window (a clone shares the field).
+    Transient(Arc<SceneTransient>),
+}
+
+/// A transient OpenFOAM field as a scene holds it: the levels of one window
+/// ([`TransientFlow`], blended or cellwise) and the length of the run's windows.
+///
+/// # Why a lock
+/// The scene's injector samples the field (a particle released with the fluid's velocity) and
+/// the batch runner slides it between windows, both through the scene, which a run borrows
+/// shared ([`super::scene::Scene::population`] takes `&self`). The field sits in a
+/// [`RwLock`]: samples take it shared, [`Windows::slide`] exclusively, between windows, when
+/// no sample is in flight. A run holds [`SceneTransient::run`] throughout, so two runs of one
+/// scene (two Python threads) take turns instead of sliding each other's windows.
+#[derive(Debug)]
+pub struct SceneTransient {
+    field: RwLock<TransientField>,
+    window: f64,
+    fingerprint: String,
+    run: Mutex<()>,
+}
+
+/// The levels of a transient field: blended (the default) or each cell's fit.
+#[derive(Debug)]
+pub enum TransientField {
+    /// Blended into a continuous field with the wall layer.
+    Blended(TransientFlow<BlendedFlow>),
+    /// Each cell's linear fit.
+    Cellwise(TransientFlow<FoamFlow>),
+}
+
+impl TransientField {
+    /// The cellwise field of the held window.
+    pub fn cellwise(&self) -> &FoamFlow {
+        use crate::flow::openfoam::Windowed;
+        match self {
+            TransientField::Blended(f) => Windowed::cellwise(f.field()),
+            TransientField::Cellwise(f) => f.field(),
+        }
+    }
+
+    /// The case's times of the levels (one period's for a periodic field).
+    pub fn levels(&self) -> &[f64] {
+        match self {
+            TransientField::Blended(f) => f.levels(),
+            TransientField::Cellwise(f) => f.levels(),
+        }
+    }
+
+    fn slide(&mut self, start: f64, end: f64) -> Result<(), FoamError> {
+        match self {
+            TransientField::Blended(f) => f.slide(start, end),
+            TransientField::Cellwise(f) => f.slide(start, end),
+        }
+    }
+
+    fn fingerprint(&self) -> &str {
+        match self {
+            TransientField::Blended(f) => f.fingerprint(),
+            TransientField::Cellwise(f) => f.fingerprint(),
+        }
+    }
+}
+
+impl SceneTransient {
+    /// `field` run in windows of `window` (> 0).
+    pub fn new(field: TransientField, window: f64) -> Self {
+        Self {
+            fingerprint: format!("{}, windows of {window:e}", field.fingerprint()),
+            field: RwLock::new(field),
+            window,
+            run: Mutex::new(()),
+        }
+    }
+
+    /// The length of the run's windows.
+    pub fn window(&self) -> f64 {
+        self.window
+    }
+
+    /// The window ends of a run from 0 to `t_end`: every multiple of the window length below
+    /// it, then `t_end` (a last window shorter than a thousandth of one is merged into the
+    /// one before: it would cost every particle a landing step for nothing).
+    pub fn window_ends(&self, t_end: f64) -> Vec<f64> {
+        let n = (t_end / self.window).floor() as u64;
+        let mut ends = vec![0.0];
+        ends.extend(
+            (1..=n)
+                .map(|k| k as f64 * self.window)
+                .filter(|&t| t < t_end - 1e-3 * self.window),
+        );
+        ends.push(t_end);
+        ends
+    }
+
+    /// `f` of the field as held now.
+    pub fn with_field<R>(&self, f: impl FnOnce(&TransientField) -> R) -> R {
+        f(&self.field.read().unwrap_or_else(PoisonError::into_inner))
+    }
+
+    /// Hold the window [start, end] (what a run's first window needs, before any particle is
+    /// launched).
+    pub fn slide(&self, start: f64, end: f64) -> Result<(), FoamError> {
+        self.field
+            .write()
+            .unwrap_or_else(PoisonError::into_inner)
+            .slide(start, end)
+    }
+
+    /// Exclusive use of the field for one run (type docs).
+    pub fn run(&self) -> MutexGuard<'_, ()> {
+        self.run.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// What identifies the field for a run's configuration hash: the levels' content
+    /// ([`TransientFlow::fingerprint`]) and the window length.
+    pub fn fingerprint(&self) -> &str {
+        &self.fingerprint
+    }
+}
+
+impl FlowField for SceneTransient {
+    fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+        self.with_field(|f| match f {
+            TransientField::Blended(f) => f.sample(x, t),
+            TransientField::Cellwise(f) => f.sample(x, t),
+        })
+    }
+
+    fn strain_rate(&self) -> Option<f64> {
+        self.with_field(|f| match f {
+            TransientField::Blended(f) => f.strain_rate(),
+            TransientField::Cellwise(f) => f.strain_rate(),
+        })
+    }
+}
+
+/// A scene's transient field as the batch runner slides it
+/// ([`crate::population::batch::run_batch`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Windows<'a>(pub &'a SceneTransient);
+
+impl FlowField for Windows<'_> {
+    fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+        self.0.sample(x, t)
+    }
+
+    fn strain_rate(&self) -> Option<f64> {
+        self.0.strain_rate()
+    }
+}
+
+impl Sliding for Windows<'_> {
+    fn slide(&mut self, start: f64, end: f64) -> Result<(), String> {
+        self.0.slide(start, end).map_err(|e| e.to_string())
+    }
 }
 
 impl SceneFlow {
@@ -45,6 +203,18 @@ impl SceneFlow {
             SceneFlow::Poiseuille(f) => format!("{f:?}"),
             SceneFlow::Foam(f) => f.fingerprint(),
             SceneFlow::Blended(f) => f.fingerprint(),
+            SceneFlow::Transient(f) => f.fingerprint().to_string(),
+        }
+    }
+
+    /// `f` of the cellwise OpenFOAM field (a transient field's held window), `None` for an
+    /// analytic flow.
+    pub fn with_cellwise<R>(&self, f: impl FnOnce(Option<&FoamFlow>) -> R) -> R {
+        match self {
+            SceneFlow::Foam(c) => f(Some(c)),
+            SceneFlow::Blended(b) => f(Some(b.cellwise())),
+            SceneFlow::Transient(t) => t.with_field(|field| f(Some(field.cellwise()))),
+            SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => f(None),
         }
     }
 }
@@ -71,6 +241,7 @@ impl FlowField for SceneFlow {
             SceneFlow::Poiseuille(f) => f.sample(x, t),
             SceneFlow::Foam(f) => f.sample(x, t),
             SceneFlow::Blended(f) => f.sample(x, t),
+            SceneFlow::Transient(f) => f.sample(x, t),
         }
     }
 
@@ -81,6 +252,7 @@ impl FlowField for SceneFlow {
             SceneFlow::Poiseuille(f) => f.strain_rate(),
             SceneFlow::Foam(f) => f.strain_rate(),
             SceneFlow::Blended(f) => f.strain_rate(),
+            SceneFlow::Transient(f) => f.strain_rate(),
         }
     }
 }

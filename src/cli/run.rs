@@ -3,10 +3,12 @@
 
 use super::error::CliError;
 use super::frames::{csv_tables, write_run};
-use super::models::SceneLaw;
+use super::models::{SceneFlow, SceneLaw, SceneTransient, Windows};
 use super::scene::Scene;
+use crate::population::batch::{Batch, Sliding, batch_config, run_batch};
 use crate::population::{
-    Case, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir, run_in_dir,
+    CHECKPOINT_INTERVAL, Case, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir,
+    run_in_dir,
 };
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -61,8 +63,13 @@ impl Scene {
         std::iter::once(0.0).chain(self.outputs.iter().copied()).collect()
     }
 
-    /// Do `job` with this scene's integrator.
+    /// Do `job` with this scene's integrator: on a steady flow with the particle-major
+    /// runner ([`crate::population::run`]), on a transient OpenFOAM field with the batch
+    /// runner ([`run_batch`]) over the windows of [`Scene::windows`].
     pub fn population(&self, job: &Job) -> Result<RunOutput<SceneLaw>, CliError> {
+        if let SceneFlow::Transient(field) = &self.flow {
+            return self.batch_population(field, job);
+        }
         let injector = self.injector();
         let case = Case::new(
             &self.integrator,
@@ -80,6 +87,60 @@ impl Scene {
             Job::Merge { dir } => {
                 let merged = RunOutput::merge_dir(dir)?;
                 let expected = case.config_hash(&config);
+                if merged.config_hash != expected {
+                    return Err(PopulationError::ConfigMismatch {
+                        path: Some(dir.clone()),
+                        expected,
+                        found: merged.config_hash,
+                    }
+                    .into());
+                }
+                Ok(merged)
+            }
+        }
+    }
+}
+
+impl Scene {
+    /// The window ends of a run on a transient field, from 0 to `end.t_end`
+    /// ([`SceneTransient::window_ends`]); `None` on a steady flow.
+    pub fn windows(&self) -> Option<Vec<f64>> {
+        match &self.flow {
+            SceneFlow::Transient(field) => Some(field.window_ends(self.plan.t_end())),
+            _ => None,
+        }
+    }
+
+    /// [`Scene::population`] on the transient `field`, window by window.
+    fn batch_population(&self, field: &SceneTransient, job: &Job) -> Result<RunOutput<SceneLaw>, CliError> {
+        let _exclusive = field.run();
+        let injector = self.injector();
+        let batch = Batch::new(&self.integrator, &self.boundary, &injector, self.plan.clone())
+            .with_contact(self.contact)
+            .with_samples();
+        let windows = field.window_ends(self.plan.t_end());
+        let config = self.config();
+        let mut flow = Windows(field);
+        // The first window before any particle is launched (its fluid velocity is sampled at
+        // t = 0); the runner's own first slide then keeps these levels. A run before this one
+        // may have left the field at its last window.
+        flow.slide(windows[0], windows[1])
+            .map_err(|reason| PopulationError::Window {
+                start: windows[0],
+                end: windows[1],
+                reason,
+            })?;
+        match job {
+            Job::Run { shard, options, dir } => {
+                let options = options
+                    .clone()
+                    .with_checkpoints(checkpoint_dir(dir, *shard), CHECKPOINT_INTERVAL);
+                Ok(run_batch(&batch, &mut flow, &windows, &config, *shard, &options)?)
+            }
+            Job::Memory { shard, options } => Ok(run_batch(&batch, &mut flow, &windows, &config, *shard, options)?),
+            Job::Merge { dir } => {
+                let merged = RunOutput::merge_dir(dir)?;
+                let expected = batch.case(&flow).config_hash(&batch_config(&config, &windows));
                 if merged.config_hash != expected {
                     return Err(PopulationError::ConfigMismatch {
                         path: Some(dir.clone()),

@@ -8,7 +8,7 @@ mod timing;
 
 use super::error::{CliError, Source};
 use super::inject::{Group, Placement, SceneInjector, Source as ParticleSource, Velocity};
-use super::models::{SceneBoundary, SceneDrag, SceneFlow, SceneLaw};
+use super::models::{SceneBoundary, SceneDrag, SceneFlow, SceneLaw, SceneTransient, TransientField};
 use super::schema::*;
 use crate::contact::MeshBoundary;
 use crate::contact::{ContactModel, PatchRule, PipeWall, Plane, Planes};
@@ -17,7 +17,7 @@ use crate::ellipsoid::Ellipsoid;
 use crate::error::ParamError;
 use crate::flow::FlowField;
 use crate::flow::analytic::{LinearFlow, Poiseuille};
-use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow};
+use crate::flow::openfoam::{BlendedFlow, Cycle, FoamCase, FoamFlow, Precision, TransientFlow};
 use crate::hydro::{ForceTerms, VolumetricTraction, drag, forces};
 use crate::integrator::SceneIntegrator;
 use crate::material::{self, Softness};
@@ -29,6 +29,7 @@ use nalgebra::{Rotation3, Unit};
 use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
+use std::sync::Arc;
 use toml::Spanned;
 
 /// Output times allowed per particle: beyond this a run is a time series of one particle,
@@ -39,6 +40,9 @@ pub const MAX_OUTPUTS: u64 = 100_000;
 pub const MAX_SAMPLES: u64 = 2_000_000;
 /// Particles allowed in one scene (the population runner's results hold one record each).
 pub const MAX_PARTICLES: u64 = 100_000_000;
+/// Time windows allowed in a run on a transient field (each is a pass over the live particles
+/// and a checkpoint).
+pub const MAX_WINDOWS: u64 = 1_000_000;
 /// Steps allowed per particle unless `end.max_steps` says otherwise.
 pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
 
@@ -285,6 +289,9 @@ impl Builder<'_> {
             },
             None => ContactModel::Extent,
         };
+        if let SceneFlow::Transient(field) = &flow {
+            self.first_window(field, &raw)?;
+        }
         let template = self.template(&raw.fluid, raw.particles.get_ref())?;
         // How far from its barycentre a particle touches a wall when it is not its extent:
         // injection through a patch starts particles beyond it.
@@ -308,6 +315,33 @@ impl Builder<'_> {
             vtk: raw.output.vtk.unwrap_or(true),
             text: self.src.text.to_string(),
         })
+    }
+
+    /// A transient field's windows to `end.t_end` are at most [`MAX_WINDOWS`], and the field
+    /// holds the first: the injection (a patch's inflow, the fluid's velocity) sees the field
+    /// at t = 0.
+    fn first_window(&self, field: &SceneTransient, raw: &SceneFile) -> Result<(), CliError> {
+        let t_end = self.positive(&raw.end.t_end, "end.t_end")?;
+        let (span, key) = match (&raw.flow.window, &raw.flow.time) {
+            (Some(w), _) => (w.span(), "flow.window"),
+            (None, Some(t)) => (t.span(), "flow.time"),
+            (None, None) => (raw.flow.kind.span(), "flow.type"),
+        };
+        let windows = t_end / field.window();
+        if windows > MAX_WINDOWS as f64 {
+            return Err(self.err(
+                span,
+                key,
+                format!(
+                    "t_end / window = {t_end} / {} = {windows:e} windows; at most {MAX_WINDOWS}",
+                    field.window()
+                ),
+            ));
+        }
+        let ends = field.window_ends(t_end);
+        field
+            .slide(ends[0], ends[1])
+            .map_err(|e| self.err(span, key, e.to_string()))
     }
 
     /// `value`, which the chosen kind (`kind` at `at`) needs.

@@ -64,9 +64,16 @@ pub struct FlowSpec {
     pub mean_velocity: Option<Num>,
     /// Case folder, relative to the scene file (`openfoam`).
     pub case: Option<Spanned<String>>,
-    /// Time directories to read (`openfoam`): a time, a list of times (linear in time between
-    /// them), or `"latest"` (the default).
+    /// Time directories to read (`openfoam`): a time or `"latest"` (the default), a steady
+    /// field; a list of times or a range `{ start, end, period }`, a transient field read
+    /// window by window (`flow::openfoam::TransientFlow`).
     pub time: Option<Spanned<TimeSpec>>,
+    /// How a transient field stores its levels: `"f64"` (default) or `"f32"` (half the memory,
+    /// a relative error below 2⁻²⁴).
+    pub precision: Option<Spanned<PrecisionSpec>>,
+    /// Length of a transient field's time windows (default: the smallest spacing of its
+    /// levels).
+    pub window: Option<Num>,
     /// Blend the cells' linear fits into a continuous field with the no-slip wall layer
     /// (`openfoam`; default true; see `flow::openfoam::BlendedFlow`). `false` gives the cellwise
     /// field: discontinuous at faces, without the wall-normal velocity that carries slow
@@ -85,10 +92,35 @@ fn default_blend() -> bool {
 pub enum TimeSpec {
     /// One time: a steady field.
     One(f64),
-    /// Several times, linear in time between them.
+    /// The levels of a transient field, linear in time between them.
     Many(Vec<f64>),
+    /// The time directories in a range: a transient field.
+    Range(TimeRange),
     /// `"latest"`: the last time directory.
     Named(String),
+}
+
+/// `flow.time = { start, end, period }`: the case's time directories in [start, end] (by
+/// default its first and last), repeated with `period` if given.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeRange {
+    /// First time (default: the case's first time directory).
+    pub start: Option<f64>,
+    /// Last time (default: the case's last time directory).
+    pub end: Option<f64>,
+    /// The levels repeat with this period (one period's levels in [start, end]).
+    pub period: Option<f64>,
+}
+
+/// `flow.precision`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PrecisionSpec {
+    /// As computed.
+    F64,
+    /// Rounded to f32.
+    F32,
 }
 
 /// The kinds of flow.

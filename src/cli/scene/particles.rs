@@ -319,11 +319,20 @@ impl Builder<'_> {
         span: Range<usize>,
         flow: &SceneFlow,
     ) -> Result<(), CliError> {
-        let cells = match flow {
-            SceneFlow::Foam(f) => f.as_ref(),
-            SceneFlow::Blended(b) => b.cellwise(),
-            _ => return Ok(()),
-        };
+        flow.with_cellwise(|cells| match cells {
+            Some(cells) => self.points_in_mesh(region, key, span, cells),
+            None => Ok(()),
+        })
+    }
+
+    /// [`Self::region_in_mesh`] on the cellwise field `cells`.
+    fn points_in_mesh(
+        &self,
+        region: &crate::cli::inject::Region,
+        key: &str,
+        span: Range<usize>,
+        cells: &FoamFlow,
+    ) -> Result<(), CliError> {
         let points: Vec<Vec3> = match region {
             crate::cli::inject::Region::Point(p) => vec![*p],
             // Inside by construction (the patch's faces moved inwards).
@@ -426,11 +435,20 @@ impl Builder<'_> {
         flow: &SceneFlow,
         extent: f64,
     ) -> Result<crate::cli::inject::Region, CliError> {
-        let cells = match flow {
-            SceneFlow::Foam(f) => f.as_ref(),
-            SceneFlow::Blended(b) => b.cellwise(),
-            _ => return Err(self.err(name.span(), key, "a `patch` region needs an `openfoam` flow")),
-        };
+        flow.with_cellwise(|cells| match cells {
+            Some(cells) => self.patch_triangles(name, key, cells, extent),
+            None => Err(self.err(name.span(), key, "a `patch` region needs an `openfoam` flow")),
+        })
+    }
+
+    /// [`Self::patch_region`] on the cellwise field `cells`.
+    fn patch_triangles(
+        &self,
+        name: &Spanned<String>,
+        key: &str,
+        cells: &FoamFlow,
+        extent: f64,
+    ) -> Result<crate::cli::inject::Region, CliError> {
         let mesh = cells.mesh();
         let Some(patch) = mesh.patches().iter().find(|p| p.name == *name.get_ref()) else {
             let names: Vec<&str> = mesh.patches().iter().map(|p| p.name.as_str()).collect();

@@ -364,6 +364,11 @@ impl<F: Windowed> TransientFlow<F> {
         self.flow.cellwise().times()
     }
 
+    /// The field of the held window (its mesh, walls and levels).
+    pub fn field(&self) -> &F {
+        &self.flow
+    }
+
     /// The case's times of the levels, ascending (one period's for a periodic field).
     pub fn levels(&self) -> &[f64] {
         &self.levels

@@ -5,6 +5,7 @@
 
 mod run;
 mod scene;
+mod transient;
 
 use crate::common::build;
 
@@ -544,18 +545,22 @@ t_end = 0.1
         Err(CliError::Scene { key, message, .. }) => (key, message),
         other => panic!("expected a scene error, got {:?}", other.map(|s| s.count())),
     };
-    for time in ["", "time = \"latest\"", "time = 1", "time = [0, 1]"] {
+    for time in ["", "time = \"latest\"", "time = 1"] {
         let s = scene(&moving, time, disc, "contact_radius = 0.0").unwrap_or_else(|e| panic!("{time}: {e}"));
         let SceneFlow::Blended(flow) = &s.flow else {
             panic!("{time}: blend is not the default");
         };
-        let expected: Vec<f64> = match time {
-            "time = [0, 1]" => vec![0.0, 1.0],
-            "time = 1" | "" | "time = \"latest\"" => vec![1.0],
-            _ => unreachable!(),
-        };
-        assert_eq!(flow.cellwise().times(), expected, "{time}");
+        assert_eq!(flow.cellwise().times(), vec![1.0], "{time}");
     }
+    // A list of times is a transient field (`cli::transient`), blended by default.
+    let s = scene(&moving, "time = [0, 1]", disc, "contact_radius = 0.0").unwrap();
+    let SceneFlow::Transient(flow) = &s.flow else {
+        panic!("a list of times is not a transient field");
+    };
+    flow.with_field(|field| {
+        assert!(matches!(field, pseudorigid::cli::models::TransientField::Blended(_)));
+        assert_eq!(field.levels(), [0.0, 1.0]);
+    });
     let (key, message) = key_of(scene(&moving, "time = \"first\"", disc, ""));
     assert!(key == "flow.time" && message.contains("latest"), "{key}: {message}");
     let (key, message) = key_of(scene(&still, "", disc, ""));

@@ -514,6 +514,21 @@ pub fn write_field(dir: &Path, raw: &Raw, u: &VolField, time: &str, format: Form
     put(&dir.join(time).join("U"), &field, gz);
 }
 
+/// Write the mesh `raw` and `U = u(x, t)` at each of `times` into `dir` (a transient case: the
+/// time directories are named by the times' shortest round-trip form).
+pub fn write_levels(dir: &Path, raw: &Raw, times: &[f64], u: impl Fn(&Vec3, f64) -> Vec3) {
+    let mesh = raw.mesh();
+    for (i, &t) in times.iter().enumerate() {
+        let field = sampled(&mesh, |x| u(x, t));
+        let name = format!("{t}");
+        if i == 0 {
+            write_case(dir, raw, &field, &name, Format::Binary);
+        } else {
+            write_field(dir, raw, &field, &name, Format::Binary);
+        }
+    }
+}
+
 /// A circular pipe of radius `radius` along z ∈ [0, `length`] as users mesh it with blockMesh:
 /// an O-grid of a square core (n × n cells, half-side 0.4 R) and four blocks of n × m cells from
 /// the square to the circle, the radial cells shrinking geometrically towards the wall so that

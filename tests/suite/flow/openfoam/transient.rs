@@ -4,28 +4,14 @@
 //! peak memory independent of the number of levels.
 
 use super::{linear_a, points, scratch};
-use crate::common::build::{Format, Raw, Shape, cube, sampled, write_case, write_field};
+use crate::common::build::{Shape, cube, write_levels};
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{
-    BlendedFlow, Cycle, FoamCase, FoamError, FoamFlow, Layout, Precision, TransientFlow, VolField,
+    BlendedFlow, Cycle, FoamCase, FoamError, FoamFlow, Layout, Precision, TransientFlow,
 };
 use pseudorigid::tensor::Vec3;
 use std::path::Path;
-
-/// Write the mesh `raw` and `U = u(x, t)` at each of `times` into `dir`.
-fn write_levels(dir: &Path, raw: &Raw, times: &[f64], u: impl Fn(&Vec3, f64) -> Vec3) {
-    let mesh = raw.mesh();
-    for (i, &t) in times.iter().enumerate() {
-        let field: VolField = sampled(&mesh, |x| u(x, t));
-        let name = format!("{t}");
-        if i == 0 {
-            write_case(dir, raw, &field, &name, Format::Binary);
-        } else {
-            write_field(dir, raw, &field, &name, Format::Binary);
-        }
-    }
-}
 
 /// A smooth, non-linear velocity whose amplitude changes in time as `g(t)`.
 fn swirl(x: &Vec3, g: f64) -> Vec3 {
