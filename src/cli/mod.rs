@@ -18,7 +18,8 @@
 //! | `[flow] type` | `quiescent`, `shear`, `planar_extension`, `uniaxial_extension`, `poiseuille`, `openfoam` |
 //! | `flow.rate` | γ̇ or ε̇ of the linear flows |
 //! | `flow.radius`, `flow.mean_velocity` | Poiseuille pipe along e₁: R and Ū (centreline 2Ū) |
-//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file; an absolute path or one climbing with `..` is read as given: the command reads what the scene names, and writes nothing but under `--out`) and time: a number, a list of numbers (linear in time between them) or `"latest"` (the default); a field that is zero in every cell is refused |
+//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file; an absolute path or one climbing with `..` is read as given: the command reads what the scene names, and writes nothing but under `--out`) and time: a number or `"latest"` (the default), a steady field (one that is zero in every cell is refused); a list of times or a range `{ start, end, period }`, a transient field (see *Transient fields*) |
+//! | `flow.precision`, `flow.window` | transient fields only: `"f64"` (default) or `"f32"` storage of the levels; the length of the run's time windows (default: the smallest spacing of the levels) |
 //! | `flow.blend` | `true` (default): the continuous field with the second-order no-slip wall layer (`flow::openfoam::BlendedFlow`); `false`: each cell's linear fit (discontinuous at faces, no wall-normal velocity near walls) |
 //! | `[fluid] viscosity`, `density`, `gravity` | μ_f, ρ_f, g (default 0) |
 //! | `[boundary] type` | `pipe` (needs `radius`), `planes` (needs `[[boundary.walls]]`), `mesh` (the case's patches) |
@@ -33,6 +34,35 @@
 //! | `integrator.dt`, `dt_max`, `overdamped` | first (or fixed) step, largest step, overdamped barycentre (`radau_iia`, `rosenbrock_w23`) |
 //! | `[end] t_end`, `max_steps` | end time of every particle's run; accepted steps allowed per particle |
 //! | `[output] every`, `vtk` | output interval (default: the end only); write ParaView files (default true) |
+//!
+//! # Transient fields
+//! `flow.time = [t0, t1, ...]` (times of the case's time directories, ascending, at least two)
+//! or `flow.time = { start = .., end = .., period = .. }` (the case's time directories in
+//! [start, end], by default its first and last; at least two) reads a transient field:
+//! linear in time between the levels, before the first level and after the last the field
+//! holds that level. With `period` the levels repeat with that period (a breathing cycle):
+//! give the levels of one period, e.g. `{ start = 1, end = 1.5, period = 0.5 }` for the second
+//! period of a solution written to t = 1.5; a level at start + period is the next cycle's first
+//! and is not read. Particle time is the case's time: every particle starts at t = 0 (so with
+//! levels from t = 1 on, a non-periodic field holds its first level until t = 1, while a
+//! periodic one maps t = 0 onto the cycle) and runs to `end.t_end`.
+//!
+//! The field is read lazily (`flow::openfoam::TransientFlow`): it holds the levels of one
+//! window of time, and the run (`population::batch::run_batch`) advances every live particle
+//! to the window's end before the window slides. `flow.window` is the window's length; the
+//! default, the smallest spacing of the levels (the wrap from the last level to the next
+//! cycle's first included), holds at most three levels at a time whatever their number. A
+//! longer window holds more levels at once; a shorter one costs each particle one more landing
+//! step per window. Fates are those of a run holding every level; positions differ by the
+//! step control's tolerance (only the steps landing on the window ends differ). Checkpoints
+//! are written at window ends: a run killed mid-window resumes from the last one and
+//! recomputes the particles still in flight (the same records, bit for bit, as a run not
+//! killed). Progress counts finished particles plus those in flight weighted by the share of
+//! the time run so far. `flow.precision = "f32"` stores the levels in single precision (half
+//! the memory, a relative error below 2⁻²⁴ per component). Injection sees the field at t = 0:
+//! a `patch` region is weighted by the inflow of the level at or before t = 0 (a patch with no
+//! inflow then, such as an inlet at the start of a sinusoidal cycle, is refused), and
+//! `fluid_velocity` samples u(x, 0).
 //!
 //! A particle's run ends at `t_end` (*suspended*), when it touches a `stick` wall
 //! (*deposited*) or an `exit` (*escaped*), or when a step fails (*failed*, with the error).
