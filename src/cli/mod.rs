@@ -55,9 +55,10 @@
 //! longer window holds more levels at once; a shorter one costs each particle one more landing
 //! step per window. Fates are those of a run holding every level; positions differ by the
 //! step control's tolerance (only the steps landing on the window ends differ). Checkpoints
-//! are written at window ends: a run killed mid-window resumes from the last one and
-//! recomputes the particles still in flight (the same records, bit for bit, as a run not
-//! killed). Progress counts finished particles plus those in flight weighted by the share of
+//! are written at window ends and hold the particles finished by then: a killed run resumes
+//! with those and runs the others again from the start (the same records, bit for bit, as a
+//! run not killed). In a closed domain (a cavity), where most particles live to `t_end`, a
+//! kill therefore costs nearly the whole run: split long runs into shards instead. Progress counts finished particles plus those in flight weighted by the share of
 //! the time run so far. `flow.precision = "f32"` stores the levels in single precision (half
 //! the memory, a relative error below 2⁻²⁴ per component). Injection sees the field at t = 0:
 //! a `patch` region is weighted by the inflow of the level at or before t = 0 (a patch with no
@@ -181,11 +182,17 @@ fn default_out(scene: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}-out"))
 }
 
-/// `line` after the integrator's choices ([`Scene::integrator_log`]), one `note:` line each,
+/// `line` after the transient field's levels and windows ([`Scene::flow_log`]) and the
+/// integrator's choices ([`Scene::integrator_log`]), one `note:` line each,
 /// and the scene's warnings about force terms it leaves out ([`Scene::force_advice`]), one
 /// `warning:` line each.
 fn with_advice(scene: &Scene, line: String) -> String {
-    let mut text: String = scene.integrator_log().iter().map(|n| format!("note: {n}\n")).collect();
+    let mut text: String = scene
+        .flow_log()
+        .into_iter()
+        .chain(scene.integrator_log())
+        .map(|n| format!("note: {n}\n"))
+        .collect();
     text.extend(scene.force_advice().iter().map(|w| format!("warning: {w}\n")));
     text.push_str(&line);
     text

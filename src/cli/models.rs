@@ -83,6 +83,14 @@ impl TransientField {
         }
     }
 
+    /// How the levels repeat.
+    pub fn cycle(&self) -> crate::flow::openfoam::Cycle {
+        match self {
+            TransientField::Blended(f) => f.cycle(),
+            TransientField::Cellwise(f) => f.cycle(),
+        }
+    }
+
     fn slide(&mut self, start: f64, end: f64) -> Result<(), FoamError> {
         match self {
             TransientField::Blended(f) => f.slide(start, end),

@@ -111,6 +111,30 @@ impl Scene {
         }
     }
 
+    /// What a run on a transient field reads and how it cuts time, for the run log: the
+    /// levels, their cycle and storage, and the windows. `None` on a steady flow.
+    pub fn flow_log(&self) -> Option<String> {
+        let SceneFlow::Transient(field) = &self.flow else {
+            return None;
+        };
+        let windows = field.window_ends(self.plan.t_end()).len() - 1;
+        Some(field.with_field(|f| {
+            let levels = f.levels();
+            format!(
+                "flow.time: transient field, {} levels from t = {} to {}{}; {windows} windows of {:.6} to t_end = {}",
+                levels.len(),
+                levels[0],
+                levels[levels.len() - 1],
+                match f.cycle() {
+                    crate::flow::openfoam::Cycle::Once => String::new(),
+                    crate::flow::openfoam::Cycle::Periodic { period } => format!(", repeated with period {period}"),
+                },
+                field.window(),
+                self.plan.t_end()
+            )
+        }))
+    }
+
     /// [`Scene::population`] on the transient `field`, window by window.
     fn batch_population(&self, field: &SceneTransient, job: &Job) -> Result<RunOutput<SceneLaw>, CliError> {
         let _exclusive = field.run();

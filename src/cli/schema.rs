@@ -87,8 +87,7 @@ fn default_blend() -> bool {
 }
 
 /// `flow.time`: which time directories an OpenFOAM flow reads.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone)]
 pub enum TimeSpec {
     /// One time: a steady field.
     One(f64),
@@ -98,6 +97,38 @@ pub enum TimeSpec {
     Range(TimeRange),
     /// `"latest"`: the last time directory.
     Named(String),
+}
+
+/// Read by the kind of value written, so that a bad table names its bad key (`unknown field
+/// `strat``) where an untagged enum would only say that no form matched.
+impl<'de> Deserialize<'de> for TimeSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let number = |v: &toml::Value| match v {
+            toml::Value::Float(x) => Some(*x),
+            // TOML integers are times too (`time = 1`); beyond 2⁵³ they round, as any f64.
+            toml::Value::Integer(i) => Some(*i as f64),
+            _ => None,
+        };
+        let value = toml::Value::deserialize(d)?;
+        match &value {
+            toml::Value::String(name) => Ok(TimeSpec::Named(name.clone())),
+            toml::Value::Array(items) => items
+                .iter()
+                .enumerate()
+                .map(|(i, v)| number(v).ok_or_else(|| D::Error::custom(format!("time[{i}] must be a number, got {v}"))))
+                .collect::<Result<_, _>>()
+                .map(TimeSpec::Many),
+            toml::Value::Table(_) => TimeRange::deserialize(value)
+                .map(TimeSpec::Range)
+                .map_err(D::Error::custom),
+            v => number(v).map(TimeSpec::One).ok_or_else(|| {
+                D::Error::custom(format!(
+                    "expected a time, a list of times, {{ start, end, period }} or \"latest\", got {v}"
+                ))
+            }),
+        }
+    }
 }
 
 /// `flow.time = { start, end, period }`: the case's time directories in [start, end] (by

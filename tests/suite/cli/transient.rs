@@ -309,8 +309,8 @@ fn a_stopped_transient_run_resumes_to_the_same_records() {
 
 /// Bad transient keys are refused at the key, with the numbers that explain why: start ≥ end,
 /// a period ≤ 0, no time directory in the range, a list not ascending or naming a time the
-/// case does not have, an unknown precision, a window ≤ 0 or longer than the period, and
-/// `precision` or `window` on a steady field.
+/// case does not have, a misspelt range key, an unknown precision, a window ≤ 0 or longer than
+/// the period, and `precision` or `window` on a steady field.
 #[test]
 fn bad_transient_keys_are_typed_errors() {
     let times = [0.0, 0.25, 0.5, 0.75, 1.0];
@@ -357,8 +357,10 @@ fn bad_transient_keys_are_typed_errors() {
         ),
         ("time = [0, 0.3]", "flow.time", vec!["no time directory 0.3", "0.25"]),
         ("time = [0.5]", "flow.time", vec!["at least two"]),
-        // A value no variant names is the TOML reader's error, at the bare key.
+        // A value no form takes is the TOML reader's error, at the bare key.
         ("time = [0, 1]\nprecision = \"f16\"", "precision", vec!["f16", "f32"]),
+        ("time = { strat = 0, end = 1 }", "time", vec!["unknown field `strat`", "start"]),
+        ("time = [0, \"x\"]", "time", vec!["time[1] must be a number"]),
         ("time = [0, 1]\nwindow = 0", "flow.window", vec!["got 0"]),
         (
             "time = { start = 0, end = 1, period = 1 }\nwindow = 2",
