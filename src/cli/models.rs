@@ -60,9 +60,9 @@ pub struct SceneTransient {
 #[derive(Debug)]
 pub enum TransientField {
     /// Blended into a continuous field with the wall layer.
-    Blended(TransientFlow<BlendedFlow>),
+    Blended(Box<TransientFlow<BlendedFlow>>),
     /// Each cell's linear fit.
-    Cellwise(TransientFlow<FoamFlow>),
+    Cellwise(Box<TransientFlow<FoamFlow>>),
 }
 
 impl TransientField {

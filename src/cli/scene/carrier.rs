@@ -189,8 +189,10 @@ impl Builder<'_> {
             Some(PrecisionSpec::F64) | None => Precision::F64,
         };
         let field = match spec.blend {
-            true => TransientFlow::open(foam, &levels, cycle, precision).map(TransientField::Blended),
-            false => TransientFlow::open(foam, &levels, cycle, precision).map(TransientField::Cellwise),
+            true => TransientFlow::open(foam, &levels, cycle, precision).map(|f| TransientField::Blended(Box::new(f))),
+            false => {
+                TransientFlow::open(foam, &levels, cycle, precision).map(|f| TransientField::Cellwise(Box::new(f)))
+            }
         }
         .map_err(|e| err(e.to_string()))?;
         // The levels as read: a periodic field drops a level at the first's time plus a period.

@@ -359,7 +359,11 @@ fn bad_transient_keys_are_typed_errors() {
         ("time = [0.5]", "flow.time", vec!["at least two"]),
         // A value no form takes is the TOML reader's error, at the bare key.
         ("time = [0, 1]\nprecision = \"f16\"", "precision", vec!["f16", "f32"]),
-        ("time = { strat = 0, end = 1 }", "time", vec!["unknown field `strat`", "start"]),
+        (
+            "time = { strat = 0, end = 1 }",
+            "time",
+            vec!["unknown field `strat`", "start"],
+        ),
         ("time = [0, \"x\"]", "time", vec!["time[1] must be a number"]),
         ("time = [0, 1]\nwindow = 0", "flow.window", vec!["got 0"]),
         (
