@@ -13,6 +13,7 @@
 //! items they concern ([`setup`]).
 
 pub mod deposition;
+pub mod error_norm;
 pub mod figures;
 pub mod injection;
 pub mod setup;
