@@ -58,7 +58,8 @@
 //! step per window. On the oscillating cavity (`cases/oscillating-cavity/scene.toml`, 300
 //! tracers, four periods of 200 levels) windows of 0.0025 s (the default), 0.01 s and 0.05 s
 //! took 385 k, 489 k and 309 k steps and ended within 2.6 µm of each other (tolerance 10⁻⁶,
-//! a 0.1 m cavity); the steps per second were within 5 % of the steady runner's on one level. Fates are those of a run holding every level; positions differ by the
+//! a 0.1 m cavity); the steps per second were within 5 % of the steady runner's on one level
+//! (one run each, on a loaded machine). Fates are those of a run holding every level; positions differ by the
 //! step control's tolerance (only the steps landing on the window ends differ). Checkpoints
 //! are written at window ends and hold the particles finished by then: a killed run resumes
 //! with those and runs the others again from the start (the same records, bit for bit, as a

@@ -263,7 +263,7 @@ fn a_uniform_field_linear_in_time_carries_a_sphere_the_closed_form_distance() {
 
 /// A run stopped after its first window (a caller's Ctrl-C: [`RunControl::stop`]) has
 /// checkpointed the particles finished by then and returns `Interrupted`; resumed, it gives the
-/// records of an uninterrupted run, bit for bit.
+/// records of an uninterrupted run, bit for bit, and reports all particles done.
 #[test]
 fn a_stopped_transient_run_resumes_to_the_same_records() {
     let (a, b) = (0.2, 0.2);
@@ -296,13 +296,20 @@ fn a_stopped_transient_run_resumes_to_the_same_records() {
         }
         other => panic!("expected an interrupted run, got {:?}", other.map(|o| o.records.len())),
     }
+    // The batch runner reports its progress to the caller's handle (Python's bar).
+    let progress = Arc::new(RunControl::default());
     let resumed = s
         .population(&Job::Run {
             shard: Shard::ALL,
-            options: RunOptions::default().serial().quiet().resume(true),
+            options: RunOptions::default()
+                .serial()
+                .quiet()
+                .resume(true)
+                .with_control(progress.clone()),
             dir,
         })
         .unwrap();
+    assert_eq!(progress.progress(), (STARTS.len() as u64, STARTS.len() as u64));
     assert_eq!(resumed.config_hash, whole.config_hash);
     assert_eq!(format!("{:?}", resumed.records), format!("{:?}", whole.records));
 }
