@@ -393,3 +393,51 @@ fn bad_transient_keys_are_typed_errors() {
         assert!(s.windows().is_some(), "{flow}");
     }
 }
+
+/// The command on a transient scene: two shards merged give the files of the whole run, byte
+/// for byte (tables and ParaView index), and `validate` names the field's levels and windows.
+#[test]
+fn transient_shards_merge_to_the_whole_run_through_the_command() {
+    let times = [0.0, 0.25, 0.5, 0.75, 1.0];
+    let case = transient_case("cli_transient_command_case", &times, |x, t| shape(x) * (1.0 + t));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_transient_command");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = scene_text(&case, "time = { start = 0, end = 1 }", 1.0).replace("vtk = false", "vtk = true");
+    std::fs::write(dir.join("scene.toml"), text).unwrap();
+    let command = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_pseudorigid"))
+            .current_dir(&dir)
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let log = command(&["validate", "scene.toml"]);
+    assert!(
+        log.contains("transient field, 5 levels from t = 0 to 1; 4 windows of 0.250000"),
+        "{log}"
+    );
+    command(&["run", "scene.toml", "--out", "whole", "--quiet", "--threads", "2"]);
+    for shard in ["0/2", "1/2"] {
+        command(&["run", "scene.toml", "--out", "shards", "--quiet", "--shard", shard]);
+    }
+    command(&["merge", "scene.toml", "--out", "shards"]);
+    for file in [
+        "records.parquet",
+        "frames.parquet",
+        "particles.pvd",
+        "vtk/trajectories.vtp",
+    ] {
+        assert!(
+            std::fs::read(dir.join("whole").join(file)).unwrap()
+                == std::fs::read(dir.join("shards").join(file)).unwrap(),
+            "{file}"
+        );
+    }
+}
