@@ -144,27 +144,32 @@ impl Scene {
             .with_samples();
         let windows = field.window_ends(self.plan.t_end());
         let config = self.config();
-        let mut flow = Windows(field);
-        // The first window before any particle is launched (its fluid velocity is sampled at
-        // t = 0); the runner's own first slide then keeps these levels. A run before this one
-        // may have left the field at its last window.
-        flow.slide(windows[0], windows[1])
-            .map_err(|reason| PopulationError::Window {
-                start: windows[0],
-                end: windows[1],
-                reason,
-            })?;
+        let run = |shard: Shard, options: &RunOptions| -> Result<RunOutput<SceneLaw>, CliError> {
+            let mut flow = Windows(field);
+            // The first window before any particle is launched (its fluid velocity is sampled
+            // at t = 0); the runner's own first slide then keeps these levels. A run before
+            // this one may have left the field at its last window.
+            flow.slide(windows[0], windows[1])
+                .map_err(|reason| PopulationError::Window {
+                    start: windows[0],
+                    end: windows[1],
+                    reason,
+                })?;
+            Ok(run_batch(&batch, &mut flow, &windows, &config, shard, options)?)
+        };
         match job {
-            Job::Run { shard, options, dir } => {
-                let options = options
+            Job::Run { shard, options, dir } => run(
+                *shard,
+                &options
                     .clone()
-                    .with_checkpoints(checkpoint_dir(dir, *shard), CHECKPOINT_INTERVAL);
-                Ok(run_batch(&batch, &mut flow, &windows, &config, *shard, &options)?)
-            }
-            Job::Memory { shard, options } => Ok(run_batch(&batch, &mut flow, &windows, &config, *shard, options)?),
+                    .with_checkpoints(checkpoint_dir(dir, *shard), CHECKPOINT_INTERVAL),
+            ),
+            Job::Memory { shard, options } => run(*shard, options),
             Job::Merge { dir } => {
                 let merged = RunOutput::merge_dir(dir)?;
-                let expected = batch.case(&flow).config_hash(&batch_config(&config, &windows));
+                let expected = batch
+                    .case(&Windows(field))
+                    .config_hash(&batch_config(&config, &windows));
                 if merged.config_hash != expected {
                     return Err(PopulationError::ConfigMismatch {
                         path: Some(dir.clone()),

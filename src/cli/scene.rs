@@ -339,6 +339,8 @@ impl Builder<'_> {
             ));
         }
         let ends = field.window_ends(t_end);
+        // A transient field always has `flow.time`; its levels are what a slide reads.
+        let (span, key) = raw.flow.time.as_ref().map_or((span, key), |t| (t.span(), "flow.time"));
         field
             .slide(ends[0], ends[1])
             .map_err(|e| self.err(span, key, e.to_string()))
