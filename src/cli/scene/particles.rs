@@ -212,8 +212,18 @@ impl Builder<'_> {
             }
             (Some(v), false) => Velocity::Given(self.vec3(v, &format!("{key}.velocity"))?),
             (None, true) => {
-                flow.sample(&position, 0.0)
-                    .map_err(|e| self.err(p.position.span(), &format!("{key}.position"), e.to_string()))?;
+                flow.sample(&position, 0.0).map_err(|e| {
+                    // The domain is the flow's: name the keys that set it, which may be the
+                    // ones written wrong (a pipe of radius 1e-320).
+                    let domain = match flow {
+                        SceneFlow::Poiseuille(_) => "; the pipe's `flow.radius` sets the domain",
+                        SceneFlow::Foam(_) | SceneFlow::Blended(_) | SceneFlow::Transient(_) => {
+                            "; the mesh of `flow.case` sets the domain"
+                        }
+                        SceneFlow::Quiescent | SceneFlow::Linear(_) => "",
+                    };
+                    self.err(p.position.span(), &format!("{key}.position"), format!("{e}{domain}"))
+                })?;
                 Velocity::Fluid
             }
             (None, false) => Velocity::Given(Vec3::zeros()),
