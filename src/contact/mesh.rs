@@ -27,8 +27,13 @@
 //! centre c of a bin of a uniform grid to the nearest boundary face (to the face, not its
 //! plane), computed once when a particle first enters the bin, bounds the distance from x to
 //! the boundary by $d_c − |x − c|$. [`MeshBoundary::clearance`] answers it where
-//! $|x − c| ≤ d_c/2$. A bin centre outside the domain cannot lend a bound to a point inside:
-//! the segment between them crosses the boundary, so $d_c ≤ |x − c|$. The gap of a point is
+//! $|x − c| ≤ d_c/2$, and only where c lies inside the domain
+//! ([`crate::flow::openfoam::PatchSet::inner_distance`]): the ball of radius $d_c$ about c
+//! holds no boundary face, so x lies on c's side. An unsigned distance would lend a bound to a
+//! point that has left the domain (a particle carried past an outlet within one step), and the
+//! contact event, taking it for inside, would never see the exit. A bin centre outside the
+//! domain could not lend a bound to a point inside anyway: the segment between them crosses
+//! the boundary, so $d_c ≤ |x − c|$. The gap of a point is
 //! the distance to the plane of the face its projection covers, which is the distance to that
 //! face; where the projection covers none (over a convex ridge, a carina), it is the distance to
 //! the plane of the nearest face, at least cos θ times the distance to the ridge for an
@@ -209,7 +214,7 @@ impl Clearance {
         let bin = index[0] + self.dims[0] * (index[1] + self.dims[1] * index[2]);
         let centre =
             self.origin + Vec3::new(index[0] as f64 + 0.5, index[1] as f64 + 0.5, index[2] as f64 + 0.5) * self.size;
-        let distance = *self.distances[bin].get_or_init(|| set.surface_distance(&centre));
+        let distance = *self.distances[bin].get_or_init(|| set.inner_distance(&centre).unwrap_or(f64::NAN));
         let away = (x - centre).norm();
         (distance.is_finite() && away <= 0.5 * distance).then_some(distance - away)
     }

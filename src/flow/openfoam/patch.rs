@@ -45,6 +45,11 @@ pub struct SetFace {
     pub normal: Vec3,
 }
 
+/// Cosine between the offset from a boundary's nearest point to x and the inward normal there
+/// above which [`PatchSet::inner_distance`] calls x inside (25.8°: warped faces' fan triangles
+/// tilt from the face normal by less).
+pub const INNER_SIDE_COS: f64 = 0.9;
+
 /// A set of patches of one mesh, indexed by face centre.
 #[derive(Debug, Clone)]
 pub struct PatchSet {
@@ -140,15 +145,46 @@ impl PatchSet {
     /// triangles around the face centres): faces in order of their bounding boxes' distance,
     /// until a box lies beyond the nearest face found. +∞ for an empty set.
     pub fn surface_distance(&self, x: &Vec3) -> f64 {
-        let mut best = f64::INFINITY;
+        self.nearest_offset(x).map_or(f64::INFINITY, |(offset, _)| offset.norm())
+    }
+
+    /// [`Self::surface_distance`] where x lies plainly on the inner side of the boundary, `None`
+    /// where it lies outside or the side is unclear.
+    ///
+    /// Inner means that the offset from the nearest point q to x runs against the outward
+    /// normal of q's face, within [`INNER_SIDE_COS`] of it. Where q lies inside a face (x
+    /// projects into it), x − q is parallel to the normal and its sign is the side: a closed
+    /// boundary with outward normals is crossed once on the segment from x to q, at q, if at
+    /// all. Where q lies on an edge or corner, x − q lies in the cone of the outward normals of
+    /// the faces meeting there for x outside, so an outside point is mistaken for an inside one
+    /// only where two outward normals are more than arccos(−0.9) = 154° apart: a solid wedge
+    /// sharper than 26°, which meshed walls of ducts do not have. Points on constraint patches'
+    /// side (not in the set) have no side of their own: a 2-D case's `empty` planes are not
+    /// particle boundaries.
+    pub fn inner_distance(&self, x: &Vec3) -> Option<f64> {
+        let (offset, i) = self.nearest_offset(x)?;
+        let d = offset.norm();
+        (offset.dot(&self.normals[i]) <= -INNER_SIDE_COS * d).then_some(d)
+    }
+
+    /// x − q for q the nearest point of the set's faces, with q's face: faces in order of
+    /// their bounding boxes' distance, until a box lies beyond the nearest point found.
+    fn nearest_offset(&self, x: &Vec3) -> Option<(Vec3, usize)> {
+        let mut best: Option<(Vec3, usize)> = None;
+        let mut best_d = f64::INFINITY;
         for (i, box_distance) in self.by_box_distance(x) {
-            if box_distance >= best {
+            if box_distance >= best_d {
                 break;
             }
             let (c, poly) = (&self.centres[i], &self.vertices[self.offsets[i]..self.offsets[i + 1]]);
             for (k, a) in poly.iter().enumerate() {
                 let b = &poly[(k + 1) % poly.len()];
-                best = best.min(super::walls::triangle_offset(x, c, a, b).norm());
+                let offset = super::walls::triangle_offset(x, c, a, b);
+                let d = offset.norm();
+                if d < best_d {
+                    best_d = d;
+                    best = Some((offset, i));
+                }
             }
         }
         best
