@@ -16,7 +16,9 @@
 //! `by_phase.csv` (DE by injection time), `deposits.csv` and `breathing.svg` (deposition maps
 //! steady vs cyclic, DE by injection time), `flow_rates.csv` (the solution's conservation
 //! against the prescribed inlet), `field_check.csv` (the field against steady solutions at the
-//! same Reynolds number) and `timing.csv`. Finished runs are kept in the bifurcation studies'
+//! same Reynolds number) and `timing.csv`; with `PSEUDORIGID_BREATH_QUASI_N=M`, also
+//! `quasi_steady.csv`: the rigid points' first M particles through the steady field scaled by
+//! the flow rate (the breath without the flow's change of shape). Finished runs are kept in the bifurcation studies'
 //! cache (`target/bifurcation-runs`, or `PSEUDORIGID_BIF_CACHE`) and read back.
 
 use pseudorigid::flow::openfoam::FoamCase;
@@ -103,7 +105,67 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     map_table(&pairs)?.write(out("deposits.csv"))?;
     breathing::figure(&pairs, waveform, PHASE_BINS).write(out("breathing.svg"))?;
     timing.write(out("timing.csv"))?;
+    if let Ok(m) = std::env::var("PSEUDORIGID_BREATH_QUASI_N") {
+        quasi_steady(&airway, &pairs, m.parse()?)?.write(out("quasi_steady.csv"))?;
+    }
     Ok(())
+}
+
+/// The rigid points once more, the first `m` particles, through the quasi-steady breath: the
+/// shipped Re = 500 field scaled by U_in(t)/U at the levels of the pimpleFoam case (the flow's
+/// shape never changes; α → 0 at fixed Re), beside the steady and pimpleFoam runs of the same
+/// particles. Columns `shape,mu_s,stk,n,de_steady,de_quasi_steady,de_cyclic` with their
+/// binomial standard errors.
+fn quasi_steady(airway: &Airway, pairs: &[Paired], m: u64) -> Result<Csv, Box<dyn std::error::Error>> {
+    use pseudorigid::population::binomial::{fraction, stderr};
+    use pseudorigid::population::Fate;
+    let waveform = Waveform::rest();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/breath-quasi-steady");
+    // Every 50 ms (80 levels a period): linear interpolation in time errs by π²/(2·80²) = 8e-4
+    // of the amplitude.
+    let times: Vec<f64> = (0..=40).map(|k| 0.05 * f64::from(k)).collect();
+    breathing::write_quasi_steady(&Airway::shipped_dir(), &dir, waveform, &times)?;
+    let mut breath = Breath::open(&dir, waveform)?;
+    let mut csv = Csv::new(&[
+        "shape",
+        "mu_s",
+        "stk",
+        "n",
+        "de_steady",
+        "de_steady_stderr",
+        "de_quasi_steady",
+        "de_quasi_steady_stderr",
+        "de_cyclic",
+        "de_cyclic_stderr",
+    ]);
+    for p in pairs.iter().filter(|p| p.kind.material == Material::Rigid) {
+        let clock = Instant::now();
+        let q = breathing::run_inhaled(
+            airway,
+            &mut breath,
+            p.kind,
+            m,
+            figures::SEED,
+            &RunOptions::default().quiet(),
+            Some(&figures::cache_dir()),
+        )?;
+        let count = |records: &[pseudorigid::population::ParticleRecord<_>]| {
+            records
+                .iter()
+                .take(m as usize)
+                .filter(|r| matches!(r.fate, Fate::Deposited { .. }))
+                .count() as u64
+        };
+        let (ds, dq, dc) = (count(&p.steady.records), count(&q.records), count(&p.cyclic.records));
+        eprintln!("{:?} quasi-steady: {:?} in {:.1} s", p.kind, q.counts(), clock.elapsed().as_secs_f64());
+        let mut row = vec![p.kind.shape.label(), "inf".into(), p.kind.stokes.to_string(), m.to_string()];
+        for d in [ds, dq, dc] {
+            row.push(format!("{:.5}", fraction(d, m)));
+            row.push(format!("{:.5}", stderr(d, m)));
+        }
+        csv.push(row)?;
+    }
+    Ok(csv)
 }
 
 /// The solution against steady ones at the same Reynolds number: the level at which the inlet
