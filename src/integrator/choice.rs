@@ -20,6 +20,7 @@
 //! [`ParticleNumbers::of`], and printed per injection group in the run log).
 
 use super::stokesian::StokesianMemory;
+use super::control::ErrorNorm;
 use super::{BarycentreModel, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
@@ -145,6 +146,7 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
                 BarycentreModel::Inertial
             },
             scheme,
+            norm: ErrorNorm::default(),
         },
         reason,
     })
@@ -156,6 +158,8 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
 pub struct Auto {
     /// Error tolerances.
     pub tol: Tolerances,
+    /// How the chosen integrator measures the local error.
+    pub norm: ErrorNorm,
 }
 
 impl Auto {
@@ -165,7 +169,11 @@ impl Auto {
         particle: &Particle<M, D>,
         flow: &F,
     ) -> Result<Choice, ParamError> {
-        choose(ParticleNumbers::of(particle, flow)?, self.tol)
+        let choice = choose(ParticleNumbers::of(particle, flow)?, self.tol)?;
+        Ok(Choice {
+            integrator: choice.integrator.with_norm(self.norm),
+            ..choice
+        })
     }
 }
 
@@ -216,15 +224,16 @@ impl TimeIntegrator for Auto {
     }
 }
 
-// Selectable by name: `[integrator] type = "auto"` with `tol` (rtol = atol).
+// Selectable by name: `[integrator] type = "auto"` with `tol` (rtol = atol) and `norm`.
 inventory::submit! {
     super::IntegratorRegistration {
         name: "auto",
         aliases: &[],
         build: |p| {
-            p.only(&["tol"])?;
+            p.only(&["tol", "norm"])?;
             Ok(super::SceneIntegrator::new(Auto {
                 tol: Tolerances::uniform(p.positive("tol")?)?,
+                norm: super::stokesian::error_norm(p)?,
             }))
         },
     }

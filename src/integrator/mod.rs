@@ -28,7 +28,7 @@ pub mod registry;
 pub mod rosenbrock;
 pub mod stokesian;
 
-pub use control::{JacobianReuse, StepControl, Tolerances};
+pub use control::{ErrorNorm, JacobianReuse, StepControl, Tolerances};
 pub use dense::Dense;
 pub use imex::ImexPaper;
 pub use imex_adaptive::ImexAdaptive;

@@ -93,7 +93,8 @@
 //!
 //! # Tolerances
 //! Norms are weighted root-mean-square norms (Hairer's choice) with weights atol + rtol·|y₀ᵢ|
-//! in Newton and atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|) in the error test; rtol and atol act on the
+//! in Newton and atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|) in the error test, or the same with each block
+//! of the state (a vector, a tensor) weighted by its norm ([`super::control::ErrorNorm`]); rtol and atol act on the
 //! O(h⁴) local estimate directly, as in SciPy's
 //! `solve_ivp(method="Radau")` (RADAU5 itself maps rtol ↦ 0.1·rtol^{2/3} first).
 //!
@@ -105,6 +106,7 @@ use super::control::{JacobianReuse, StepControl, Tolerances};
 use crate::error::{StepError, finite, positive};
 use nalgebra::{Complex, Const, DimMin, Matrix3, SMatrix, SVector, Vector3};
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 
 /// c₁ = (4 − √6)/10.
 const C1: f64 = 0.155_051_025_721_682_2;
@@ -512,7 +514,8 @@ where
     }))
 }
 
-/// Take one accepted Radau IIA step from (t, y), trying `h` first.
+/// Take one accepted Radau IIA step from (t, y), trying `h` first, with norms weighted over the
+/// state's `blocks` ([`Tolerances::weights`]; `None`: each component on its own).
 ///
 /// `rhs(t, y)` returns f; an error of kind [`StepError::Inverted`] or [`StepError::NonFinite`]
 /// (or a non-finite value) at a trial state rejects the attempt and halves h, other errors
@@ -528,6 +531,7 @@ pub fn step<const N: usize>(
     y: &SVector<f64, N>,
     h: f64,
     tol: Tolerances,
+    blocks: Option<&[Range<usize>]>,
     mem: &mut RadauMemory<N>,
     rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<SVector<f64, N>, StepError>,
     mut jac: impl FnMut(f64, &SVector<f64, N>) -> Result<SMatrix<f64, N, N>, StepError>,
@@ -563,7 +567,7 @@ where
         Some(r) if r.reusable => r,
         _ => jacobian(&mut jac, &mut work, t, y)?,
     };
-    let scale0 = y.map(|v| tol.atol() + tol.rtol() * v.abs());
+    let scale0 = tol.weights(y, y, blocks);
     // Newton must be more accurate than the error test (Hairer & Wanner, §IV.8, "Stopping
     // criterion"), but not beyond what round-off in a scaled norm allows.
     let fnewt = (10.0 * f64::EPSILON / tol.rtol()).max(0.03_f64.min(tol.rtol().sqrt()));
@@ -614,7 +618,7 @@ where
         eta = stages.eta;
         let y_new = y + stages.z.column(2);
         let ez = (stages.z * Vector3::new(E[0], E[1], E[2])) / h;
-        let scale = y.zip_map(&y_new, |a, b| tol.atol() + tol.rtol() * a.abs().max(b.abs()));
+        let scale = tol.weights(y, &y_new, blocks);
         err = match factors.solve_real(&(f0 + ez)) {
             Some(e) => {
                 let mut err_now = rms(&e, &scale);

@@ -22,6 +22,7 @@
 use super::control::{ErrorOrder, StepControl, Tolerances};
 use crate::error::{StepError, positive};
 use nalgebra::{Const, DimMin, LU, SMatrix, SVector};
+use std::ops::Range;
 
 const D: f64 = 0.292_893_218_813_452_5; // 1/(2+√2)
 const E32: f64 = 7.414_213_562_373_095; // 6+√2
@@ -88,7 +89,8 @@ pub struct Accepted<const N: usize, P> {
     pub rejected: u32,
 }
 
-/// Take one accepted step from (t, y) with f(t, y) = `f0` and Jacobian `j`, trying `h` first.
+/// Take one accepted step from (t, y) with f(t, y) = `f0` and Jacobian `j`, trying `h` first,
+/// with the error measured over the state's `blocks` ([`Tolerances::scaled_error`]).
 ///
 /// `rhs(t, y)` returns f and a payload, or an error; an `Inverted`/`NonFinite` error (e.g. an
 /// inverted trial state) rejects the attempt and quarters h, any other error is returned.
@@ -99,6 +101,7 @@ pub fn step<const N: usize, P>(
     j: &impl Jacobian<N>,
     h: f64,
     tol: Tolerances,
+    blocks: Option<&[Range<usize>]>,
     mut rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<(SVector<f64, N>, P), StepError>,
 ) -> Result<Accepted<N, P>, StepError> {
     let mut h = positive("h", h)?;
@@ -121,7 +124,7 @@ pub fn step<const N: usize, P>(
             let (f2, payload) = rhs(t + h, &y1)?;
             let k3 = solve(f2 - (k2 - f1) * E32 - (k1 - f0) * 2.0)?;
             let err = (k1 - k2 * 2.0 + k3) * (h / 6.0);
-            Ok::<_, StepError>((y1, f2, payload, tol.scaled_error(&err, y, &y1)))
+            Ok::<_, StepError>((y1, f2, payload, tol.scaled_error(&err, y, &y1, blocks)))
         })();
         match attempt {
             Ok((y1, f_new, payload, err)) if err <= 1.0 => {

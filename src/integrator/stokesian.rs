@@ -18,7 +18,7 @@
 //! Stiffness: the elastic relaxation rate is ~μ_s/μ_f = 1/Ca, the drag rate 1/τ_D; both are
 //! handled implicitly, so Δt follows accuracy, not ρ*.
 
-use super::control::Tolerances;
+use super::control::{ErrorNorm, Tolerances};
 use super::dense::{Dense, Knot};
 use super::radau5::{self, RadauMemory};
 use super::rosenbrock;
@@ -29,7 +29,7 @@ use crate::hydro::DragModel;
 use crate::material::Response;
 pub use crate::particle::inertialess::BarycentreModel;
 use crate::particle::inertialess::{
-    InertialessJacobian, InertialessRate, InertialessState as Y, ShapeJacobian, pack, unpack,
+    InertialessJacobian, InertialessRate, InertialessState as Y, STATE_BLOCKS, ShapeJacobian, pack, unpack,
 };
 use crate::particle::{Model, Particle, State};
 use crate::tensor::{Mat3, nearest_rotation};
@@ -89,6 +89,8 @@ pub struct Stokesian {
     pub barycentre: BarycentreModel,
     /// Time-stepping scheme.
     pub scheme: Scheme,
+    /// How the local error is measured: F, x and v each as a whole, or componentwise.
+    pub norm: ErrorNorm,
 }
 
 impl Stokesian {
@@ -98,12 +100,26 @@ impl Stokesian {
             tol: Tolerances::uniform(tol)?,
             barycentre: BarycentreModel::Inertial,
             scheme: Scheme::default(),
+            norm: ErrorNorm::default(),
         })
     }
 
     /// The same integrator with another scheme.
     pub fn with_scheme(self, scheme: Scheme) -> Self {
         Self { scheme, ..self }
+    }
+
+    /// The same integrator with another error norm.
+    pub fn with_norm(self, norm: ErrorNorm) -> Self {
+        Self { norm, ..self }
+    }
+
+    /// The blocks of the state the error norm measures as wholes (`None`: componentwise).
+    fn blocks(&self) -> Option<&'static [std::ops::Range<usize>]> {
+        match self.norm {
+            ErrorNorm::Componentwise => None,
+            ErrorNorm::Tensor => Some(&STATE_BLOCKS),
+        }
     }
 
     /// Elastic, with an overdamped barycentre.
@@ -160,7 +176,7 @@ impl TimeIntegrator for Stokesian {
         let acc = match self.scheme {
             Scheme::Rosenbrock23 => {
                 let jac = jacobian(&y0, &e0);
-                rosenbrock::step(state.t, &y0, &f0, &jac, dt, self.tol, |t, y| {
+                rosenbrock::step(state.t, &y0, &f0, &jac, dt, self.tol, self.blocks(), |t, y| {
                     eval(t, y).map(|e| (e.vector(), e))
                 })?
             }
@@ -170,6 +186,7 @@ impl TimeIntegrator for Stokesian {
                     &y0,
                     dt,
                     self.tol,
+                    self.blocks(),
                     &mut memory.radau,
                     |t, y| {
                         if t == state.t && *y == y0 {
@@ -296,21 +313,34 @@ impl rosenbrock::Factor<15> for InertialessFactor {
     }
 }
 
-/// The inertialess integrator with `scheme`, from a scene's `tol` and `overdamped`.
+/// A scene's `norm`: `"componentwise"` (also when absent) or `"tensor"` ([`ErrorNorm`]).
+pub(super) fn error_norm(p: &crate::registry::Parameters) -> Result<ErrorNorm, ParamError> {
+    match p.text("norm") {
+        Err(ParamError::Missing { .. }) | Ok("componentwise") => Ok(ErrorNorm::Componentwise),
+        Ok("tensor") => Ok(ErrorNorm::Tensor),
+        Ok(_) => Err(ParamError::WrongType {
+            key: "norm".into(),
+            expected: "\"componentwise\" or \"tensor\"",
+        }),
+        Err(e) => Err(e),
+    }
+}
+
+/// The inertialess integrator with `scheme`, from a scene's `tol`, `overdamped` and `norm`.
 fn by_scheme(p: &crate::registry::Parameters, scheme: Scheme) -> Result<super::SceneIntegrator, ParamError> {
-    p.only(&["tol", "overdamped"])?;
+    p.only(&["tol", "overdamped", "norm"])?;
     let tol = p.positive("tol")?;
     let made = if p.flag("overdamped")? {
         Stokesian::overdamped(tol)
     } else {
         Stokesian::new(tol)
     };
-    Ok(super::SceneIntegrator::new(made?.with_scheme(scheme)))
+    Ok(super::SceneIntegrator::new(made?.with_scheme(scheme).with_norm(error_norm(p)?)))
 }
 
 // Selectable by name: `[integrator] type = "radau_iia"` (also `stokesian`, the library's default
 // scheme, and `stokesian_radau5`, earlier scene files' names) and `"rosenbrock_w23"` (also
-// `stokesian_rosenbrock23`), with `tol` and `overdamped`.
+// `stokesian_rosenbrock23`), with `tol`, `overdamped` and `norm`.
 inventory::submit! {
     super::IntegratorRegistration {
         name: "radau_iia",

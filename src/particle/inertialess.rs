@@ -37,6 +37,10 @@ use nalgebra::{SMatrix, SVector};
 
 /// The inertialess state y = (vec F, x, v).
 pub type InertialessState = SVector<f64, 15>;
+/// The tensor and vectors of an [`InertialessState`]: vec F, x, v. An error norm that measures
+/// each as a whole does not depend on the orientation of the lab frame
+/// ([`crate::integrator::control::ErrorNorm`]).
+pub const STATE_BLOCKS: [std::ops::Range<usize>; 3] = [0..9, 9..12, 12..15];
 /// ∂f/∂y of the inertialess right-hand side (module docs), block-diagonal: with the
 /// hydrodynamic operator frozen, Ḟ does not depend on (x, v) and (ẋ, v̇) not on F, so the
 /// shape block (9×9) and the barycentre block (6×6) are all there is. A rigid particle's shape

@@ -14,6 +14,7 @@
 
 pub mod breathing;
 pub mod deposition;
+pub mod error_norm;
 pub mod figures;
 pub mod injection;
 pub mod setup;

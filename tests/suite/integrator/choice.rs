@@ -43,6 +43,7 @@ fn extension_error(tau: f64, barycentre: BarycentreModel) -> f64 {
         tol: Tolerances::uniform(1e-11).unwrap(),
         barycentre,
         scheme: Scheme::Radau5,
+        norm: Default::default(),
     };
     let (end, _) = run(&integ, &particle, start, &flow, 1e-4, &[1.0 / a], |_| {}, |_, _| {}).unwrap();
     (end.x[0] - (s / a).exp()).abs() / (s / a).exp()

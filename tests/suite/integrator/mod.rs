@@ -1,6 +1,7 @@
 //! Time integrators (src/integrator) and the driver (src/driver).
 
 mod choice;
+mod error_norm;
 mod every_scheme;
 mod imex;
 mod radau5;

@@ -56,7 +56,7 @@ where
     };
     while t < t_end {
         assert!(run.steps.len() < max_steps, "more than {max_steps} steps, t = {t}");
-        let acc: RadauStep<N> = step(t, &y, h.min(t_end - t), tol, &mut mem, rhs, jac)?;
+        let acc: RadauStep<N> = step(t, &y, h.min(t_end - t), tol, None, &mut mem, rhs, jac)?;
         run.rhs_evals += acc.rhs_evals;
         run.jac_evals += acc.jac_evals;
         run.lu_decomps += acc.lu_decomps;
@@ -81,7 +81,7 @@ where
 fn rotation_steps(mem: &mut RadauMemory<2>, n: usize) -> (f64, SVector<f64, 2>, f64) {
     let (mut t, mut y, mut h) = (0.0, SVector::<f64, 2>::new(1.0, 0.0), 1e-3);
     for _ in 0..n {
-        let acc = step(t, &y, h, tol(1e-6, 1e-6), mem, rotation, rotation_jac).unwrap();
+        let acc = step(t, &y, h, tol(1e-6, 1e-6), None, mem, rotation, rotation_jac).unwrap();
         t += acc.h;
         y = acc.y;
         h = acc.h_next;
@@ -347,7 +347,7 @@ fn counters_equal_the_calls_made() {
     let mut rejected = 0;
     for _ in 0..300 {
         let (r0, j0) = (rhs_calls.get(), jac_calls.get());
-        let acc = step(t, &y, h, tol(1e-5, 1e-5), &mut mem, rhs, jac).unwrap();
+        let acc = step(t, &y, h, tol(1e-5, 1e-5), None, &mut mem, rhs, jac).unwrap();
         assert_eq!(acc.rhs_evals, rhs_calls.get() - r0);
         assert_eq!(acc.jac_evals, jac_calls.get() - j0);
         let attempts = acc.rejected + 1;
@@ -406,8 +406,8 @@ fn memory_round_trips_through_serde() {
     let json = serde_json::to_string(&(t, y, h, &mem)).unwrap();
     type Checkpoint = (f64, SVector<f64, 2>, f64, RadauMemory<2>);
     let (t_r, y_r, h_r, mut mem_r): Checkpoint = serde_json::from_str(&json).unwrap();
-    let a = step(t, &y, h, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap();
-    let b = step(t_r, &y_r, h_r, tol(1e-6, 1e-6), &mut mem_r, rotation, rotation_jac).unwrap();
+    let a = step(t, &y, h, tol(1e-6, 1e-6), None, &mut mem, rotation, rotation_jac).unwrap();
+    let b = step(t_r, &y_r, h_r, tol(1e-6, 1e-6), None, &mut mem_r, rotation, rotation_jac).unwrap();
     assert_eq!(
         (a.rhs_evals, a.jac_evals, a.newton_iters, a.rejected),
         (b.rhs_evals, b.jac_evals, b.newton_iters, b.rejected)
@@ -420,7 +420,7 @@ fn memory_round_trips_through_serde() {
     // The history mattered: a cold start (no Gustafsson ratio, no extrapolated start) proposes
     // a different next step.
     let mut cold = RadauMemory::default();
-    let c = step(t, &y, h, tol(1e-6, 1e-6), &mut cold, rotation, rotation_jac).unwrap();
+    let c = step(t, &y, h, tol(1e-6, 1e-6), None, &mut cold, rotation, rotation_jac).unwrap();
     assert!(
         (c.h_next - a.h_next).abs() > 1e-6 * a.h_next,
         "{} vs {}",
@@ -446,17 +446,18 @@ fn memory_and_dense_output_have_the_checkpoint_traits() {
 fn memory_from_another_point_starts_cold() {
     let mut mem = RadauMemory::default();
     let y0 = SVector::<f64, 2>::new(1.0, 0.0);
-    let first = step(0.0, &y0, 1e-2, tol(1e-8, 1e-8), &mut mem, rotation, rotation_jac).unwrap();
+    let first = step(0.0, &y0, 1e-2, tol(1e-8, 1e-8), None, &mut mem, rotation, rotation_jac).unwrap();
     // Restart from the exact solution at another time.
     let t1 = 0.3;
     let y1 = rotation_exact(t1);
-    let with_old = step(t1, &y1, first.h_next, tol(1e-8, 1e-8), &mut mem, rotation, rotation_jac).unwrap();
+    let with_old = step(t1, &y1, first.h_next, tol(1e-8, 1e-8), None, &mut mem, rotation, rotation_jac).unwrap();
     let mut fresh = RadauMemory::default();
     let with_fresh = step(
         t1,
         &y1,
         first.h_next,
         tol(1e-8, 1e-8),
+        None,
         &mut fresh,
         rotation,
         rotation_jac,
@@ -474,13 +475,13 @@ fn invalid_step_sizes_and_tolerances_are_typed_errors() {
     let y = SVector::<f64, 2>::new(1.0, 0.0);
     let mut mem = RadauMemory::default();
     for h in [f64::NAN, 0.0, -1.0, f64::INFINITY] {
-        let e = step(0.0, &y, h, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap_err();
+        let e = step(0.0, &y, h, tol(1e-6, 1e-6), None, &mut mem, rotation, rotation_jac).unwrap_err();
         assert!(
             matches!(e, StepError::Param(ParamError::NotPositive { name: "h", .. })),
             "{e}"
         );
     }
-    let e = step(0.0, &y, 1e-20, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap_err();
+    let e = step(0.0, &y, 1e-20, tol(1e-6, 1e-6), None, &mut mem, rotation, rotation_jac).unwrap_err();
     assert!(matches!(e, StepError::StepSizeUnderflow { .. }), "{e}");
     // A zero rtol cannot even be built: `Tolerances` validates itself.
     let e = Tolerances::new(0.0, 1e-6, 1e-14).unwrap_err();
@@ -490,6 +491,7 @@ fn invalid_step_sizes_and_tolerances_are_typed_errors() {
         &SVector::<f64, 2>::new(f64::NAN, 0.0),
         1e-3,
         tol(1e-6, 1e-6),
+        None,
         &mut mem,
         rotation,
         rotation_jac,
@@ -497,7 +499,7 @@ fn invalid_step_sizes_and_tolerances_are_typed_errors() {
     .unwrap_err();
     assert!(matches!(e, StepError::NonFinite { .. }), "{e}");
     let nan_jac = |_t: f64, _y: &SVector<f64, 2>| Ok(SMatrix::<f64, 2, 2>::repeat(f64::NAN));
-    let e = step(0.0, &y, 1e-3, tol(1e-6, 1e-6), &mut mem, rotation, nan_jac).unwrap_err();
+    let e = step(0.0, &y, 1e-3, tol(1e-6, 1e-6), None, &mut mem, rotation, nan_jac).unwrap_err();
     assert!(matches!(e, StepError::NonFinite { what: "Jacobian", .. }), "{e}");
 }
 
@@ -513,7 +515,7 @@ fn failing_right_hand_sides_end_in_typed_errors() {
     let mut mem = RadauMemory::default();
 
     let nan = |_t: f64, _y: &SVector<f64, 2>| Ok(SVector::<f64, 2>::repeat(f64::NAN));
-    let e = step(0.0, &y, 1e-2, tol(1e-6, 1e-6), &mut mem, nan, jac).unwrap_err();
+    let e = step(0.0, &y, 1e-2, tol(1e-6, 1e-6), None, &mut mem, nan, jac).unwrap_err();
     assert!(matches!(e, StepError::NonFinite { .. }), "{e}");
 
     let failures: [(&str, StepError); 2] = [
@@ -533,7 +535,7 @@ fn failing_right_hand_sides_end_in_typed_errors() {
                 Err(failure.clone())
             }
         };
-        let e = step(0.0, &y, 1e-2, tol(1e-6, 1e-6), &mut mem, rhs, jac).unwrap_err();
+        let e = step(0.0, &y, 1e-2, tol(1e-6, 1e-6), None, &mut mem, rhs, jac).unwrap_err();
         assert!(matches!(e, StepError::StepSizeUnderflow { .. }), "{name}: {e}");
         assert!(calls.get() <= 1 + 3 * 50, "{name}: {} calls", calls.get());
         assert_eq!(mem, RadauMemory::default(), "{name}: memory not cold");
@@ -546,7 +548,7 @@ fn failing_right_hand_sides_end_in_typed_errors() {
             Err(StepError::Flow(FlowError::OutsideDomain { x: [x[0], x[1], 0.0] }))
         }
     };
-    let e = step(0.0, &y, 1e-2, tol(1e-6, 1e-6), &mut mem, outside, jac).unwrap_err();
+    let e = step(0.0, &y, 1e-2, tol(1e-6, 1e-6), None, &mut mem, outside, jac).unwrap_err();
     assert!(matches!(e, StepError::Flow(FlowError::OutsideDomain { .. })), "{e}");
 }
 
@@ -617,9 +619,9 @@ fn work_counts_snapshot() {
 fn resuming_after_a_clipped_step_needs_no_rejection() {
     let mut mem = RadauMemory::default();
     let (mut t, mut y, h) = rotation_steps(&mut mem, 10);
-    let clipped = step(t, &y, h * 1e-10, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap();
+    let clipped = step(t, &y, h * 1e-10, tol(1e-6, 1e-6), None, &mut mem, rotation, rotation_jac).unwrap();
     t += clipped.h;
     y = clipped.y;
-    let resumed = step(t, &y, h, tol(1e-6, 1e-6), &mut mem, rotation, rotation_jac).unwrap();
+    let resumed = step(t, &y, h, tol(1e-6, 1e-6), None, &mut mem, rotation, rotation_jac).unwrap();
     assert_eq!(resumed.rejected, 0);
 }

@@ -392,3 +392,27 @@ fn effective_stokes_scales_stk_by_the_response_time_ratio() {
     // DE = 10/100 with its binomial error √(0.1·0.9/100) = 0.03.
     assert_eq!(lines[1][4..6], ["0.10000", "0.03000"]);
 }
+
+/// The error-norm study (`examples/error_norm.rs`, `paper-figures/work-precision/error_norm.csv`)
+/// at N = 40 of each of two of its kinds, without the CPU column: steps, rejections, deposits
+/// and the fates that differ from Radau IIA at rtol 10⁻⁵. The reference is independent of the
+/// norm (10³× tighter), and every setting must keep the fates within the studies' argued
+/// tolerance of it: at most 2 of 40 change (1 in 10² for soft prolates, `study::RTOL`, with
+/// room for one more at this N).
+#[test]
+fn error_norm_study_snapshot() {
+    use pseudorigid::scenes::bifurcation::error_norm::{SETTINGS, compare, table};
+    use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
+    use pseudorigid::scenes::cavity::Shape;
+    let mut rows = Vec::new();
+    for (shape, material, stokes) in [
+        (Shape::Prolate(20.0), Material::Rigid, 0.2),
+        (Shape::Sphere, Material::ShearModulus(1.0), 0.1),
+    ] {
+        rows.extend(compare(airway(), Kind { shape, material, stokes }, &SETTINGS, 40, figures::SEED).unwrap());
+    }
+    for r in &rows {
+        assert!(r.fates_changed <= 2, "{r:?}");
+    }
+    insta::assert_snapshot!(table(&rows, false).unwrap().to_text());
+}
