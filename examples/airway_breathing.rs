@@ -117,8 +117,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// particles. Columns `shape,mu_s,stk,n,de_steady,de_quasi_steady,de_cyclic` with their
 /// binomial standard errors.
 fn quasi_steady(airway: &Airway, pairs: &[Paired], m: u64) -> Result<Csv, Box<dyn std::error::Error>> {
-    use pseudorigid::population::binomial::{fraction, stderr};
     use pseudorigid::population::Fate;
+    use pseudorigid::population::binomial::{fraction, stderr};
     let waveform = Waveform::rest();
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/breath-quasi-steady");
     // Every 50 ms (80 levels a period): linear interpolation in time errs by π²/(2·80²) = 8e-4
@@ -157,8 +157,18 @@ fn quasi_steady(airway: &Airway, pairs: &[Paired], m: u64) -> Result<Csv, Box<dy
                 .count() as u64
         };
         let (ds, dq, dc) = (count(&p.steady.records), count(&q.records), count(&p.cyclic.records));
-        eprintln!("{:?} quasi-steady: {:?} in {:.1} s", p.kind, q.counts(), clock.elapsed().as_secs_f64());
-        let mut row = vec![p.kind.shape.label(), "inf".into(), p.kind.stokes.to_string(), m.to_string()];
+        eprintln!(
+            "{:?} quasi-steady: {:?} in {:.1} s",
+            p.kind,
+            q.counts(),
+            clock.elapsed().as_secs_f64()
+        );
+        let mut row = vec![
+            p.kind.shape.label(),
+            "inf".into(),
+            p.kind.stokes.to_string(),
+            m.to_string(),
+        ];
         for d in [ds, dq, dc] {
             row.push(format!("{:.5}", fraction(d, m)));
             row.push(format!("{:.5}", stderr(d, m)));
@@ -172,20 +182,27 @@ fn quasi_steady(airway: &Airway, pairs: &[Paired], m: u64) -> Result<Csv, Box<dy
 /// velocity is nearest the steady U (t ≈ 0.44 s, accelerating, and ≈ 1.56 s, decelerating)
 /// against the shipped Re = 500 field scaled to that level's inlet velocity, and, with
 /// `peak_case`, the peak level (t = 1 s) against a steady solution at Re = 785.
-fn field_check(dir: &std::path::Path, peak_case: Option<PathBuf>, waveform: Waveform) -> Result<Csv, Box<dyn std::error::Error>> {
+fn field_check(
+    dir: &std::path::Path,
+    peak_case: Option<PathBuf>,
+    waveform: Waveform,
+) -> Result<Csv, Box<dyn std::error::Error>> {
     let case = FoamCase::open(dir)?;
     let shipped = FoamCase::open(Airway::shipped_dir())?;
     let mut csv = Csv::new(&["t", "u_in_over_u", "reference", "scale", "rel_l2", "rel_max"]);
     let times = case.times();
     let nearest = |target: f64, lo: f64, hi: f64| {
-        times
-            .iter()
-            .copied()
-            .filter(|&t| t > lo && t < hi)
-            .min_by(|a, b| (waveform.scale(*a) - target).abs().total_cmp(&(waveform.scale(*b) - target).abs()))
+        times.iter().copied().filter(|&t| t > lo && t < hi).min_by(|a, b| {
+            (waveform.scale(*a) - target)
+                .abs()
+                .total_cmp(&(waveform.scale(*b) - target).abs())
+        })
     };
     let half = 0.5 * waveform.duration();
-    for t in [nearest(1.0, 0.0, half), nearest(1.0, half, waveform.duration())].into_iter().flatten() {
+    for t in [nearest(1.0, 0.0, half), nearest(1.0, half, waveform.duration())]
+        .into_iter()
+        .flatten()
+    {
         let s = waveform.scale(t);
         let (l2, max) = field_difference(&case, t, &shipped, s)?;
         csv.push(vec![

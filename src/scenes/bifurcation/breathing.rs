@@ -41,15 +41,17 @@ use super::setup::{Airway, LENGTH, NU, RADIUS, inlet_velocity};
 use super::study::{DT0, MAX_STEPS, integrator};
 use crate::contact::MeshBoundary;
 use crate::driver::{Budget, Plan};
-use crate::particle::State;
 use crate::error::{ParamError, StepError};
 use crate::flow::openfoam::{BlendedFlow, Cycle, FoamCase, FoamError, Precision, TransientFlow};
 use crate::hydro::Brenner;
 use crate::material::{NeoHooke, Softness};
 use crate::output::{Csv, Figure, Panel, Series};
 use crate::particle::Particle;
+use crate::particle::State;
 use crate::population::batch::{Batch, run_batch};
-use crate::population::{Fate, Injector, ParticleRng, ParticleSpec, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng};
+use crate::population::{
+    Fate, Injector, ParticleRng, ParticleSpec, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng,
+};
 use rand::RngExt;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -199,7 +201,13 @@ impl Breath {
     pub fn windows(&self) -> Vec<f64> {
         let end = self.waveform.duration();
         let mut w = vec![0.0];
-        w.extend(self.flow.levels().iter().copied().filter(|&t| t > 0.0 && t < end * (1.0 - 1e-9)));
+        w.extend(
+            self.flow
+                .levels()
+                .iter()
+                .copied()
+                .filter(|&t| t > 0.0 && t < end * (1.0 - 1e-9)),
+        );
         w.push(end);
         w
     }
@@ -583,7 +591,11 @@ pub fn figure(pairs: &[Paired], waveform: Waveform, bins: usize) -> Figure {
                     rows.iter().map(|r| (mid(r), de(r.3, r.2, 2.0))).collect(),
                     2 * i,
                 ))
-                .with(Series::line("", rows.iter().map(|r| (mid(r), de(r.3, r.2, -2.0))).collect(), 2 * i))
+                .with(Series::line(
+                    "",
+                    rows.iter().map(|r| (mid(r), de(r.3, r.2, -2.0))).collect(),
+                    2 * i,
+                ))
                 .with(Series::line(
                     format!("{name} steady, same particles"),
                     rows.iter().map(|r| (mid(r), de(r.4, r.2, 0.0))).collect(),
@@ -600,7 +612,12 @@ pub fn figure(pairs: &[Paired], waveform: Waveform, bins: usize) -> Figure {
 /// scaled by U_in(t)/U, `waveform`'s. It is the field of the limit α → 0 at fixed Re (the
 /// shape of the flow never changes, only its magnitude), the case of the snapshot test and a
 /// reference for what the Reynolds number's change does.
-pub fn write_quasi_steady(steady: &Path, out: &Path, waveform: Waveform, times: &[f64]) -> Result<(), BifurcationError> {
+pub fn write_quasi_steady(
+    steady: &Path,
+    out: &Path,
+    waveform: Waveform,
+    times: &[f64],
+) -> Result<(), BifurcationError> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
         move |source| crate::output::OutputError::Io { path, source }
@@ -633,13 +650,24 @@ pub fn write_quasi_steady(steady: &Path, out: &Path, waveform: Waveform, times: 
             l.push(')');
             l
         };
-        text.push_str(&format!("internalField {};\nboundaryField\n{{\n", list(&field.internal)));
+        text.push_str(&format!(
+            "internalField {};\nboundaryField\n{{\n",
+            list(&field.internal)
+        ));
         let first_boundary = mesh.n_internal_faces();
         for patch in mesh.patches() {
             let from = 3 * (patch.start - first_boundary);
             let values = &field.boundary[from..from + 3 * patch.size];
-            let kind = if patch.kind == "wall" { "fixedValue" } else { "calculated" };
-            text.push_str(&format!("    {} {{ type {kind}; value {}; }}\n", patch.name, list(values)));
+            let kind = if patch.kind == "wall" {
+                "fixedValue"
+            } else {
+                "calculated"
+            };
+            text.push_str(&format!(
+                "    {} {{ type {kind}; value {}; }}\n",
+                patch.name,
+                list(values)
+            ));
         }
         text.push_str("}\n");
         let dir = out.join(format!("{t}"));
@@ -727,7 +755,11 @@ pub fn field_difference(a: &FoamCase, t: f64, b: &FoamCase, scale: f64) -> Resul
     let (ua, ub) = (a.read_field(t, "U", 3)?, b.read_field(last, "U", 3)?);
     if ua.internal.len() != ub.internal.len() {
         return Err(FoamError::Mesh {
-            reason: format!("{} and {} cell values: not the same mesh", ua.internal.len(), ub.internal.len()),
+            reason: format!(
+                "{} and {} cell values: not the same mesh",
+                ua.internal.len(),
+                ub.internal.len()
+            ),
         }
         .into());
     }
