@@ -13,8 +13,8 @@
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::scenes::bifurcation::error_norm::{SETTINGS, compare, figure, table};
 use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures};
-use pseudorigid::scenes::count_and_case;
 use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::scenes::count_and_case;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (n, dir) = count_and_case("PSEUDORIGID_BIF_N", 1000)?;
@@ -27,7 +27,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ];
     let mut rows = Vec::new();
     for (shape, material, stokes) in kinds {
-        let kind = Kind { shape, material, stokes };
+        let kind = Kind {
+            shape,
+            material,
+            stokes,
+        };
         let kind_rows = compare(&airway, kind, &SETTINGS, n, figures::SEED)?;
         for r in &kind_rows {
             eprintln!(

@@ -19,8 +19,8 @@
 //! and Python name it `auto` ([`Auto`]: the choice made per particle at its first step, from
 //! [`ParticleNumbers::of`], and printed per injection group in the run log).
 
-use super::stokesian::StokesianMemory;
 use super::control::ErrorNorm;
+use super::stokesian::StokesianMemory;
 use super::{BarycentreModel, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;

@@ -335,7 +335,9 @@ fn by_scheme(p: &crate::registry::Parameters, scheme: Scheme) -> Result<super::S
     } else {
         Stokesian::new(tol)
     };
-    Ok(super::SceneIntegrator::new(made?.with_scheme(scheme).with_norm(error_norm(p)?)))
+    Ok(super::SceneIntegrator::new(
+        made?.with_scheme(scheme).with_norm(error_norm(p)?),
+    ))
 }
 
 // Selectable by name: `[integrator] type = "radau_iia"` (also `stokesian`, the library's default

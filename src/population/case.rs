@@ -21,8 +21,9 @@ pub type CaseObserver<'a, J, F, B> =
 /// contact model, the driver's plan (end time, first step, step cap, step budget) and what is
 /// observed of each run.
 ///
-/// The plan's end time is each particle's time limit (it starts at t = 0), unless the injector
-/// gives a particle its own plan ([`Injector::plan`]). Give the plan a step
+/// The plan's end time is each particle's time limit (it starts at its injection time,
+/// [`Injector::injection`], usually 0), unless the injector gives a particle its own plan
+/// ([`Injector::plan`]). Give the plan a step
 /// budget ([`crate::driver::Budget::max_steps`]) but no wall-time limit: a wall-time limit
 /// makes a particle's fate depend on the machine's load, and the run is then no longer the
 /// same whatever its layout.
@@ -101,7 +102,12 @@ where
                 return ParticleRecord::not_started(index, None, None, &e);
             }
         };
-        let start = self.injector.start_state(index, &spec);
+        let start = match self.injector.injection(index, &spec, &mut rng) {
+            Ok(start) => start,
+            Err(e) => {
+                return ParticleRecord::not_started(index, Some(spec), None, &e);
+            }
+        };
         let particle = match self.injector.particle(&spec) {
             Ok(p) => p,
             Err(e) => {
@@ -207,7 +213,10 @@ where
             .injector
             .draw(index, &mut rng)
             .map_err(|e| ParticleRecord::not_started(index, None, None, &e))?;
-        let start = self.injector.start_state(index, &spec);
+        let start = self
+            .injector
+            .injection(index, &spec, &mut rng)
+            .map_err(|e| ParticleRecord::not_started(index, Some(spec.clone()), None, &e))?;
         let not_started =
             |e: &dyn std::fmt::Display| ParticleRecord::not_started(index, Some(spec.clone()), Some(start), e);
         let particle = self.injector.particle(&spec).map_err(|e| not_started(&e))?;

@@ -34,7 +34,8 @@ pub fn particle_rng(seed: u64, index: u64) -> ParticleRng {
 
 /// Everything that differs between the particles of a population: the stress-free ellipsoid
 /// (semi-axes and initial orientation), the shape response, the solid density, and the
-/// injection point and velocity. The injection time is 0.
+/// injection point and velocity. The injection time is 0 unless the injector draws one
+/// ([`Injector::injection`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ParticleSpec<L> {
     /// Stress-free ellipsoid B₀: semi-axes along its initial axes (the orientation).
@@ -80,6 +81,24 @@ pub trait Injector: Sync {
     /// deformation (F = a rotation) sets it here.
     fn start_state(&self, _index: u64, spec: &ParticleSpec<Self::Law>) -> State {
         spec.start_state()
+    }
+
+    /// The state particle `index` enters the flow with, its time being the injection time:
+    /// by default [`Injector::start_state`] (t = 0), drawing nothing from `rng`, so a run
+    /// without injection times has the records it always had. A scene whose particles enter
+    /// over time (an inhalation) draws the time here from the particle's own generator `rng`,
+    /// which [`Injector::draw`] has used before: the spec's draws are then those of the same
+    /// scene injected at once, and the particles of the two runs are paired. Like `draw`, a
+    /// function of its arguments only. The plan's end time is absolute (a particle injected
+    /// at t₀ is tracked to the end time, not for it); the batch runner
+    /// ([`super::batch::run_batch`]) starts a particle in the window that contains its time.
+    fn injection(
+        &self,
+        index: u64,
+        spec: &ParticleSpec<Self::Law>,
+        _rng: &mut ParticleRng,
+    ) -> Result<State, StepError> {
+        Ok(self.start_state(index, spec))
     }
 
     /// The plan of particle `index` of `spec`, given the case's `plan`: by default the case's. A

@@ -145,7 +145,8 @@ impl PatchSet {
     /// triangles around the face centres): faces in order of their bounding boxes' distance,
     /// until a box lies beyond the nearest face found. +∞ for an empty set.
     pub fn surface_distance(&self, x: &Vec3) -> f64 {
-        self.nearest_offset(x).map_or(f64::INFINITY, |(offset, _)| offset.norm())
+        self.nearest_offset(x)
+            .map_or(f64::INFINITY, |(offset, _)| offset.norm())
     }
 
     /// [`Self::surface_distance`] where x lies plainly on the inner side of the boundary, `None`

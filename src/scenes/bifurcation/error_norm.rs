@@ -91,7 +91,18 @@ fn timed(
 ) -> Result<(RunOutput<NeoHooke>, Option<f64>), BifurcationError> {
     let quiet = RunOptions::default().quiet();
     let before = process_cpu_seconds();
-    let out = run_kind_using(airway, kind, &ForceTerms::default(), integ, None, n, seed, Shard::ALL, &quiet, None)?;
+    let out = run_kind_using(
+        airway,
+        kind,
+        &ForceTerms::default(),
+        integ,
+        None,
+        n,
+        seed,
+        Shard::ALL,
+        &quiet,
+        None,
+    )?;
     let cpu = before.zip(process_cpu_seconds()).map(|(a, b)| b - a);
     Ok((out, cpu))
 }
@@ -215,7 +226,11 @@ pub fn figure(rows: &[Row]) -> Figure {
             (cpu_ms, 1e3 * r.fates_changed as f64 / r.n.max(1) as f64)
         };
         let of = |norm: ErrorNorm| -> Vec<(f64, f64)> {
-            rows[start..end].iter().filter(|r| r.setting.norm == norm).map(point).collect()
+            rows[start..end]
+                .iter()
+                .filter(|r| r.setting.norm == norm)
+                .map(point)
+                .collect()
         };
         panels.push(
             Panel::new(
@@ -223,7 +238,11 @@ pub fn figure(rows: &[Row]) -> Figure {
                 "CPU per particle (ms)",
                 "fates changed per 1000",
             )
-            .with(Series::points("componentwise, rtol 1e-2", of(ErrorNorm::Componentwise), 0))
+            .with(Series::points(
+                "componentwise, rtol 1e-2",
+                of(ErrorNorm::Componentwise),
+                0,
+            ))
             .with(Series::line("tensor, rtol 1e-2 … 1e-3", of(ErrorNorm::Tensor), 1)),
         );
         start = end;

@@ -12,6 +12,7 @@
 //! Readings where the paper is silent are listed in `cases/bifurcation/README.md` and at the
 //! items they concern ([`setup`]).
 
+pub mod breathing;
 pub mod deposition;
 pub mod error_norm;
 pub mod figures;

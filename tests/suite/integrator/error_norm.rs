@@ -2,16 +2,19 @@
 //! `ErrorNorm`): the tensor norm does not see the lab frame's orientation, the componentwise
 //! norm does, and an adaptive run with the tensor norm is objective step for step.
 use crate::common::strategies;
+use nalgebra::{Rotation3, SVector, Unit, Vector3};
 use proptest::prelude::*;
 use pseudorigid::driver::advance;
 use pseudorigid::integrator::{ErrorNorm, Scheme, Stokesian, Tolerances};
 use pseudorigid::particle::inertialess::{STATE_BLOCKS, pack};
 use pseudorigid::prelude::*;
 use pseudorigid::tensor::Mat3 as M3;
-use nalgebra::{Rotation3, SVector, Unit, Vector3};
 
 fn soft(ratios: [f64; 3], axes: M3) -> Particle<NeoHooke> {
-    ShearScaling::new(0.3, 0.1, 1e3).unwrap().particle(ratios, axes).unwrap()
+    ShearScaling::new(0.3, 0.1, 1e3)
+        .unwrap()
+        .particle(ratios, axes)
+        .unwrap()
 }
 
 /// A state (F, x, v) and the same state seen in the frame rotated by r: r F rᵀ, r x, r v.

@@ -407,7 +407,17 @@ fn memory_round_trips_through_serde() {
     type Checkpoint = (f64, SVector<f64, 2>, f64, RadauMemory<2>);
     let (t_r, y_r, h_r, mut mem_r): Checkpoint = serde_json::from_str(&json).unwrap();
     let a = step(t, &y, h, tol(1e-6, 1e-6), None, &mut mem, rotation, rotation_jac).unwrap();
-    let b = step(t_r, &y_r, h_r, tol(1e-6, 1e-6), None, &mut mem_r, rotation, rotation_jac).unwrap();
+    let b = step(
+        t_r,
+        &y_r,
+        h_r,
+        tol(1e-6, 1e-6),
+        None,
+        &mut mem_r,
+        rotation,
+        rotation_jac,
+    )
+    .unwrap();
     assert_eq!(
         (a.rhs_evals, a.jac_evals, a.newton_iters, a.rejected),
         (b.rhs_evals, b.jac_evals, b.newton_iters, b.rejected)
@@ -450,7 +460,17 @@ fn memory_from_another_point_starts_cold() {
     // Restart from the exact solution at another time.
     let t1 = 0.3;
     let y1 = rotation_exact(t1);
-    let with_old = step(t1, &y1, first.h_next, tol(1e-8, 1e-8), None, &mut mem, rotation, rotation_jac).unwrap();
+    let with_old = step(
+        t1,
+        &y1,
+        first.h_next,
+        tol(1e-8, 1e-8),
+        None,
+        &mut mem,
+        rotation,
+        rotation_jac,
+    )
+    .unwrap();
     let mut fresh = RadauMemory::default();
     let with_fresh = step(
         t1,
@@ -619,7 +639,17 @@ fn work_counts_snapshot() {
 fn resuming_after_a_clipped_step_needs_no_rejection() {
     let mut mem = RadauMemory::default();
     let (mut t, mut y, h) = rotation_steps(&mut mem, 10);
-    let clipped = step(t, &y, h * 1e-10, tol(1e-6, 1e-6), None, &mut mem, rotation, rotation_jac).unwrap();
+    let clipped = step(
+        t,
+        &y,
+        h * 1e-10,
+        tol(1e-6, 1e-6),
+        None,
+        &mut mem,
+        rotation,
+        rotation_jac,
+    )
+    .unwrap();
     t += clipped.h;
     y = clipped.y;
     let resumed = step(t, &y, h, tol(1e-6, 1e-6), None, &mut mem, rotation, rotation_jac).unwrap();

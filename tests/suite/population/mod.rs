@@ -3,5 +3,6 @@
 mod batch;
 mod checkpoint;
 mod common;
+mod injection;
 mod release;
 mod runner;

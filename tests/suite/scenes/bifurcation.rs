@@ -409,7 +409,20 @@ fn error_norm_study_snapshot() {
         (Shape::Prolate(20.0), Material::Rigid, 0.2),
         (Shape::Sphere, Material::ShearModulus(1.0), 0.1),
     ] {
-        rows.extend(compare(airway(), Kind { shape, material, stokes }, &SETTINGS, 40, figures::SEED).unwrap());
+        rows.extend(
+            compare(
+                airway(),
+                Kind {
+                    shape,
+                    material,
+                    stokes,
+                },
+                &SETTINGS,
+                40,
+                figures::SEED,
+            )
+            .unwrap(),
+        );
     }
     for r in &rows {
         assert!(r.fates_changed <= 2, "{r:?}");

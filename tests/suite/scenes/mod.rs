@@ -7,6 +7,8 @@ mod bend;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 mod bifurcation;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
+mod bifurcation_breathing;
+#[cfg(all(feature = "mesh", feature = "parallel"))]
 mod cavity;
 mod particles;
 mod peer;
