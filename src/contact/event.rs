@@ -20,23 +20,26 @@
 //! as the cavity does.
 //!
 //! # Queries skipped far from the walls
-//! The nearest-face query of mesh walls costs as much as a third of a Radau step. Between two
-//! queries the particle's distance to the walls cannot shrink faster than the barycentre moves
-//! and the extent grows: with $g_0$, $x_0$ and the smallest semi-axis $r_{3,0}$ at the last
-//! query, and $r_1 ≤ \lVert F S\rVert_F$ now (the largest singular value is at most the Frobenius
-//! norm),
+//! The nearest-face query of mesh walls costs as much as a third of a Radau step. Where the
+//! boundary knows a lower bound c of the distance from the barycentre to its faces without a
+//! query ([`Boundary::clearance`]: [`crate::contact::MeshBoundary`]'s grid of bin-centre
+//! distances), the particle, reaching at most $r_1 ≤ \lVert F S\rVert_F$ from its barycentre (the
+//! largest singular value is at most the Frobenius norm), is at least
 //! ```math
-//! d(x) ≥ g_0 + r_{3,0} − |x − x_0| − \|F S\|_F =: d_{lb},
+//! d_{lb} = c − \|F S\|_F
 //! ```
-//! and likewise from the boundary's [`Boundary::clearance`] less the reach (‖F S‖_F, or the
-//! contact radius). On mesh walls ([`Approach::AnyDirection`]) the event uses the larger of
-//! the two where it is positive (the first only while it is at least half of $g_0$) and queries
-//! otherwise. The step cap takes $d_{lb}$: moving less than its distance to the walls, the
-//! particle cannot reach any. The gap is measured to the plane of the face the support point
-//! covers, and that face can change between two states: over a convex ridge (a carina) the new
-//! face's plane can lie nearer than the walls, by a factor cos θ for an exterior angle θ
-//! between the faces. So the event's gap is $\tfrac12 d_{lb}$, a lower bound of the gap for θ up
-//! to 60°; its sign is what the event needs, and near the walls every gap is a query's.
+//! from every face. On mesh walls ([`Approach::AnyDirection`]) the event uses $d_{lb}$ where it
+//! is positive and queries otherwise. The step cap takes $d_{lb}$: moving less than its
+//! distance to the walls, the particle cannot reach any. The event's gap is $\tfrac12 d_{lb}$:
+//! its sign is what the event needs, and near the walls every gap is a query's.
+//!
+//! A bound carried from the last query, $g_0 + r_{3,0} − |x − x_0| − \|F S\|_F$ with $g_0$ the
+//! gap found there, is not one: $g_0$ is measured to the plane of the face the support point
+//! covers, and on a non-planar patch (an outlet cap whose faces were snapped to a curved
+//! surface) another face can lie nearer than that plane. Particles leaving through such a cap
+//! crossed it between two queries and were integrated outside the mesh until the step failed
+//! (6 of 1.2·10⁵ in the airway tree). The grid's bound holds for every face.
+//!
 //! Pipes and planes (their queries cost a few flops) always query.
 
 use super::{Approach, Boundary, Extent, Gap};
@@ -76,14 +79,13 @@ pub struct ContactEvent<'a, B: ?Sized, M, D, F: ?Sized> {
     seen: Cell<Option<Seen>>,
 }
 
-/// A state's barycentre and F, with its nearest patch and longest and shortest semi-axes.
+/// A state's barycentre and F, with its nearest patch and longest semi-axis.
 #[derive(Debug, Clone, Copy)]
 struct Seen {
     x: Vec3,
     f: Mat3,
     near: Gap,
     r1: f64,
-    r3: f64,
 }
 
 impl<'a, B, M, D, F> ContactEvent<'a, B, M, D, F>
@@ -136,31 +138,24 @@ where
             return seen;
         }
         let frame = self.frame(state);
-        let r3 = match self.model {
-            ContactModel::Extent => frame.r[2],
-            ContactModel::Barycentre { radius } => radius,
-        };
         let seen = Seen {
             x: state.x,
             f: state.f,
             near: self.boundary.nearest(&state.x, &self.extent_in(frame)),
             r1: frame.r[0],
-            r3,
         };
         self.seen.set(Some(seen));
         seen
     }
 
     /// A lower bound of the distance from the particle to the walls in `state` (module docs:
-    /// from the last query, or the boundary's clearance less the reach), with the upper bound
-    /// ‖F S‖_F on the particle's r₁, on mesh walls; `None` where a query must answer. Half of it
-    /// bounds the gap.
+    /// the boundary's clearance less the reach), with the upper bound ‖F S‖_F on the
+    /// particle's r₁, on mesh walls; `None` where a query must answer. Half of it bounds the gap.
     fn bound(&self, state: &State) -> Option<(f64, f64)> {
         if self.boundary.approach() != Approach::AnyDirection {
             return None;
         }
-        let seen = self.seen.get();
-        if seen.is_some_and(|s| s.x == state.x && s.f == state.f) {
+        if self.seen.get().is_some_and(|s| s.x == state.x && s.f == state.f) {
             return None;
         }
         let r1 = self.particle.total_distortion(&state.f).norm();
@@ -168,20 +163,11 @@ where
             ContactModel::Extent => r1,
             ContactModel::Barycentre { radius } => radius,
         };
-        let from_query = seen
-            .filter(|s| s.near.gap > 0.0)
-            .map(|s| (s.near.gap + s.r3 - (state.x - s.x).norm() - reach, s.near.gap))
-            .filter(|(bound, gap)| *bound >= 0.5 * gap)
-            .map(|(bound, _)| bound);
-        let from_grid = self
+        let bound = self
             .boundary
             .clearance(&state.x)
             .map(|c| c - reach)
-            .filter(|b| *b > 0.0);
-        let bound = match (from_query, from_grid) {
-            (Some(a), Some(b)) => a.max(b),
-            (a, b) => a.or(b)?,
-        };
+            .filter(|b| *b > 0.0)?;
         Some((bound, r1))
     }
 }
