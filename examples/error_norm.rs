@@ -1,5 +1,5 @@
-//! The integrator's error norm on the airway bifurcation: the studies' componentwise norm
-//! against the frame-independent tensor norm, each paired particle by particle with Radau IIA at
+//! The integrator's error norm on the airway bifurcation: the componentwise norm (the studies'
+//! until this comparison) against the frame-independent tensor norm, each paired particle by particle with Radau IIA at
 //! rtol 10⁻⁵ (`scenes::bifurcation::error_norm`).
 //!
 //! ```text
