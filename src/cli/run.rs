@@ -84,19 +84,7 @@ impl Scene {
         match job {
             Job::Run { shard, options, dir } => Ok(run_in_dir(&case, &config, *shard, dir, options)?),
             Job::Memory { shard, options } => Ok(crate::population::run(&case, &config, *shard, options)?),
-            Job::Merge { dir } => {
-                let merged = RunOutput::merge_dir(dir)?;
-                let expected = case.config_hash(&config);
-                if merged.config_hash != expected {
-                    return Err(PopulationError::ConfigMismatch {
-                        path: Some(dir.clone()),
-                        expected,
-                        found: merged.config_hash,
-                    }
-                    .into());
-                }
-                Ok(merged)
-            }
+            Job::Merge { dir } => merged(dir, case.config_hash(&config)),
         }
     }
 }
@@ -165,23 +153,29 @@ impl Scene {
                     .with_checkpoints(checkpoint_dir(dir, *shard), CHECKPOINT_INTERVAL),
             ),
             Job::Memory { shard, options } => run(*shard, options),
-            Job::Merge { dir } => {
-                let merged = RunOutput::merge_dir(dir)?;
-                let expected = batch
+            Job::Merge { dir } => merged(
+                dir,
+                batch
                     .case(&Windows(field))
-                    .config_hash(&batch_config(&config, &windows));
-                if merged.config_hash != expected {
-                    return Err(PopulationError::ConfigMismatch {
-                        path: Some(dir.clone()),
-                        expected,
-                        found: merged.config_hash,
-                    }
-                    .into());
-                }
-                Ok(merged)
-            }
+                    .config_hash(&batch_config(&config, &windows)),
+            ),
         }
     }
+}
+
+/// The shards' outputs in `dir` merged ([`RunOutput::merge_dir`]), refused unless they are of
+/// the run whose configuration hash is `expected`.
+fn merged(dir: &Path, expected: String) -> Result<RunOutput<SceneLaw>, CliError> {
+    let merged = RunOutput::merge_dir(dir)?;
+    if merged.config_hash != expected {
+        return Err(PopulationError::ConfigMismatch {
+            path: Some(dir.to_path_buf()),
+            expected,
+            found: merged.config_hash,
+        }
+        .into());
+    }
+    Ok(merged)
 }
 
 /// The options of the command's `run`: checkpoints in `out` every `checkpoint_every` seconds

@@ -75,6 +75,32 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
         Ok(out)
     }
 
+    /// The run kept in `file` if there is one, else `run()`, then written to `file` (no file:
+    /// just `run()`): the finished-run cache of the studies, keyed by a file name the caller
+    /// derives from the configuration hash. A file written before checksums, or in another
+    /// format, is rerun and replaced; an edited one is an error
+    /// ([`PopulationError::Checksum`]).
+    pub fn read_or_run<E: From<PopulationError>>(
+        file: Option<&Path>,
+        run: impl FnOnce() -> Result<Self, E>,
+    ) -> Result<Self, E> {
+        if let Some(file) = file
+            && file.is_file()
+        {
+            match Self::read_json(file) {
+                Err(
+                    PopulationError::Unsealed { .. } | PopulationError::Version { .. } | PopulationError::Format { .. },
+                ) => {}
+                read => return Ok(read?),
+            }
+        }
+        let out = run()?;
+        if let Some(file) = file {
+            out.write_json(file)?;
+        }
+        Ok(out)
+    }
+
     /// Merge the outputs of all shards 0/N … (N−1)/N of one run into the whole run: the same
     /// records, sorted by index, as an unsharded run writes. Refuses outputs of different runs,
     /// a missing or repeated shard, and a shard whose records are not exactly its particles.

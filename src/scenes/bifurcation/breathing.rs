@@ -50,7 +50,7 @@ use crate::particle::Particle;
 use crate::particle::State;
 use crate::population::batch::{Batch, run_batch};
 use crate::population::{
-    Fate, Injector, ParticleRng, ParticleSpec, PopulationError, RunConfig, RunOptions, RunOutput, Shard, particle_rng,
+    Fate, Injector, ParticleRng, ParticleSpec, RunConfig, RunOptions, RunOutput, Shard, particle_rng,
 };
 use rand::RngExt;
 use serde::Serialize;
@@ -267,21 +267,16 @@ pub fn run_inhaled(
         ),
     };
     let file = cache.map(|dir| dir.join(format!("breath-{}.json", batch.case(&breath.flow).config_hash(&config))));
-    if let Some(file) = &file
-        && file.is_file()
-    {
-        match RunOutput::read_json(file) {
-            Err(
-                PopulationError::Unsealed { .. } | PopulationError::Version { .. } | PopulationError::Format { .. },
-            ) => {}
-            read => return Ok(read?),
-        }
-    }
-    let out = run_batch(&batch, &mut breath.flow, &windows, &config, Shard::ALL, options)?;
-    if let Some(file) = &file {
-        out.write_json(file)?;
-    }
-    Ok(out)
+    RunOutput::read_or_run(file.as_deref(), || {
+        Ok(run_batch(
+            &batch,
+            &mut breath.flow,
+            &windows,
+            &config,
+            Shard::ALL,
+            options,
+        )?)
+    })
 }
 
 /// One particle kind run steady and inhaled: the same particles, with their injection times.

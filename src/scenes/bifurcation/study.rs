@@ -19,9 +19,7 @@ use crate::integrator::{ErrorNorm, Stokesian, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
 use crate::population::Injector;
-use crate::population::{
-    Case, CaseObserver, Fate, FateCounts, PopulationError, RunConfig, RunOptions, RunOutput, Shard, run,
-};
+use crate::population::{Case, CaseObserver, Fate, FateCounts, RunConfig, RunOptions, RunOutput, Shard, run};
 use serde::Serialize;
 use std::path::Path;
 
@@ -181,23 +179,7 @@ pub fn run_kind_using<'a>(
         },
     };
     let file = cache.map(|dir| dir.join(format!("{}-{shard}.json", case.config_hash(&config)).replace('/', "of")));
-    if let Some(file) = &file
-        && file.is_file()
-    {
-        match RunOutput::read_json(file) {
-            // A cache written before checksums, or by another code version, is rerun; an
-            // edited one is an error.
-            Err(
-                PopulationError::Unsealed { .. } | PopulationError::Version { .. } | PopulationError::Format { .. },
-            ) => {}
-            read => return Ok(read?),
-        }
-    }
-    let out = run(&case, &config, shard, options)?;
-    if let Some(file) = &file {
-        out.write_json(file)?;
-    }
-    Ok(out)
+    RunOutput::read_or_run(file.as_deref(), || Ok(run(&case, &config, shard, options)?))
 }
 
 /// Deposition efficiency of one particle kind.
