@@ -6,7 +6,7 @@
 //! cargo run --release --example error_norm -- [N] [CASE_DIR]
 //! ```
 //! N particles per kind (default 1 000; also `PSEUDORIGID_BIF_N`). Kinds: rigid prolates
-//! λ = 20 at Stk 0.01 and 0.2 (Fig. 18), soft spheres μ_s = 1 Pa at Stk 0.1 and soft prolates
+//! λ = 20 at Stk 0.01, 0.2 and 0.5 (Fig. 18), soft spheres μ_s = 1 Pa at Stk 0.1 and soft prolates
 //! λ₁ = 5, μ_s = 0.5 Pa at Stk 0.4 (Fig. 19). Writes `paper-figures/work-precision/error_norm.csv`
 //! and `error_norm.svg`.
 
@@ -22,6 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let kinds = [
         (Shape::Prolate(20.0), Material::Rigid, 0.01),
         (Shape::Prolate(20.0), Material::Rigid, 0.2),
+        (Shape::Prolate(20.0), Material::Rigid, 0.5),
         (Shape::Sphere, Material::ShearModulus(1.0), 0.1),
         (Shape::Prolate(5.0), Material::ShearModulus(0.5), 0.4),
     ];

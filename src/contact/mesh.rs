@@ -13,7 +13,20 @@
 //! smallest of their gaps is the gap. (Taking the smallest plane gap over all nearby faces
 //! would be wrong at convex walls, where the planes of neighbouring faces cut into the fluid.)
 //! If the support point projects into none of them (over an edge between faces), the face
-//! nearest to it is used. Exact for planar walls; on a curved wall meshed with faces of size h
+//! nearest to it is used.
+//!
+//! # Faces the support point misses
+//! A covered face is not always the nearest: where the wall forms a ridge into the fluid (a
+//! kink of a snapped mesh), the support point can project past the edge of every face near
+//! the particle and into a face of the opposite wall, millimetres away. A face at distance
+//! $d_f$ from the centre (to the face, not its plane) holds a point within $d_f − r_3$ of the
+//! ellipsoid (which contains the ball of radius $r_3$ about its centre), so where some
+//! uncovered face has $d_f − r_3 <$ the covered gap, the covered gap is not the smallest. The
+//! gap is then the smallest lower bound over the uncovered faces: the larger of the plane gap
+//! (the face lies in its plane) and $d_f − r_1$ (no point of the ellipsoid is farther than
+//! $r_1$ from its centre). It lies below the true gap by at most $r_1 − r_3$, and it replaces
+//! the covered gap only where that was too large; on a planar wall a face the support point
+//! misses lies at least $r_3$ beyond the covered gap, so nothing changes there. Exact for planar walls; on a curved wall meshed with faces of size h
 //! whose vertices lie on the surface, within the sagitta O(h²κ) of the gap to the surface (κ
 //! the curvature). Wall patches (`type wall`) deposit; generic patches (`type patch`: inlets
 //! and outlets) let the particle exit; constraint patches (`empty`, `symmetry*`, `wedge`,
@@ -69,8 +82,13 @@ pub trait PatchGap {
 impl PatchGap for PatchSet {
     fn nearest_gap(&self, centre: &Vec3, semi_axes: &Vec3, q: &Mat3) -> Option<FaceGap> {
         let r2 = semi_axes.component_mul(semi_axes);
+        let (r1, r3) = (semi_axes.amax(), semi_axes.amin());
         let mut covered: Option<FaceGap> = None;
         let mut nearest: Option<(f64, FaceGap)> = None;
+        // Uncovered faces near the centre (module docs, "Faces the support point misses"): the
+        // smallest lower bound of a gap, with its face, and the smallest upper bound.
+        let mut uncovered: Option<FaceGap> = None;
+        let mut uncovered_upper = f64::INFINITY;
         // Faces in order of their bounding box's distance from the centre, a lower bound of
         // the distance to the face. A face that covers the support point's projection is at
         // its plane distance, so once a box lies farther than the best covered gap plus the
@@ -126,9 +144,24 @@ impl PatchGap for PatchSet {
                 if nearest.is_none_or(|(dn, c)| (d, candidate.face) < (dn, c.face)) {
                     nearest = Some((d, candidate));
                 }
+                if covered.is_none_or(|c| distance < c.gap + r3) {
+                    let d_face = self.face_offset(i, centre).norm();
+                    uncovered_upper = uncovered_upper.min(d_face - r3);
+                    let lower = FaceGap {
+                        gap: gap.max(d_face - r1),
+                        ..candidate
+                    };
+                    if uncovered.is_none_or(|u| (lower.gap, lower.face) < (u.gap, u.face)) {
+                        uncovered = Some(lower);
+                    }
+                }
             }
         }
-        covered.or(nearest.map(|(_, c)| c))
+        match (covered, uncovered) {
+            (Some(c), Some(u)) if uncovered_upper < c.gap => Some(u),
+            (Some(c), _) => Some(c),
+            (None, _) => nearest.map(|(_, c)| c),
+        }
     }
 }
 

@@ -177,15 +177,25 @@ impl PatchSet {
             if box_distance >= best_d {
                 break;
             }
-            let (c, poly) = (&self.centres[i], &self.vertices[self.offsets[i]..self.offsets[i + 1]]);
-            for (k, a) in poly.iter().enumerate() {
-                let b = &poly[(k + 1) % poly.len()];
-                let offset = super::walls::triangle_offset(x, c, a, b);
-                let d = offset.norm();
-                if d < best_d {
-                    best_d = d;
-                    best = Some((offset, i));
-                }
+            let offset = self.face_offset(i, x);
+            let d = offset.norm();
+            if d < best_d {
+                best_d = d;
+                best = Some((offset, i));
+            }
+        }
+        best
+    }
+
+    /// x − q for q the point of face i (the fan of triangles around its centre) nearest to x.
+    pub fn face_offset(&self, i: usize, x: &Vec3) -> Vec3 {
+        let (c, poly) = (&self.centres[i], &self.vertices[self.offsets[i]..self.offsets[i + 1]]);
+        let mut best = Vec3::repeat(f64::INFINITY);
+        for (k, a) in poly.iter().enumerate() {
+            let b = &poly[(k + 1) % poly.len()];
+            let offset = super::walls::triangle_offset(x, c, a, b);
+            if offset.norm_squared() < best.norm_squared() {
+                best = offset;
             }
         }
         best
