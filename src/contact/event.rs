@@ -33,7 +33,7 @@
 //! distance to the walls, the particle cannot reach any. The event's gap is $\tfrac12 d_{lb}$:
 //! its sign is what the event needs, and near the walls every gap is a query's.
 //!
-//! A bound carried from the last query, $g_0 + r_{3,0} − |x − x_0| − \|F S\|_F$ with $g_0$ the
+//! A bound carried from the last query, $g_0 + r_{3,0} − |x − x_0| − \lVert F S\rVert_F$ with $g_0$ the
 //! gap found there, is not one: $g_0$ is measured to the plane of the face the support point
 //! covers, and on a non-planar patch (an outlet cap whose faces were snapped to a curved
 //! surface) another face can lie nearer than that plane. Particles leaving through such a cap
