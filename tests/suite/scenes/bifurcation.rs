@@ -438,7 +438,7 @@ fn error_norm_study_snapshot() {
 /// each now ends deposited or escaped.
 #[test]
 fn particles_sliding_past_a_wall_kink_stay_inside() {
-    use pseudorigid::population::{Fate, RunOptions, Shard};
+    use pseudorigid::population::{RunOptions, Shard};
     use pseudorigid::scenes::bifurcation::study::run_kind;
     use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
     use pseudorigid::scenes::particles::Shape;
@@ -458,13 +458,6 @@ fn particles_sliding_past_a_wall_kink_stay_inside() {
             None,
         )
         .unwrap();
-        let [record] = out.records.as_slice() else {
-            panic!("one particle per shard, got {}", out.records.len())
-        };
-        assert!(
-            matches!(record.fate, Fate::Escaped { .. } | Fate::Deposited { .. }),
-            "particle {index}: {:?}",
-            record.fate
-        );
+        crate::common::assert_single_run_ends(&out, &format!("particle {index}"));
     }
 }
