@@ -372,3 +372,41 @@ fn particles_leaving_through_a_snapped_outlet_cap_escape() {
         crate::common::assert_single_run_ends(&out, &format!("{kind:?} particle {index}"));
     }
 }
+
+/// A soft prolate (λ₁ = 5, μ_s = 1 Pa, Stk 0.1; particle 18337 of the tree's N = 10⁵ run, the
+/// studies' integrator) touches a wall with its side over an edge between two faces, where its
+/// support point projects into neither. The face whose centre lay nearest to the projections
+/// was 1.1 mm away, so the gap jumped from 0 to 1.1 mm at contact and the run failed with
+/// "event not located: gap −2.254e-9 at t = 0.10661". An uncovered face within r₃ of touching
+/// proves that gap too large (`contact::mesh`, "Faces the support point misses"): the
+/// particle deposits.
+#[test]
+fn a_prolate_touching_a_wall_over_a_face_edge_deposits() {
+    use pseudorigid::population::{Fate, RunOptions, Shard};
+    use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
+    use pseudorigid::scenes::particles::Shape;
+    let kind = Kind {
+        shape: Shape::Prolate(5.0),
+        material: Material::ShearModulus(1.0),
+        stokes: 0.1,
+    };
+    let out = run_kind(
+        shipped(),
+        kind,
+        100_000,
+        figures::SEED,
+        Shard::new(18_337, 100_000).unwrap(),
+        &RunOptions::default().quiet(),
+        None,
+    )
+    .unwrap();
+    crate::common::assert_single_run_ends(&out, "soft prolate 18337");
+    // Where the old gap crossed zero: sampled on the failed step's interpolant it fell linearly
+    // from 1.282e-8 m at t = 0.10660107 s to −4.435e-8 m at 0.10664376 s (away from the jump),
+    // so zero at 0.1066107 s. At its rate, 1.3e-3 m/s, 1 µs is 1.3e-9 m of gap, the size of
+    // the plane gaps at contact.
+    let Fate::Deposited { time, .. } = out.records[0].fate else {
+        panic!("soft prolate 18337 escaped: {:?}", out.records[0].fate)
+    };
+    assert!((time - 0.1066107).abs() < 1e-6, "deposited at t = {time}");
+}
