@@ -35,7 +35,7 @@ use std::path::Path;
 /// | rigid λ = 20, Stk 0.2 | 1 | 2 | 1 |
 /// | rigid λ = 20, Stk 0.5 | 1 | 9 (all deposited) | 0 |
 /// | soft sphere μ_s = 1 Pa, Stk 0.1 | 0 | 0 | 0 |
-/// | soft prolate λ₁ = 5, μ_s = 0.5 Pa, Stk 0.4 | 2 | 5 | 2 |
+/// | soft prolate λ₁ = 5, μ_s = 0.5 Pa, Stk 0.4 | 1 | 4 | 1 |
 ///
 /// (fates changed). At 3·10⁻³ the long prolates' orientation is loose enough to bias
 /// deposition at Stk 0.5 (9 of 2 000, all towards deposition: +0.0045 in DE, three binomial
