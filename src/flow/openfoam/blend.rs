@@ -217,6 +217,24 @@ impl BlendedFlow {
         })
     }
 
+    /// The no-slip wall faces and their supports $2\rho_f$ (module docs).
+    pub(super) fn wall_faces(&self) -> &WallFaces {
+        &self.walls
+    }
+
+    /// The radius of the smallest cell support that holds x (the length over which the blend
+    /// changes from fit to fit there), `None` where none does.
+    pub(super) fn finest_support(&self, x: &Vec3) -> Option<f64> {
+        let mut finest: Option<f64> = None;
+        self.balls.for_each_containing(x, |c, _, d| {
+            let r = self.balls.radius(c);
+            if d < r {
+                finest = Some(finest.map_or(r, |f| f.min(r)));
+            }
+        });
+        finest
+    }
+
     /// The radius of the largest cell support.
     pub fn radius(&self) -> f64 {
         self.balls.largest_radius()

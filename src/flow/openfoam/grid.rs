@@ -168,6 +168,16 @@ impl BallGrid {
         Some(())
     }
 
+    /// Ball i's centre.
+    pub fn centre(&self, i: usize) -> Vec3 {
+        self.centres[i]
+    }
+
+    /// Ball i's radius.
+    pub fn radius(&self, i: usize) -> f64 {
+        self.radii[i]
+    }
+
     /// The largest radius.
     pub fn largest_radius(&self) -> f64 {
         self.radii.iter().copied().fold(0.0, f64::max)

@@ -86,6 +86,41 @@ impl WallFaces {
     }
 }
 
+impl WallFaces {
+    /// The number of faces.
+    pub fn len(&self) -> usize {
+        self.supports.len()
+    }
+
+    /// Whether there are no faces.
+    pub fn is_empty(&self) -> bool {
+        self.supports.is_empty()
+    }
+
+    /// Distance within which face k's term acts.
+    pub fn support(&self, k: usize) -> f64 {
+        self.supports[k]
+    }
+
+    /// Face k's vertices (its fan's rim; the fan's hub is the face centre).
+    pub fn vertices(&self, k: usize) -> &[Vec3] {
+        &self.vertices[self.offsets[k]..self.offsets[k + 1]]
+    }
+
+    /// Face k's centre (the hub of its triangle fan).
+    pub fn centre(&self, k: usize) -> Vec3 {
+        self.balls.centre(k)
+    }
+
+    /// Distance from x to face k (its triangle fan).
+    pub fn distance(&self, k: usize, x: &Vec3) -> f64 {
+        let (fan, centre) = (self.vertices(k), self.centre(k));
+        (0..fan.len())
+            .map(|i| triangle_offset(x, &centre, &fan[i], &fan[(i + 1) % fan.len()]).norm())
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
 /// p − q for q the point of the triangle (a, b, c) nearest to p: the closest point of the
 /// vertex, edge or interior region p projects into (Ericson 2005, §5.1.5). A degenerate
 /// triangle falls through to its edges and vertices.

@@ -4,6 +4,7 @@
 
 mod block;
 mod decomposed;
+mod octree;
 mod transient;
 
 use crate::common::build;

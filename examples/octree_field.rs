@@ -1,0 +1,77 @@
+//! The airway bifurcation's field tabulated for tracking (`flow::openfoam::octree`): the
+//! table's size and build time, its differences from the blend at points spread over the
+//! mesh and next to every wall patch, and the time of a sample of each.
+//!
+//! ```text
+//! cargo run --release --example octree_field [-- CASE_DIR]
+//! ```
+
+use pseudorigid::flow::FlowField;
+use pseudorigid::flow::openfoam::octree::Options;
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow, OctreeFlow};
+use pseudorigid::scenes::bifurcation::Airway;
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = std::env::args()
+        .nth(1)
+        .filter(|a| a != "-")
+        .map_or_else(Airway::shipped_dir, Into::into);
+    let case = FoamCase::open(&dir)?;
+    let last = *case.times().last().ok_or("no time directory")?;
+    let blend = BlendedFlow::new(FoamFlow::read(&case, &[last])?)?;
+    let start = Instant::now();
+    let tol = |i: usize, default: f64| std::env::args().nth(i).and_then(|a| a.parse().ok()).unwrap_or(default);
+    let options = Options {
+        u_tolerance: tol(2, 1e-4),
+        gradient_tolerance: tol(3, 1e-3),
+        ..Options::default()
+    };
+    let table = OctreeFlow::with_options(blend, options)?;
+    let built = start.elapsed().as_secs_f64();
+    let r = table.report();
+    println!("{r:?}");
+    println!("built in {built:.1} s; {:.0} bytes per cell", r.bytes_per_cell());
+    let points = table.check_points(20_000, 1, &[0.1, 0.25, 0.5], 1);
+    let spread = table.misses(points.spread.iter().copied());
+    let wall = table.misses(points.near_wall.iter().map(|p| p.0));
+    println!("spread {spread:?}\nnear wall {wall:?}");
+    // The blend's own scale: its difference from the cells' linear fits it blends.
+    let (mut du, mut dg) = (0.0f64, 0.0f64);
+    for x in &points.spread {
+        if let (Ok(b), Ok(c)) = (
+            table.blended().sample(x, 0.0),
+            table.blended().cellwise().sample(x, 0.0),
+        ) {
+            du = du.max((b.u - c.u).norm() / r.u_max);
+            dg = dg.max((b.grad_u - c.grad_u).norm() / r.gradient_max);
+        }
+    }
+    println!("blend against the cellwise fits at the spread points: u {du:.2e}, ∇u {dg:.2e} (relative to the maxima)");
+    let tabulated: Vec<_> = points
+        .spread
+        .iter()
+        .copied()
+        .filter(|x| table.is_tabulated(x))
+        .collect();
+    println!(
+        "tabulated alone at {} of {} spread points",
+        tabulated.len(),
+        points.spread.len()
+    );
+    for (name, field) in [
+        ("blend", table.blended() as &dyn FlowField),
+        ("octree", &table as &dyn FlowField),
+    ] {
+        let start = Instant::now();
+        let mut sum = 0.0;
+        for _ in 0..5 {
+            for x in &tabulated {
+                sum += field.sample(x, 0.0).map_or(0.0, |s| s.u[0]);
+            }
+        }
+        let per = start.elapsed().as_secs_f64() / (5 * tabulated.len()) as f64;
+        println!("{name}: {:.0} ns per sample ({sum:.3e})", per * 1e9);
+    }
+    Ok(())
+}

@@ -1,0 +1,975 @@
+//! The blended field tabulated for tracking: trilinear cells of an octree, the blend itself
+//! only next to the no-slip walls.
+//!
+//! # Why
+//! A sample of [`BlendedFlow`] visits every cell support that holds the point and every wall
+//! face within its support: about 4 800 instructions on the airway bifurcation, of which the
+//! scan of the supports is 3 500, three of them per integrator step. The blend is a fixed
+//! function of x for a steady case, so it is tabulated once: a sample then descends an octree
+//! (three comparisons per level) and interpolates one leaf.
+//!
+//! # Interpolant
+//! Space is cut into cubes of edge $E_0$ (the largest cell support, [`BlendedFlow::radius`]),
+//! each the root of an octree. A leaf of edge $E$ with corners $x_k$ carries at each corner the
+//! blend's $u_k$, $(\nabla u)_k$ and $((u\cdot\nabla)u)_k$, and inside it
+//! ```math
+//! u(x) = \sum_{k=1}^{8} N_k(\xi)\,u_k, \qquad N_k(\xi) = \prod_{a=1}^{3} \big(\xi_a\ \text{or}\ 1 − \xi_a\big),
+//! \qquad \xi = (x − x_1)/E \in [0, 1]^3,
+//! ```
+//! the same for ∇u and (u·∇)u, each interpolated as data: ∇u is the blend's gradient (the blend
+//! of the cells' gradients), not the derivative of the tabulated u, as in the blend.
+//! - *Linear fields are exact*: the blend is, and trilinear interpolation reproduces every
+//!   linear function of x.
+//! - *Continuity*: where a leaf meets a larger one, its corners on the larger leaf's faces and
+//!   edges ("hanging" corners) take the larger leaf's interpolant instead of the blend, coarsest
+//!   leaf first, so both sides of every face agree: the restriction of a trilinear function to a
+//!   face is bilinear, and bilinear on a sub-rectangle is fixed by its four corners.
+//! - *Accuracy*: a leaf is split while the interpolant misses the blend at its 19 edge, face and
+//!   body midpoints by more than a quarter of the tolerance (u: [`U_TOLERANCE`] of the field's
+//!   largest |u|; ∇u: [`GRADIENT_TOLERANCE`] of its largest |∇u|), or its edge exceeds the
+//!   smallest cell support at its centre (so no mesh cell hides inside a leaf).
+//!
+//! # The wall layer
+//! Within a wall face's support ($d_f < 2\rho_f$) the blend's wall weights grow as $d_f^{-2}$:
+//! there the near-wall expansion (the δ² normal velocity of [`super::wall_layer`]) is not a
+//! polynomial of the leaf, so a leaf that comes that near a wall face is a *wall leaf*, where
+//! a sample is the blend itself. Wall leaves are refined to [`WALL_LEAF`] times the wall cell's
+//! height (within the leaf budget), so the blend is paid for only next to the walls. Between a
+//! wall leaf and the tabulated ones the two are joined continuously by a weight χ, 1 at the
+//! corners on a wall leaf's boundary and 0 at the others, interpolated like the data:
+//! ```math
+//! u(x) = (1 − \chi(x))\,u_{\text{table}}(x) + \chi(x)\,u_{\text{blend}}(x),
+//! ```
+//! (the same for ∇u), exact on linear fields because both parts are. So that χ is 1 on all of a
+//! wall leaf's boundary, no tabulated leaf is larger than a wall leaf it touches (such a leaf is
+//! split: the octree's balance next to the wall leaves).
+//!
+//! # Bounded
+//! Depth at most [`MAX_LEVEL`] below the root cubes, at most [`LEAVES_PER_CELL`] leaves per mesh
+//! cell (a leaf the budget leaves unsplit keeps its interpolant, and [`BuildReport`] says how
+//! many and by how much they miss), and the root cubes at most one per mesh cell.
+
+use super::FoamError;
+use super::blend::BlendedFlow;
+use crate::error::FlowError;
+use crate::flow::{FlowField, FlowSample};
+use crate::tensor::{Mat3, Vec3};
+use rstar::{AABB, RTree, RTreeObject};
+use std::collections::HashMap;
+
+/// Tolerance of the tabulated u against the blend, relative to the field's largest |u|.
+pub const U_TOLERANCE: f64 = 1e-4;
+/// Tolerance of the tabulated ∇u against the blend, relative to the field's largest |∇u|.
+pub const GRADIENT_TOLERANCE: f64 = 1e-3;
+/// Share of each tolerance a leaf's midpoints may use: the largest miss inside a leaf exceeds
+/// the largest at its midpoints (measured in the tests).
+const CHECK_SHARE: f64 = 0.25;
+/// Deepest level below a root cube: leaves down to $E_0/2^{12}$.
+pub const MAX_LEVEL: u32 = 12;
+/// Leaves allowed per mesh cell.
+pub const LEAVES_PER_CELL: usize = 12;
+/// Edge of a wall leaf over the smallest support $2\rho_f$ of the wall faces near it.
+pub const WALL_LEAF: f64 = 2.0;
+
+/// Components of a corner's data: u (3), ∇u (9, column-major), (u·∇)u (3), χ.
+const DATA: usize = 16;
+const CHI: usize = 15;
+
+/// What a tree entry is: a branch (its payload the first of its 8 children), a tabulated leaf
+/// (its payload the leaf's index into `corners`) or a wall leaf.
+const BRANCH: u32 = 0;
+const TABLE: u32 = 1 << 30;
+const WALL: u32 = 2 << 30;
+const TAG: u32 = 3 << 30;
+
+/// The blend tabulated on an octree (module docs).
+#[derive(Debug, Clone)]
+pub struct OctreeFlow {
+    blend: BlendedFlow,
+    table: Table,
+}
+
+/// The octree and its corner data.
+#[derive(Debug, Clone)]
+struct Table {
+    origin: Vec3,
+    edge: f64,
+    dims: [usize; 3],
+    /// Tree entries: the root cubes first (x fastest), then children in blocks of 8.
+    tree: Vec<u32>,
+    /// Corner node indices of each tabulated leaf, corner k at (k & 1, k >> 1 & 1, k >> 2 & 1).
+    corners: Vec<[u32; 8]>,
+    nodes: Vec<[f64; DATA]>,
+    report: BuildReport,
+}
+
+/// How fine the table is built: its tolerances against the blend (relative to the field's
+/// largest |u| and |∇u|) and its budget of leaves per mesh cell.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Tolerance of u, relative to |u|max.
+    pub u_tolerance: f64,
+    /// Tolerance of ∇u, relative to |∇u|max.
+    pub gradient_tolerance: f64,
+    /// Leaves allowed per mesh cell.
+    pub leaves_per_cell: usize,
+}
+
+impl Default for Options {
+    /// [`U_TOLERANCE`], [`GRADIENT_TOLERANCE`], [`LEAVES_PER_CELL`].
+    fn default() -> Self {
+        Self {
+            u_tolerance: U_TOLERANCE,
+            gradient_tolerance: GRADIENT_TOLERANCE,
+            leaves_per_cell: LEAVES_PER_CELL,
+        }
+    }
+}
+
+/// What building the table found (module docs, Bounded).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BuildReport {
+    /// Tabulated leaves.
+    pub table_leaves: usize,
+    /// Wall leaves (the blend's own samples).
+    pub wall_leaves: usize,
+    /// Corner nodes of the tabulated leaves.
+    pub nodes: usize,
+    /// Leaves the depth or the budget left unsplit though a midpoint missed its tolerance
+    /// (left to the blend, as wall leaves are).
+    pub unconverged: usize,
+    /// Largest miss of u at the midpoints of the leaves kept, relative to |u|max.
+    pub u_miss: f64,
+    /// Largest miss of ∇u (Frobenius) there, relative to |∇u|max.
+    pub gradient_miss: f64,
+    /// The field's largest |u| over the cell fits.
+    pub u_max: f64,
+    /// The field's largest |∇u| (Frobenius) over the cell fits.
+    pub gradient_max: f64,
+    /// Corner nodes that hang on a larger tabulated leaf's face or edge (module docs).
+    pub hanging: usize,
+    /// Bytes of the table (tree, corners, nodes).
+    pub bytes: usize,
+    /// Mesh cells.
+    pub cells: usize,
+}
+
+impl BuildReport {
+    /// Bytes of the table per mesh cell.
+    pub fn bytes_per_cell(&self) -> f64 {
+        self.bytes as f64 / self.cells.max(1) as f64
+    }
+}
+
+/// A point of the finest lattice: root cube index times 2^MAX_LEVEL plus the offset, per axis.
+type Lattice = [u32; 3];
+
+/// A leaf or branch while building: its tree entry, level and lower corner on the lattice.
+#[derive(Debug, Clone, Copy)]
+struct Cube {
+    entry: usize,
+    level: u32,
+    corner: Lattice,
+}
+
+impl Cube {
+    /// Edge in lattice units.
+    fn span(&self) -> u32 {
+        1 << (MAX_LEVEL - self.level)
+    }
+
+    /// The lattice point at (i, j, k) halves of the edge from the lower corner, i, j, k ∈ 0..=2.
+    fn point(&self, i: u32, j: u32, k: u32) -> Lattice {
+        let h = self.span() / 2;
+        [self.corner[0] + i * h, self.corner[1] + j * h, self.corner[2] + k * h]
+    }
+
+    /// Child c's cube (c's bits: x, y, z halves), at tree entry `entry`.
+    fn child(&self, c: usize, entry: usize) -> Cube {
+        let h = self.span() / 2;
+        let bit = |b: usize| ((c >> b) & 1) as u32 * h;
+        Cube {
+            entry,
+            level: self.level + 1,
+            corner: [
+                self.corner[0] + bit(0),
+                self.corner[1] + bit(1),
+                self.corner[2] + bit(2),
+            ],
+        }
+    }
+}
+
+/// A wall face's bounding box grown by its support, for the search of the faces a leaf meets.
+struct FaceBox {
+    face: usize,
+    envelope: AABB<[f64; 3]>,
+}
+
+impl RTreeObject for FaceBox {
+    type Envelope = AABB<[f64; 3]>;
+    fn envelope(&self) -> Self::Envelope {
+        self.envelope
+    }
+}
+
+/// The blend's data at one point, `None` outside every support.
+type Datum = Option<[f64; DATA]>;
+
+fn datum(sample: &FlowSample) -> [f64; DATA] {
+    let mut d = [0.0; DATA];
+    d[..3].copy_from_slice(sample.u.as_slice());
+    d[3..12].copy_from_slice(sample.grad_u.as_slice());
+    d[12..15].copy_from_slice(sample.convective.as_slice());
+    d
+}
+
+/// Trilinear weights N_k(ξ), k's bits the x, y, z ends.
+fn weights(xi: &[f64; 3]) -> [f64; 8] {
+    let mut w = [0.0; 8];
+    for (k, wk) in w.iter_mut().enumerate() {
+        *wk = (0..3)
+            .map(|a| if (k >> a) & 1 == 1 { xi[a] } else { 1.0 - xi[a] })
+            .product();
+    }
+    w
+}
+
+struct Builder<'a> {
+    blend: &'a BlendedFlow,
+    time: f64,
+    origin: Vec3,
+    edge: f64,
+    dims: [usize; 3],
+    faces: RTree<FaceBox>,
+    samples: HashMap<Lattice, Datum>,
+    tree: Vec<u32>,
+    levels: Vec<u32>,
+    corners_of: Vec<Lattice>,
+    u_tol: f64,
+    gradient_tol: f64,
+    budget: usize,
+    report: BuildReport,
+}
+
+impl Builder<'_> {
+    fn position(&self, p: &Lattice) -> Vec3 {
+        let unit = self.edge / f64::from(1u32 << MAX_LEVEL);
+        self.origin + Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])) * unit
+    }
+
+    fn centre_and_radius(&self, cube: &Cube) -> (Vec3, f64) {
+        let unit = self.edge / f64::from(1u32 << MAX_LEVEL);
+        let e = f64::from(cube.span()) * unit;
+        (
+            self.position(&cube.corner) + Vec3::repeat(0.5 * e),
+            0.5 * 3f64.sqrt() * e,
+        )
+    }
+
+    /// The smallest support of the wall faces whose support the cube may meet, `None` if it
+    /// meets none.
+    fn wall_support(&self, cube: &Cube) -> Option<f64> {
+        let (centre, radius) = self.centre_and_radius(cube);
+        let walls = self.blend.wall_faces();
+        let lo = centre.add_scalar(-radius);
+        let hi = centre.add_scalar(radius);
+        let query = AABB::from_corners([lo[0], lo[1], lo[2]], [hi[0], hi[1], hi[2]]);
+        self.faces
+            .locate_in_envelope_intersecting(query)
+            .filter(|b| walls.distance(b.face, &centre) - radius < walls.support(b.face))
+            .map(|b| walls.support(b.face))
+            .reduce(f64::min)
+    }
+
+    /// Evaluate the blend at every lattice point not yet sampled (in parallel where the crate
+    /// has its thread pool).
+    fn sample_all(&mut self, points: Vec<Lattice>) {
+        let mut fresh: Vec<Lattice> = points.into_iter().filter(|p| !self.samples.contains_key(p)).collect();
+        fresh.sort_unstable();
+        fresh.dedup();
+        let evaluate = |p: &Lattice| {
+            self.blend
+                .sample(&self.position(p), self.time)
+                .ok()
+                .map(|s| datum(&s))
+                .filter(|d| d.iter().all(|v| v.is_finite()))
+        };
+        #[cfg(feature = "parallel")]
+        let values: Vec<Datum> = {
+            use rayon::prelude::*;
+            fresh.par_iter().map(evaluate).collect()
+        };
+        #[cfg(not(feature = "parallel"))]
+        let values: Vec<Datum> = fresh.iter().map(evaluate).collect();
+        self.samples.extend(fresh.into_iter().zip(values));
+    }
+
+    /// The 27 points of a cube (corners, edge and face midpoints, centre).
+    fn lattice_points(cube: &Cube) -> impl Iterator<Item = Lattice> + '_ {
+        (0..27u32).map(move |n| cube.point(n % 3, n / 3 % 3, n / 9))
+    }
+
+    /// Corner k's lattice point (k's bits: the x, y, z ends).
+    fn corner(cube: &Cube, k: usize) -> Lattice {
+        let end = |b: usize| 2 * ((k >> b) & 1) as u32;
+        cube.point(end(0), end(1), end(2))
+    }
+
+    /// Largest misses of the cube's trilinear interpolant at its 19 midpoints, relative to the
+    /// tolerances; `None` where a point is outside every support.
+    fn misses(&self, cube: &Cube) -> Option<(f64, f64)> {
+        let data: Vec<[f64; DATA]> = (0..8)
+            .map(|k| self.samples[&Self::corner(cube, k)])
+            .collect::<Option<_>>()?;
+        let (mut u_miss, mut g_miss) = (0.0f64, 0.0f64);
+        for n in 0..27u32 {
+            let (i, j, k) = (n % 3, n / 3 % 3, n / 9);
+            if i % 2 == 0 && j % 2 == 0 && k % 2 == 0 {
+                continue;
+            }
+            let exact = self.samples[&cube.point(i, j, k)]?;
+            let w = weights(&[f64::from(i) / 2.0, f64::from(j) / 2.0, f64::from(k) / 2.0]);
+            let at = |c: usize| (0..8).map(|q| w[q] * data[q][c]).sum::<f64>() - exact[c];
+            let du = (0..3).map(|c| at(c).powi(2)).sum::<f64>().sqrt();
+            let dg = (3..12).map(|c| at(c).powi(2)).sum::<f64>().sqrt();
+            u_miss = u_miss.max(du / self.u_tol);
+            g_miss = g_miss.max(dg / self.gradient_tol);
+        }
+        Some((u_miss, g_miss))
+    }
+
+    /// Split entry `cube` into 8 children appended to the tree.
+    fn split(&mut self, cube: &Cube) -> [Cube; 8] {
+        let first = self.tree.len();
+        self.tree[cube.entry] = BRANCH | first as u32;
+        for c in 0..8 {
+            let child = cube.child(c, first + c);
+            self.tree.push(WALL);
+            self.levels.push(child.level);
+            self.corners_of.push(child.corner);
+        }
+        std::array::from_fn(|c| cube.child(c, first + c))
+    }
+
+    fn leaves(&self) -> usize {
+        // Every split turns one leaf into eight.
+        self.tree.len() - (self.tree.len() - self.dims.iter().product::<usize>()) / 8
+    }
+
+    /// Decide each cube of one level: split (the children are returned), a wall leaf or a
+    /// tabulated leaf (module docs).
+    fn settle(&mut self, level: Vec<Cube>) -> Vec<Cube> {
+        let walls: Vec<Option<f64>> = level.iter().map(|c| self.wall_support(c)).collect();
+        let points: Vec<Lattice> = level
+            .iter()
+            .zip(&walls)
+            .filter(|(_, w)| w.is_none())
+            .flat_map(|(c, _)| Self::lattice_points(c).collect::<Vec<_>>())
+            .collect();
+        self.sample_all(points);
+        let unit = self.edge / f64::from(1u32 << MAX_LEVEL);
+        let mut next = Vec::new();
+        for (cube, wall) in level.iter().zip(walls) {
+            let e = f64::from(cube.span()) * unit;
+            let can_split = cube.level < MAX_LEVEL && self.leaves() + 7 <= self.budget;
+            let split = match wall {
+                Some(support) => e > WALL_LEAF * support,
+                None => {
+                    let inside: Vec<Vec3> = Self::lattice_points(cube)
+                        .filter(|p| self.samples[p].is_some())
+                        .map(|p| self.position(&p))
+                        .collect();
+                    let finest = inside
+                        .iter()
+                        .filter_map(|x| self.blend.finest_support(x))
+                        .reduce(f64::min);
+                    match self.misses(cube) {
+                        // Inside the supports: split while coarser than a support or missing.
+                        Some((u, g)) => {
+                            let missing = u > CHECK_SHARE || g > CHECK_SHARE;
+                            if (missing || finest.is_some_and(|r| e > r)) && can_split {
+                                true
+                            } else if missing {
+                                // Out of depth or budget: the blend itself.
+                                self.report.unconverged += 1;
+                                false
+                            } else {
+                                self.tree[cube.entry] = TABLE;
+                                self.note_miss(u, g);
+                                continue;
+                            }
+                        }
+                        // Across the edge of the supports (an inlet or outlet): down to the
+                        // supports' size, then the blend; wholly outside: the blend.
+                        None => finest.is_some_and(|r| e > r),
+                    }
+                }
+            };
+            if split && can_split {
+                next.extend(self.split(cube));
+            } else {
+                self.tree[cube.entry] = WALL;
+            }
+        }
+        next
+    }
+
+    fn note_miss(&mut self, u: f64, g: f64) {
+        self.report.u_miss = self.report.u_miss.max(u * self.u_tol / self.report.u_max);
+        self.report.gradient_miss = self
+            .report
+            .gradient_miss
+            .max(g * self.gradient_tol / self.report.gradient_max);
+    }
+
+    /// The leaf holding the point `q` of the doubled lattice (twice the lattice coordinates,
+    /// so the points half a unit off the lattice have integer coordinates): its entry, level
+    /// and lower corner; `None` outside the root cubes.
+    fn leaf_at(&self, q: [i64; 3]) -> Option<Cube> {
+        let span = 2i64 << MAX_LEVEL;
+        let mut root = 0usize;
+        for a in (0..3).rev() {
+            let r = q[a].div_euclid(span);
+            if r < 0 || r >= self.dims[a] as i64 {
+                return None;
+            }
+            root = root * self.dims[a] + r as usize;
+        }
+        let mut entry = root;
+        for _ in 0..=MAX_LEVEL {
+            if self.tree[entry] & TAG != BRANCH {
+                return Some(Cube {
+                    entry,
+                    level: self.levels[entry],
+                    corner: self.corners_of[entry],
+                });
+            }
+            let cube = Cube {
+                entry,
+                level: self.levels[entry],
+                corner: self.corners_of[entry],
+            };
+            let h = i64::from(cube.span());
+            let c: usize = (0..3)
+                .map(|a| usize::from(q[a] >= 2 * i64::from(cube.corner[a]) + h) << a)
+                .sum();
+            entry = (self.tree[entry] & !TAG) as usize + c;
+        }
+        None
+    }
+
+    /// Split tabulated leaves larger than a wall leaf they touch, until none is (module docs).
+    fn balance(&mut self) {
+        for _ in 0..4 * MAX_LEVEL {
+            let mut coarse: Vec<usize> = Vec::new();
+            for entry in 0..self.tree.len() {
+                if self.tree[entry] & TAG != WALL {
+                    continue;
+                }
+                let cube = Cube {
+                    entry,
+                    level: self.levels[entry],
+                    corner: self.corners_of[entry],
+                };
+                let s = 2 * i64::from(cube.span());
+                for n in 0..27i64 {
+                    let d = [n % 3 - 1, n / 3 % 3 - 1, n / 9 - 1];
+                    if d == [0, 0, 0] {
+                        continue;
+                    }
+                    let q: [i64; 3] = std::array::from_fn(|a| {
+                        let lo = 2 * i64::from(cube.corner[a]);
+                        match d[a] {
+                            -1 => lo - 1,
+                            0 => lo + s / 2,
+                            _ => lo + s + 1,
+                        }
+                    });
+                    if let Some(n) = self.leaf_at(q)
+                        && self.tree[n.entry] & TAG == TABLE
+                        && n.level < cube.level
+                    {
+                        coarse.push(n.entry);
+                    }
+                }
+            }
+            coarse.sort_unstable();
+            coarse.dedup();
+            if coarse.is_empty() {
+                return;
+            }
+            let mut children = Vec::new();
+            for entry in coarse {
+                let cube = Cube {
+                    entry,
+                    level: self.levels[entry],
+                    corner: self.corners_of[entry],
+                };
+                children.extend(self.split(&cube));
+            }
+            let points: Vec<Lattice> = children
+                .iter()
+                .flat_map(|c| Self::lattice_points(c).collect::<Vec<_>>())
+                .collect();
+            let walls: Vec<Option<f64>> = children.iter().map(|c| self.wall_support(c)).collect();
+            self.sample_all(points);
+            for (child, wall) in children.iter().zip(walls) {
+                let corners_inside = (0..8).all(|k| self.samples[&Self::corner(child, k)].is_some());
+                self.tree[child.entry] = if wall.is_none() && corners_inside { TABLE } else { WALL };
+            }
+        }
+    }
+}
+
+impl Builder<'_> {
+    /// The corner nodes of the tabulated leaves, their data (χ included) with the hanging
+    /// corners constrained (module docs), and the final tree.
+    fn finish(mut self) -> Table {
+        let leaves: Vec<Cube> = (0..self.tree.len())
+            .filter(|&e| self.tree[e] & TAG == TABLE)
+            .map(|entry| Cube {
+                entry,
+                level: self.levels[entry],
+                corner: self.corners_of[entry],
+            })
+            .collect();
+        let mut index: HashMap<Lattice, u32> = HashMap::new();
+        let mut points: Vec<Lattice> = Vec::new();
+        let mut corners: Vec<[u32; 8]> = Vec::with_capacity(leaves.len());
+        for (n, leaf) in leaves.iter().enumerate() {
+            self.tree[leaf.entry] = TABLE | n as u32;
+            corners.push(std::array::from_fn(|k| {
+                let p = Self::corner(leaf, k);
+                *index.entry(p).or_insert_with(|| {
+                    points.push(p);
+                    (points.len() - 1) as u32
+                })
+            }));
+        }
+        // Each node's data and the coarsest tabulated leaf it hangs on (if any).
+        let mut nodes: Vec<[f64; DATA]> = Vec::with_capacity(points.len());
+        let mut hanging: Vec<(u32, usize, Cube)> = Vec::new();
+        for (n, p) in points.iter().enumerate() {
+            let mut d = self.samples[p].unwrap_or([0.0; DATA]);
+            let mut host: Option<Cube> = None;
+            for o in 0..8 {
+                let q: [i64; 3] = std::array::from_fn(|a| 2 * i64::from(p[a]) + if (o >> a) & 1 == 1 { 1 } else { -1 });
+                let Some(leaf) = self.leaf_at(q) else { continue };
+                match self.tree[leaf.entry] & TAG {
+                    WALL => d[CHI] = 1.0,
+                    TABLE if (0..8).all(|k| Self::corner(&leaf, k) != *p) => {
+                        if host.is_none_or(|h| leaf.level < h.level) {
+                            host = Some(leaf);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            nodes.push(d);
+            if let Some(h) = host {
+                hanging.push((h.level, n, h));
+            }
+        }
+        hanging.sort_by_key(|&(level, n, _)| (level, n));
+        self.report.hanging = hanging.len();
+        for (_, n, host) in hanging {
+            let span = f64::from(host.span());
+            let xi: [f64; 3] = std::array::from_fn(|a| f64::from(points[n][a] - host.corner[a]) / span);
+            let w = weights(&xi);
+            let leaf = (self.tree[host.entry] & !TAG) as usize;
+            nodes[n] = std::array::from_fn(|c| (0..8).map(|k| w[k] * nodes[corners[leaf][k] as usize][c]).sum());
+        }
+        let wall_leaves = (0..self.tree.len()).filter(|&e| self.tree[e] & TAG == WALL).count();
+        let bytes = self.tree.len() * size_of::<u32>()
+            + corners.len() * size_of::<[u32; 8]>()
+            + nodes.len() * size_of::<[f64; DATA]>();
+        Table {
+            origin: self.origin,
+            edge: self.edge,
+            dims: self.dims,
+            tree: self.tree,
+            report: BuildReport {
+                table_leaves: corners.len(),
+                wall_leaves,
+                nodes: nodes.len(),
+                bytes,
+                ..self.report
+            },
+            corners,
+            nodes,
+        }
+    }
+}
+
+impl OctreeFlow {
+    /// Tabulate the steady field `blend` (module docs); an error for a field with more than
+    /// one time level or a mesh whose extent is not finite.
+    pub fn new(blend: BlendedFlow) -> Result<Self, FoamError> {
+        Self::with_options(blend, Options::default())
+    }
+
+    /// [`OctreeFlow::new`] with other tolerances or leaf budget; an error for tolerances not
+    /// finite and positive or a budget below one leaf per cell.
+    pub fn with_options(blend: BlendedFlow, options: Options) -> Result<Self, FoamError> {
+        let Options {
+            u_tolerance,
+            gradient_tolerance,
+            leaves_per_cell,
+        } = options;
+        if !([u_tolerance, gradient_tolerance]
+            .iter()
+            .all(|t| t.is_finite() && *t > 0.0))
+            || leaves_per_cell < 1
+        {
+            return Err(FoamError::Field {
+                path: "(octree)".into(),
+                reason: format!(
+                    "tolerances {u_tolerance:e} (u) and {gradient_tolerance:e} (∇u) must be finite and positive, \
+                     and the budget {leaves_per_cell} leaves per cell at least 1"
+                ),
+            });
+        }
+        let cellwise = blend.cellwise();
+        let times = cellwise.times();
+        if times.len() != 1 {
+            return Err(FoamError::Field {
+                path: "(time directories)".into(),
+                reason: format!(
+                    "the octree tabulates a steady field (one time level), this one has {}; use the blend",
+                    times.len()
+                ),
+            });
+        }
+        let mesh = cellwise.mesh();
+        let (lo, hi) = mesh.points().iter().fold(
+            (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+        );
+        let n_cells = mesh.n_cells().max(1);
+        let mut edge = blend.radius();
+        let extent = hi - lo;
+        if !(extent.iter().all(|e| e.is_finite()) && edge.is_finite() && edge > 0.0) {
+            return Err(FoamError::Mesh {
+                reason: format!("cannot tabulate a field on a mesh of extent {extent:?} and support {edge:e}"),
+            });
+        }
+        // The root cubes cover the mesh with a margin of a tenth of a cube; at most one per
+        // cell and 2¹⁹ along an axis (lattice coordinates fit u32).
+        let origin = lo.add_scalar(-0.1 * edge);
+        let dims = loop {
+            let dims: [usize; 3] = std::array::from_fn(|a| ((extent[a] + 0.2 * edge) / edge).ceil().max(1.0) as usize);
+            if dims.iter().product::<usize>() <= n_cells && dims.iter().all(|&d| d <= 1 << 19) {
+                break dims;
+            }
+            edge *= 2.0;
+        };
+        let (mut u_max, mut gradient_max) = (0.0f64, 0.0f64);
+        for c in 0..mesh.n_cells() {
+            let s = cellwise.sample_cell(c, &mesh.cell_centres()[c], times[0]);
+            u_max = u_max.max(s.u.norm());
+            gradient_max = gradient_max.max(s.grad_u.norm());
+        }
+        let (u_max, gradient_max) = (u_max.max(f64::MIN_POSITIVE), gradient_max.max(f64::MIN_POSITIVE));
+        let walls = blend.wall_faces();
+        let faces = RTree::bulk_load(
+            (0..walls.len())
+                .map(|k| {
+                    let grow = walls.support(k);
+                    let (lo, hi) = walls
+                        .vertices(k)
+                        .iter()
+                        .fold((walls.centre(k), walls.centre(k)), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+                    let (lo, hi) = (lo.add_scalar(-grow), hi.add_scalar(grow));
+                    FaceBox {
+                        face: k,
+                        envelope: AABB::from_corners([lo[0], lo[1], lo[2]], [hi[0], hi[1], hi[2]]),
+                    }
+                })
+                .collect(),
+        );
+        let roots = dims.iter().product::<usize>();
+        let mut builder = Builder {
+            blend: &blend,
+            time: times[0],
+            origin,
+            edge,
+            dims,
+            faces,
+            samples: HashMap::new(),
+            tree: vec![WALL; roots],
+            levels: vec![0; roots],
+            corners_of: (0..roots)
+                .map(|r| {
+                    let (x, y, z) = (r % dims[0], r / dims[0] % dims[1], r / (dims[0] * dims[1]));
+                    [x as u32, y as u32, z as u32].map(|v| v << MAX_LEVEL)
+                })
+                .collect(),
+            u_tol: u_tolerance * u_max,
+            gradient_tol: gradient_tolerance * gradient_max,
+            budget: leaves_per_cell.saturating_mul(n_cells),
+            report: BuildReport {
+                u_max,
+                gradient_max,
+                cells: mesh.n_cells(),
+                ..BuildReport::default()
+            },
+        };
+        let mut level: Vec<Cube> = (0..roots)
+            .map(|entry| Cube {
+                entry,
+                level: 0,
+                corner: builder.corners_of[entry],
+            })
+            .collect();
+        for _ in 0..=MAX_LEVEL {
+            if level.is_empty() {
+                break;
+            }
+            level = builder.settle(level);
+        }
+        builder.balance();
+        let table = builder.finish();
+        Ok(Self { blend, table })
+    }
+}
+
+impl OctreeFlow {
+    /// What the build found: leaves, nodes, memory and the misses at the leaves' midpoints.
+    pub fn report(&self) -> &BuildReport {
+        &self.table.report
+    }
+
+    /// The blended field underneath (the reference, and the field next to the walls).
+    pub fn blended(&self) -> &BlendedFlow {
+        &self.blend
+    }
+
+    /// The tabulated leaf holding x and x's coordinates ξ in it, `None` in a wall leaf or
+    /// outside the root cubes.
+    fn leaf(&self, x: &Vec3) -> Option<(usize, [f64; 3])> {
+        let t = &self.table;
+        let rel = (x - t.origin) / t.edge;
+        let mut entry = 0usize;
+        let mut xi = [0.0; 3];
+        for a in (0..3).rev() {
+            let f = rel[a].floor();
+            if !(f >= 0.0 && f < t.dims[a] as f64) {
+                return None;
+            }
+            entry = entry * t.dims[a] + f as usize;
+            xi[a] = rel[a] - f;
+        }
+        // Doubling ξ and taking off the child's half is exact in binary floating point.
+        for _ in 0..=MAX_LEVEL {
+            let e = t.tree[entry];
+            match e & TAG {
+                BRANCH => {
+                    let mut child = 0;
+                    for (a, v) in xi.iter_mut().enumerate() {
+                        *v *= 2.0;
+                        if *v >= 1.0 {
+                            *v -= 1.0;
+                            child |= 1 << a;
+                        }
+                    }
+                    entry = (e & !TAG) as usize + child;
+                }
+                TABLE => return Some(((e & !TAG) as usize, xi)),
+                _ => return None,
+            }
+        }
+        None
+    }
+
+    /// Every leaf of the octree, root cube by root cube, depth first.
+    pub fn leaves(&self) -> Vec<LeafBox> {
+        let t = &self.table;
+        let mut out = Vec::new();
+        let mut stack: Vec<(usize, Vec3, f64)> = (0..t.dims.iter().product::<usize>())
+            .map(|r| {
+                let ijk = Vec3::new(
+                    (r % t.dims[0]) as f64,
+                    (r / t.dims[0] % t.dims[1]) as f64,
+                    (r / (t.dims[0] * t.dims[1])) as f64,
+                );
+                (r, t.origin + ijk * t.edge, t.edge)
+            })
+            .rev()
+            .collect();
+        // Each entry is pushed once (a tree has no cycles), so the loop ends.
+        while let Some((entry, lower, edge)) = stack.pop() {
+            let e = t.tree[entry];
+            if e & TAG == BRANCH {
+                for c in (0..8).rev() {
+                    let bit = |a: usize| ((c >> a) & 1) as f64 * edge / 2.0;
+                    stack.push((
+                        (e & !TAG) as usize + c,
+                        lower + Vec3::new(bit(0), bit(1), bit(2)),
+                        edge / 2.0,
+                    ));
+                }
+            } else {
+                out.push(LeafBox {
+                    lower,
+                    edge,
+                    tabulated: e & TAG == TABLE,
+                });
+            }
+        }
+        out
+    }
+
+    /// Whether x lies where a sample is the table alone (a tabulated leaf, χ = 0 there).
+    pub fn is_tabulated(&self, x: &Vec3) -> bool {
+        self.leaf(x)
+            .is_some_and(|(leaf, xi)| self.interpolate(leaf, &xi)[CHI] <= 0.0)
+    }
+
+    /// The interpolated corner data at ξ in tabulated leaf `leaf`.
+    fn interpolate(&self, leaf: usize, xi: &[f64; 3]) -> [f64; DATA] {
+        let w = weights(xi);
+        let mut d = [0.0; DATA];
+        for (k, &n) in self.table.corners[leaf].iter().enumerate() {
+            let node = &self.table.nodes[n as usize];
+            for c in 0..DATA {
+                d[c] += w[k] * node[c];
+            }
+        }
+        d
+    }
+}
+
+impl FlowField for OctreeFlow {
+    fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+        crate::flow::check_query(x, t)?;
+        self.blend.cellwise().check_time(t)?;
+        let Some((leaf, xi)) = self.leaf(x) else {
+            return self.blend.sample(x, t);
+        };
+        let d = self.interpolate(leaf, &xi);
+        let table = FlowSample {
+            u: Vec3::from_column_slice(&d[..3]),
+            grad_u: Mat3::from_column_slice(&d[3..12]),
+            du_dt: Vec3::zeros(),
+            convective: Vec3::from_column_slice(&d[12..15]),
+        };
+        let chi = d[CHI];
+        if chi <= 0.0 {
+            return Ok(table);
+        }
+        let b = self.blend.sample(x, t)?;
+        let mix = |a: f64, b: f64| (1.0 - chi) * a + chi * b;
+        Ok(FlowSample {
+            u: table.u.zip_map(&b.u, mix),
+            grad_u: table.grad_u.zip_map(&b.grad_u, mix),
+            du_dt: Vec3::zeros(),
+            convective: table.convective.zip_map(&b.convective, mix),
+        })
+    }
+
+    fn strain_rate(&self) -> Option<f64> {
+        self.blend.strain_rate()
+    }
+}
+
+/// A leaf of the table: its lower corner, edge, and whether it is tabulated (else a wall leaf,
+/// where a sample is the blend).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeafBox {
+    /// Lower corner.
+    pub lower: Vec3,
+    /// Edge length.
+    pub edge: f64,
+    /// Tabulated (trilinear), or a wall leaf.
+    pub tabulated: bool,
+}
+
+/// Where the table is checked against the blend: points spread over the mesh and points at
+/// given fractions of the first cell's height from the wall faces, in from each face's centre.
+#[derive(Debug, Clone)]
+pub struct CheckPoints {
+    /// Points spread over the mesh's bounding box that lie in a mesh cell.
+    pub spread: Vec<Vec3>,
+    /// (point, patch index, fraction of the first cell's height) next to the wall faces.
+    pub near_wall: Vec<(Vec3, usize, f64)>,
+}
+
+/// The largest differences of the table from the blend over some points.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Misses {
+    /// Points compared.
+    pub points: usize,
+    /// Largest |u − u_blend| / |u|max.
+    pub u: f64,
+    /// Largest |∇u − ∇u_blend| / |∇u|max (Frobenius).
+    pub gradient: f64,
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a fixed sequence of check points for a seed.
+fn splitmix(state: &mut u64) -> f64 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+impl OctreeFlow {
+    /// `spread` points drawn uniformly in the mesh's bounding box until that many lie in a
+    /// cell (at most 100 draws each), and at every `stride`-th wall face one point at each of
+    /// `fractions` of its cell's height in from its centre.
+    pub fn check_points(&self, spread: usize, stride: usize, fractions: &[f64], seed: u64) -> CheckPoints {
+        let cellwise = self.blend.cellwise();
+        let mesh = cellwise.mesh();
+        let (lo, hi) = mesh.points().iter().fold(
+            (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+        );
+        let mut state = seed;
+        let mut inside = Vec::with_capacity(spread);
+        for _ in 0..100 * spread {
+            if inside.len() == spread {
+                break;
+            }
+            let x = lo
+                + (hi - lo).component_mul(&Vec3::new(
+                    splitmix(&mut state),
+                    splitmix(&mut state),
+                    splitmix(&mut state),
+                ));
+            if cellwise.locate(&x, None).is_ok() {
+                inside.push(x);
+            }
+        }
+        let layer = cellwise.wall_layer();
+        let mut near_wall = Vec::new();
+        for (k, &f) in cellwise.walls().iter().enumerate().step_by(stride.max(1)) {
+            let f = f as usize;
+            let normal = mesh.face_areas()[f].normalize();
+            let height = 2.0 * layer.depth(k);
+            for &q in fractions {
+                let x = mesh.face_centres()[f] - normal * (q * height);
+                near_wall.push((x, mesh.patch_of(f).unwrap_or(usize::MAX), q));
+            }
+        }
+        CheckPoints {
+            spread: inside,
+            near_wall,
+        }
+    }
+
+    /// The largest differences from the blend at `points` where both answer.
+    pub fn misses(&self, points: impl IntoIterator<Item = Vec3>) -> Misses {
+        let report = &self.table.report;
+        let mut m = Misses::default();
+        for x in points {
+            if let (Ok(a), Ok(b)) = (self.sample(&x, 0.0), self.blend.sample(&x, 0.0)) {
+                m.points += 1;
+                m.u = m.u.max((a.u - b.u).norm() / report.u_max);
+                m.gradient = m.gradient.max((a.grad_u - b.grad_u).norm() / report.gradient_max);
+            }
+        }
+        m
+    }
+}

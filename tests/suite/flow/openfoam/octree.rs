@@ -1,0 +1,126 @@
+//! The blend tabulated on an octree (`flow::openfoam::octree`): exact where the blend is, and
+//! continuous across every leaf face, hanging corners and the joins to the wall leaves
+//! included.
+
+use crate::common::build::{layered_box, sampled};
+use pseudorigid::flow::FlowField;
+use pseudorigid::flow::openfoam::octree::Options;
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamFlow, OctreeFlow};
+use pseudorigid::tensor::Vec3;
+
+/// A box [0, 1] × [0, 0.5] × [0, 1] with a no-slip wall at y = 0, its layers graded towards
+/// it (first cell 0.04 high, growth 1.2, then 1/8), 8 × 8 cells in x and z.
+fn graded_box(u: impl Fn(&Vec3) -> Vec3) -> FoamFlow {
+    let xs: Vec<f64> = (0..=8).map(|i| f64::from(i) / 8.0).collect();
+    let mut ys = vec![0.0];
+    let mut h: f64 = 0.04;
+    while *ys.last().unwrap() < 0.5 - 1e-12 {
+        let next = (ys.last().unwrap() + h.min(0.125)).min(0.5);
+        ys.push(next);
+        h *= 1.2;
+    }
+    let mesh = layered_box(&xs, &ys, &xs, false).mesh();
+    FoamFlow::new(mesh.clone(), vec![(0.0, sampled(&mesh, u))]).unwrap()
+}
+
+/// A linear shear that vanishes on the wall, u = (2y, 0, −y): a flow the blend reproduces
+/// exactly at a flat no-slip wall (its wall fits are exact for it, `flow::openfoam::blend`),
+/// so the table must too, in its tabulated leaves (trilinear reproduces linear functions),
+/// its wall leaves (the blend) and between them (a mix of two exact parts). Round-off: |u|
+/// ≤ 1, and the fits' least squares lose about two digits (the reconstruction's tests), so
+/// 1e-12 is a hundred times what round-off can reach; a corner holding anything but the
+/// shear's value would show as an O(1) miss of the trilinear interpolant.
+#[test]
+fn a_linear_shear_at_a_no_slip_wall_is_exact_everywhere() {
+    let shear = |x: &Vec3| Vec3::new(2.0 * x[1], 0.0, -x[1]);
+    let table = OctreeFlow::new(BlendedFlow::new(graded_box(shear)).unwrap()).unwrap();
+    let points = table.check_points(2000, 1, &[0.1, 0.25, 0.5], 7);
+    let (mut tabulated, mut worst) = (0, 0.0f64);
+    for x in points.spread.iter().chain(points.near_wall.iter().map(|p| &p.0)) {
+        let s = table.sample(x, 0.0).unwrap();
+        tabulated += usize::from(table.is_tabulated(x));
+        let gradient = s.grad_u - pseudorigid::tensor::Mat3::new(0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0);
+        worst = worst.max((s.u - shear(x)).norm()).max(gradient.norm());
+    }
+    println!(
+        "{:?}; tabulated alone at {tabulated} points; worst {worst:e}",
+        table.report()
+    );
+    assert!(tabulated > 500, "the test must reach tabulated leaves: {tabulated}");
+    assert!(worst < 1e-12, "{worst:e}");
+}
+
+/// Continuity across leaf faces: at the centre and the edge midpoints of every face of every
+/// tabulated leaf, the samples ε = 10⁻⁹ of the leaf's edge inside and outside differ by at most
+/// what the gradient moves u over 2ε (|∇u| ≤ 40 for this field, so 8·10⁻⁸ of the edge, below
+/// 10⁻⁸) plus round-off 10⁻¹³. A hanging corner left at the blend's value, or χ not 1 on a
+/// wall leaf's face, makes a jump of the size of the table's miss (up to 10⁻³ of |u|max ≈ 3:
+/// 3·10⁻³), which this sees (checked by leaving the hanging corners at the blend's values:
+/// jumps of 3.6·10⁻³ of the edge). The field is smooth, not a flow, with a front at x = 1/2 that
+/// the table refines more than the rest, so leaves of different sizes meet (checked).
+#[test]
+fn the_table_is_continuous_across_every_leaf_face() {
+    let field = |x: &Vec3| {
+        Vec3::new(
+            (3.0 * x[0]).sin() + x[1] * x[1],
+            x[1] * (8.0 * (x[0] - 0.5)).tanh(),
+            x[1] * x[0] * x[2],
+        )
+    };
+    // A budget the table does not reach, so it refines where the field asks.
+    let options = Options {
+        leaves_per_cell: 1000,
+        ..Options::default()
+    };
+    let table = OctreeFlow::with_options(BlendedFlow::new(graded_box(field)).unwrap(), options).unwrap();
+    assert!(
+        table.report().hanging > 100,
+        "{:?}: the test must meet hanging corners",
+        table.report()
+    );
+    let leaves = table.leaves();
+    let mut levels: Vec<i64> = leaves
+        .iter()
+        .filter(|l| l.tabulated)
+        .map(|l| l.edge.log2().round() as i64)
+        .collect();
+    levels.sort_unstable();
+    levels.dedup();
+    assert!(
+        levels.len() >= 2,
+        "tabulated edges 2^{levels:?}: the test must meet hanging corners"
+    );
+    let (mut worst, mut pairs) = (0.0f64, 0usize);
+    for leaf in leaves.iter().filter(|l| l.tabulated) {
+        let e = leaf.edge;
+        for axis in 0..3 {
+            for side in [0.0, 1.0] {
+                for (a, b) in [(0.5, 0.5), (0.0, 0.5), (1.0, 0.5), (0.5, 0.0), (0.5, 1.0)] {
+                    let mut p = leaf.lower;
+                    let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+                    p[axis] += side * e;
+                    p[i] += a * e;
+                    p[j] += b * e;
+                    let mut step = Vec3::zeros();
+                    step[axis] = 1e-9 * e;
+                    let outside = |x: Vec3| (0..3).any(|a| x[a] <= 0.0 || x[a] >= if a == 1 { 0.5 } else { 1.0 });
+                    if outside(p - step) || outside(p + step) {
+                        continue;
+                    }
+                    let (Ok(inner), Ok(outer)) = (table.sample(&(p - step), 0.0), table.sample(&(p + step), 0.0))
+                    else {
+                        continue;
+                    };
+                    pairs += 1;
+                    let jump = (inner.u - outer.u)
+                        .norm()
+                        .max((inner.grad_u - outer.grad_u).norm() / 40.0);
+                    worst = worst.max(jump / e);
+                }
+            }
+        }
+    }
+    println!("{pairs} pairs; worst jump / edge {worst:e}");
+    assert!(pairs > 1000, "{pairs}");
+    assert!(worst < 1e-7, "{worst:e}");
+}
