@@ -124,6 +124,17 @@ pub enum ParamError {
         /// What it must be.
         expected: &'static str,
     },
+    /// Two models of the same physics chosen together, which would count it twice (two
+    /// finite-Reynolds-number drag corrections on one particle, ...).
+    #[error("`{first}` and `{second}` are both a {what}: together they count it twice; keep one")]
+    Conflict {
+        /// The physics both model.
+        what: &'static str,
+        /// The model given first.
+        first: String,
+        /// The model given second.
+        second: String,
+    },
     /// The initial axes are not a right-handed orthonormal triad.
     #[error("initial axes are not a rotation: |QᵀQ − 1| = {orthogonality_defect:.3e}, det = {det}")]
     NotARotation {

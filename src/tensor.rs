@@ -96,7 +96,7 @@ const POLAR_ITERATIONS: usize = 64;
 /// to the step's error ε, takes about log₂ log₂(1/u) − log₂ log₂(1/ε) + 1 ≈ 3 steps (one 3×3
 /// inverse each), where the SVD costs an order of magnitude more. It stops one step after the
 /// change falls below 10⁻⁹ (the next is then at round-off, ≈ 10⁻¹⁸ before rounding). An F for
-/// which it does not settle within [`POLAR_ITERATIONS`] (singular, or not finite) goes to the
+/// which it does not settle within 64 steps (`POLAR_ITERATIONS`; singular, or not finite) goes to the
 /// SVD's U Vᵀ, and `f` itself is returned when the SVD does not give both factors.
 pub fn nearest_rotation(f: &Mat3) -> Mat3 {
     let mut x = *f;

@@ -80,40 +80,149 @@ impl Source<'_> {
         }
     }
 
-    /// A parse error of the TOML deserialiser. Its message names the key for unknown and
-    /// missing fields; for a value of the wrong type it names only the type, so the key
-    /// written just before the value's span is added.
+    /// A parse error of the TOML deserialiser, named by the dotted key path of the span it
+    /// points at ([`Source::key_path`]): the deserialiser's message names only the leaf of an
+    /// unknown or missing field, the type of a wrong value, and nothing for a duplicate key or
+    /// table (it was reported as ``` `` ```).
     pub fn parse_error(&self, e: &toml::de::Error) -> CliError {
         let span = e.span().unwrap_or(0..0);
-        let key = self
-            .key_before(span.start)
-            .or_else(|| self.line_key(span.start))
-            .unwrap_or_default();
-        self.error(span, key, e.message().trim().to_string())
+        self.error(span.clone(), self.key_path(span.start), e.message().trim().to_string())
     }
 
-    /// The key of the `key = value` line holding `offset` (a span inside an inline table or
-    /// an array points past the `=`).
-    fn line_key(&self, offset: usize) -> Option<String> {
-        let start = self.text.get(..offset)?.rfind('\n').map_or(0, |i| i + 1);
-        let line = self.text[start..].lines().next()?;
-        let (key, _) = line.split_once('=')?;
-        let key = key.trim().trim_matches('"');
-        let plain = !key.is_empty()
-            && key
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '"'));
-        plain.then(|| key.to_string())
+    /// The dotted key path at byte `offset` (`flow.blend`, `particles.list[0].material.mu`):
+    /// the table of the last `[table]` or `[[array]]` header before it (an array of tables
+    /// with its index, counted from its headers), then, on the offset's line, the key of its
+    /// `key = value`, the keys of the inline tables `{ … }` the offset is in, and the key the
+    /// offset points at or is the value of. On a header line it is the header's path. A line
+    /// of a multi-line value is read as its own line (scene files write values on one line).
+    pub fn key_path(&self, offset: usize) -> String {
+        let offset = offset.min(self.text.len());
+        let before = self.text.get(..offset).unwrap_or(self.text);
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let mut arrays: Vec<(String, usize)> = Vec::new();
+        let mut table = String::new();
+        let mut header = |line: &str| {
+            let Some((segments, array)) = table_header(line) else {
+                return false;
+            };
+            let name = segments.join(".");
+            if array {
+                match arrays.iter_mut().find(|(n, _)| *n == name) {
+                    Some((_, count)) => *count += 1,
+                    None => arrays.push((name, 1)),
+                }
+            }
+            table.clear();
+            for (i, segment) in segments.iter().enumerate() {
+                if i > 0 {
+                    table.push('.');
+                }
+                table.push_str(segment);
+                let prefix = segments[..=i].join(".");
+                if let Some((_, count)) = arrays.iter().find(|(n, _)| *n == prefix) {
+                    table.push_str(&format!("[{}]", count - 1));
+                }
+            }
+            true
+        };
+        for line in self.text[..line_start].lines() {
+            header(line);
+        }
+        let line = self.text[line_start..].lines().next().unwrap_or("");
+        if header(line) {
+            return table;
+        }
+        let mut keys = inline_keys(&before[line_start..]);
+        let rest = &self.text[offset..];
+        let word: String = rest.chars().take_while(|&c| bare_key_char(c)).collect();
+        if !word.is_empty() && rest[word.len()..].trim_start().starts_with('=') {
+            // The offset points at a key (a duplicate, an unknown field): that key.
+            keys.push(word);
+        }
+        std::iter::once(table)
+            .chain(keys)
+            .filter(|k| !k.is_empty())
+            .collect::<Vec<_>>()
+            .join(".")
     }
+}
 
-    /// The key of `key = value` when `offset` is the start of the value.
-    fn key_before(&self, offset: usize) -> Option<String> {
-        let before = self.text.get(..offset)?.trim_end();
-        let before = before.strip_suffix('=')?.trim_end();
-        let start = before
-            .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '"'))
-            .map_or(0, |i| i + 1);
-        let key = before[start..].trim_matches('"');
-        (!key.is_empty()).then(|| key.to_string())
+/// A character of a bare TOML key, or of a dotted one.
+fn bare_key_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')
+}
+
+/// The key segments of a `[table]` or `[[array]]` header line, and whether it is an array of
+/// tables; `None` for any other line.
+fn table_header(line: &str) -> Option<(Vec<String>, bool)> {
+    let line = line.trim();
+    let (inner, array) = match line.strip_prefix("[[") {
+        Some(rest) => (rest.split_once("]]")?, true),
+        None => (line.strip_prefix('[')?.split_once(']')?, false),
+    };
+    let (name, after) = inner;
+    let after = after.trim();
+    if !(after.is_empty() || after.starts_with('#')) {
+        return None;
     }
+    let segments: Vec<String> = name
+        .split('.')
+        .map(|s| s.trim().trim_matches('"').to_string())
+        .collect();
+    let valid = segments
+        .iter()
+        .all(|s| !s.is_empty() && s.chars().all(|c| bare_key_char(c) || c == ' '));
+    valid.then_some((segments, array))
+}
+
+/// The keys open at the end of `line` (a line's text up to an offset): its `key =`, then the
+/// key of each inline table `{ … }` still open, then the key whose value the end is in (an
+/// array's elements have the key of the array). Strings are skipped.
+fn inline_keys(line: &str) -> Vec<String> {
+    enum Open {
+        Table(Option<String>),
+        Array,
+    }
+    let mut open: Vec<Open> = Vec::new();
+    let mut current: Option<String> = None;
+    let mut token = String::new();
+    let mut in_token = false;
+    let mut chars = line.chars();
+    while let Some(c) = chars.next() {
+        if bare_key_char(c) {
+            if !in_token {
+                token.clear();
+                in_token = true;
+            }
+            token.push(c);
+            continue;
+        }
+        in_token = false;
+        match c {
+            '"' | '\'' => {
+                chars.by_ref().find(|&d| d == c);
+                token.clear();
+            }
+            '=' => current = Some(std::mem::take(&mut token)),
+            '{' => open.push(Open::Table(current.take())),
+            '[' => open.push(Open::Array),
+            '}' | ']' => {
+                if let Some(Open::Table(key)) = open.pop() {
+                    current = key;
+                }
+            }
+            ',' if !matches!(open.last(), Some(Open::Array)) => current = None,
+            '#' => break,
+            _ => {}
+        }
+    }
+    let mut keys: Vec<String> = open
+        .into_iter()
+        .filter_map(|o| match o {
+            Open::Table(key) => key,
+            Open::Array => None,
+        })
+        .collect();
+    keys.extend(current);
+    keys
 }

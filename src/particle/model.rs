@@ -48,19 +48,38 @@ impl TryFrom<FluidRaw> for Fluid {
     }
 }
 
+/// The range [10⁻⁵⁰, 10⁵⁰] of a fluid's viscosity μ_f and of a non-zero density ρ_f, in any
+/// consistent units. Physical fluids span μ_f ≈ 10⁻⁶ (dilute gases) to 10²¹ Pa s (the
+/// mantle) and ρ_f ≈ 10⁻⁵ (rarefied gases) to 1.4·10⁴ kg/m³ (mercury), a unit system (µm, µs, pg, or the
+/// paper's nondimensional scales) moves them by at most some 20 orders, so a physical fluid
+/// is at least 10 orders inside the range. Outside it a value is a slip, and the products a
+/// step forms of it with the other inputs (μ_f γ̇ L², ρ_f |u − v| d/μ_f, ρ_f vol, the Saffman
+/// lift's √(ρ_f μ_f)) overflow or vanish (`Fluid::new(f64::MAX, 1.0)` was accepted, and only
+/// a particle's rest-rate check refused it afterwards).
+pub const FLUID_RANGE: (f64, f64) = (1e-50, 1e50);
+
 impl Fluid {
-    /// Fluid with μ_f > 0 and ρ_f ≥ 0.
+    /// Fluid with μ_f in [`FLUID_RANGE`] and ρ_f = 0 or in [`FLUID_RANGE`] (ρ_f = 0: no fluid
+    /// inertia, the paper's heavy-particle limit).
     pub fn new(mu: f64, rho: f64) -> Result<Self, ParamError> {
-        if !(rho.is_finite() && rho >= 0.0) {
-            return Err(ParamError::NotPositive {
-                name: "rho_f (must be >= 0)",
-                value: rho,
+        let (min, max) = FLUID_RANGE;
+        if !(min..=max).contains(&mu) {
+            return Err(ParamError::OutOfRange {
+                name: "mu_f",
+                value: mu,
+                min,
+                max,
             });
         }
-        Ok(Self {
-            mu: positive("mu_f", mu)?,
-            rho,
-        })
+        if !(rho == 0.0 || (min..=max).contains(&rho)) {
+            return Err(ParamError::OutOfRange {
+                name: "rho_f (or exactly 0)",
+                value: rho,
+                min,
+                max,
+            });
+        }
+        Ok(Self { mu, rho })
     }
 }
 

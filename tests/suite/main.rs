@@ -44,6 +44,7 @@ mod integrator;
 mod material;
 #[cfg(feature = "plot")]
 mod output;
+mod particle;
 #[cfg(feature = "parallel")]
 mod population;
 mod reference;

@@ -13,8 +13,10 @@ impl Builder<'_> {
     ) -> Result<ParticleTemplate<SceneDrag>, CliError> {
         let mu = self.positive(&fluid.viscosity, "fluid.viscosity")?;
         let rho_f = self.finite(&fluid.density, "fluid.density")?;
-        let fluid_model =
-            Fluid::new(mu, rho_f).map_err(|e| self.param(fluid.density.span(), "fluid.viscosity, fluid.density", e))?;
+        let fluid_model = Fluid::new(mu, rho_f).map_err(|e| match e.key() {
+            Some(k) if k.starts_with("mu_f") => self.param(fluid.viscosity.span(), "fluid.viscosity", e),
+            _ => self.param(fluid.density.span(), "fluid.density", e),
+        })?;
         let gravity = match &fluid.gravity {
             Some(g) => self.vec3(g, "fluid.gravity")?,
             None => Vec3::zeros(),

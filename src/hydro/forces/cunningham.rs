@@ -16,11 +16,22 @@
 
 use super::{Contribution, ForceContext, ForceTerm, Registration};
 use crate::error::{ParamError, positive};
+use crate::tensor::Vec3;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Davies (1945): A₁, A₂, A₃.
 pub const DAVIES: [f64; 3] = [1.257, 0.400, 1.10];
+
+/// Largest Knudsen number 2λ/d of a particle's rest shape the term admits. For Kn ≫ 1 the
+/// correction is the free-molecular asymptote C_c → (A₁ + A₂) Kn = 1.657 Kn (Epstein's drag),
+/// a finite factor at any finite Kn; but the carrier flow is a continuum field only on scales
+/// L ≫ λ = Kn d/2, so at Kn = 10⁶ the flow would have to be smooth over 10⁶ particle
+/// diameters around the particle (a 1 µm particle in a gas of λ = 0.5 m, about 10⁻⁷ atm),
+/// which no continuum flow of a particle-laden scene is. Beyond it the factor only shrinks the
+/// drag towards zero (to exactly 0 once 2λ/d overflows: λ = 10³⁰⁸ m was accepted), so the term
+/// refuses such a particle instead.
+pub const MAX_KNUDSEN: f64 = 1e6;
 
 /// Cunningham's slip correction on the drag (module docs).
 #[derive(Debug, Clone, Copy)]
@@ -32,7 +43,8 @@ impl Cunningham {
     /// Name in scene files.
     pub const NAME: &'static str = "cunningham";
 
-    /// Slip in a gas of mean free path λ > 0 (m).
+    /// Slip in a gas of mean free path λ > 0 (m), finite; a particle it is put on must have
+    /// Kn = 2λ/d ≤ [`MAX_KNUDSEN`] ([`ForceTerm::admits`]).
     pub fn new(mean_free_path: f64) -> Result<Self, ParamError> {
         Ok(Self {
             mean_free_path: positive("cunningham.mean_free_path", mean_free_path)?,
@@ -68,6 +80,22 @@ impl Cunningham {
 impl ForceTerm for Cunningham {
     fn name(&self) -> &'static str {
         Self::NAME
+    }
+
+    /// Refuse a rest shape whose Knudsen number 2λ/d exceeds [`MAX_KNUDSEN`] (d its
+    /// volume-equivalent diameter 2 (r₁r₂r₃)^{1/3}).
+    fn admits(&self, semi_axes: &Vec3) -> Result<(), ParamError> {
+        let kn = self.mean_free_path / semi_axes.product().cbrt();
+        if kn <= MAX_KNUDSEN {
+            Ok(())
+        } else {
+            Err(ParamError::OutOfRange {
+                name: "Knudsen number 2 cunningham.mean_free_path / d of the rest shape",
+                value: kn,
+                min: 0.0,
+                max: MAX_KNUDSEN,
+            })
+        }
     }
 
     fn contribution(&self, ctx: &ForceContext) -> Contribution {

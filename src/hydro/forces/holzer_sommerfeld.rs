@@ -25,7 +25,7 @@
 //! The factor is scalar: the correlation gives the drag's size along the slip, not a tensor,
 //! which is the usual reading of it (and exact for a sphere).
 
-use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
+use super::{Contribution, FINITE_RE_DRAG, ForceContext, ForceTerm, Registration, no_parameters};
 use crate::ellipsoid::integrals::{carlson_rd, carlson_rf};
 use crate::error::ParamError;
 use crate::tensor::Vec3;
@@ -41,11 +41,14 @@ impl HolzerSommerfeld {
     /// Name in scene files.
     pub const NAME: &'static str = "holzer_sommerfeld";
 
-    /// The factor c on the Stokes drag at Re_p with sphericities φ and φ⊥.
+    /// The factor c on the Stokes drag at Re_p ≥ 0 with sphericities φ and φ⊥, written as
+    /// c = 1 + (3√Re_p/φ^{3/4} + Re_p · 0.42·10^{…}/φ⊥)/(8/√φ⊥ + 16/√φ) (the module's form with
+    /// Re_p multiplied in), so that it is finite at Re_p = 0, where it is the Stokes limit 1:
+    /// Re_p · 3/√Re_p was 0 · ∞ there (a fluid of density 0, or a slip whose Re_p underflows).
     pub fn factor(re: f64, phi: f64, phi_cross: f64) -> f64 {
         let stokes = 8.0 / phi_cross.sqrt() + 16.0 / phi.sqrt();
         let newton = 0.42 * 10f64.powf(0.4 * (-phi.log10()).max(0.0).powf(0.2)) / phi_cross;
-        1.0 + re * (3.0 / (re.sqrt() * phi.powf(0.75)) + newton) / stokes
+        1.0 + (3.0 * re.sqrt() / phi.powf(0.75) + re * newton) / stokes
     }
 }
 
@@ -66,6 +69,10 @@ pub fn surface_area(r: &Vec3) -> f64 {
 impl ForceTerm for HolzerSommerfeld {
     fn name(&self) -> &'static str {
         Self::NAME
+    }
+
+    fn exclusive_group(&self) -> Option<&'static str> {
+        Some(FINITE_RE_DRAG)
     }
 
     fn contribution(&self, ctx: &ForceContext) -> Contribution {

@@ -151,16 +151,33 @@ pub trait ForceTerm: Send + Sync + Debug {
         Ok(())
     }
 
+    /// The physics the term models when a particle may carry only one term modelling it
+    /// ([`FINITE_RE_DRAG`]), else `None` (the default). [`ForceTerms::new`] refuses a list with
+    /// two terms of one group.
+    fn exclusive_group(&self) -> Option<&'static str> {
+        None
+    }
+
     /// The term's share at one state.
     fn contribution(&self, ctx: &ForceContext) -> Contribution;
 }
+
+/// The group of the finite-Reynolds-number drag corrections ([`schiller_naumann`],
+/// [`holzer_sommerfeld`]): each multiplies the Stokes drag by the whole inertial increase of
+/// its correlation (c = 1 + …), and the drag factors of a particle's terms multiply, so two of
+/// them would apply the increase twice (c_SN c_HS in place of one c). Cunningham's slip
+/// correction is not one of them: it corrects for the gas's molecular nature, not for fluid
+/// inertia, and multiplies with either.
+pub const FINITE_RE_DRAG: &str = "finite-Reynolds-number drag correction";
 
 /// The force terms of a particle, shared between the particles built from one template.
 #[derive(Debug, Clone, Default)]
 pub struct ForceTerms(Arc<[Arc<dyn ForceTerm>]>);
 
 impl ForceTerms {
-    /// The given terms, in order. A term named twice would count twice and is refused.
+    /// The given terms, in order. A term named twice would count twice and is refused, and so
+    /// are two terms of one [`ForceTerm::exclusive_group`] ([`ParamError::Conflict`], naming
+    /// both).
     pub fn new(terms: Vec<Arc<dyn ForceTerm>>) -> Result<Self, ParamError> {
         for (i, term) in terms.iter().enumerate() {
             if terms[..i].iter().any(|t| t.name() == term.name()) {
@@ -168,6 +185,16 @@ impl ForceTerms {
                     kind: "force term (given twice)",
                     name: term.name().to_string(),
                     known: names(),
+                });
+            }
+            let Some(group) = term.exclusive_group() else {
+                continue;
+            };
+            if let Some(first) = terms[..i].iter().find(|t| t.exclusive_group() == Some(group)) {
+                return Err(ParamError::Conflict {
+                    what: group,
+                    first: first.name().to_string(),
+                    second: term.name().to_string(),
                 });
             }
         }

@@ -38,13 +38,23 @@ impl SaffmanMei {
     /// Name in scene files.
     pub const NAME: &'static str = "saffman_mei";
 
-    /// Mei's ratio C of the lift to Saffman's at Re_p and β = ½ Re_ω/Re_p.
-    pub fn mei_ratio(re_p: f64, beta: f64) -> f64 {
-        let s = 0.3314 * beta.sqrt();
-        if re_p <= 40.0 {
-            (1.0 - s) * (-re_p / 10.0).exp() + s
+    /// Mei's ratio C of the lift to Saffman's at Re_p ≥ 0 and Re_ω ≥ 0 (β = ½ Re_ω/Re_p).
+    ///
+    /// The branch Re_p ≤ 40 is evaluated as
+    /// C = e^{−Re_p/10} + 0.3314 √(Re_ω/2) (1 − e^{−Re_p/10})/√Re_p, the same expression with β
+    /// written out: as Re_p → 0 at any Re_ω the second term vanishes like √(Re_ω Re_p)/30 and
+    /// C → 1, Saffman's own limit, which is its value at Re_p = 0. Formed through β, it was
+    /// (1 − ∞)·1 + ∞ (NaN) at Re_p = 0, and at small Re_p the two large terms (1 − s) e^{…} and
+    /// s cancelled to 0 once s = 0.3314 √β exceeded 1/ε.
+    pub fn mei_ratio(re_p: f64, re_omega: f64) -> f64 {
+        let half = 0.5 * re_omega;
+        if re_p == 0.0 {
+            1.0
+        } else if re_p <= 40.0 {
+            let decay = -re_p / 10.0;
+            decay.exp() - 0.3314 * half.sqrt() * decay.exp_m1() / re_p.sqrt()
         } else {
-            0.0524 * (beta * re_p).sqrt()
+            0.0524 * half.sqrt()
         }
     }
 }
@@ -80,7 +90,7 @@ impl ForceTerm for SaffmanMei {
         let d = ctx.volume_diameter();
         let re_p = ctx.reynolds();
         let re_omega = ctx.rho_f * magnitude * d * d / ctx.mu_f;
-        let ratio = Self::mei_ratio(re_p, 0.5 * re_omega / re_p);
+        let ratio = Self::mei_ratio(re_p, re_omega);
         Contribution {
             force: w.cross(&omega) * (1.615 * d * d * (ctx.rho_f * ctx.mu_f / magnitude).sqrt() * ratio),
             ..Contribution::default()

@@ -13,7 +13,7 @@
 //! deformation is assumed small enough that the volume-equivalent diameter carries it. For
 //! ellipsoids at finite Re use [`super::HolzerSommerfeld`].
 
-use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
+use super::{Contribution, FINITE_RE_DRAG, ForceContext, ForceTerm, Registration, no_parameters};
 use crate::error::ParamError;
 use crate::tensor::Vec3;
 use std::collections::BTreeMap;
@@ -66,6 +66,10 @@ impl ForceTerm for SchillerNaumann {
             "schiller_naumann: relative spread of the semi-axes (a sphere's correlation)",
             semi_axes,
         )
+    }
+
+    fn exclusive_group(&self) -> Option<&'static str> {
+        Some(FINITE_RE_DRAG)
     }
 
     fn contribution(&self, ctx: &ForceContext) -> Contribution {

@@ -2,7 +2,9 @@
 //! particle kinds, the datasets and the pictures.
 
 use super::BifurcationError;
-use super::deposition::{Deposit, deposits, histogram, histogram_table, map_table, summary_table};
+use super::deposition::{Deposit, deposits};
+#[cfg(feature = "plot")]
+use super::deposition::{histogram, histogram_table, map_table, summary_table};
 use super::injection::Kind;
 use super::setup::{Airway, zhang_reference};
 use super::study::{Efficiency, efficiency_table, run_kind, run_kind_with};
@@ -179,7 +181,9 @@ pub fn deposits_of(
 }
 
 /// Write `histogram.csv` and `summary.csv` of `runs` and `histogram.svg` (the fraction of the
-/// injected particles per bin against x₁/L, one line per kind) into `paper-figures/<figure>/`.
+/// injected particles per bin against x₁/L, one line per kind) into `paper-figures/<figure>/`
+/// (feature `plot`: the SVG is part of what it writes).
+#[cfg(feature = "plot")]
 pub fn write_histograms(figure: &str, title: &str, runs: &[(Kind, u64, Vec<Deposit>)]) -> Result<(), BifurcationError> {
     histogram_table(runs, BINS)?.write(paper_figure_path(figure, "histogram.csv"))?;
     summary_table(runs)?.write(paper_figure_path(figure, "summary.csv"))?;
@@ -209,7 +213,8 @@ pub const MAP_PARTICLES: u64 = 1000;
 /// Write `summary.csv` (every deposit: mean x₁/L, largest r₁ and where) and, for the deposits of
 /// the first [`MAP_PARTICLES`] particles of each kind, `deposits.csv` (the map: position,
 /// patch, r₁..r₃ and V), `deposits.vtp` and `map.svg` (deposits projected on the bifurcation
-/// plane x₁–x₂, and r₁ against x₁/L) into `paper-figures/<figure>/`.
+/// plane x₁–x₂, and r₁ against x₁/L) into `paper-figures/<figure>/` (feature `plot`).
+#[cfg(feature = "plot")]
 pub fn write_maps(
     figure: &str,
     title: &str,

@@ -762,6 +762,77 @@ vtk = false
     }
 }
 
+/// Issue 38, items 2, 5 and 6, through a scene file: a fluid of density 0 with the
+/// finite-Re terms runs (every particle failed with a non-finite right-hand side at the step
+/// start) and stays suspended in its quiescent fluid; two finite-Re drag corrections are
+/// refused at `particles.forces` naming both, a mean free path of 10³⁰⁸ m (which set the drag
+/// to 0) at the particle naming `mean_free_path`, a viscosity of 10³⁰⁸ at `fluid.viscosity`.
+#[test]
+fn scene_edges_of_the_force_terms_and_fluid() {
+    let text = |mu: &str, rho_f: &str, forces: &str| {
+        format!(
+            r#"[flow]
+type = "shear"
+rate = 100.0
+[fluid]
+viscosity = {mu}
+density = {rho_f}
+gravity = [0.0, -9.81, 0.0]
+[particles]
+density = 1000.0
+forces = {forces}
+[[particles.list]]
+semi_axes = [5e-6, 5e-6, 5e-6]
+position = [0.0, 1e-4, 0.0]
+fluid_velocity = true
+material = {{ law = "rigid" }}
+[integrator]
+type = "stokesian"
+tol = 1e-8
+dt = 1e-6
+[end]
+t_end = 1e-3
+[output]
+vtk = false
+"#
+        )
+    };
+    let s = parse_named(
+        "rho0.toml",
+        &text("1.8e-5", "0.0", r#"["holzer_sommerfeld", "saffman_mei"]"#),
+    )
+    .unwrap();
+    let out = run(&s, "cli_rho0");
+    assert!(
+        matches!(out.records[0].fate, Fate::Suspended),
+        "{:?}",
+        out.records[0].fate
+    );
+    for (scene, key, says) in [
+        (
+            text("1.8e-5", "1.2", r#"["schiller_naumann", "holzer_sommerfeld"]"#),
+            "particles.forces",
+            vec!["schiller_naumann", "holzer_sommerfeld"],
+        ),
+        (
+            text("1.8e-5", "1.2", r#"[{ term = "cunningham", mean_free_path = 1e308 }]"#),
+            "particles.list[0].semi_axes",
+            vec!["cunningham.mean_free_path", "inf"],
+        ),
+        (text("1e308", "1.2", "[]"), "fluid.viscosity", vec!["mu_f"]),
+    ] {
+        match parse_named("edges.toml", &scene) {
+            Err(CliError::Scene { key: k, message, .. }) => {
+                assert!(k.starts_with(key), "{k}: {message}");
+                for word in says {
+                    assert!(message.contains(word), "{k}: `{message}` lacks `{word}`");
+                }
+            }
+            other => panic!("{key}: expected a scene error, got {:?}", other.map(|s| s.count())),
+        }
+    }
+}
+
 /// The scene's numbers decide which force terms it should carry: a near-neutrally buoyant
 /// sphere in water (ρ_p/ρ_f = 1.0005, the cavity's) is warned about the undisturbed-flow force
 /// (ρ_f/ρ_p ≈ 100 %) and added mass (½ρ_f/ρ_p ≈ 50 %), and not once it carries them; a 1 µm

@@ -402,3 +402,63 @@ fn models_by_name_are_refused_at_their_keys() {
         );
     }
 }
+
+/// Issue 38, item 6: the TOML reader's errors are named by the dotted path of the key they
+/// are about. A duplicate key or table was named ``` `` ``` or by its bare leaf; the path
+/// counts arrays of tables (`particles.list[0]`) and inline tables.
+#[test]
+fn toml_errors_name_the_dotted_key_path() {
+    for (from, to, key, says) in [
+        (
+            "viscosity = 1.0",
+            "viscosity = 1.0\nviscosity = 2.0",
+            "fluid.viscosity",
+            "duplicate key",
+        ),
+        ("[boundary]", "[fluid]\n[boundary]", "fluid", "duplicate key"),
+        ("seed = 3", "seed = 3\nseed = 4", "seed", "duplicate key"),
+        (
+            "mu = 5.0",
+            "mu = 5.0\nmu = 6.0",
+            "particles.list[0].material.mu",
+            "duplicate key",
+        ),
+        (
+            "semi_axes = [1.0, 0.5, 0.5]",
+            "semi_axes = [1.0, 0.5, 0.5]\nmaterial = { law = \"rigid\", law = \"rigid\" }",
+            "particles.list[0].material.law",
+            "duplicate key",
+        ),
+        (
+            "radius = 10.0\nmean",
+            "radius = \"ten\"\nmean",
+            "flow.radius",
+            "invalid type",
+        ),
+        (
+            "rule = \"stick\"",
+            "rule = \"stick\"\nrule = \"exit\"",
+            "boundary.walls[0].rule",
+            "duplicate key",
+        ),
+    ] {
+        let base = if LISTED.contains(from) { LISTED } else { INJECTED };
+        assert!(base.contains(from), "{from}");
+        let text = base.replacen(from, to, 1);
+        match parse(
+            &Source {
+                file: "dup.toml",
+                text: &text,
+            },
+            Path::new("."),
+        ) {
+            Err(CliError::Scene {
+                key: named, message, ..
+            }) => {
+                assert_eq!(named, key, "{to}: {message}");
+                assert!(message.contains(says), "{to}: {message}");
+            }
+            other => panic!("{to}: {:?}", other.map(|s| s.count())),
+        }
+    }
+}

@@ -364,14 +364,18 @@ fn bad_transient_keys_are_typed_errors() {
         ),
         ("time = [0, 0.3]", "flow.time", vec!["no time directory 0.3", "0.25"]),
         ("time = [0.5]", "flow.time", vec!["at least two"]),
-        // A value no form takes is the TOML reader's error, at the bare key.
-        ("time = [0, 1]\nprecision = \"f16\"", "precision", vec!["f16", "f32"]),
+        // A value no form takes is the TOML reader's error, at its dotted key.
+        (
+            "time = [0, 1]\nprecision = \"f16\"",
+            "flow.precision",
+            vec!["f16", "f32"],
+        ),
         (
             "time = { strat = 0, end = 1 }",
-            "time",
+            "flow.time",
             vec!["unknown field `strat`", "start"],
         ),
-        ("time = [0, \"x\"]", "time", vec!["time[1] must be a number"]),
+        ("time = [0, \"x\"]", "flow.time", vec!["time[1] must be a number"]),
         ("time = [0, 1]\nwindow = 0", "flow.window", vec!["got 0"]),
         (
             "time = { start = 0, end = 1, period = 1 }\nwindow = 2",

@@ -58,8 +58,9 @@ pub fn cavity_re1000_extrema(flow: &impl pseudorigid::flow::FlowField) -> String
 }
 
 /// The one record of a one-particle shard, which must have ended at a boundary (deposited or
-/// escaped), not failed or stayed inside; `what` names the particle in the failure message.
-#[cfg(feature = "parallel")]
+/// escaped), not failed or stayed inside; `what` names the particle in the failure message
+/// (the meshed scenes' tests use it).
+#[cfg(all(feature = "mesh", feature = "parallel"))]
 pub fn assert_single_run_ends<L>(out: &pseudorigid::population::RunOutput<L>, what: &str) {
     use pseudorigid::population::Fate;
     let [record] = out.records.as_slice() else {

@@ -333,7 +333,178 @@ fn saffman_lift_in_simple_shear() {
     let saffman = 6.46 * mu * a * a * w * (gamma * rho / mu).sqrt();
     assert!(f[1] > 0.0 && f[0].abs() + f[2].abs() < 1e-12 * f[1], "{f:?}");
     assert!((f[1] / saffman - 1.0).abs() < 1e-3, "{} vs Saffman {saffman}", f[1]);
-    assert!((SaffmanMei::mei_ratio(1e-8, 0.1) - 1.0).abs() < 1e-8);
+    // β = ½ Re_ω/Re_p = 0.1.
+    assert!((SaffmanMei::mei_ratio(1e-8, 2e-9) - 1.0).abs() < 1e-8);
+}
+
+/// Issue 38, item 2: at Re_p → 0 with a non-zero slip both inertial terms take their analytic
+/// limits instead of NaN (0 · ∞ and 0/0 at Re_p = 0): the Hölzer–Sommerfeld factor is
+/// 1 + 3√Re_p/(24 φ^{3/4}) + O(Re_p) → 1, Mei's ratio 1 + O(√(Re_ω Re_p)) → 1 (Saffman's), and
+/// the lift ∝ √ρ_f vanishes with ρ_f. Fluid densities 0, 5·10⁻³²⁴ (Re_p underflows to 0) and
+/// 10⁻³⁰⁰ (Re_p ≈ 10⁻³⁰⁴: a factor 1 + 10⁻¹⁵³, which is 1 in f64) give exactly the Stokes
+/// limit. Saffman's law holds for slips down to 10⁻¹⁵⁰ m/s (Re_p ≈ 10⁻¹⁴⁸; from 10⁻¹⁰⁰ m/s,
+/// β ≈ 10⁹⁷, the two terms of the ratio formed through β cancelled to 0): Mei's ratio is
+/// 1 − O(√(Re_ω Re_p)/30), so below Re_p = 10⁻⁴ it is within 10⁻³ of 1, Saffman's own check
+/// above.
+#[test]
+fn inertial_terms_take_their_limits_as_re_vanishes() {
+    use pseudorigid::hydro::forces::HolzerSommerfeld;
+    let (a, gamma, mu) = (1e-5, 100.0, 1e-3);
+    let sphere = Vec3::repeat(a);
+    let prolate = Vec3::new(3.0 * a, a, a);
+    let shear = LinearFlow::simple_shear(gamma)
+        .unwrap()
+        .sample(&Vec3::zeros(), 0.0)
+        .unwrap();
+    for rho in [0.0, 5e-324, 1e-300] {
+        for r in [sphere, prolate] {
+            let frame = PrincipalFrame::from_total_distortion(&Mat3::from_diagonal(&r));
+            let ints = EllipsoidIntegrals::new(&frame.r);
+            let ctx = context(&frame, &ints, mu, rho, Vec3::new(-1e-2, 3e-3, 0.0), &shear);
+            let drag = HolzerSommerfeld.contribution(&ctx).drag_factor;
+            assert_eq!(drag, 1.0, "ρ_f = {rho}, {r:?}");
+        }
+    }
+    // The lift's √(ρ_f μ_f/|ω|) itself underflows at ρ_f = 5·10⁻³²⁴; 0 and 10⁻³⁰⁰ check it.
+    for rho in [0.0, 1e-300] {
+        let frame = PrincipalFrame::from_total_distortion(&Mat3::from_diagonal(&sphere));
+        let ints = EllipsoidIntegrals::new(&frame.r);
+        let ctx = context(&frame, &ints, mu, rho, Vec3::new(-1e-2, 0.0, 0.0), &shear);
+        let lift = SaffmanMei.contribution(&ctx).force;
+        let saffman = 6.46 * mu * a * a * 1e-2 * (gamma * rho / mu).sqrt();
+        assert!(
+            lift.iter().all(|f| f.is_finite()) && (lift[1] - saffman).abs() <= 1e-3 * saffman,
+            "ρ_f = {rho}: {lift:?} vs Saffman {saffman:e}"
+        );
+    }
+    let rho = 1000.0;
+    let frame = PrincipalFrame::from_total_distortion(&Mat3::from_diagonal(&sphere));
+    let ints = EllipsoidIntegrals::new(&frame.r);
+    for w in [1e-6, 1e-20, 1e-100, 1e-150] {
+        let ctx = context(&frame, &ints, mu, rho, Vec3::new(-w, 0.0, 0.0), &shear);
+        let lift = SaffmanMei.contribution(&ctx).force[1];
+        let saffman = 6.46 * mu * a * a * w * (gamma * rho / mu).sqrt();
+        assert!(
+            (lift / saffman - 1.0).abs() < 1e-3,
+            "w = {w:e}: {lift:e} vs {saffman:e}"
+        );
+    }
+    assert_eq!(HolzerSommerfeld::factor(0.0, 0.8, 1.2), 1.0);
+    assert_eq!(SaffmanMei::mei_ratio(0.0, 0.0), 1.0);
+    assert_eq!(SaffmanMei::mei_ratio(0.0, 1.0), 1.0);
+}
+
+/// Issue 38, item 2: a fluid of density 0 with both inertial terms is a valid scene: the terms
+/// contribute the factor 1 and the force 0, so a settling, shear-carried sphere integrated with
+/// them follows the run without them to the tolerance (10⁻⁸ relative: the same equations, but
+/// the force-term code path rounds differently and the error control may then choose other
+/// steps; 2·10⁻¹⁰ measured). It failed with a non-finite right-hand side.
+#[test]
+fn inertial_terms_in_a_fluid_without_density() {
+    use pseudorigid::hydro::forces::HolzerSommerfeld;
+    let sphere = |forces: Vec<Arc<dyn ForceTerm>>| {
+        Particle::with_drag(
+            Ellipsoid::new([5e-6; 3], Mat3::identity()).unwrap(),
+            Rigid,
+            Brenner,
+            Fluid::new(1.8e-5, 0.0).unwrap(),
+            1000.0,
+        )
+        .unwrap()
+        .with_gravity(Vec3::new(0.0, -9.81, 0.0))
+        .unwrap()
+        .with_forces(ForceTerms::new(forces).unwrap())
+        .unwrap()
+    };
+    let flow = LinearFlow::simple_shear(100.0).unwrap();
+    let integ = Stokesian::new(1e-8).unwrap();
+    let run = |p: &Particle<Rigid>| {
+        advance(&integ, p, State::at_rest(Vec3::new(0.0, 1e-4, 0.0)), &flow, 1e-6, 1e-3).map(|(s, _)| s)
+    };
+    let with = run(&sphere(vec![Arc::new(HolzerSommerfeld), Arc::new(SaffmanMei)])).unwrap();
+    let without = run(&sphere(vec![])).unwrap();
+    for (a, b) in with.x.iter().chain(&with.v).zip(without.x.iter().chain(&without.v)) {
+        assert!((a - b).abs() <= 1e-8 * b.abs().max(1e-12), "{a:e} vs {b:e}");
+    }
+}
+
+/// Issue 38, item 5: Schiller–Naumann and Hölzer–Sommerfeld both correct the Stokes drag for
+/// fluid inertia; together their factors would multiply, so a list holding both is refused
+/// with both names, in either order. Each combines with Cunningham's slip correction.
+#[test]
+fn two_finite_re_drag_corrections_are_refused() {
+    use pseudorigid::hydro::forces::HolzerSommerfeld;
+    let sn: Arc<dyn ForceTerm> = Arc::new(SchillerNaumann);
+    let hs: Arc<dyn ForceTerm> = Arc::new(HolzerSommerfeld);
+    let slip: Arc<dyn ForceTerm> = Arc::new(Cunningham::new(6.65e-8).unwrap());
+    for (terms, first, second) in [
+        (vec![sn.clone(), hs.clone()], "schiller_naumann", "holzer_sommerfeld"),
+        (
+            vec![hs.clone(), slip.clone(), sn.clone()],
+            "holzer_sommerfeld",
+            "schiller_naumann",
+        ),
+    ] {
+        match ForceTerms::new(terms) {
+            Err(e @ ParamError::Conflict { .. }) => {
+                let text = e.to_string();
+                assert!(text.contains(first) && text.contains(second), "{text}");
+                assert!(
+                    matches!(&e, ParamError::Conflict { first: f, second: s, .. } if f == first && s == second),
+                    "{e:?}"
+                );
+            }
+            other => panic!("{first} and {second}: {other:?}"),
+        }
+    }
+    for term in [sn, hs] {
+        assert!(ForceTerms::new(vec![term, slip.clone()]).is_ok());
+    }
+}
+
+/// Issue 38, item 5: a mean free path that makes Kn = 2λ/d overflow set the drag to exactly 0
+/// (C_c = ∞); the term now refuses a particle whose rest Kn exceeds `MAX_KNUDSEN` (10⁶), naming
+/// the parameter and the Knudsen number, and admits the free-molecular regime below it (a
+/// 1 µm sphere at λ = 0.4 m: Kn = 8·10⁵, C_c = 1.657 Kn to 10⁻⁶, a finite non-zero factor).
+#[test]
+fn cunningham_refuses_a_knudsen_number_beyond_its_range() {
+    use pseudorigid::hydro::forces::cunningham::MAX_KNUDSEN;
+    let d = 1e-6;
+    let sphere = || {
+        Particle::with_drag(
+            Ellipsoid::new([0.5 * d; 3], Mat3::identity()).unwrap(),
+            Rigid,
+            Brenner,
+            Fluid::new(1.81e-5, 1.2).unwrap(),
+            1000.0,
+        )
+        .unwrap()
+    };
+    for lambda in [1e308, 1e3, 0.6 * MAX_KNUDSEN * d] {
+        let term = Cunningham::new(lambda).unwrap();
+        match sphere().with_forces(ForceTerms::new(vec![Arc::new(term)]).unwrap()) {
+            Err(e @ ParamError::OutOfRange { value, max, .. }) => {
+                assert!(e.to_string().contains("mean_free_path"), "{e}");
+                // Kn from the cube root of r₁r₂r₃: round-off only (∞ where 2λ/d overflows).
+                let kn = 2.0 * lambda / d;
+                assert_eq!(max, MAX_KNUDSEN);
+                assert!(
+                    value == kn || (value / kn - 1.0).abs() < 1e-14,
+                    "Kn = {value:e} vs {kn:e}"
+                );
+            }
+            other => panic!("λ = {lambda:e}: {:?}", other.map(|p| p.forces().names())),
+        }
+    }
+    let lambda = 0.4;
+    let term = Cunningham::new(lambda).unwrap();
+    let kn = 2.0 * lambda / d;
+    assert!((term.correction(d) / (1.657 * kn) - 1.0).abs() < 1e-6);
+    assert!(
+        sphere()
+            .with_forces(ForceTerms::new(vec![Arc::new(term)]).unwrap())
+            .is_ok()
+    );
 }
 
 /// A bubble-like sphere (ρ_p/ρ_f = 10⁻³) with added mass rises at v_t = (ρ_p − ρ_f) g d²/(18μ)

@@ -138,7 +138,9 @@ fn batch_records_are_the_same_for_threads_shards_and_a_resume() {
 
 /// On a transient field the window's records are those over every level held, bit for bit:
 /// Poiseuille flow whose amplitude changes as 1 + ½ sin(2πt/150), written as 11 time levels
-/// on a meshed pipe (the settling pipe's, along x₁), particles of the settling pipe.
+/// on a meshed pipe (the settling pipe's, along x₁), particles of the settling pipe (feature
+/// `mesh`).
+#[cfg(feature = "mesh")]
 #[test]
 fn batch_over_a_sliding_window_is_the_batch_over_every_level() {
     use crate::common::build::{Format, pipe as pipe_mesh, sampled, write_case, write_field};
