@@ -3,8 +3,9 @@
 //! mesh and next to every wall patch, and the time of a sample of each.
 //!
 //! ```text
-//! cargo run --release --example octree_field [-- CASE_DIR]
+//! cargo run --release --example octree_field [-- CASE_DIR|- [U_TOL GRAD_TOL LEAVES_PER_CELL WALL_LEAF]]
 //! ```
+//! (`-`: the shipped field; defaults 1e-4, 1e-3, 12, 2, `flow::openfoam::octree::Options`).
 
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::octree::Options;
@@ -25,13 +26,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let options = Options {
         u_tolerance: tol(2, 1e-4),
         gradient_tolerance: tol(3, 1e-3),
-        ..Options::default()
+        leaves_per_cell: tol(4, 12.0) as usize,
+        wall_leaf: tol(5, 2.0),
     };
     let table = OctreeFlow::with_options(blend, options)?;
     let built = start.elapsed().as_secs_f64();
     let r = table.report();
     println!("{r:?}");
     println!("built in {built:.1} s; {:.0} bytes per cell", r.bytes_per_cell());
+    let mut census = std::collections::BTreeMap::new();
+    for leaf in table.leaves() {
+        *census
+            .entry((format!("{:.1} µm", leaf.edge * 1e6), leaf.tabulated))
+            .or_insert(0usize) += 1;
+    }
+    println!("leaves by edge and tabulated: {census:?}");
     let points = table.check_points(20_000, 1, &[0.1, 0.25, 0.5], 1);
     let spread = table.misses(points.spread.iter().copied());
     let wall = table.misses(points.near_wall.iter().map(|p| p.0));
