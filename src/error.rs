@@ -135,6 +135,24 @@ pub enum ParamError {
         /// The model given second.
         second: String,
     },
+    /// An overdamped barycentre (the particle's inertia dropped, v̇ = 0) with a force term of the
+    /// fluid's inertia kept: in Maxey & Riley's small-Stokes expansion the slip is
+    /// τ (1 − ρ_f/ρ_p) (g − Du/Dt) to first order, the particle's inertia and the fluid's
+    /// entering together (τ = m/(3πμ_f d) for a sphere); keeping only the fluid's gives the
+    /// drift τ (ρ_f/ρ_p)(1 + C_a) Du/Dt with both terms (C_a = ½ for a sphere), which is in
+    /// neither limit: a neutrally buoyant 100 µm sphere in water in solid-body rotation at
+    /// Ω = 10 s⁻¹, r = 1 cm drifts inwards at 0.8 mm/s where it should follow the fluid.
+    #[error(
+        "`integrator.overdamped` = true drops the particle's inertia and the force term `{term}` \
+         (particles.forces) keeps the fluid's, which is of the same order (rho_f/rho_p): together they make a \
+         drift that is in neither model (a neutrally buoyant particle drifts across the streamlines of a \
+         rotating flow); drop `{term}`, or keep the particle's inertia (overdamped = false, or type = \"auto\", \
+         whose equilibrium barycentre keeps both to first order in the Stokes number)"
+    )]
+    OverdampedFluidInertia {
+        /// The fluid-inertia term ([`crate::hydro::forces::FLUID_INERTIA`]).
+        term: &'static str,
+    },
     /// The initial axes are not a right-handed orthonormal triad.
     #[error("initial axes are not a rotation: |QᵀQ − 1| = {orthogonality_defect:.3e}, det = {det}")]
     NotARotation {

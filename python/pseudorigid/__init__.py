@@ -14,6 +14,7 @@ The Rust library does the work: scenes are validated by the same code as the
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -70,16 +71,30 @@ class Table(Dict[str, Any]):
         return list(self.keys())
 
     def to_pandas(self) -> "Any":
-        """A pandas DataFrame of the columns (needs pandas)."""
-        import pandas as pd
-
+        """A pandas DataFrame of the columns (needs pandas: the ``pandas`` extra)."""
+        pd = _optional("pandas", "to_pandas()")
         return pd.DataFrame({k: v for k, v in self.items()})
 
     def to_polars(self) -> "Any":
-        """A polars DataFrame of the columns (needs polars)."""
-        import polars as pl
-
+        """A polars DataFrame of the columns (needs polars: the ``polars`` extra)."""
+        pl = _optional("polars", "to_polars()")
         return pl.DataFrame({k: v for k, v in self.items()})
+
+
+def _optional(module: str, needed_by: str) -> "Any":
+    """The optional dependency ``module`` (also the name of the extra that installs it), or a
+    ``ModuleNotFoundError`` that says which extra to install: numpy is the package's only
+    requirement, so a plain ``pip install ./python`` has no pandas."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        raise ModuleNotFoundError(
+            f"{needed_by} needs {module}, which is not installed: pip install 'pseudorigid[{module}]' "
+            f"(from the repository: pip install './python[{module}]'), or pip install {module}",
+            name=module,
+        ) from e
 
 
 def _table(columns: Mapping[str, Any]) -> Table:
@@ -137,7 +152,14 @@ def _callback(progress: Progress, total_hint: int) -> Tuple[Optional[Callable[[i
     if progress is True:
         try:
             from tqdm.auto import tqdm
-        except ImportError:  # no bar without tqdm; the run is the same
+        except ImportError:  # no bar without tqdm; the run is the same, and the user is told
+            warnings.warn(
+                "progress=True draws a tqdm bar, and tqdm is not installed: pip install 'pseudorigid[progress]' "
+                "(from the repository: pip install './python[progress]'); running without a bar",
+                RuntimeWarning,
+                # Through _callback and run/run_in_memory to the caller's line.
+                stacklevel=3,
+            )
             return None, None
         bar = tqdm(total=total_hint, unit="particle")
 

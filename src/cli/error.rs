@@ -83,10 +83,24 @@ impl Source<'_> {
     /// A parse error of the TOML deserialiser, named by the dotted key path of the span it
     /// points at ([`Source::key_path`]): the deserialiser's message names only the leaf of an
     /// unknown or missing field, the type of a wrong value, and nothing for a duplicate key or
-    /// table (it was reported as ``` `` ```).
+    /// table (it was reported as ``` `` ```). A missing field's span is its table, so its
+    /// leaf is appended (`end.t_end`, where the table's path `end` was named).
     pub fn parse_error(&self, e: &toml::de::Error) -> CliError {
         let span = e.span().unwrap_or(0..0);
-        self.error(span.clone(), self.key_path(span.start), e.message().trim().to_string())
+        let message = e.message().trim();
+        let mut key = self.key_path(span.start);
+        let missing = message
+            .strip_prefix("missing field `")
+            .and_then(|rest| rest.split_once('`'))
+            .map(|(leaf, _)| leaf);
+        if let Some(leaf) = missing {
+            key = if key.is_empty() {
+                leaf.to_string()
+            } else {
+                format!("{key}.{leaf}")
+            };
+        }
+        self.error(span.clone(), key, message.to_string())
     }
 
     /// The dotted key path at byte `offset` (`flow.blend`, `particles.list[0].material.mu`):

@@ -189,9 +189,9 @@ fn default_out(scene: &Path) -> PathBuf {
 }
 
 /// `line` after the transient field's levels and windows ([`Scene::flow_log`]) and the
-/// integrator's choices ([`Scene::integrator_log`]), one `note:` line each,
-/// and the scene's warnings about force terms it leaves out ([`Scene::force_advice`]), one
-/// `warning:` line each.
+/// integrator's choices ([`Scene::integrator_log`]), one `note:` line each, and the scene's
+/// warnings about an integrator its particles contradict ([`Scene::integrator_advice`]) and
+/// force terms it leaves out ([`Scene::force_advice`]), one `warning:` line each.
 fn with_advice(scene: &Scene, line: String) -> String {
     let mut text: String = scene
         .flow_log()
@@ -199,7 +199,13 @@ fn with_advice(scene: &Scene, line: String) -> String {
         .chain(scene.integrator_log())
         .map(|n| format!("note: {n}\n"))
         .collect();
-    text.extend(scene.force_advice().iter().map(|w| format!("warning: {w}\n")));
+    text.extend(
+        scene
+            .integrator_advice()
+            .into_iter()
+            .chain(scene.force_advice())
+            .map(|w| format!("warning: {w}\n")),
+    );
     text.push_str(&line);
     text
 }

@@ -142,17 +142,54 @@ impl Scene {
     }
 
     /// What the integrator does for each list entry and injection group, where that depends
-    /// on the particle (`type = "auto"`, [`crate::integrator::choice::Auto`]): one line each,
-    /// for the run log.
+    /// on the particle (`type = "auto"`, [`crate::integrator::choice::Auto`]): one line per
+    /// choice, for the run log ([`grouped`]: entries with the same numbers share a line).
     pub fn integrator_log(&self) -> Vec<String> {
-        self.placements()
-            .into_iter()
-            .filter_map(|(key, placement)| {
-                let particle = self.template.build(&placement.spec(Vec3::zeros())).ok()?;
-                let what = self.integrator.describe(&particle, &self.flow)?;
-                Some(format!("{key}: integrator {}: {what}", self.integrator.name()))
-            })
-            .collect()
+        grouped(
+            self.placements()
+                .into_iter()
+                .filter_map(|(key, placement)| {
+                    let particle = self.template.build(&placement.spec(Vec3::zeros())).ok()?;
+                    let what = self.integrator.describe(&particle, &self.flow)?;
+                    Some((key, format!("integrator {}: {what}", self.integrator.name())))
+                })
+                .collect(),
+        )
+    }
+
+    /// Integrator choices the particles contradict: an overdamped barycentre
+    /// (`integrator.overdamped`) for particles whose Stokes number
+    /// ([`crate::integrator::choice::ParticleNumbers`], the automatic choice's) is above
+    /// [`EQUILIBRIUM_STOKES`](crate::integrator::choice::EQUILIBRIUM_STOKES). Above it even the
+    /// equilibrium barycentre, first order in St, loses deposits to the O(St²) terms it drops;
+    /// the overdamped one drops the O(St) slip as well, so it is further off. A flow without a
+    /// time scale (St = ∞: a quiescent fluid) says nothing about it and is not warned about.
+    /// One line per list entry and injection group ([`grouped`]).
+    pub fn integrator_advice(&self) -> Vec<String> {
+        use crate::integrator::choice::{EQUILIBRIUM_STOKES, ParticleNumbers};
+        if self.integrator.barycentre() != crate::integrator::BarycentreModel::Overdamped {
+            return Vec::new();
+        }
+        grouped(
+            self.placements()
+                .into_iter()
+                .filter_map(|(key, placement)| {
+                    let particle = self.template.build(&placement.spec(Vec3::zeros())).ok()?;
+                    let stokes = ParticleNumbers::of(&particle, &self.flow).ok()?.stokes;
+                    (stokes.is_finite() && stokes > EQUILIBRIUM_STOKES).then(|| {
+                        (
+                            key,
+                            format!(
+                                "`integrator.overdamped` = true drops the particles' inertia, but their Stokes number \
+                                 St = {stokes:.3e} > {EQUILIBRIUM_STOKES} says it matters (above {EQUILIBRIUM_STOKES} \
+                                 even the first-order equilibrium barycentre misses deposits); use \
+                                 `overdamped = false` or `type = \"auto\"`"
+                            ),
+                        )
+                    })
+                })
+                .collect(),
+        )
     }
 
     /// Force terms the scene leaves out although its numbers say they matter, before any
@@ -161,20 +198,20 @@ impl Scene {
     /// ρ_f/ρ_p, gas slip from d_eq and the mean free path), above 1 %; and the
     /// undisturbed-flow force at ρ_f/ρ_p, its size where gravity and the flow's acceleration
     /// are comparable (ρ_f/(ρ_p − ρ_f) where the acceleration dominates). One line
-    /// per kind and term; the run's own numbers (Re, shear, the flow's acceleration) are in
-    /// the validity monitor of the library's scenes.
+    /// per kind and term ([`grouped`]: entries with the same numbers share a line); the run's
+    /// own numbers (Re, shear, the flow's acceleration) are in the validity monitor of the
+    /// library's scenes.
     ///
     /// An overdamped barycentre (`integrator.overdamped`) drops the particle's inertia by
     /// assumption; the fluid-inertia terms are of the same order (slip ∝ τ(ρ_p − ρ_f)Du/Dt in
     /// Maxey & Riley's small-Stokes expansion), so such a scene is not warned about
-    /// `undisturbed_flow` and `added_mass`, only about the terms that survive that limit.
+    /// `undisturbed_flow` and `added_mass` (it is refused with them,
+    /// [`crate::integrator::BarycentreModel::admits`]), only about the terms that survive
+    /// that limit.
     pub fn force_advice(&self) -> Vec<String> {
         let limit = crate::diagnostics::Thresholds::default().omitted_term;
         let overdamped = self.integrator.barycentre() == crate::integrator::BarycentreModel::Overdamped;
-        let inertial = [
-            crate::hydro::forces::UndisturbedFlow::NAME,
-            crate::hydro::forces::AddedMass::NAME,
-        ];
+        let inertial = crate::hydro::forces::FLUID_INERTIA;
         let mut advice = Vec::new();
         for (key, placement) in self.placements() {
             let Ok(particle) = self.template.build(&placement.spec(Vec3::zeros())) else {
@@ -194,14 +231,38 @@ impl Scene {
                 .into_iter()
                 .filter(|(term, _)| !(overdamped && inertial.contains(term)))
             {
-                advice.push(format!(
-                    "{key}: the scene leaves out `{term}`, which its numbers put at {:.2} % (add it to particles.forces)",
-                    100.0 * size
+                advice.push((
+                    key.clone(),
+                    format!(
+                        "the scene leaves out `{term}`, which its numbers put at {:.2} % (add it to particles.forces)",
+                        100.0 * size
+                    ),
                 ));
             }
         }
-        advice
+        grouped(advice)
     }
+}
+
+/// `key: message` lines with the lines of one message joined: the first key names them, with
+/// the count of the others (`particles.list[0] and 299 other entries: ...`), so a list of 300
+/// like particles gives one line where it gave 300. In the order of each message's first key.
+fn grouped(lines: Vec<(String, String)>) -> Vec<String> {
+    let mut groups: Vec<(String, String, usize)> = Vec::new();
+    for (key, message) in lines {
+        match groups.iter_mut().find(|(_, m, _)| *m == message) {
+            Some((_, _, count)) => *count += 1,
+            None => groups.push((key, message, 1)),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(key, message, count)| match count {
+            1 => format!("{key}: {message}"),
+            2 => format!("{key} and 1 other entry: {message}"),
+            n => format!("{key} and {} other entries: {message}", n - 1),
+        })
+        .collect()
 }
 
 /// Read and validate the scene file at `path`.
@@ -292,7 +353,8 @@ impl Builder<'_> {
         if let SceneFlow::Transient(field) = &flow {
             self.first_window(field, &raw)?;
         }
-        let template = self.template(&raw.fluid, raw.particles.get_ref())?;
+        let forces = self.forces(&raw.particles.get_ref().forces)?;
+        let template = self.template(&raw.fluid, raw.particles.get_ref(), forces.clone())?;
         // How far from its barycentre a particle touches a wall when it is not its extent:
         // injection through a patch starts particles beyond it.
         let contact_radius = match contact {
@@ -301,6 +363,7 @@ impl Builder<'_> {
         };
         let particles = self.particles(&raw.particles, &template, &flow, contact_radius)?;
         let (integrator, dt, dt_max) = self.integrator(&raw.integrator)?;
+        self.barycentre_admits(&integrator, &forces, &raw.integrator)?;
         let (plan, outputs) = self.plan(&dt, dt_max.as_ref(), &raw.end, &raw.output, particles.count())?;
         Ok(Scene {
             seed: raw.seed,
@@ -315,6 +378,30 @@ impl Builder<'_> {
             vtk: raw.output.vtk.unwrap_or(true),
             text: self.src.text.to_string(),
         })
+    }
+
+    /// The integrator's barycentre model takes the particles' force terms
+    /// ([`crate::integrator::BarycentreModel::admits`], which every step checks too): refused
+    /// at `integrator.overdamped`, naming the force term's key as well.
+    fn barycentre_admits(
+        &self,
+        integrator: &SceneIntegrator,
+        forces: &ForceTerms,
+        table: &ModelTable,
+    ) -> Result<(), CliError> {
+        let Err(e) = integrator.barycentre().admits(forces) else {
+            return Ok(());
+        };
+        let at = table.get_ref().get("overdamped").map_or(table.span(), |v| v.span());
+        let term = match &e {
+            ParamError::OverdampedFluidInertia { term } => forces.names().iter().position(|n| n == term),
+            _ => None,
+        };
+        let key = match term {
+            Some(i) => format!("integrator.overdamped, particles.forces[{i}]"),
+            None => "integrator.overdamped, particles.forces".to_string(),
+        };
+        Err(self.param(at, &key, e))
     }
 
     /// A transient field's windows to `end.t_end` are at most [`MAX_WINDOWS`], and the field

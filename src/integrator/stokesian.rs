@@ -163,6 +163,9 @@ impl TimeIntegrator for Stokesian {
     ) -> Result<Step, StepError> {
         super::check_step(state, dt)?;
         let barycentre = self.barycentre;
+        // Every step, not only the first: a caller may hand any memory with any particle, and
+        // the check is a comparison of a few names against a step's tens of model evaluations.
+        barycentre.admits(particle.forces())?;
         let rigid = particle.elastic().is_none();
         let model = Model::new(particle, flow);
         let y0 = pack(&state.f, &state.x, &state.v);

@@ -28,8 +28,9 @@
 //! [`InertialessSolver`]: crate::hydro::InertialessSolver
 
 use super::dynamics::Model;
-use crate::error::StepError;
+use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
+use crate::hydro::forces::{FLUID_INERTIA, ForceTerms};
 use crate::hydro::{DragModel, InertialessSolver};
 use crate::material::{Response, StressLaw};
 use crate::tensor::{Mat3, Vec3, inv_transpose, mat3, vec9};
@@ -103,6 +104,21 @@ pub enum BarycentreModel {
     /// at small τ, is gone. The velocity error is O(St²) of the flow speed, with St the
     /// response time over the flow's time scale; `v` is reported as ẋ.
     Equilibrium,
+}
+
+impl BarycentreModel {
+    /// Refuse the force terms `forces` this model contradicts: an overdamped barycentre drops
+    /// the particle's inertia (v̇ = 0), so it cannot keep the fluid's
+    /// ([`crate::hydro::forces::FLUID_INERTIA`]: same order, ρ_f/ρ_p;
+    /// [`ParamError::OverdampedFluidInertia`] says why). The equilibrium barycentre keeps
+    /// both to first order in the response time (v̇ = Du/Dt), and the inertial one both in
+    /// full, so they take every term.
+    pub fn admits(&self, forces: &ForceTerms) -> Result<(), ParamError> {
+        match (self, forces.names().into_iter().find(|n| FLUID_INERTIA.contains(n))) {
+            (BarycentreModel::Overdamped, Some(term)) => Err(ParamError::OverdampedFluidInertia { term }),
+            _ => Ok(()),
+        }
+    }
 }
 
 /// y = (vec F, x, v).

@@ -10,6 +10,7 @@ impl Builder<'_> {
         &self,
         fluid: &FluidSpec,
         particles: &ParticlesSpec,
+        forces: ForceTerms,
     ) -> Result<ParticleTemplate<SceneDrag>, CliError> {
         let mu = self.positive(&fluid.viscosity, "fluid.viscosity")?;
         let rho_f = self.finite(&fluid.density, "fluid.density")?;
@@ -31,7 +32,7 @@ impl Builder<'_> {
         let template = ParticleTemplate::new(drag, fluid_model, gravity)
             .map(|t| t.with_volumetric(volumetric))
             .map_err(|e| self.param(at, "fluid.gravity", e))?;
-        Ok(template.with_forces(self.forces(&particles.forces)?))
+        Ok(template.with_forces(forces))
     }
 
     /// `particles.drag` through the registry of drag models (default `brenner`, the paper's).
@@ -61,7 +62,7 @@ impl Builder<'_> {
     }
 
     /// `particles.forces`: each entry through the registry of force terms.
-    fn forces(&self, entries: &[Spanned<ForceEntry>]) -> Result<ForceTerms, CliError> {
+    pub(super) fn forces(&self, entries: &[Spanned<ForceEntry>]) -> Result<ForceTerms, CliError> {
         let none = BTreeMap::new();
         let mut terms = Vec::with_capacity(entries.len());
         for (i, entry) in entries.iter().enumerate() {
@@ -440,6 +441,13 @@ impl Builder<'_> {
     /// contact radius of barycentre contact if larger), so a
     /// particle does not start touching the patch it enters through (at least 10⁻⁶ of the
     /// face's size for point particles).
+    ///
+    /// Refused, naming the patch, its type and its flux Σ u·S (the fits' at the face centres:
+    /// the case's face flux `phi`, a surface field, is not read by the library): a patch of
+    /// type `wall`, which no fluid crosses (a cell fit's round-off or a non-zero wall velocity
+    /// gives some of its faces an inflow, and particles would start on the wall), and a patch
+    /// with no inflow at the field's first time (an outlet; on a transient field, an inlet
+    /// whose flow starts from rest).
     fn patch_region(
         &self,
         name: &Spanned<String>,
@@ -447,19 +455,22 @@ impl Builder<'_> {
         flow: &SceneFlow,
         extent: f64,
     ) -> Result<crate::cli::inject::Region, CliError> {
+        let transient = matches!(flow, SceneFlow::Transient(_));
         flow.with_cellwise(|cells| match cells {
-            Some(cells) => self.patch_triangles(name, key, cells, extent),
+            Some(cells) => self.patch_triangles(name, key, cells, extent, transient),
             None => Err(self.err(name.span(), key, "a `patch` region needs an `openfoam` flow")),
         })
     }
 
-    /// [`Self::patch_region`] on the cellwise field `cells`.
+    /// [`Self::patch_region`] on the cellwise field `cells` (of a transient field if
+    /// `transient`).
     fn patch_triangles(
         &self,
         name: &Spanned<String>,
         key: &str,
         cells: &FoamFlow,
         extent: f64,
+        transient: bool,
     ) -> Result<crate::cli::inject::Region, CliError> {
         let mesh = cells.mesh();
         let Some(patch) = mesh.patches().iter().find(|p| p.name == *name.get_ref()) else {
@@ -471,11 +482,14 @@ impl Builder<'_> {
             ));
         };
         let t = cells.times()[0];
-        let mut triangles = Vec::new();
+        let (mut triangles, mut net, mut inflow_total) = (Vec::new(), 0.0, 0.0);
         for f in patch.start..patch.start + patch.size {
             let (area, centre) = (mesh.face_areas()[f], mesh.face_centres()[f]);
             let size = area.norm();
-            let inflow = -cells.sample_cell(mesh.owner(f), &centre, t).u.dot(&area);
+            let flux = cells.sample_cell(mesh.owner(f), &centre, t).u.dot(&area);
+            let inflow = (-flux).max(0.0);
+            net += flux;
+            inflow_total += inflow;
             let inward = -area / size * (1.01 * extent).max(1e-6 * size.sqrt());
             let poly = mesh.face(f);
             for (i, &v) in poly.iter().enumerate() {
@@ -484,17 +498,47 @@ impl Builder<'_> {
                     mesh.points()[poly[(i + 1) % poly.len()] as usize],
                 );
                 let share = (a - centre).cross(&(b - centre)).norm() / 2.0 / size;
-                triangles.push(([centre + inward, a + inward, b + inward], inflow.max(0.0) * share));
+                triangles.push(([centre + inward, a + inward, b + inward], inflow * share));
             }
+        }
+        let what = format!(
+            "patch `{}` (type `{}`, {} faces): net flux out of the domain sum(u.S) = {net:.3e}, inflow {inflow_total:.3e} \
+             (the cell fits at its faces at t = {t})",
+            patch.name, patch.kind, patch.size
+        );
+        let open = || -> Vec<&str> {
+            mesh.patches()
+                .iter()
+                .filter(|p| p.kind != "wall")
+                .map(|p| p.name.as_str())
+                .collect()
+        };
+        if patch.kind == "wall" {
+            return Err(self.err(
+                name.span(),
+                key,
+                format!(
+                    "{what}: no fluid enters through a wall, and the particles would start on it; name a patch the \
+                     fluid enters through (the mesh's patches that are not walls: {:?})",
+                    open()
+                ),
+            ));
+        }
+        if inflow_total <= 0.0 {
+            let start = if transient {
+                "; a transient field is injected into at its first time level, where this flow has not started: \
+                 start `flow.time` where the fluid enters, or inject from a disc or a point"
+            } else {
+                ""
+            };
+            return Err(self.err(
+                name.span(),
+                key,
+                format!("no inflow through {what}: particles are drawn where the fluid enters{start}"),
+            ));
         }
         WeightedTriangles::new(triangles)
             .map(crate::cli::inject::Region::Patch)
-            .map_err(|e| {
-                self.err(
-                    name.span(),
-                    key,
-                    format!("no inflow through patch `{}`: {e}", name.get_ref()),
-                )
-            })
+            .map_err(|e| self.err(name.span(), key, format!("{what}: {e}")))
     }
 }

@@ -170,6 +170,12 @@ pub trait ForceTerm: Send + Sync + Debug {
 /// inertia, and multiplies with either.
 pub const FINITE_RE_DRAG: &str = "finite-Reynolds-number drag correction";
 
+/// The terms that model the fluid's inertia (the displaced fluid accelerated with the flow,
+/// and the fluid accelerated with the particle): of the same order as the particle's own
+/// inertia, m_f/m = ρ_f/ρ_p, so a barycentre model without the particle's inertia must not
+/// keep them ([`crate::particle::inertialess::BarycentreModel::admits`]).
+pub const FLUID_INERTIA: [&str; 2] = [UndisturbedFlow::NAME, AddedMass::NAME];
+
 /// The force terms of a particle, shared between the particles built from one template.
 #[derive(Debug, Clone, Default)]
 pub struct ForceTerms(Arc<[Arc<dyn ForceTerm>]>);

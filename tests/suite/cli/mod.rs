@@ -612,7 +612,43 @@ t_end = 0.1
     );
     let (key, message) = key_of(scene(&moving, "", r#"{ type = "patch", name = "outlet" }"#, ""));
     assert!(
-        key == "particles.inject.region.name" && message.contains("no inflow"),
+        key == "particles.inject.region.name"
+            && message.contains("no inflow through patch `outlet` (type `patch`")
+            // The latest time, 1: u₁ = 2 + 2x₂ through the unit face.
+            && message.contains("sum(u.S) = 3.000e0"),
+        "{key}: {message}"
+    );
+    // Issue 39, item 3: a wall given as the injection patch. With a flow u = (1 + x₂, 0.5, 0)
+    // through the walls the fits give the face x₂ = 0 an inflow, and the particles started on
+    // the wall; now the patch is refused with its type and flux (net 0: 0.5 in at x₂ = 0,
+    // 0.5 out at x₂ = 1).
+    let leaky = foam_case("cli_foam_leaky_wall", |x| Vec3::new(1.0 + x[1], 0.5, 0.0));
+    let (key, message) = key_of(scene(&leaky, "", r#"{ type = "patch", name = "walls" }"#, ""));
+    assert!(
+        key == "particles.inject.region.name"
+            && message.contains("patch `walls` (type `wall`")
+            && message.contains("inflow 5.000e-1")
+            && message.contains("no fluid enters through a wall")
+            && message.contains("[\"inlet\", \"outlet\"]"),
+        "{key}: {message}"
+    );
+    // Issue 39, item 7: a transient field whose flow starts from rest at its first time level
+    // was refused for the "total weight of the triangles"; now in the user's terms.
+    let resting = foam_case("cli_foam_from_rest", |_| Vec3::zeros());
+    build::write_case(
+        &resting,
+        &raw,
+        &build::sampled(&raw.mesh(), |x| Vec3::new(1.0 + x[1], 0.0, 0.0)),
+        "1",
+        build::Format::Ascii,
+    );
+    let (key, message) = key_of(scene(&resting, "time = [0, 1]", inlet, ""));
+    assert!(
+        key == "particles.inject.region.name"
+            && message.contains("no inflow through patch `inlet` (type `patch`")
+            && message.contains("at t = 0")
+            && message.contains("start `flow.time` where the fluid enters")
+            && !message.contains("total weight"),
         "{key}: {message}"
     );
 }
@@ -876,6 +912,118 @@ fn scenes_are_warned_about_the_force_terms_their_numbers_need() {
     // with the particle's: no fluid-inertia advice (it warned of 100 % and 50 % before).
     let overdamped = advice(text(1e-3, 1000.0, 1000.5, 3e-3, "").replace("dt = 1e-7", "dt = 1e-7\noverdamped = true"));
     assert!(overdamped.is_empty(), "{overdamped:?}");
+}
+
+/// `integrator.overdamped = true` with a fluid-inertia force term is refused where the scene
+/// combines them, at `integrator.overdamped` with the term's own key (issue 38, item 1; it was
+/// accepted, and its advice silenced); overdamped alone, and an inertial barycentre with the
+/// terms, are still scenes.
+#[test]
+fn overdamped_scenes_refuse_fluid_inertia_terms() {
+    let text = |forces: &str, overdamped: bool| {
+        format!(
+            "[flow]\ntype = \"quiescent\"\n[fluid]\nviscosity = 1e-3\ndensity = 1000.0\n[particles]\ndensity = 1000.5\n{forces}\n\
+             [[particles.list]]\nsemi_axes = [5e-5, 5e-5, 5e-5]\nposition = [0.0, 0.0, 0.0]\nmaterial = {{ law = \"rigid\" }}\n\
+             [integrator]\ntype = \"radau_iia\"\ntol = 1e-6\ndt = 1e-7\noverdamped = {overdamped}\n[end]\nt_end = 1e-3\n"
+        )
+    };
+    for (forces, key, term) in [
+        (
+            r#"forces = ["added_mass"]"#,
+            "integrator.overdamped, particles.forces[0]",
+            "added_mass",
+        ),
+        (
+            r#"forces = ["schiller_naumann", "undisturbed_flow"]"#,
+            "integrator.overdamped, particles.forces[1]",
+            "undisturbed_flow",
+        ),
+    ] {
+        match parse_named("overdamped.toml", &text(forces, true)) {
+            Err(CliError::Scene { key: k, message, .. }) => {
+                assert_eq!(k, key, "{message}");
+                assert!(
+                    message.contains(&format!("`{term}`")) && message.contains("particle's inertia"),
+                    "{message}"
+                );
+            }
+            other => panic!("{forces}: expected a scene error, got {:?}", other.map(|s| s.count())),
+        }
+    }
+    parse_named("overdamped.toml", &text("", true)).unwrap();
+    parse_named(
+        "overdamped.toml",
+        &text(r#"forces = ["added_mass", "undisturbed_flow"]"#, false),
+    )
+    .unwrap();
+}
+
+/// An overdamped barycentre for particles the scene's numbers call inertial is warned about
+/// (issue 39, item 3): in a shear of rate 1 s⁻¹, a 3 mm sphere in water has
+/// St = τγ̇ = ρ_p d²/(18μ) · γ̇ = 0.5003 > 0.06, and the warning names the key, St and the
+/// threshold; a 0.1 mm one (St = 5.6·10⁻⁴), the same sphere with an inertial barycentre, and
+/// a quiescent fluid (no time scale: St = ∞) are not warned about. Before, nothing was said.
+#[test]
+fn overdamped_inertial_particles_are_warned_about() {
+    let text = |flow: &str, d: f64, overdamped: bool| {
+        format!(
+            "[flow]\n{flow}\n[fluid]\nviscosity = 1e-3\ndensity = 1000.0\n[particles]\ndensity = 1000.5\n\
+             [[particles.list]]\nsemi_axes = [{r}, {r}, {r}]\nposition = [0.0, 0.0, 0.0]\nmaterial = {{ law = \"rigid\" }}\n\
+             [integrator]\ntype = \"radau_iia\"\ntol = 1e-6\ndt = 1e-7\noverdamped = {overdamped}\n[end]\nt_end = 1e-3\n",
+            r = d / 2.0
+        )
+    };
+    let shear = "type = \"shear\"\nrate = 1.0";
+    let advice = |t: String| parse_named("st.toml", &t).unwrap().integrator_advice();
+    let warned = advice(text(shear, 3e-3, true));
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(
+        warned[0].starts_with("particles.list[0]: `integrator.overdamped`")
+            && warned[0].contains("St = 5.00")
+            && warned[0].contains("> 0.06"),
+        "{warned:?}"
+    );
+    for quiet in [
+        text(shear, 1e-4, true),
+        text(shear, 3e-3, false),
+        text("type = \"quiescent\"", 3e-3, true),
+    ] {
+        let said = advice(quiet);
+        assert!(said.is_empty(), "{said:?}");
+    }
+}
+
+/// The run log's notes and warnings come once per set of like particles, with their count
+/// (issue 39, item 3): 300 listed spheres of the cavity's liquid numbers under `type = "auto"`
+/// gave 300 `auto` notes and 600 force warnings; now one note and one warning per force term,
+/// naming the first entry and the 299 others.
+#[test]
+fn like_listed_particles_share_their_notes_and_warnings() {
+    let entry = "[[particles.list]]\nsemi_axes = [1.5e-3, 1.5e-3, 1.5e-3]\nposition = [0.0, 0.0, 0.0]\nmaterial = { law = \"rigid\" }\n";
+    let text = format!(
+        "[flow]\ntype = \"shear\"\nrate = 1.0\n[fluid]\nviscosity = 1e-3\ndensity = 1000.0\n[particles]\ndensity = 1000.5\n{}\
+         [integrator]\ntype = \"auto\"\ntol = 1e-6\ndt = 1e-7\n[end]\nt_end = 1e-3\n",
+        entry.repeat(300)
+    );
+    let s = parse_named("many.toml", &text).unwrap();
+    let log = s.integrator_log();
+    assert_eq!(log.len(), 1, "{} lines, the first {:?}", log.len(), log.first());
+    assert!(
+        log[0].starts_with("particles.list[0] and 299 other entries: integrator auto: rigid inertialess shape"),
+        "{log:?}"
+    );
+    let advice = s.force_advice();
+    assert_eq!(
+        advice.len(),
+        2,
+        "{} lines, the first {:?}",
+        advice.len(),
+        advice.first()
+    );
+    assert!(
+        advice[0].starts_with("particles.list[0] and 299 other entries: the scene leaves out `undisturbed_flow`"),
+        "{advice:?}"
+    );
 }
 
 /// A law written in the scene file runs like the built-in law it writes: `yeoh_oblate.toml`

@@ -441,6 +441,27 @@ fn toml_errors_name_the_dotted_key_path() {
             "boundary.walls[0].rule",
             "duplicate key",
         ),
+        // Issue 39, item 7: misspelled and missing keys.
+        (
+            "viscosity = 1.0\ndensity = 1.0\ngravity = [0.0, -1.0, 0.0]",
+            "viscosty = 1.0\ndensity = 1.0\ngravity = [0.0, -1.0, 0.0]",
+            "fluid.viscosty",
+            "unknown field",
+        ),
+        ("t_end = 1.0", "t_ed = 1.0", "end.t_ed", "unknown field"),
+        ("t_end = 1.0\n", "", "end.t_end", "missing field"),
+        (
+            "angle = 0.3",
+            "angel = 0.3",
+            "particles.list[0].orientation.angel",
+            "unknown field",
+        ),
+        (
+            "angle = 0.3",
+            "",
+            "particles.list[0].orientation.angle",
+            "missing field",
+        ),
     ] {
         let base = if LISTED.contains(from) { LISTED } else { INJECTED };
         assert!(base.contains(from), "{from}");
