@@ -17,6 +17,7 @@ pub mod event;
 pub mod mesh;
 pub mod pipe;
 pub mod planes;
+pub mod torus;
 
 pub use composite::Composite;
 pub use event::{ContactEvent, ContactModel};
@@ -24,6 +25,7 @@ pub use event::{ContactEvent, ContactModel};
 pub use mesh::{FaceGap, MeshBoundary, PatchGap};
 pub use pipe::PipeWall;
 pub use planes::{Plane, Planes};
+pub use torus::TorusWall;
 
 use crate::ellipsoid::PrincipalFrame;
 use crate::tensor::Vec3;

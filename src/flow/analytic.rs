@@ -188,3 +188,42 @@ impl FlowField for Poiseuille {
         Some(8.0 * self.mean_velocity.abs() / (3.0 * self.radius))
     }
 }
+
+/// Plug flow around a bend: u = U e_φ at every point, e_φ = (−sin φ, cos φ, 0) the azimuthal
+/// direction about the x₃ axis, the flow of a torus-shaped bend with a flat profile and no
+/// secondary flow (Yeh 1974's idealisation). With ρ = √(x₁² + x₂²),
+/// ```math
+/// u = \frac{U}{\rho}(−x_2, x_1, 0),\qquad
+/// \nabla u = \frac{U}{\rho^3}\begin{pmatrix} x_1 x_2 & −x_1^2 & 0\\ x_2^2 & −x_1 x_2 & 0\\ 0 & 0 & 0\end{pmatrix},
+/// ```
+/// divergence-free, with the centripetal acceleration (u·∇)u = −(U²/ρ) e_ρ. Defined off the
+/// x₃ axis (ρ > 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BendPlug {
+    /// Speed U.
+    pub speed: f64,
+}
+
+impl FlowField for BendPlug {
+    fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+        check_query(x, t)?;
+        let rho = x[0].hypot(x[1]);
+        if !(rho > 0.0) {
+            return Err(FlowError::outside(x));
+        }
+        let u = Vec3::new(-x[1], x[0], 0.0) * (self.speed / rho);
+        let c = self.speed / (rho * rho * rho);
+        let grad_u = Mat3::new(
+            c * x[0] * x[1],
+            -c * x[0] * x[0],
+            0.0,
+            c * x[1] * x[1],
+            -c * x[0] * x[1],
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        );
+        finite_sample(FlowSample::steady(u, grad_u), x, t)
+    }
+}

@@ -38,6 +38,8 @@
 pub mod airway_tree;
 #[cfg(all(feature = "cli", feature = "plot"))]
 pub mod bend;
+#[cfg(feature = "parallel")]
+pub mod bend_plug;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 pub mod bifurcation;
 #[cfg(all(feature = "mesh", feature = "parallel"))]

@@ -4,6 +4,8 @@
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 mod airway_tree;
 mod bend;
+#[cfg(feature = "parallel")]
+mod bend_plug;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
 mod bifurcation;
 #[cfg(all(feature = "mesh", feature = "parallel"))]
