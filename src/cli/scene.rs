@@ -143,7 +143,7 @@ impl Scene {
 
     /// What the integrator does for each list entry and injection group, where that depends
     /// on the particle (`type = "auto"`, [`crate::integrator::choice::Auto`]): one line per
-    /// choice, for the run log ([`grouped`]: entries with the same numbers share a line).
+    /// choice, for the run log (`grouped`: entries with the same numbers share a line).
     pub fn integrator_log(&self) -> Vec<String> {
         grouped(
             self.placements()
@@ -164,7 +164,7 @@ impl Scene {
     /// equilibrium barycentre, first order in St, loses deposits to the O(St²) terms it drops;
     /// the overdamped one drops the O(St) slip as well, so it is further off. A flow without a
     /// time scale (St = ∞: a quiescent fluid) says nothing about it and is not warned about.
-    /// One line per list entry and injection group ([`grouped`]).
+    /// One line per list entry and injection group (`grouped`).
     pub fn integrator_advice(&self) -> Vec<String> {
         use crate::integrator::choice::{EQUILIBRIUM_STOKES, ParticleNumbers};
         if self.integrator.barycentre() != crate::integrator::BarycentreModel::Overdamped {
@@ -198,7 +198,7 @@ impl Scene {
     /// ρ_f/ρ_p, gas slip from d_eq and the mean free path), above 1 %; and the
     /// undisturbed-flow force at ρ_f/ρ_p, its size where gravity and the flow's acceleration
     /// are comparable (ρ_f/(ρ_p − ρ_f) where the acceleration dominates). One line
-    /// per kind and term ([`grouped`]: entries with the same numbers share a line); the run's
+    /// per kind and term (`grouped`: entries with the same numbers share a line); the run's
     /// own numbers (Re, shear, the flow's acceleration) are in the validity monitor of the
     /// library's scenes.
     ///
