@@ -57,7 +57,7 @@
 use super::error::FoamError;
 use super::field::{VolField, read_vol_field};
 use super::mesh::{Patch, PolyMesh};
-use super::parse::{Parser, read_file};
+use super::parse::{Limit, Parser, read_file};
 use crate::tensor::Vec3;
 use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
@@ -158,7 +158,7 @@ fn inconsistent(path: &Path, reason: impl Into<String>) -> FoamError {
 /// A processor's addressing list, entries in `lo..=hi`, one per local item (`count`).
 fn addressing(dir: &Path, name: &str, count: usize, lo: i64, hi: i64) -> Result<Vec<i64>, FoamError> {
     let path = dir.join("constant").join("polyMesh").join(name);
-    let (shown, text) = read_file(&path)?;
+    let (shown, text) = read_file(&path, Limit::entries(count, 1, "addressing labels", 0, ""))?;
     let mut p = Parser::new(&shown, &text);
     p.header()?;
     let labels = p.signed_labels()?;

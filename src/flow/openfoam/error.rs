@@ -27,6 +27,17 @@ pub enum FoamError {
         /// What was expected or found.
         reason: String,
     },
+    /// A gzipped file inflates to more than what it should hold can take (a decompression
+    /// bomb, or a file of the wrong case); inflation stopped at `limit + 1` bytes.
+    #[error("{path} inflates to more than {limit} bytes, the most it can take: {basis}")]
+    Inflated {
+        /// The `.gz` file.
+        path: String,
+        /// Most inflated bytes accepted.
+        limit: u64,
+        /// Where the bound comes from, with its numbers.
+        basis: String,
+    },
     /// A required file is missing (neither plain nor `.gz`).
     #[error("{path} not found (also tried {path}.gz)")]
     Missing {

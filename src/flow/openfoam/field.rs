@@ -10,7 +10,7 @@
 
 use super::error::FoamError;
 use super::mesh::PolyMesh;
-use super::parse::{Dict, Entry, Numbers, Value, dictionary_file, number, read_file};
+use super::parse::{Dict, Entry, HEADER_BYTES, Limit, Numbers, Value, dictionary_file, number, read_file};
 use crate::tensor::Vec3;
 use std::path::Path;
 
@@ -66,7 +66,18 @@ impl VolField {
 
 /// Read the field `name` with `comps` components (1 or 3) from time directory `dir`.
 pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> Result<VolField, FoamError> {
-    let (path, text) = read_file(&dir.join(name))?;
+    // A value per cell and per boundary face at most, and a dictionary per patch (its type,
+    // perhaps a coded condition's source: one HEADER_BYTES each).
+    let n_values = mesh.n_cells() + (mesh.n_faces() - mesh.n_internal_faces());
+    let patches = mesh.patches().len() as u64 * HEADER_BYTES;
+    let limit = Limit::entries(
+        n_values,
+        comps,
+        "values (cells and boundary faces)",
+        patches,
+        "the patches",
+    );
+    let (path, text) = read_file(&dir.join(name), limit)?;
     let (header, dict) = dictionary_file(&path, &text)?;
     let field_err = |reason: String| FoamError::Field {
         path: path.clone(),

@@ -9,7 +9,7 @@
 //! with apex at the average of its face centres (volume-weighted pyramid centroids).
 
 use super::error::FoamError;
-use super::parse::{Parser, Tok, read_file};
+use super::parse::{Limit, Parser, Tok, read_file};
 use crate::tensor::Vec3;
 use std::path::Path;
 
@@ -51,21 +51,7 @@ impl PolyMesh {
     /// Read `constant/polyMesh` of `case` (each file plain or `.gz`, ASCII or binary).
     pub fn read(case: &Path) -> Result<Self, FoamError> {
         let dir = case.join("constant").join("polyMesh");
-        let (path, text) = read_file(&dir.join("points"))?;
-        let mut p = Parser::new(&path, &text);
-        p.header()?;
-        let numbers = p.numbers(3)?;
-        if numbers.data.len() != 3 * numbers.count {
-            return Err(p.error_at(numbers.offset, "uniform point list"));
-        }
-        p.end()?;
-        let points = numbers
-            .data
-            .chunks_exact(3)
-            .map(|c| Vec3::new(c[0], c[1], c[2]))
-            .collect();
-
-        let (path, text) = read_file(&dir.join("faces"))?;
+        let (path, text) = read_file(&dir.join("faces"), Limit::any())?;
         let mut p = Parser::new(&path, &text);
         let header = p.header()?;
         let (face_offsets, face_points) = match header.class.as_str() {
@@ -96,8 +82,30 @@ impl PolyMesh {
         };
         p.end()?;
 
-        let owner = read_labels(&dir.join("owner"))?;
-        let neighbour = read_labels(&dir.join("neighbour"))?;
+        // The faces first: every point of a valid mesh is a vertex of some face (checkMesh
+        // refuses unused points), so there are at most as many points as face vertices, and a
+        // gzipped `points` is inflated no further than they can take.
+        let (path, text) = read_file(
+            &dir.join("points"),
+            Limit::entries(face_points.len(), 3, "points (each a vertex of a face)", 0, ""),
+        )?;
+        let mut p = Parser::new(&path, &text);
+        p.header()?;
+        let numbers = p.numbers(3)?;
+        if numbers.data.len() != 3 * numbers.count {
+            return Err(p.error_at(numbers.offset, "uniform point list"));
+        }
+        p.end()?;
+        let points = numbers
+            .data
+            .chunks_exact(3)
+            .map(|c| Vec3::new(c[0], c[1], c[2]))
+            .collect();
+
+        // One owner per face, at most one neighbour per face.
+        let n_faces = face_offsets.len().saturating_sub(1);
+        let owner = read_labels(&dir.join("owner"), n_faces)?;
+        let neighbour = read_labels(&dir.join("neighbour"), n_faces)?;
         let patches = read_boundary(&dir.join("boundary"))?;
         Self::new(points, face_offsets, face_points, owner, neighbour, patches)
     }
@@ -394,8 +402,9 @@ fn face_geometry(p: &[Vec3]) -> (Vec3, Vec3) {
     (centre, 0.5 * sum_n)
 }
 
-fn read_labels(path: &Path) -> Result<Vec<u32>, FoamError> {
-    let (name, text) = read_file(path)?;
+/// A label list of at most `n_faces` entries (one per face).
+fn read_labels(path: &Path, n_faces: usize) -> Result<Vec<u32>, FoamError> {
+    let (name, text) = read_file(path, Limit::entries(n_faces, 1, "labels (at most one per face)", 0, ""))?;
     let mut p = Parser::new(&name, &text);
     p.header()?;
     let labels = p.labels()?;
@@ -404,7 +413,7 @@ fn read_labels(path: &Path) -> Result<Vec<u32>, FoamError> {
 }
 
 fn read_boundary(path: &Path) -> Result<Vec<Patch>, FoamError> {
-    let (name, text) = read_file(path)?;
+    let (name, text) = read_file(path, Limit::any())?;
     let mut p = Parser::new(&name, &text);
     p.header()?;
     let at = p.offset();

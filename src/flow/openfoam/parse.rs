@@ -11,13 +11,72 @@ use flate2::read::GzDecoder;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-/// Largest decompressed size accepted for one gzipped file (a decompression bomb stops here).
+/// Largest decompressed size accepted for one gzipped file whatever it holds (the cap of
+/// [`Limit::any`]; a file the caller can bound is stopped much earlier, see [`Limit`]).
 pub const MAX_INFLATED_BYTES: u64 = 1 << 33;
 /// Deepest nesting of parentheses and dictionaries accepted in generic values.
 const MAX_DEPTH: usize = 64;
+/// Bytes allowed for everything in a file that is not a counted entry: the banner comment,
+/// the `FoamFile` header (under 1 KiB as OpenFOAM writes them), the keys around the lists.
+/// The header must also fit in this many inflated bytes, so a gzip of zeros or garbage is
+/// refused after inflating this much.
+pub const HEADER_BYTES: u64 = 1 << 16;
+/// Most bytes one number takes in ASCII: OpenFOAM writes at most 17 significant digits,
+/// `-1.2345678901234567e-308` is 24 bytes and a label at most 20 (`-9223372036854775808`);
+/// 32 leaves room for a separator and for writers that indent.
+const NUMBER_BYTES: u64 = 32;
+/// Bytes an entry takes beyond its numbers: `(`, `)`, a count prefix such as `4` of a face,
+/// a newline.
+const ENTRY_BYTES: u64 = 8;
+
+/// The most a gzipped file may inflate to, with the reason (for the error). Binary lists take
+/// 4 or 8 bytes a number, fewer than ASCII: an ASCII bound holds for both.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Limit {
+    /// Most inflated bytes accepted.
+    pub bytes: u64,
+    /// Where the bound comes from, with its numbers.
+    pub basis: String,
+}
+
+impl Limit {
+    /// No count known: only [`MAX_INFLATED_BYTES`].
+    pub fn any() -> Self {
+        Self {
+            bytes: MAX_INFLATED_BYTES,
+            basis: "the cap for a file of unknown size".into(),
+        }
+    }
+
+    /// At most `count` entries of `comps` numbers each (`what` names them), in ASCII: each
+    /// entry at most `comps * NUMBER_BYTES + ENTRY_BYTES` bytes, plus [`HEADER_BYTES`] and
+    /// `extra` bytes (`extra_why` says for what). Capped at [`MAX_INFLATED_BYTES`].
+    pub fn entries(count: usize, comps: usize, what: &str, extra: u64, extra_why: &str) -> Self {
+        let per = comps as u64 * NUMBER_BYTES + ENTRY_BYTES;
+        let bytes = (count as u64)
+            .saturating_mul(per)
+            .saturating_add(HEADER_BYTES)
+            .saturating_add(extra)
+            .min(MAX_INFLATED_BYTES);
+        let extra = if extra > 0 {
+            format!(", {extra} for {extra_why}")
+        } else {
+            String::new()
+        };
+        Self {
+            bytes,
+            basis: format!("{count} {what} at {per} bytes each in ASCII, {HEADER_BYTES} for the header{extra}"),
+        }
+    }
+}
 
 /// Read `path`, or `path.gz` inflated, into memory. Returns the name used in messages.
-pub(crate) fn read_file(path: &Path) -> Result<(String, Vec<u8>), FoamError> {
+///
+/// A gzipped file is inflated only as far as it can be legitimate: its header must parse within
+/// the first [`HEADER_BYTES`] and the whole within `limit.bytes` (what the entries the caller
+/// expects can take), so a small gzip of zeros or of a huge list stops after at most
+/// `limit.bytes + 1` inflated bytes, not [`MAX_INFLATED_BYTES`].
+pub(crate) fn read_file(path: &Path, limit: Limit) -> Result<(String, Vec<u8>), FoamError> {
     let io = |p: &Path, source| FoamError::Io {
         path: p.display().to_string(),
         source,
@@ -34,21 +93,27 @@ pub(crate) fn read_file(path: &Path) -> Result<(String, Vec<u8>), FoamError> {
             path: path.display().to_string(),
         });
     }
+    let shown = gz.display().to_string();
     let file = std::fs::File::open(&gz).map_err(|e| io(&gz, e))?;
+    let mut inflate = GzDecoder::new(file);
     let mut bytes = Vec::new();
-    let read = GzDecoder::new(file)
-        .take(MAX_INFLATED_BYTES + 1)
+    (&mut inflate)
+        .take(HEADER_BYTES)
         .read_to_end(&mut bytes)
         .map_err(|e| io(&gz, e))?;
-    if read as u64 > MAX_INFLATED_BYTES {
-        return Err(FoamError::Malformed {
-            path: gz.display().to_string(),
-            line: 0,
-            offset: MAX_INFLATED_BYTES as usize,
-            reason: format!("inflates to more than {MAX_INFLATED_BYTES} bytes"),
+    Parser::new(&shown, &bytes).header()?;
+    inflate
+        .take((limit.bytes + 1).saturating_sub(bytes.len() as u64))
+        .read_to_end(&mut bytes)
+        .map_err(|e| io(&gz, e))?;
+    if bytes.len() as u64 > limit.bytes {
+        return Err(FoamError::Inflated {
+            path: shown,
+            limit: limit.bytes,
+            basis: limit.basis,
         });
     }
-    Ok((gz.display().to_string(), bytes))
+    Ok((shown, bytes))
 }
 
 /// One lexical token. Numbers are words (they are told apart where a number is expected).

@@ -445,3 +445,109 @@ fn transient_shards_merge_to_the_whole_run_through_the_command() {
         );
     }
 }
+
+/// Chunks of a checkpoint folder (none if it does not exist yet).
+fn chunks(dir: &Path) -> usize {
+    std::fs::read_dir(dir).map_or(0, |d| {
+        d.filter_map(Result::ok)
+            .filter(|e| e.file_name().to_string_lossy().starts_with("chunk-"))
+            .count()
+    })
+}
+
+/// The command on a transient scene killed (SIGKILL) after its first window-end checkpoint
+/// and resumed writes the files of an uninterrupted run, byte for byte (issue 38, item 9): the
+/// batch runner's checkpoints ([`run_batch`]) survive a kill as the particle-major runner's do
+/// (`cli::run`). 4000 rigid spheres injected on a disc across the cube in the field of
+/// [`a_stopped_transient_run_resumes_to_the_same_records`] at half its speed: those near the
+/// outlet leave in the first window (the first chunk), 274 near the inlet are still in flight
+/// at t = 2, and the whole run takes about a second on one thread (3726 escape over the 8
+/// windows), so a kill polled for every 5 ms lands mid-run.
+#[test]
+fn a_killed_transient_run_resumes_to_the_same_files() {
+    let times = [0.0, 0.5, 1.0, 1.5, 2.0];
+    let case = transient_case("cli_transient_kill_case", &times, |x, t| {
+        Vec3::new(0.1 + 0.1 * t, 0.0, 0.0) + shape(x) * 0.25
+    });
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_transient_kill");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut text =
+        scene_text(&case, "time = [0, 0.5, 1, 1.5, 2]\nwindow = 0.25", 2.0).replace("vtk = false", "vtk = true");
+    let list = text.find("[[particles.list]]").unwrap()..text.find("[integrator]").unwrap();
+    text.replace_range(
+        list,
+        &format!(
+            "[particles.inject]\ncount = 4000\nsemi_axes = [{RADIUS}, {RADIUS}, {RADIUS}]\nregion = {{ type = \"disc\", centre = [0.5, 0.5, 0.5], normal = [0.0, 1.0, 0.0], radius = 0.45 }}\nmaterial = {{ law = \"rigid\" }}\n"
+        ),
+    );
+    std::fs::write(dir.join("scene.toml"), text).unwrap();
+    let bin = env!("CARGO_BIN_EXE_pseudorigid");
+    let command = |args: &[&str]| {
+        let out = std::process::Command::new(bin)
+            .current_dir(&dir)
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    let files = |out: &str| -> Vec<(&str, Vec<u8>)> {
+        [
+            "records.parquet",
+            "frames.parquet",
+            "particles.pvd",
+            "vtk/trajectories.vtp",
+        ]
+        .into_iter()
+        .map(|f| (f, std::fs::read(dir.join(out).join(f)).unwrap()))
+        .collect()
+    };
+    command(&["run", "scene.toml", "--out", "whole", "--quiet", "--threads", "1"]);
+
+    let mut child = std::process::Command::new(bin)
+        .current_dir(&dir)
+        .args(["run", "scene.toml", "--out", "killed", "--quiet", "--threads", "1"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let checkpoint = dir.join("killed").join("checkpoint-0000-of-0001");
+    let started = std::time::Instant::now();
+    // Bounded wait: the first chunk is due at the first window end, t = 0.25 of 2.
+    while chunks(&checkpoint) == 0 {
+        assert!(
+            started.elapsed() < std::time::Duration::from_secs(120),
+            "no checkpoint after 120 s"
+        );
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before its first checkpoint"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    // `Child::kill` is SIGKILL on Unix: no handler runs, the process dies where it is.
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        !dir.join("killed").join("records.parquet").exists(),
+        "the run finished before it was killed"
+    );
+    let kept = chunks(&checkpoint);
+
+    command(&[
+        "run",
+        "scene.toml",
+        "--out",
+        "killed",
+        "--quiet",
+        "--threads",
+        "1",
+        "--resume",
+    ]);
+    assert!(chunks(&checkpoint) > kept, "the resumed run wrote no chunk");
+    assert!(files("killed") == files("whole"), "the resumed run's files differ");
+}

@@ -332,6 +332,66 @@ fn inconsistent_meshes_and_fields_are_refused() {
     );
 }
 
+/// `n` bytes of `(0 0 0)` lines after an ASCII header of class `class` declaring a list of a
+/// billion entries, gzipped at `path`: 16 MiB inflate from ~16 KiB.
+fn gzip_bomb(path: &std::path::Path, class: &str, list_head: &str, n: usize) {
+    use std::io::Write;
+    let file = std::fs::File::create(path).unwrap();
+    let mut enc = flate2::write::GzEncoder::new(file, flate2::Compression::default());
+    let head = format!(
+        "FoamFile\n{{\n    version 2.0;\n    format ascii;\n    class {class};\n}}\n{list_head}1000000000\n(\n"
+    );
+    enc.write_all(head.as_bytes()).unwrap();
+    let line = b"(0 0 0)\n";
+    enc.write_all(&line.repeat(n / line.len())).unwrap();
+    enc.finish().unwrap();
+}
+
+/// A small gzip that inflates hugely is refused once it passes what the mesh lets the file
+/// hold, naming the file and the bound: `points.gz` at the faces' 144 vertices × 104 bytes +
+/// 65536 = 80512 bytes (the old reader inflated all 16 MiB, and would go on to 8 GiB, before
+/// the parser refused the count: a `Malformed` error), `0/U.gz` at (8 cells + 24 boundary
+/// faces) × 104 + 65536 + 3 patches × 65536 = 265472 bytes. The bounds are exact numbers of
+/// the reader's rule, so they are compared exactly.
+#[test]
+fn a_gzip_bomb_is_refused_at_what_the_mesh_can_hold() {
+    let raw = cube(Shape::Hex, 2);
+    let u = sampled(&raw.mesh(), |x| *x);
+    let mesh = raw.mesh();
+    let boundary_faces = mesh.n_faces() - mesh.n_internal_faces();
+    let per = 3 * 32 + 8;
+    let inflated = |err: &FoamError| match err {
+        FoamError::Inflated { path, limit, basis } => (path.clone(), *limit, basis.clone()),
+        other => panic!("expected an inflation refusal, got {other:?}"),
+    };
+
+    let dir = scratch("gzip-bomb-points");
+    write_case(&dir, &raw, &u, "0", Format::BinaryGz);
+    gzip_bomb(&dir.join("constant/polyMesh/points.gz"), "vectorField", "", 16 << 20);
+    let err = FoamCase::open(&dir).unwrap_err();
+    let (path, limit, basis) = inflated(&err);
+    assert!(path.ends_with("points.gz"), "{err}");
+    assert_eq!(limit as usize, raw.flat.len() * per + 65536, "{err}");
+    assert_eq!(limit, 80512, "{err}");
+    assert!(basis.contains(&format!("{} points", raw.flat.len())), "{err}");
+    assert!(err.to_string().contains(&limit.to_string()), "{err}");
+
+    let dir = scratch("gzip-bomb-field");
+    write_case(&dir, &raw, &u, "0", Format::BinaryGz);
+    gzip_bomb(
+        &dir.join("0/U.gz"),
+        "volVectorField",
+        "dimensions [0 1 -1 0 0 0 0];\ninternalField nonuniform List<vector> ",
+        16 << 20,
+    );
+    let err = FoamCase::open(&dir).unwrap().read_field(0.0, "U", 3).unwrap_err();
+    let (path, limit, _) = inflated(&err);
+    assert!(path.ends_with("U.gz"), "{err}");
+    let expected = (mesh.n_cells() + boundary_faces) * per + 65536 * (1 + mesh.patches().len());
+    assert_eq!(limit as usize, expected, "{err}");
+    assert_eq!(limit, 265472, "{err}");
+}
+
 #[test]
 fn decomposed_case_asks_for_reconstruct_par() {
     let dir = scratch("decomposed");
