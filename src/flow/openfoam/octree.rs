@@ -583,10 +583,11 @@ impl Builder<'_> {
                 let Some(leaf) = self.leaf_at(q) else { continue };
                 match self.tree[leaf.entry] & TAG {
                     WALL => d[CHI] = 1.0,
-                    TABLE if (0..8).all(|k| Self::corner(&leaf, k) != *p) => {
-                        if host.is_none_or(|h| leaf.level < h.level) {
-                            host = Some(leaf);
-                        }
+                    TABLE
+                        if (0..8).all(|k| Self::corner(&leaf, k) != *p)
+                            && host.is_none_or(|h| leaf.level < h.level) =>
+                    {
+                        host = Some(leaf);
                     }
                     _ => {}
                 }

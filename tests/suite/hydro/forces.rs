@@ -379,7 +379,15 @@ fn schiller_naumann_terminal_velocity() {
         .with_gravity(Vec3::new(0.0, 0.0, -g))
         .unwrap();
     let integ = Stokesian::overdamped(1e-12).unwrap();
-    let (end, _) = advance(&integ, &overdamped, State::at_rest(Vec3::zeros()), &Quiescent, 1e-3, 1e-2).unwrap();
+    let (end, _) = advance(
+        &integ,
+        &overdamped,
+        State::at_rest(Vec3::zeros()),
+        &Quiescent,
+        1e-3,
+        1e-2,
+    )
+    .unwrap();
     assert!(
         (-end.v[2] / exact - 1.0).abs() < 1e-8,
         "overdamped: {} vs {exact}",
