@@ -349,6 +349,25 @@ fn cunningham_settling_velocity() {
     assert!((v / (c_c * v_stokes) - 1.0).abs() < 1e-8, "{v} vs {}", c_c * v_stokes);
 }
 
+/// Newton's regime, where Schiller–Naumann's factor is c = 0.44 Re_p/24 (drag ∝ slip²): a
+/// 5 mm steel sphere (ρ_p = 7800 kg/m³) in water settles overdamped at
+/// v = √(4 g d Δρ/(3 · 0.44 ρ_f)) = 1.005 m/s (Re_p = 5 027, inside the branch). The plain slip
+/// iteration has slope −1 there and cycled until `SlipNotConverged`; the relaxed one must
+/// reach the closed form. 10⁻¹⁰ relative: the iteration stops at a few ulps of the slip, and the
+/// overdamped velocity is the fixed point itself (no time error in a steady fall).
+#[test]
+fn overdamped_settling_in_newtons_regime_reaches_the_closed_form() {
+    let (d, rho_p, rho_f, g): (f64, f64, f64, f64) = (5e-3, 7800.0, 1000.0, 9.81);
+    let exact = (4.0 * g * d * (rho_p - rho_f) / (3.0 * 0.44 * rho_f)).sqrt();
+    assert!(rho_f * exact * d / 1e-3 > 1000.0, "the case must be in Newton's regime");
+    let p = sphere_in_water(rho_p, d, vec![Arc::new(SchillerNaumann)])
+        .with_gravity(Vec3::new(0.0, 0.0, -g))
+        .unwrap();
+    let integ = Stokesian::overdamped(1e-12).unwrap();
+    let (end, _) = advance(&integ, &p, State::at_rest(Vec3::zeros()), &Quiescent, 1e-4, 1e-3).unwrap();
+    assert!((-end.v[2] / exact - 1.0).abs() < 1e-10, "{} vs {exact}", -end.v[2]);
+}
+
 /// Schiller–Naumann: a 300 µm glass sphere (ρ 2500) in water reaches the v at which
 /// 3πμdv(1 + 0.15 Re^0.687) = (m − m_f)g, Re = ρ_f v d/μ (solved here by bisection, an
 /// independent route); Stokes' law would give 0.074 m/s at Re = 22, the correlation 0.040.
