@@ -1,11 +1,10 @@
 //! The command as a user runs it: a run killed after its first checkpoint and resumed, and a
 //! run split into two shards and merged, both give bitwise the files of an uninterrupted run.
 
+use super::command::{BIN, chunks, ok, pseudorigid, results};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-const BIN: &str = env!("CARGO_BIN_EXE_pseudorigid");
 
 /// 400 oblate particles injected on a disc in shear with random orientations, each run for
 /// 5 time units: a few seconds on one thread, so a kill lands mid-run.
@@ -41,36 +40,6 @@ fn workdir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("scene.toml"), SCENE).unwrap();
     dir
-}
-
-fn pseudorigid(dir: &Path, args: &[&str]) -> std::process::Output {
-    Command::new(BIN).current_dir(dir).args(args).output().unwrap()
-}
-
-fn ok(out: std::process::Output) -> String {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8(out.stdout).unwrap()
-}
-
-/// The files a finished run writes, by name.
-fn results(out: &Path) -> Vec<(String, Vec<u8>)> {
-    [
-        "records.parquet",
-        "frames.parquet",
-        "particles.pvd",
-        "vtk/trajectories.vtp",
-    ]
-    .iter()
-    .map(|f| (f.to_string(), std::fs::read(out.join(f)).unwrap()))
-    .collect()
-}
-
-fn chunks(dir: &Path) -> usize {
-    std::fs::read_dir(dir).map_or(0, |d| {
-        d.filter_map(Result::ok)
-            .filter(|e| e.file_name().to_string_lossy().starts_with("chunk-"))
-            .count()
-    })
 }
 
 #[test]

@@ -367,21 +367,7 @@ fn models_by_name_are_refused_at_their_keys() {
     ] {
         assert!(LISTED.contains(from), "{from}");
         let text = LISTED.replacen(from, to, 1);
-        match parse(
-            &Source {
-                file: "named.toml",
-                text: &text,
-            },
-            Path::new("."),
-        ) {
-            Err(CliError::Scene {
-                key: named, message, ..
-            }) => {
-                assert_eq!(named, key, "{to}: {message}");
-                assert!(message.contains(says), "{to}: {message}");
-            }
-            other => panic!("{to}: {:?}", other.map(|s| s.count())),
-        }
+        refused_at(&text, key, says, to);
     }
     // The earlier spelling `imex_paper` (the scheme's dataset name) and a drag table are read.
     for (from, to) in [
@@ -466,20 +452,26 @@ fn toml_errors_name_the_dotted_key_path() {
         let base = if LISTED.contains(from) { LISTED } else { INJECTED };
         assert!(base.contains(from), "{from}");
         let text = base.replacen(from, to, 1);
-        match parse(
-            &Source {
-                file: "dup.toml",
-                text: &text,
-            },
-            Path::new("."),
-        ) {
-            Err(CliError::Scene {
-                key: named, message, ..
-            }) => {
-                assert_eq!(named, key, "{to}: {message}");
-                assert!(message.contains(says), "{to}: {message}");
-            }
-            other => panic!("{to}: {:?}", other.map(|s| s.count())),
+        refused_at(&text, key, says, to);
+    }
+}
+
+/// `text` must be refused as a scene error at `key` whose message contains `says` (`edit` names
+/// the edit that made it, for the failure message).
+fn refused_at(text: &str, key: &str, says: &str, edit: &str) {
+    match parse(
+        &Source {
+            file: "edited.toml",
+            text,
+        },
+        Path::new("."),
+    ) {
+        Err(CliError::Scene {
+            key: named, message, ..
+        }) => {
+            assert_eq!(named, key, "{edit}: {message}");
+            assert!(message.contains(says), "{edit}: {message}");
         }
+        other => panic!("{edit}: {:?}", other.map(|s| s.count())),
     }
 }

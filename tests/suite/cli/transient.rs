@@ -4,6 +4,7 @@
 //! path through a uniform field whose magnitude is linear in time, a stopped run resumed to
 //! the same records, and the typed errors of bad `time`, `precision` and `window` keys.
 
+use super::command::{chunks, ok, pseudorigid, results};
 use super::{parse_named, run};
 use crate::common::build::{Shape, cube, write_levels};
 use pseudorigid::cli::CliError;
@@ -409,19 +410,7 @@ fn transient_shards_merge_to_the_whole_run_through_the_command() {
     std::fs::create_dir_all(&dir).unwrap();
     let text = scene_text(&case, "time = { start = 0, end = 1 }", 1.0).replace("vtk = false", "vtk = true");
     std::fs::write(dir.join("scene.toml"), text).unwrap();
-    let command = |args: &[&str]| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_pseudorigid"))
-            .current_dir(&dir)
-            .args(args)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8(out.stdout).unwrap()
-    };
+    let command = |args: &[&str]| ok(pseudorigid(&dir, args));
     let log = command(&["validate", "scene.toml"]);
     assert!(
         log.contains("transient field, 5 levels from t = 0 to 1; 4 windows of 0.250000"),
@@ -432,27 +421,9 @@ fn transient_shards_merge_to_the_whole_run_through_the_command() {
         command(&["run", "scene.toml", "--out", "shards", "--quiet", "--shard", shard]);
     }
     command(&["merge", "scene.toml", "--out", "shards"]);
-    for file in [
-        "records.parquet",
-        "frames.parquet",
-        "particles.pvd",
-        "vtk/trajectories.vtp",
-    ] {
-        assert!(
-            std::fs::read(dir.join("whole").join(file)).unwrap()
-                == std::fs::read(dir.join("shards").join(file)).unwrap(),
-            "{file}"
-        );
+    for ((file, whole), (_, shards)) in results(&dir.join("whole")).iter().zip(&results(&dir.join("shards"))) {
+        assert!(whole == shards, "{file}");
     }
-}
-
-/// Chunks of a checkpoint folder (none if it does not exist yet).
-fn chunks(dir: &Path) -> usize {
-    std::fs::read_dir(dir).map_or(0, |d| {
-        d.filter_map(Result::ok)
-            .filter(|e| e.file_name().to_string_lossy().starts_with("chunk-"))
-            .count()
-    })
 }
 
 /// The command on a transient scene killed (SIGKILL) after its first window-end checkpoint
@@ -482,33 +453,10 @@ fn a_killed_transient_run_resumes_to_the_same_files() {
         ),
     );
     std::fs::write(dir.join("scene.toml"), text).unwrap();
-    let bin = env!("CARGO_BIN_EXE_pseudorigid");
-    let command = |args: &[&str]| {
-        let out = std::process::Command::new(bin)
-            .current_dir(&dir)
-            .args(args)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-    };
-    let files = |out: &str| -> Vec<(&str, Vec<u8>)> {
-        [
-            "records.parquet",
-            "frames.parquet",
-            "particles.pvd",
-            "vtk/trajectories.vtp",
-        ]
-        .into_iter()
-        .map(|f| (f, std::fs::read(dir.join(out).join(f)).unwrap()))
-        .collect()
-    };
+    let command = |args: &[&str]| ok(pseudorigid(&dir, args));
     command(&["run", "scene.toml", "--out", "whole", "--quiet", "--threads", "1"]);
 
-    let mut child = std::process::Command::new(bin)
+    let mut child = std::process::Command::new(super::command::BIN)
         .current_dir(&dir)
         .args(["run", "scene.toml", "--out", "killed", "--quiet", "--threads", "1"])
         .stdout(std::process::Stdio::null())
@@ -549,5 +497,8 @@ fn a_killed_transient_run_resumes_to_the_same_files() {
         "--resume",
     ]);
     assert!(chunks(&checkpoint) > kept, "the resumed run wrote no chunk");
-    assert!(files("killed") == files("whole"), "the resumed run's files differ");
+    assert!(
+        results(&dir.join("killed")) == results(&dir.join("whole")),
+        "the resumed run's files differ"
+    );
 }

@@ -181,6 +181,14 @@ fn fluid_inertia() -> Vec<Arc<dyn ForceTerm>> {
     vec![Arc::new(AddedMass), Arc::new(UndisturbedFlow)]
 }
 
+/// Solid-body rotation at Ω about e₃: u = Ω e₃ × x.
+fn solid_body_rotation(omega: f64) -> LinearFlow {
+    let mut l = Mat3::zeros();
+    l[(0, 1)] = -omega;
+    l[(1, 0)] = omega;
+    LinearFlow::new(Vec3::zeros(), l).unwrap()
+}
+
 /// Solid-body rotation u = Ω e_z × x, Ω = 10 s⁻¹, a neutrally buoyant 100 µm sphere in water
 /// (τ = ρ d²/(18μ) = 5.6·10⁻⁴ s). With both fluid-inertia terms v = u is an exact solution
 /// (module docs: (m + ½m_f) v̇ = 3πμd(u − v) + (m_f + ½m_f) Du/Dt with m = m_f), and deviations
@@ -191,10 +199,7 @@ fn fluid_inertia() -> Vec<Arc<dyn ForceTerm>> {
 #[test]
 fn neutrally_buoyant_sphere_in_solid_body_rotation() {
     let omega = 10.0;
-    let mut l = Mat3::zeros();
-    l[(0, 1)] = -omega;
-    l[(1, 0)] = omega;
-    let flow = LinearFlow::new(Vec3::zeros(), l).unwrap();
+    let flow = solid_body_rotation(omega);
     let x0 = Vec3::new(1e-2, 0.0, 0.0);
     let t_end = 10.0;
     let with = sphere_in_water(1000.0, 1e-4, fluid_inertia());
@@ -230,10 +235,7 @@ fn neutrally_buoyant_sphere_in_solid_body_rotation() {
 #[test]
 fn overdamped_barycentre_refuses_the_fluid_inertia_terms() {
     let omega = 10.0;
-    let mut l = Mat3::zeros();
-    l[(0, 1)] = -omega;
-    l[(1, 0)] = omega;
-    let flow = LinearFlow::new(Vec3::zeros(), l).unwrap();
+    let flow = solid_body_rotation(omega);
     let x0 = Vec3::new(1e-2, 0.0, 0.0);
     let integ = Stokesian::overdamped(1e-10).unwrap();
     let start = State {
