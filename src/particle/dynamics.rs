@@ -131,7 +131,7 @@ impl Forcing {
 /// exactly above it (Newton's regime, C_D = 0.44), e → 1 for Hölzer–Sommerfeld at large Re. The
 /// plain iteration v ← G(v) contracts by |λ|, so at e = 1 it cycles between two slips. Each
 /// step is therefore relaxed, v ← v + ω(G(v) − v), with ω = 1/(1 − λ) from the slope measured on
-/// the last step (a secant estimate, clamped to λ ∈ [[`MIN_SLIP_SLOPE`], 0]): for a map linear
+/// the last step (a secant estimate, clamped to λ ∈ [−9, 0]): for a map linear
 /// along the slip this removes the error in one step, ω = 1 in the Stokes regime (λ = 0: the
 /// plain iteration), ½ in Newton's. 200 steps leave the cap far from any converging case; a
 /// lift whose rotation of the slip defeats the estimate is outside its model (Saffman's lift

@@ -11,8 +11,9 @@ use flate2::read::GzDecoder;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-/// Largest decompressed size accepted for one gzipped file whatever it holds (the cap of
-/// [`Limit::any`]; a file the caller can bound is stopped much earlier, see [`Limit`]).
+/// Largest decompressed size accepted for one gzipped file whatever it holds (the cap for a
+/// file of unknown content; a file whose size the reader can bound from its declared counts is
+/// stopped much earlier).
 pub const MAX_INFLATED_BYTES: u64 = 1 << 33;
 /// Deepest nesting of parentheses and dictionaries accepted in generic values.
 const MAX_DEPTH: usize = 64;
