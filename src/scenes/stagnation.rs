@@ -202,6 +202,31 @@ pub fn velocity_errors(flow: &dyn FlowField, points: &[Vec3]) -> Result<(f64, f6
     })
 }
 
+/// The exact field's largest |u| and |∇u| (max norms) in the box, over a 101 × 101 grid of x
+/// and y (the field does not depend on z): a = 1 and ℓ = 0.1 put them at x = ±0.5, at the top
+/// (|u| = a x f′ = 0.49985) and on the wall (|∂u/∂y| = a x f″(0)/ℓ = 6.163).
+pub fn exact_maxima() -> Result<(f64, f64), FlowError> {
+    let exact = hiemenz();
+    let mut maxima = (0.0f64, 0.0f64);
+    for i in 0..=100 {
+        for j in 0..=100 {
+            let x = Vec3::new(-0.5 + i as f64 / 100.0, 0.4 * j as f64 / 100.0, 0.125);
+            let s = exact.sample(&x, 0.0)?;
+            maxima = (maxima.0.max(s.u.amax()), maxima.1.max(s.grad_u.amax()));
+        }
+    }
+    Ok(maxima)
+}
+
+/// Largest |u − u_exact| and |∇u − ∇u_exact| at half the first cell's height over the middle
+/// of the wall, each relative to the exact field's maximum ([`exact_maxima`]): the measures of
+/// `paper-figures/near-wall/gradient_order.csv`.
+pub fn half_cell_errors(flow: &dyn FlowField, first_cell: f64) -> Result<(f64, f64), FlowError> {
+    let (u, grad) = velocity_errors(flow, &over_the_wall(0.5 * first_cell))?;
+    let (u_max, grad_max) = exact_maxima()?;
+    Ok((u / u_max, grad / grad_max))
+}
+
 /// The measures of one mesh of a refinement study.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WallLayerRow {
@@ -223,6 +248,11 @@ pub struct WallLayerRow {
     pub velocity_error: f64,
     /// Largest |∇u| error there.
     pub gradient_error: f64,
+    /// Largest |u| error at half the first cell's height over the wall, relative to the exact
+    /// field's largest |u| ([`half_cell_errors`]).
+    pub half_cell_velocity_error: f64,
+    /// The same of |∇u|, relative to the exact field's largest |∇u|.
+    pub half_cell_gradient_error: f64,
 }
 
 impl WallLayerRow {
@@ -235,6 +265,7 @@ impl WallLayerRow {
             cellwise_normal_error[i] = normal_velocity_error(&flow.cellwise, s * first)?;
         }
         let (velocity_error, gradient_error) = velocity_errors(&flow.blended, &wall_layer_points(first))?;
+        let (half_cell_velocity_error, half_cell_gradient_error) = half_cell_errors(&flow.blended, first)?;
         Ok(Self {
             layers,
             level,
@@ -245,6 +276,8 @@ impl WallLayerRow {
             coefficient_ratio: coefficient_ratio(&flow.blended, first / 100.0)?,
             velocity_error,
             gradient_error,
+            half_cell_velocity_error,
+            half_cell_gradient_error,
         })
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! # Storage and its error
 //! A level costs 12 numbers per cell (u and ∇u: 96 bytes in f64, 48 in f32; a 5 M-cell airway
-//! is 0.48 GB or 0.24 GB a level) and 20 per no-slip wall face (the [`WallFit`], always f64:
+//! is 0.48 GB or 0.24 GB a level) and 30 per no-slip wall face (the [`WallFit`], always f64:
 //! the walls hold $O(N^{2/3})$ of the N cells' data). In f32 each stored component carries a
 //! relative rounding error of at most $u_r = 2^{-24} \approx 6.0 \cdot 10^{-8}$, so a cell's
 //! sample $u_c + G_c (x − x_c)$ is within

@@ -1,58 +1,84 @@
-//! The flow next to a no-slip wall to second order, with the wall-normal velocity that
-//! continuity demands: the wall fits of [`super::BlendedFlow`].
+//! The flow next to a wall to second order, with the wall's own velocity and the wall-normal
+//! velocity that continuity demands: the wall fits of [`super::BlendedFlow`].
 //!
 //! # The near-wall expansion
-//! Take a wall at rest or moving rigidly in its own plane (velocity $u_w$, tangential derivatives
-//! zero), inward unit normal n, distance δ = n·(x − x_f) from the face's plane and tangential
-//! position s. No-slip makes every tangential derivative of u vanish on the wall, so
+//! Take a flat wall with inward unit normal n, distance δ = n·(x − x_f) from the face's plane
+//! and tangential offset r, moving with a velocity $u_w(r)$ that may vary along it (a rotating
+//! or sliding wall, a transpiring or deforming one, an imposed verification field): its surface
+//! gradient is $W = ∇_s u_w$ ($W n = 0$). The field's tangential derivatives on the wall are
+//! the wall's, so
 //! ```math
-//! u_t(s, δ) = δ\,γ(s) + O(δ^2), \qquad γ = \partial u_t/\partial n\big|_{δ=0},
+//! u(r, δ) = u_w(r) + δ\,\big(γ(r) + a\,n\big) + O(δ^2), \qquad γ = (I − nn^T)\,\partial u/\partial n\big|_{δ=0},
 //! ```
-//! γ the wall shear rate (a tangential vector). Continuity, ∂u_n/∂n = −∇ₛ·u_t, integrated from
-//! the wall where u_n = 0 gives
+//! γ the wall shear rate (a tangential vector). Continuity, ∂u_n/∂n = −∇ₛ·u_t, fixes the
+//! normal terms order by order: on the wall $a = −∇_s·u_w = −\operatorname{tr} W$, and one order
+//! up
 //! ```math
-//! u_n(s, δ) = −\tfrac12\,δ^2\,∇_s·γ + O(δ^3).
+//! u_n − u_{w,n} = a\,δ − \tfrac12\,δ^2\,∇_s·γ + O(δ^3).
 //! ```
-//! On a wall of curvature κ the metric factors change both by a relative O(κδ), so the leading
-//! coefficient stands. This δ² growth is what carries slow particles to a wall near a stagnation
-//! point (the carina of an airway bifurcation): without it they hover in the first cell.
+//! At a wall at rest (or sliding rigidly in its own plane) a = 0 and this δ² growth is what
+//! carries slow particles to a wall near a stagnation point (the carina of an airway
+//! bifurcation): without it they hover in the first cell. On a wall of curvature κ the metric
+//! factors change these by a relative O(κδ).
 //!
 //! # The fit of wall face f
 //! With $p_f$ the foot of the wall cell's centre on the face's plane, $r_t = (I − n n^T)(x − p_f)$
 //! and $D_f$ the tangential gradient of γ at $p_f$ (a 3×3 map with $D_f n = 0$),
 //! ```math
-//! L_f(x) = u_w + δ\,(γ_f + D_f r_t) + δ^2 q_f + (c_f δ^2 + e_f δ^3)\,n,\qquad c_f = −\tfrac12 \operatorname{tr} D_f,
+//! L_f(x) = u_w + W_f (x − x_f) + δ\,(γ_f + D_f r_t) + δ^2 q_f + (a_f δ + c_f δ^2 + e_f δ^3)\,n,
 //! ```
 //! ```math
-//! ∇L_f = \big(γ_f + D_f r_t + 2δ q_f + (2c_f δ + 3e_f δ^2)\,n\big)\,n^T + δ\,D_f ,
+//! a_f = −\operatorname{tr} W_f,\qquad c_f = −\tfrac12 \operatorname{tr} D_f,
+//! ```
+//! ```math
+//! ∇L_f = W_f + \big(γ_f + D_f r_t + 2δ q_f + (a_f + 2c_f δ + 3e_f δ^2)\,n\big)\,n^T + δ\,D_f ,
 //! ```
 //! the exact derivative of $L_f$ on a flat face. Its terms:
-//! - *Tangential*: the profile $u_t = γδ + qδ^2$ through the wall value and the wall cell's
-//!   value $u_o$ at depth ρ, with its normal derivative $G_o n$ there (the cell gradient):
-//!   $γ = (I − nn^T)\\,[2(u_o − u_w)/ρ − G_o n]$, $q = (I − nn^T)(G_o n − γ)/(2ρ)$. Exact for a
-//!   quadratic profile; the cell gradient alone ($G_o n$ = γ + 2qρ) would be first order.
-//! - *Normal*: continuity fixes the leading coefficient, $c_f = −\tfrac12 ∇_s·γ$, and the
-//!   solver's own value at the centre the next, $e_f = (u_{o,n} − c_f ρ^2)/ρ^3$, so the fit
-//!   passes through the cell's value. The cubic is limited to $|e_f| ρ ≤ |c_f|$
-//!   (`MAX_CUBIC`): a finite-volume value of $u_n$ at a thin cell's centre has an O(1)
-//!   relative error of its own (it is O(ρ²), like $u_n$ itself), and the limit keeps the sign
-//!   of continuity's term below the centre, so no spurious stagnation layer appears.
+//! - *Wall velocity*: $u_w$ the face's value, $W_f$ by least squares over the neighbouring wall
+//!   faces' values (below): exact for a wall velocity linear along a flat wall.
+//! - *Tangential*: the profile $u_t − u_w = γδ + qδ^2$ through the wall's value at the foot and
+//!   the values $u_o$ of the wall cell (centre at depth ρ) and $u_1$ of the cell above it
+//!   (depth ρ₁, the wall cell's face neighbour furthest along n for its tangential offset
+//!   $s_1$, moved onto the normal through the foot by its own gradient, $u_1 − G_1 s_1$):
+//!   ```math
+//!   q = \frac{v_1/ρ_1 − v_o/ρ}{ρ_1 − ρ},\qquad γ = v_o/ρ − qρ,\qquad v = (I − nn^T)\big(u − u_w − W_f(p_f − x_f)\big).
+//!   ```
+//!   Exact for a quadratic profile, so γ is second order in the cell size and q first: ∇u at
+//!   δ = O(h) is second order. A wall cell with no cell above it (one cell across a channel)
+//!   takes the wall cell's gradient for the normal derivative at ρ, $G_o n = γ + 2qρ$:
+//!   $γ = 2v_o/ρ − (I − nn^T) G_o n$, first order (the least-squares gradient at a wall cell
+//!   is one-sided).
+//! - *Normal*: continuity fixes $a_f$ and $c_f$, and the solver's own value at the centre the
+//!   next, $e_f = (u_{o,n} − u_{w,n} − a_f ρ − c_f ρ^2)/ρ^3$, so the fit passes through the
+//!   cell's value. The cubic is limited to $|e_f| ρ ≤ |c_f|$ (`MAX_CUBIC`): a finite-volume
+//!   value of $u_n$ at a thin cell's centre has an O(1) relative error of its own (it is O(ρ²),
+//!   like $u_n$ itself), and the limit keeps the sign of continuity's term below the centre, so
+//!   no spurious stagnation layer appears.
 //! - *Trace*: $\operatorname{tr}∇L_f = 3e_f δ^2$: divergence-free to the order of the
 //!   expansion.
 //!
-//! # The surface gradient D
+//! What is exact: every divergence-free linear field, with any velocity on the wall (moving,
+//! transpiring, deforming), on flat walls of any mesh; the quadratic tangential profile. What
+//! is assumed: an incompressible field (the normal derivative comes from continuity, not from
+//! the data, whose own divergence next to a no-slip wall is discretisation error as large as
+//! the δ² term); on curved walls the fit is a flat-wall expansion, exact up to O(κδ) relative.
+//!
+//! # The surface gradients D and W
 //! By least squares over the neighbouring wall faces (those sharing a vertex with f and
 //! turned by less than 45° from it, so a sharp edge between two walls is not differenced
-//! across), in f's tangent plane with inverse-square distance weights: exact for a γ linear
-//! along the wall. A wall face with fewer than two independent neighbours (an isolated face)
-//! gets D = 0, and so no continuity term.
+//! across), in f's tangent plane with inverse-square distance weights: D from the shears at
+//! the feet, W from the wall velocities at the face centres; exact for values linear along
+//! the wall. A wall face with fewer than two independent neighbours (an isolated face) gets
+//! D = W = 0, and so no continuity term.
 //!
 //! # Verification
-//! `tests/flow_openfoam.rs` writes Hiemenz's exact stagnation flow
-//! ([`crate::flow::stagnation`]) into boxes meshed as users mesh them (uniform and graded
-//! blockMesh, 2 and 5 prism layers; hexahedra and prisms): the normal velocity within 10 % of
-//! the exact one throughout the first cell, v/δ² within 4 % of continuity's coefficient, second
-//! order under refinement, and a sphere's arrival time at the wall within 7 %.
+//! `tests/suite/flow/openfoam/` writes exact fields into boxes meshed as users mesh them
+//! (uniform and graded blockMesh, 2 and 5 prism layers; hexahedra and prisms; snappyHexMesh):
+//! - divergence-free linear fields with moving, transpiring walls: exact to round-off;
+//! - Hiemenz's stagnation flow ([`crate::flow::stagnation`]): the normal velocity within 10 %
+//!   of the exact one throughout the first cell, v/δ² within 4 % of continuity's coefficient,
+//!   u and ∇u at half the first cell's height second order under refinement, and a sphere's
+//!   arrival time at the wall within 7 %.
 
 use super::mesh::PolyMesh;
 use crate::tensor::{Mat3, Vec3};
@@ -78,25 +104,48 @@ pub struct WallGeometry {
     depths: Vec<f64>,
     /// Owner cell of wall face k.
     owners: Vec<usize>,
-    /// Least-squares stencil of D: neighbours `stencil[offsets[k]..offsets[k + 1]]` as
-    /// (wall face j, weight vector a_j) with $∇_s φ = \sum_j a_j (φ_j − φ_k)$.
+    /// Least-squares stencils of the surface gradients: neighbours
+    /// `stencil[offsets[k]..offsets[k + 1]]` as (wall face j, a_j, b_j) with
+    /// $∇_s φ = \sum_j a_j (φ_j − φ_k)$ for values at the feet (the shear γ, for D) and
+    /// $\sum_j b_j (φ_j − φ_k)$ for values at the face centres (the wall velocity, for W).
     offsets: Vec<usize>,
-    stencil: Vec<(usize, Vec3)>,
+    stencil: Vec<(usize, Vec3, Vec3)>,
+    /// The cell above the wall cell along the normal, if there is one (module docs).
+    above: Vec<Option<Above>>,
 }
+
+/// The second cell of a wall face's normal profile: the wall cell's face neighbour whose centre
+/// lies furthest along the normal for its offset.
+#[derive(Debug, Clone, Copy)]
+struct Above {
+    /// The cell.
+    cell: usize,
+    /// Height ρ₁ of its centre above the face's plane (ρ₁ ≥ [`MIN_ABOVE`] ρ).
+    height: f64,
+    /// Tangential offset s₁ of its centre from the wall cell's foot.
+    offset: Vec3,
+}
+
+/// Smallest ρ₁/ρ of the cell above the wall cell: a neighbour beside the wall cell (ρ₁ ≈ ρ)
+/// would make the three-point profile's divided differences ill-conditioned.
+const MIN_ABOVE: f64 = 1.5;
 
 /// The fit of one wall face at one time level.
 #[derive(Debug, Clone, Copy)]
 pub struct WallFit {
-    /// Velocity of the wall $u_w$.
+    /// Velocity of the wall $u_w$ at the face centre.
     pub velocity: Vec3,
+    /// Surface gradient $W = ∇_s u_w$ of the wall velocity ($W n = 0$).
+    pub velocity_gradient: Mat3,
     /// Wall shear rate γ at the foot (tangential).
     pub shear: Vec3,
     /// Tangential gradient D of γ.
     pub shear_gradient: Mat3,
     /// Tangential δ² coefficient q = ½ ∂²u_t/∂n² at the foot.
     pub curvature: Vec3,
-    /// The wall-normal velocity $u_n = c δ^2 + e δ^3$: (c, e).
-    pub normal: [f64; 2],
+    /// The wall-normal velocity relative to the wall's, $u_n − u_{w,n} = a δ + c δ^2 + e δ^3$:
+    /// (a, c, e).
+    pub normal: [f64; 3],
 }
 
 impl WallFit {
@@ -106,6 +155,7 @@ impl WallFit {
         v(&self.velocity)
             && v(&self.shear)
             && v(&self.curvature)
+            && self.velocity_gradient.iter().all(|c| c.is_finite())
             && self.shear_gradient.iter().all(|c| c.is_finite())
             && self.normal.iter().all(|c| c.is_finite())
     }
@@ -166,35 +216,41 @@ impl WallGeometry {
             near.sort_unstable();
             near.dedup();
             let (e1, e2) = tangent_basis(&normals[k]);
-            let offsets_2d: Vec<(usize, [f64; 2], f64)> = near
-                .iter()
-                .map(|&j| {
-                    let d = feet[j] - feet[k];
-                    (
-                        j,
-                        [e1.dot(&d), e2.dot(&d)],
-                        1.0 / d.norm_squared().max(f64::MIN_POSITIVE),
-                    )
-                })
-                .collect();
-            let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
-            for (_, t, w) in &offsets_2d {
-                a += w * t[0] * t[0];
-                b += w * t[0] * t[1];
-                c += w * t[1] * t[1];
-            }
-            let det = a * c - b * b;
-            let trace = a + c;
-            // Smallest over largest eigenvalue of [[a, b], [b, c]] ≥ det / trace².
-            if trace > 0.0 && det > MIN_SPREAD * trace * trace {
-                for (j, t, w) in offsets_2d {
-                    // A⁻¹ w t in the (e1, e2) basis, returned as a vector of the tangent plane.
-                    let (g1, g2) = ((c * t[0] - b * t[1]) * w / det, (a * t[1] - b * t[0]) * w / det);
-                    stencil.push((j, e1 * g1 + e2 * g2));
+            // One least-squares gradient in k's tangent plane from offsets `at[j] − at[k]`.
+            let weights = |at: &[Vec3]| -> Option<Vec<Vec3>> {
+                let planar: Vec<([f64; 2], f64)> = near
+                    .iter()
+                    .map(|&j| {
+                        let d = at[j] - at[k];
+                        ([e1.dot(&d), e2.dot(&d)], 1.0 / d.norm_squared().max(f64::MIN_POSITIVE))
+                    })
+                    .collect();
+                let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
+                for (t, w) in &planar {
+                    a += w * t[0] * t[0];
+                    b += w * t[0] * t[1];
+                    c += w * t[1] * t[1];
                 }
+                let det = a * c - b * b;
+                let trace = a + c;
+                // Smallest over largest eigenvalue of [[a, b], [b, c]] ≥ det / trace².
+                (trace > 0.0 && det > MIN_SPREAD * trace * trace).then(|| {
+                    planar
+                        .iter()
+                        .map(|(t, w)| {
+                            // A⁻¹ w t in the (e1, e2) basis, as a vector of the tangent plane.
+                            let (g1, g2) = ((c * t[0] - b * t[1]) * w / det, (a * t[1] - b * t[0]) * w / det);
+                            e1 * g1 + e2 * g2
+                        })
+                        .collect()
+                })
+            };
+            if let (Some(a), Some(b)) = (weights(&feet), weights(&centres)) {
+                stencil.extend(near.iter().zip(a.into_iter().zip(b)).map(|(&j, (a, b))| (j, a, b)));
             }
             offsets.push(stencil.len());
         }
+        let above = (0..n).map(|k| above(mesh, owners[k], normals[k], centres[k], feet[k], depths[k])).collect();
         Self {
             normals,
             centres,
@@ -203,6 +259,7 @@ impl WallGeometry {
             owners,
             offsets,
             stencil,
+            above,
         }
     }
 
@@ -221,22 +278,39 @@ impl WallGeometry {
         self.depths[k]
     }
 
-    /// The fits of every wall face for one time level: wall velocities `velocity[k]`, the cell
-    /// values `u` and the cell gradients `grad`.
+    /// The fits of every wall face for one time level: wall velocities `velocity[k]` (at the
+    /// face centres), the cell values `u` and the cell gradients `grad`.
     pub fn fits(&self, velocity: &[Vec3], u: &[Vec3], grad: &[Mat3]) -> Vec<WallFit> {
         let tangential = |n: &Vec3, v: Vec3| v - n * n.dot(&v);
-        // γ and q from the profile u_t = γδ + qδ² through the centre's value and normal
-        // derivative: γ = 2(u_o − u_w)/ρ − G_o n, q = (G_o n − γ)/(2ρ).
+        let neighbours = |k: usize| &self.stencil[self.offsets[k]..self.offsets[k + 1]];
+        // W = ∇ₛu_w from the neighbours' wall velocities (zero where there is no stencil).
+        let walls: Vec<Mat3> = (0..self.len())
+            .map(|k| {
+                neighbours(k)
+                    .iter()
+                    .fold(Mat3::zeros(), |w, (j, _, b)| w + (velocity[*j] - velocity[k]) * b.transpose())
+            })
+            .collect();
+        // γ and q of the tangential profile u_t − u_w = γδ + qδ² (module docs).
         let profiles: Vec<(Vec3, Vec3)> = (0..self.len())
             .map(|k| {
-                let (n, o) = (self.normals[k], self.owners[k]);
-                let depth = self.depths[k];
-                let slope = tangential(&n, grad[o] * n);
-                if depth > 0.0 {
-                    let shear = tangential(&n, (u[o] - velocity[k]) * (2.0 / depth)) - slope;
-                    (shear, (slope - shear) / (2.0 * depth))
-                } else {
-                    (slope, Vec3::zeros())
+                let (n, o, depth) = (self.normals[k], self.owners[k], self.depths[k]);
+                if depth <= 0.0 {
+                    return (tangential(&n, grad[o] * n), Vec3::zeros());
+                }
+                let wall = velocity[k] + walls[k] * (self.feet[k] - self.centres[k]);
+                let near = tangential(&n, u[o] - wall) / depth;
+                match self.above[k] {
+                    Some(Above { cell, height, offset }) => {
+                        let far = tangential(&n, u[cell] - grad[cell] * offset - wall) / height;
+                        let curvature = (far - near) / (height - depth);
+                        (near - curvature * depth, curvature)
+                    }
+                    None => {
+                        let slope = tangential(&n, grad[o] * n);
+                        let shear = near * 2.0 - slope;
+                        (shear, (slope - shear) / (2.0 * depth))
+                    }
                 }
             })
             .collect();
@@ -244,18 +318,21 @@ impl WallGeometry {
             .map(|k| {
                 let n = self.normals[k];
                 let (shear, curvature) = profiles[k];
-                let mut d = Mat3::zeros();
-                for (j, a) in &self.stencil[self.offsets[k]..self.offsets[k + 1]] {
-                    d += (profiles[*j].0 - shear) * a.transpose();
-                }
+                let d = neighbours(k)
+                    .iter()
+                    .fold(Mat3::zeros(), |d, (j, a, _)| d + (profiles[*j].0 - shear) * a.transpose());
                 // Only the tangential components of γ vary along the wall at this order.
                 let project = Mat3::identity() - n * n.transpose();
                 let d = project * d;
-                let c = -0.5 * d.trace();
+                let w = walls[k];
+                // Continuity, order by order in δ: ∂u_n/∂n = −∇ₛ·u_w, ∂²u_n/∂n² = −∇ₛ·γ.
+                let (a, c) = (-w.trace(), -0.5 * d.trace());
                 let depth = self.depths[k];
                 let e = if depth > 0.0 {
+                    let wall = velocity[k] + w * (self.feet[k] - self.centres[k]);
                     let bound = MAX_CUBIC * c.abs() / depth;
-                    let fitted = ((u[self.owners[k]] - velocity[k]).dot(&n) - c * depth * depth) / depth.powi(3);
+                    let rise = (u[self.owners[k]] - wall).dot(&n) - a * depth - c * depth * depth;
+                    let fitted = rise / depth.powi(3);
                     // max/min, not clamp: an overflowing field makes the bound NaN, and
                     // `FoamFlow::new` refuses the non-finite fit instead of panicking here.
                     fitted.max(-bound).min(bound)
@@ -264,10 +341,11 @@ impl WallGeometry {
                 };
                 WallFit {
                     velocity: velocity[k],
+                    velocity_gradient: w,
                     shear,
                     shear_gradient: d,
                     curvature,
-                    normal: [c, e],
+                    normal: [a, c, e],
                 }
             })
             .collect()
@@ -279,12 +357,17 @@ impl WallGeometry {
         let delta = n.dot(&(x - self.centres[k]));
         let along = x - self.feet[k];
         let r_t = along - n * n.dot(&along);
-        let d = fit.shear_gradient;
+        let (w, d) = (fit.velocity_gradient, fit.shear_gradient);
         let g = fit.shear + d * r_t;
-        let [c, e] = fit.normal;
-        let u = fit.velocity + g * delta + fit.curvature * (delta * delta) + n * (delta * delta * (c + e * delta));
-        let slope = g + fit.curvature * (2.0 * delta) + n * (delta * (2.0 * c + 3.0 * e * delta));
-        let grad = slope * n.transpose() + d * delta;
+        let [a, c, e] = fit.normal;
+        // W n = 0: W(x − x_f) is the wall velocity's change along the face's plane.
+        let u = fit.velocity
+            + w * (x - self.centres[k])
+            + g * delta
+            + fit.curvature * (delta * delta)
+            + n * (delta * (a + delta * (c + e * delta)));
+        let slope = g + fit.curvature * (2.0 * delta) + n * (a + delta * (2.0 * c + 3.0 * e * delta));
+        let grad = w + slope * n.transpose() + d * delta;
         (u, grad)
     }
 
@@ -292,6 +375,30 @@ impl WallGeometry {
     pub fn owners(&self) -> &[usize] {
         &self.owners
     }
+}
+
+/// The cell above wall cell `owner` (centre at depth `depth` over the face of inward normal
+/// `n`, centre `centre`, foot `foot`): of its face neighbours at least [`MIN_ABOVE`] times as
+/// high over the face's plane and offset from the normal through the foot by no more than
+/// they rise above the wall cell, the one with the smallest offset per rise.
+fn above(mesh: &PolyMesh, owner: usize, n: Vec3, centre: Vec3, foot: Vec3, depth: f64) -> Option<Above> {
+    let mut best: Option<(f64, Above)> = None;
+    for &f in mesh.cell_faces(owner) {
+        let f = f as usize;
+        let Some(neighbour) = mesh.neighbour(f) else {
+            continue;
+        };
+        let cell = if neighbour == owner { mesh.owner(f) } else { neighbour };
+        let x = mesh.cell_centres()[cell];
+        let height = n.dot(&(x - centre));
+        let along = x - foot;
+        let offset = along - n * n.dot(&along);
+        let (rise, slant) = (height - depth, offset.norm());
+        if height >= MIN_ABOVE * depth && slant <= rise && best.is_none_or(|(b, _)| slant / rise < b) {
+            best = Some((slant / rise, Above { cell, height, offset }));
+        }
+    }
+    best.map(|(_, a)| a)
 }
 
 /// Two unit vectors that complete the unit vector n to a right-handed orthonormal basis.

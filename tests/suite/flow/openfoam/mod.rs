@@ -6,6 +6,7 @@ mod block;
 mod decomposed;
 mod octree;
 mod transient;
+mod wall_layer;
 
 use crate::common::build;
 
