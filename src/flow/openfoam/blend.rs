@@ -74,9 +74,10 @@
 //!   continuity and passes through the cell's value, whatever the layering.
 //! - *On the wall* $\omega_f$ is infinite (capped at 10²⁴), so u is the wall's velocity.
 //! - *Accuracy stays O(h²)*: the wall fit's error is O(δ²) tangentially over δ ≤ 2ρ.
-//! - *Exactness*: a linear shear $u_w + s\\,(n·(x − x_w))$ at a flat wall (s tangential) is
-//!   reproduced exactly; a linear field that violates no-slip at a wall is not reproduced
-//!   within 2ρ of it, where no such field is a flow.
+//! - *Exactness*: every divergence-free linear field is reproduced exactly, with whatever
+//!   velocity it gives the wall patches (a moving, transpiring or deforming wall: the wall fit
+//!   carries the wall velocity's surface gradient), and a rigidly moving curved wall's
+//!   velocity is extended exactly.
 //! - *Continuity*: $d_f$ is continuous in x and φ vanishes with two derivatives at s = 1.
 //!
 //! # Just outside the mesh
