@@ -289,6 +289,8 @@ pub enum Measure {
     Velocity,
     /// [`WallLayerRow::gradient_error`].
     Gradient,
+    /// [`WallLayerRow::half_cell_gradient_error`].
+    HalfCellGradient,
 }
 
 impl Measure {
@@ -296,6 +298,7 @@ impl Measure {
         match self {
             Self::Velocity => row.velocity_error,
             Self::Gradient => row.gradient_error,
+            Self::HalfCellGradient => row.half_cell_gradient_error,
         }
     }
 }
@@ -382,6 +385,25 @@ pub fn wall_layer_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, Out
             fields.push(order(fitted_order(rows, r.layers, measure).filter(|_| finest)));
         }
         csv.push(fields)?;
+    }
+    Ok(csv)
+}
+
+/// The near-wall convergence dataset `paper-figures/near-wall/gradient_order.csv`: per mesh
+/// `case,layers,level,first_cell_height,u_rel_err,grad_rel_err` (case `hiemenz`; the errors
+/// of [`half_cell_errors`]), numbers with `digits` significant digits.
+pub fn gradient_order_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, OutputError> {
+    let mut csv = Csv::new(&["case", "layers", "level", "first_cell_height", "u_rel_err", "grad_rel_err"]);
+    let g = |v: f64| format!("{v:.*e}", digits.saturating_sub(1));
+    for r in rows {
+        csv.push(vec![
+            "hiemenz".into(),
+            r.layers.to_string(),
+            r.level.to_string(),
+            g(r.first_cell),
+            g(r.half_cell_velocity_error),
+            g(r.half_cell_gradient_error),
+        ])?;
     }
     Ok(csv)
 }

@@ -18,8 +18,8 @@ use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, Layout, PatchRole, PatchSet, PolyMesh};
 use pseudorigid::scenes::stagnation::{
-    FRACTIONS, NU, STRAIN, StagnationBox, WallLayerRow, coefficient_ratio, hiemenz, normal_velocity_error,
-    velocity_errors, wall_layer_points, wall_layer_table,
+    FRACTIONS, NU, STRAIN, StagnationBox, WallLayerRow, coefficient_ratio, gradient_order_table, hiemenz,
+    normal_velocity_error, velocity_errors, wall_layer_points, wall_layer_table,
 };
 use pseudorigid::tensor::{Mat3, Vec3};
 use std::path::PathBuf;
@@ -863,6 +863,8 @@ fn hiemenz_snapped_dataset_snapshot() {
         );
     }
     insta::assert_snapshot!(wall_layer_table(&rows, 3).unwrap().to_text());
+    // `paper-figures/near-wall/gradient_order.csv`'s coarse rows.
+    insta::assert_snapshot!("gradient_order", gradient_order_table(&rows, 3).unwrap().to_text());
 }
 
 /// An inertialess rigid sphere of radius ℓ/20 released on the stagnation line at y₀ = 2ℓ
