@@ -54,6 +54,9 @@ fn injection_times_follow_the_flow_rate() {
 /// rigid spheres none is expected to change and more than 1 would be a fault. Event times agree
 /// to the step control's tolerance: `study::RTOL` (10⁻²) of the time tracked, at most the
 /// breath's 0.5 s, so 5·10⁻³ s (measured: 2.8·10⁻⁴ s).
+///
+/// A consistency check of the breathing machinery (windows, injection times, paired records)
+/// against the steady study, not a physics check: both runs are this code's.
 #[test]
 fn constant_breath_is_the_steady_study_shifted_in_time() {
     let dir = scratch("breathing-constant");
@@ -100,6 +103,11 @@ fn constant_breath_is_the_steady_study_shifted_in_time() {
 /// The sinusoidal breath at reduced N through the quasi-steady field (the shipped field scaled
 /// by U_in(t)/U at 11 levels, 0.2 s apart): 100 rigid and 100 soft (μ_s = 0.5 Pa) spheres at
 /// Stk 0.4, steady and cyclic, their DE and paired table snapshotted. None may fail.
+///
+/// A regression guard (this code's own output), not a check. The transient reader's time
+/// interpolation is checked against fields known in closed form in
+/// `flow::openfoam::transient`; the constant breath above checks the breathing machinery
+/// against the steady study, which is this code too.
 #[test]
 fn sinusoidal_breath_snapshot() {
     let dir = scratch("breathing-sine");
