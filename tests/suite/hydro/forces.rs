@@ -682,6 +682,7 @@ fn force_terms_by_name() {
 
 /// The `paper-figures/forces` datasets, reduced and rounded: every added-mass coefficient to
 /// 8 significant digits and the settling cases at 4 samples.
+/// A regression guard (this code's own output), not a check.
 #[test]
 fn snapshot_forces_datasets() {
     use pseudorigid::scenes::forces::{added_mass_table, settling_csv};

@@ -247,6 +247,8 @@ harness!(
 /// at most one per four accepted steps. This catches the defect this test was written for:
 /// Newton's verdict from one quotient plus a controller blind to Newton's reach rejected about
 /// one attempt per accepted step here (106 per 101).
+///
+/// The bounds are the check; the work-count snapshot is a regression guard.
 #[test]
 fn radau_is_l_stable_on_a_quasi_rigid_particle() {
     let r = 3.0;

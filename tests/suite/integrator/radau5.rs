@@ -575,6 +575,7 @@ fn failing_right_hand_sides_end_in_typed_errors() {
 /// Work counts of the stiff reference runs, snapshotted so that any change of the controller,
 /// the Newton policy or the Jacobian reuse shows up in review (integer counts of deterministic
 /// code; the bounds above say what is acceptable, this says what changed).
+/// A regression guard, not a check.
 #[test]
 fn work_counts_snapshot() {
     let mut rows = vec![format!(

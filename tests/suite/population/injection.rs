@@ -36,6 +36,7 @@ fn fnv1a(bytes: &[u8]) -> String {
 /// the code before it (commit 0362386) bit for bit; since the integrator's error norm
 /// (`integrator::ErrorNorm`) entered the integrator's `Debug` text, and with it the
 /// configuration hash, only the records are digested (that change keeps them bit for bit).
+/// A regression guard by design, not a check.
 #[test]
 fn records_without_injection_times_are_those_before_them() {
     let (stokes, pipe) = (integrator(), soft_pipe());

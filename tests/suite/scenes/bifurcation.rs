@@ -218,6 +218,10 @@ fn injection_is_uniform_on_the_disc_with_the_fluid_velocity() {
 /// probability 6e-5. No particle may fail. The deposits' left stretch satisfies V² = F̄F̄ᵀ (a
 /// symmetric square root: round-off of the 3×3 eigen-decomposition, 1e-10 of |F̄|²).
 /// `Injection::particle_spec` gives each record's particle exactly (the same draw).
+///
+/// Regression guard, not a check: the snapshot and the Fig. 19 dataset are both this code's
+/// output, so their agreement shows that the reduced run still reproduces the dataset, not
+/// that either is right.
 #[test]
 fn soft_spheres_at_stokes_0_4_snapshot() {
     use pseudorigid::population::{Injector, RunOptions, Shard};
@@ -399,6 +403,9 @@ fn effective_stokes_scales_stk_by_the_response_time_ratio() {
 /// norm (10³× tighter), and every setting must keep the fates within the studies' argued
 /// tolerance of it: at most 2 of 40 change (1 in 10² for soft prolates, `study::RTOL`, with
 /// room for one more at this N).
+///
+/// The snapshot is a regression guard; the bound on changed fates against the tight run is a
+/// convergence check of the step control, not of the physics.
 #[test]
 fn error_norm_study_snapshot() {
     use pseudorigid::scenes::bifurcation::error_norm::{SETTINGS, compare, table};

@@ -15,6 +15,7 @@ fn flow() -> BlendedFlow {
     pseudorigid::scenes::cavity::shipped_flow().unwrap()
 }
 
+/// Reduced cavity runs. A regression guard (this code's own output), not a check.
 #[test]
 fn reduced_cavity_runs_snapshot() {
     let flow = flow();
@@ -276,6 +277,7 @@ fn a_user_drag_model_runs_through_the_cavity() {
 /// prolates exit and 2 stay suspended, and 3 of the exits fall after 95 s (late_events 0.5),
 /// so that group is sensitive to the horizon: a change of model, scene, field or step control
 /// moves it first.
+/// A regression guard (this code's own output), not a check.
 #[test]
 fn reduced_ensemble_fractions_snapshot() {
     use pseudorigid::scenes::cavity::{ShapeModel, Variant, ensemble, outcome_fraction_table};

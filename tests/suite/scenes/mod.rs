@@ -297,6 +297,7 @@ fn table(header: &[&str], rows: impl IntoIterator<Item = Vec<String>>) -> String
 }
 
 /// Fig. 4 dataset, reduced: integer times, 4 significant digits.
+/// A regression guard (this code's own output), not a check.
 #[test]
 fn snapshot_fig4() {
     let times = grid(0.0, 10.0, 1.0);
@@ -316,6 +317,7 @@ fn snapshot_fig4() {
 }
 
 /// Figs 5/6 dataset, reduced: long-axis angle and line lengths at the snapshot times.
+/// A regression guard (this code's own output), not a check.
 #[test]
 fn snapshot_fig5_fig6() {
     let times = [0.0, 2.0, 4.0, 6.0, 8.0, 22.5, 23.0, 23.5, 24.0, 24.5];
@@ -335,6 +337,7 @@ fn snapshot_fig5_fig6() {
 
 /// Figs 7/8 datasets, reduced: a few shapes at ΔCa ≤ 0.01. The bracket ends are bisection
 /// nodes, fixed by the regimes alone, so they are exact across machines.
+/// A regression guard (this code's own output), not a check.
 #[test]
 fn snapshot_phase_boundaries() {
     let point = |series, x, shape| MapShape {
@@ -357,6 +360,7 @@ fn snapshot_phase_boundaries() {
 }
 
 /// Tank-treading dataset, reduced: steady equations and integration, 4 significant digits.
+/// A regression guard (this code's own output), not a check.
 #[test]
 fn snapshot_tank_treading() {
     let rows = [0.01, 0.1, 0.5, 1.0, 2.0].into_iter().map(|ca| {

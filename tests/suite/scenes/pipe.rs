@@ -311,6 +311,7 @@ fn release_inside_the_wall_is_an_error() {
 
 /// Reduced Fig. 10 dataset: λ₁ = 14, direction cosines of l_a every 10 ms for 0.1 s, rounded
 /// to 3 decimals (integration error ~10⁻⁶).
+/// A regression guard (this code's own output), not a check.
 #[test]
 fn snapshot_fig10_reduced() {
     let mut text = String::from("ca,t_s,cos1,cos2\n");
@@ -329,6 +330,7 @@ fn snapshot_fig10_reduced() {
 /// Reduced Figs 11/12 dataset: λ₁ = 3.5 released 50 µm from the wall, rigid and Ca = 0.5:
 /// contact time (µs), streamwise distance (0.1 d_eq), barycentre depth and the tilt of l_a at
 /// contact. Rounded well above the tolerance error (< 1 d_eq, tested above).
+/// A regression guard (this code's own output), not a check.
 #[test]
 fn snapshot_near_wall_deposition() {
     let mut text = String::from("ca,t_dep_ms,x1_dep_deq,x2_dep_deq,cos1,cos2\n");

@@ -26,6 +26,7 @@ fn row(case: Case, setting: Setting) -> String {
     )
 }
 
+/// The work-precision dataset, reduced. A regression guard (this code's own output), not a check.
 #[test]
 fn work_precision_reduced_dataset() {
     let rows = [
