@@ -234,13 +234,10 @@ impl TimeIntegrator for Manifold {
         let Some((t_1, l_1)) = memory.full.end_gradient() else {
             unreachable!("an accepted Stokesian step records its end gradient")
         };
-        let ratio = memory
-            .gradient
-            .filter(|(t, _)| *t == state.t)
-            .map(|(t_0, l_0)| {
-                let rate = (l_1 - l_0).norm() / (t_1 - t_0);
-                manifold.ratio(&l_0, rate).max(manifold.ratio(&l_1, rate))
-            });
+        let ratio = memory.gradient.filter(|(t, _)| *t == state.t).map(|(t_0, l_0)| {
+            let rate = (l_1 - l_0).norm() / (t_1 - t_0);
+            manifold.ratio(&l_0, rate).max(manifold.ratio(&l_1, rate))
+        });
         memory.gradient = Some((t_1, l_1));
         let relaxed = t_1 - released >= self.initial_layer(&manifold);
         if relaxed && ratio.is_some_and(|r| r <= 0.5 * self.delta_max) {
@@ -271,5 +268,30 @@ impl TimeIntegrator for Manifold {
             Ok(None) => format!("rigid: the full model, {}", self.full.scheme.name()),
             Err(e) => format!("no slow manifold: {e}"),
         })
+    }
+}
+
+// Selectable by name: `[integrator] type = "slow_manifold"` with `tol` (rtol = atol of the full
+// model), `overdamped` and `norm` as for `radau_iia`, and `delta_max` (default √tol, in (0, 1)).
+inventory::submit! {
+    super::IntegratorRegistration {
+        name: "slow_manifold",
+        aliases: &[],
+        build: |p| {
+            p.only(&["tol", "overdamped", "norm", "delta_max"])?;
+            let tol = p.positive("tol")?;
+            let full = if p.flag("overdamped")? {
+                Stokesian::overdamped(tol)
+            } else {
+                Stokesian::new(tol)
+            }?
+            .with_norm(super::stokesian::error_norm(p)?);
+            let manifold = match p.positive("delta_max") {
+                Err(ParamError::Missing { .. }) => Manifold::new(full),
+                Ok(delta_max) => Manifold::new(full).with_delta_max(delta_max)?,
+                Err(e) => return Err(e),
+            };
+            Ok(super::SceneIntegrator::new(manifold))
+        },
     }
 }

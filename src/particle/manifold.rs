@@ -16,7 +16,8 @@
 //! with 𝒢 the inverse of σ̃'s linear part ([`crate::hydro::InertialessSolver`]) and ε̊ the
 //! corotational rate of the stretch. Its symmetric part, ℳ = sym 𝒢 on deviatoric symmetric
 //! stresses (five dimensions), is negative definite: ε relaxes at the rates of
-//! −2μ_s ℳ, the slowest of which is the relaxation rate k ([`SlowManifold::relaxation_rate`];
+//! −2μ_s ℳ, at least at the smallest eigenvalue of its symmetric part, the relaxation rate
+//! k ([`SlowManifold::relaxation_rate`];
 //! k = 2μ_s/(3μ_f) for a sphere, where σ̃ = 5μ_f d_f − 3μ_f d_s + ...). With σ_el = 2μ_s ε +
 //! O(ε²) (the small-strain shear modulus) the shape follows the flow on the manifold
 //! ```math
@@ -98,8 +99,9 @@ pub struct QuasiStatic {
 
 impl SlowManifold {
     /// The manifold of `particle`, or `None` for a rigid one. The relaxation rate k is the
-    /// slowest rate of −2μ_s ℳ at the rest shape (the same at every rotation, since ℳ turns
-    /// with the particle).
+    /// slowest rate of −2μ_s ℳ at the rest shape, bounded from below by the smallest
+    /// eigenvalue of its symmetric part (the same at every rotation, since ℳ turns with the
+    /// particle).
     pub fn of<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Result<Option<Self>, ParamError> {
         let Some(law) = particle.elastic() else {
             return Ok(None);
@@ -114,8 +116,12 @@ impl SlowManifold {
                 value: f64::NAN,
                 inputs: particle.shape().semi_axes().iter().copied().collect(),
             })?;
-        let rates = (strain_response(&solver) * (-2.0 * mu_s)).complex_eigenvalues();
-        let rate = rates.iter().map(|z| z.re).fold(f64::INFINITY, f64::min);
+        // The symmetric part's smallest eigenvalue: |ε| decays at least at this rate,
+        // d|ε|²/dt = −2 ε·(Aε) ≤ −2 λ_min(sym A) |ε|² (A = −2μ_s ℳ); it is the rate itself where
+        // A is symmetric (the sphere). A symmetric eigen-solver always converges, where a
+        // general one (Schur) need not.
+        let a = strain_response(&solver) * (-2.0 * mu_s);
+        let rate = ((a + a.transpose()) * 0.5).symmetric_eigenvalues().min();
         if !(rate > 0.0 && rate.is_finite()) {
             return Err(ParamError::Derived {
                 name: "elastic relaxation rate k",
@@ -174,7 +180,10 @@ impl SlowManifold {
                 what: "slow-manifold strain response",
                 t,
             })?;
-        let correction = basis().iter().zip(c.iter()).fold(Mat3::zeros(), |acc, (e, c)| acc + e * *c);
+        let correction = basis()
+            .iter()
+            .zip(c.iter())
+            .fold(Mat3::zeros(), |acc, (e, c)| acc + e * *c);
         let v = Mat3::identity() + q.strain + correction / (2.0 * self.mu_s);
         let det = v.determinant();
         if !(det > 0.0 && det.is_finite()) {
