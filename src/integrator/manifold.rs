@@ -148,7 +148,7 @@ impl Manifold {
         let h = t_1 - state.t;
         let rate = (l_1 - l_0).norm() / h;
         let ratio = manifold.ratio(&l_0, rate).max(manifold.ratio(&l_1, rate));
-        if !(ratio <= self.delta_max) {
+        if ratio.is_nan() || ratio > self.delta_max {
             return Ok(None);
         }
         let r_1 = inner.state.f;

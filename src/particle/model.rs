@@ -355,7 +355,7 @@ impl<M: Response, D: DragModel> Particle<M, D> {
     /// terms are shared.
     pub fn rigid_twin(&self) -> Particle<Rigid, &D> {
         Particle {
-            shape: self.shape.clone(),
+            shape: self.shape,
             material: Rigid,
             drag: &self.drag,
             fluid: self.fluid,
