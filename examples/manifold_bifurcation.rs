@@ -12,7 +12,15 @@
 //! run that fills the mesh's clearance grid).
 
 use pseudorigid::driver::Plan;
-use pseudorigid::integrator::manifold::Manifold;
+use pseudorigid::error::StepError;
+use pseudorigid::flow::FlowField;
+use pseudorigid::hydro::DragModel;
+use pseudorigid::integrator::manifold::{Manifold, ManifoldMemory};
+use pseudorigid::integrator::{BarycentreModel, Step, TimeIntegrator};
+use pseudorigid::material::Response;
+use pseudorigid::particle::{Particle, State};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use pseudorigid::integrator::{Scheme, Stepper, Stokesian, Tolerances};
 use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::population::progress::process_cpu_seconds;
@@ -63,6 +71,50 @@ fn summary(name: &str, out: &RunOutput<NeoHooke>, cpu: f64) -> (u64, f64) {
         "  {name:>8}: {steps:>8} steps ({rejected} rejected), {cpu:7.2} s CPU, deposited {dep}, escaped {esc}, other {other}"
     );
     (steps, cpu)
+}
+
+/// The switch's counts summed over a run: [`Manifold`] with every step's change of its
+/// per-particle [`pseudorigid::integrator::manifold::ManifoldReport`] added up.
+#[derive(Debug, Default)]
+struct Tally {
+    manifold_steps: AtomicU64,
+    full_steps: AtomicU64,
+    entered: AtomicU64,
+    left: AtomicU64,
+}
+
+#[derive(Debug, Clone)]
+struct Tallied(Manifold, Arc<Tally>);
+
+impl TimeIntegrator for Tallied {
+    type Memory = ManifoldMemory;
+
+    fn name(&self) -> &'static str {
+        self.0.name()
+    }
+
+    fn barycentre(&self) -> BarycentreModel {
+        self.0.barycentre()
+    }
+
+    fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        state: &State,
+        memory: &mut ManifoldMemory,
+        flow: &F,
+        dt: f64,
+    ) -> Result<Step, StepError> {
+        let before = memory.report();
+        let step = self.0.step_with(particle, state, memory, flow, dt)?;
+        let after = memory.report();
+        let t = &self.1;
+        t.manifold_steps.fetch_add(after.manifold_steps - before.manifold_steps, Ordering::Relaxed);
+        t.full_steps.fetch_add(after.full_steps - before.full_steps, Ordering::Relaxed);
+        t.entered.fetch_add(u64::from(after.entered - before.entered), Ordering::Relaxed);
+        t.left.fetch_add(u64::from(after.left - before.left), Ordering::Relaxed);
+        Ok(step)
+    }
 }
 
 /// Paired comparison of `run` against `reference`: fates changed, and |B − B_ref| (max,
@@ -128,11 +180,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             choice.reason
         );
         let full: Stokesian = choice.integrator;
-        let reduced = Manifold::new(full);
+        let tally = Arc::new(Tally::default());
+        let reduced = Tallied(Manifold::new(full), tally.clone());
         let (of, cf) = run_with(&airway, kind, &full, n, seed, &times)?;
         let (sf, _) = summary("full", &of, cf);
         let (om, cm) = run_with(&airway, kind, &reduced, n, seed, &times)?;
         let (sm, _) = summary("manifold", &om, cm);
+        let on = tally.manifold_steps.load(Ordering::Relaxed);
+        let off = tally.full_steps.load(Ordering::Relaxed);
+        println!(
+            "  switch: {on} steps on the manifold, {off} full ({:.1} % on), {} entries, {} exits (discarded steps)",
+            100.0 * on as f64 / (on + off).max(1) as f64,
+            tally.entered.load(Ordering::Relaxed),
+            tally.left.load(Ordering::Relaxed)
+        );
         let reference = Stokesian {
             tol: Tolerances::new(1e-6, 1e-8, 1e-14)?,
             scheme: Scheme::Radau5,
