@@ -8,7 +8,7 @@
 //! ```text
 //! cargo run --release --example manifold_bifurcation -- [N] [SEED]
 //! ```
-//! One thread (CPU time is the process's, measured around each run, after an untimed warm-up
+//! `PSEUDORIGID_DELTA_MAX` sets δ_max (default √rtol). One thread (CPU time is the process's, measured around each run, after an untimed warm-up
 //! run that fills the mesh's clearance grid).
 
 use pseudorigid::driver::Plan;
@@ -81,6 +81,9 @@ struct Tally {
     full_steps: AtomicU64,
     entered: AtomicU64,
     left: AtomicU64,
+    manifold_rejected: AtomicU64,
+    full_rejected: AtomicU64,
+    exit_rejected: AtomicU64,
 }
 
 #[derive(Debug, Clone)]
@@ -113,6 +116,14 @@ impl TimeIntegrator for Tallied {
         t.full_steps.fetch_add(after.full_steps - before.full_steps, Ordering::Relaxed);
         t.entered.fetch_add(u64::from(after.entered - before.entered), Ordering::Relaxed);
         t.left.fetch_add(u64::from(after.left - before.left), Ordering::Relaxed);
+        let rejected = u64::from(step.info.rejected);
+        if after.left > before.left {
+            t.exit_rejected.fetch_add(rejected, Ordering::Relaxed);
+        } else if after.full_steps > before.full_steps {
+            t.full_rejected.fetch_add(rejected, Ordering::Relaxed);
+        } else {
+            t.manifold_rejected.fetch_add(rejected, Ordering::Relaxed);
+        }
         Ok(step)
     }
 }
@@ -181,7 +192,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         let full: Stokesian = choice.integrator;
         let tally = Arc::new(Tally::default());
-        let reduced = Tallied(Manifold::new(full), tally.clone());
+        let manifold = match std::env::var("PSEUDORIGID_DELTA_MAX") {
+            Ok(d) => Manifold::new(full).with_delta_max(d.parse()?)?,
+            Err(_) => Manifold::new(full),
+        };
+        let reduced = Tallied(manifold, tally.clone());
         let (of, cf) = run_with(&airway, kind, &full, n, seed, &times)?;
         let (sf, _) = summary("full", &of, cf);
         let (om, cm) = run_with(&airway, kind, &reduced, n, seed, &times)?;
@@ -189,10 +204,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let on = tally.manifold_steps.load(Ordering::Relaxed);
         let off = tally.full_steps.load(Ordering::Relaxed);
         println!(
-            "  switch: {on} steps on the manifold, {off} full ({:.1} % on), {} entries, {} exits (discarded steps)",
+            "  switch: {on} steps on the manifold, {off} full ({:.1} % on), {} entries, {} exits (discarded steps); rejected attempts: {} on the manifold, {} full, {} in the full steps that follow an exit",
             100.0 * on as f64 / (on + off).max(1) as f64,
             tally.entered.load(Ordering::Relaxed),
-            tally.left.load(Ordering::Relaxed)
+            tally.left.load(Ordering::Relaxed),
+            tally.manifold_rejected.load(Ordering::Relaxed),
+            tally.full_rejected.load(Ordering::Relaxed),
+            tally.exit_rejected.load(Ordering::Relaxed)
         );
         let reference = Stokesian {
             tol: Tolerances::new(1e-6, 1e-8, 1e-14)?,
