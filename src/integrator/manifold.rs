@@ -31,23 +31,26 @@
 //! # Measured (`examples/manifold_bifurcation`, 1 000 spheres at Stk 0.1, one thread)
 //! The airway bifurcation's spheres, the studies' integrator (Rosenbrock-W 2(3), rtol 10⁻³,
 //! tensor norm) as the full model, and both against a reference (the full model by Radau IIA at
-//! rtol 10⁻⁶) on the same particles: fates, and B = F Fᵀ at 39 common times of every path.
-//! Rigid: 165 346 steps, 1.36 s CPU.
+//! rtol 10⁻⁶) on the same particles: fates, and ΔB = |B − B_ref| with B = F Fᵀ at 39 common
+//! times of every path. Rigid: 165 346 steps, 1.00 s CPU (1.30 s when run first, before the
+//! caches are warm: the spread of these CPU times).
 //!
-//! | μ_s (Pa) | full: steps, CPU | manifold: steps, CPU | ΔB median, max (full) | ΔB median, max (manifold) | fates changed (full, manifold) |
-//! |---|---|---|---|---|---|
-//! | 0.5 | 274 k (1.66×), 1.76× | 262 k (1.58×), 2.04× | 8.4e-4, 7.0e-2 | 5.4e-4, 5.7e-2 | 0, 0 |
-//! | 5 | 323 k (1.95×), 2.21× | 183 k (1.11×), 1.15× | 4.5e-4, 2.2e-2 | 1.7e-5, 2.1e-2 | 0, 1 |
-//! | 50 | 334 k (2.02×), 2.15× | 166 k (1.003×), 0.86× | 4.4e-4, 4.0e-2 | 4.4e-7, 2.9e-3 | 0, 0 |
-//! | 500 | 457 k (2.76×), 2.88× | 166 k (1.001×), 0.88× | 1.7e-3, 2.3e-1 | 6.9e-8, 2.7e-4 | 0, 0 |
+//! | μ_s (Pa) | full: steps, CPU | manifold: steps, CPU | steps on the manifold | ΔB median, max (full) | ΔB median, max (manifold) | fates changed (full, manifold) |
+//! |---|---|---|---|---|---|---|
+//! | 0.5 | 274 k (1.66×), 2.40× | 262 k (1.58×), 2.73× | 9 % | 8.4e-4, 7.0e-2 | 5.4e-4, 5.7e-2 | 0, 0 |
+//! | 5 | 323 k (1.95×), 3.02× | 183 k (1.11×), 1.57× | 85 % | 4.5e-4, 2.2e-2 | 1.7e-5, 2.1e-2 | 0, 1 |
+//! | 50 | 334 k (2.02×), 2.97× | 166 k (1.003×), 1.19× | 99 % | 4.4e-4, 4.0e-2 | 4.4e-7, 2.9e-3 | 0, 0 |
+//! | 500 | 457 k (2.76×), 3.94× | 166 k (1.001×), 1.19× | 99 % | 1.7e-3, 2.3e-1 | 6.9e-8, 2.7e-4 | 0, 0 |
 //!
-//! From 5 Pa up the manifold takes the rigid sphere's steps and no more for a stiffer particle,
-//! and its shape is closer to the reference than the full model's at the studies' tolerance
-//! (whose W-method error estimate lets F's fast relaxation pass with errors up to 0.23 in B at
-//! 500 Pa). CPU ratios below 1 are the measurement's spread (the rigid run is first; one
-//! process, shared machine). At 0.5 Pa the spheres deform by up to |B − 1| = 3.1 near the walls,
-//! where δ > δ_max: the shape is not slaved to the flow there, the full model runs most of the
-//! path, and the discarded steps at the switches cost 16 % CPU over the full model alone.
+//! From 5 Pa up the manifold takes the rigid sphere's steps within 11 % and no more for a
+//! stiffer particle, and its shape is closer to the reference than the full model's at the
+//! studies' tolerance (whose W-method error estimate lets F's fast relaxation pass with errors
+//! up to 0.23 in B at 500 Pa). A manifold step costs 1.19× a rigid one (the quasi-static point
+//! at its end). At 0.5 Pa the spheres deform by up to |B − 1| = 3.1 near the walls, where
+//! δ > δ_max: the shape is not slaved to the flow there and the full model runs 91 % of the
+//! steps; those steps are rejected 0.82 times each against 0.33 in the full model's own run
+//! (1 334 exits from the manifold over 1 000 particles), which costs 14 % CPU over the full
+//! model alone. Why a handover raises the rejections of the full steps after it is not known.
 
 use super::dense::Knot;
 use super::stokesian::StokesianMemory;
