@@ -54,6 +54,14 @@ pub fn mean_response_time_ratio(r: &Vec3) -> Result<f64, ParamError> {
     Ok(a_eq / 8.0 * (3.0 * ints.chi0 + ints.x.dot(&ints.alpha)))
 }
 
+/// A borrowed drag model is the model (a particle's rigid twin borrows its drag,
+/// [`crate::particle::Particle::rigid_twin`]).
+impl<D: DragModel + ?Sized> DragModel for &D {
+    fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3 {
+        (**self).resistance(frame, ints)
+    }
+}
+
 impl DragModel for Brenner {
     fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3 {
         let k = Self::k_principal(frame, ints);

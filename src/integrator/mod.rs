@@ -22,6 +22,7 @@ pub mod control;
 pub mod dense;
 pub mod imex;
 pub mod imex_adaptive;
+pub mod manifold;
 pub mod newton;
 pub mod radau5;
 pub mod registry;

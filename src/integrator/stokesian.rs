@@ -137,9 +137,20 @@ impl Stokesian {
 pub struct StokesianMemory {
     #[serde(skip)]
     last: Option<(f64, Y, InertialessRate)>,
+    /// The time of the last accepted state and the flow's velocity gradient there (read by
+    /// [`super::manifold`]; a cache like `last`).
+    #[serde(skip)]
+    end_gradient: Option<(f64, Mat3)>,
     /// Radau's Jacobian, controller history and starting-value polynomial (not a cache: it
     /// changes the next step, so checkpoints keep it).
     radau: RadauMemory<15>,
+}
+
+impl StokesianMemory {
+    /// The flow's velocity gradient at the last accepted state, with its time.
+    pub fn end_gradient(&self) -> Option<(f64, Mat3)> {
+        self.end_gradient
+    }
 }
 
 impl TimeIntegrator for Stokesian {
@@ -240,6 +251,7 @@ impl TimeIntegrator for Stokesian {
             a,
         };
         next.validate()?;
+        memory.end_gradient = Some((next.t, acc.payload.l_f()));
         if !rigid {
             // The projection of the rigid limit moves F off the evaluated point.
             memory.last = Some((next.t, acc.y, acc.payload));

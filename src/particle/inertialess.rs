@@ -167,6 +167,11 @@ impl InertialessRate {
     pub fn x_dot(&self) -> Vec3 {
         self.x_dot
     }
+
+    /// The flow's velocity gradient l_f = ∇u at the barycentre.
+    pub fn l_f(&self) -> Mat3 {
+        self.l_f
+    }
 }
 
 impl<M: Response, D: DragModel, F: FlowField + ?Sized> Model<'_, M, D, F> {

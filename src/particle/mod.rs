@@ -16,6 +16,7 @@
 pub mod dynamics;
 pub mod inertialess;
 pub mod lines;
+pub mod manifold;
 pub mod model;
 pub mod release;
 pub mod scaling;

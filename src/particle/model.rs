@@ -11,7 +11,7 @@ use super::dynamics::Geometry;
 use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use crate::error::{ParamError, derived, finite, positive};
 use crate::hydro::{Brenner, DragModel, ForceTerms, JefferyRoscoe, VolumetricTraction};
-use crate::material::{Response, StressLaw};
+use crate::material::{Response, Rigid, StressLaw};
 use crate::tensor::{Mat3, Vec3, nearest_rotation};
 use serde::{Deserialize, Serialize};
 
@@ -94,8 +94,9 @@ pub struct Particle<M, D = Brenner> {
     gravity: Vec3,
     volumetric: VolumetricTraction,
     forces: ForceTerms,
-    // Derived, cached: S, m, vol(B₀), Θ⁻¹, and a rigid particle's rest geometry.
+    // Derived, cached: S, m, vol(B₀), Θ⁻¹, the rest geometry, and a rigid particle's copy of it.
     s: Mat3,
+    rest: Option<Geometry>,
     rigid: Option<Geometry>,
     mass: f64,
     volume0: f64,
@@ -133,17 +134,23 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             volumetric: VolumetricTraction::default(),
             forces: ForceTerms::default(),
             s,
+            rest: None,
             rigid: None,
             mass,
             volume0,
             theta_inv,
         };
         particle.check_rest_geometry()?;
+        let rest = Geometry::try_of_total_distortion(&s)?;
         let rigid = match particle.material.elastic() {
-            None => Some(Geometry::try_of_total_distortion(&s)?),
+            None => Some(rest),
             Some(_) => None,
         };
-        Ok(Self { rigid, ..particle })
+        Ok(Self {
+            rest: Some(rest),
+            rigid,
+            ..particle
+        })
     }
 
     /// The rest state's integrals, traction coefficients and drag must be finite: an ellipsoid
@@ -330,6 +337,38 @@ impl<M: Response, D: DragModel> Particle<M, D> {
                 Ok(rest.turned(&nearest_rotation(f)))
             }
             None => Geometry::try_of_total_distortion(&self.total_distortion(f)),
+        }
+    }
+
+    /// The rest shape's geometry (F = 1), computed once at construction.
+    pub fn rest_geometry(&self) -> Geometry {
+        match self.rest {
+            Some(rest) => rest,
+            None => unreachable!("every constructor sets the rest geometry"),
+        }
+    }
+
+    /// The same particle made rigid (the limit Ca → 0): shape, drag, fluid, density, gravity,
+    /// traction and force terms shared, the material replaced by [`Rigid`], the rest geometry
+    /// reused. The slow-manifold model ([`crate::integrator::manifold`]) turns it as the
+    /// stiff elastic particle's rotation. No allocation: the drag is borrowed and the force
+    /// terms are shared.
+    pub fn rigid_twin(&self) -> Particle<Rigid, &D> {
+        Particle {
+            shape: self.shape,
+            material: Rigid,
+            drag: &self.drag,
+            fluid: self.fluid,
+            rho_solid: self.rho_solid,
+            gravity: self.gravity,
+            volumetric: self.volumetric,
+            forces: self.forces.clone(),
+            s: self.s,
+            rest: self.rest,
+            rigid: self.rest,
+            mass: self.mass,
+            volume0: self.volume0,
+            theta_inv: self.theta_inv,
         }
     }
 

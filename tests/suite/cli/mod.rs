@@ -110,6 +110,28 @@ fn scheme_names_and_their_aliases_choose_the_scheme() {
     }
 }
 
+/// `slow_manifold` is selectable by name with its `delta_max`, which must lie in (0, 1): a
+/// value outside is refused with the key named (no panic, no run).
+#[test]
+fn slow_manifold_is_selectable_and_checks_delta_max() {
+    let from = "type = \"radau_iia\"";
+    let s = scene("oblate_shear.toml", &[(from, "type = \"slow_manifold\"")]);
+    assert_eq!(s.integrator.name(), "slow_manifold");
+    let s = scene(
+        "oblate_shear.toml",
+        &[(from, "type = \"slow_manifold\"\ndelta_max = 0.05")],
+    );
+    assert_eq!(s.integrator.name(), "slow_manifold");
+    let text = std::fs::read_to_string(scene_path("oblate_shear.toml")).unwrap();
+    for bad in ["0.0", "1.5", "-0.1"] {
+        let edited = text.replace(from, &format!("type = \"slow_manifold\"\ndelta_max = {bad}"));
+        match parse_named("edited.toml", &edited) {
+            Err(e) => assert!(e.to_string().contains("delta_max"), "{bad}: {e}"),
+            Ok(_) => panic!("delta_max = {bad} accepted"),
+        }
+    }
+}
+
 #[test]
 fn oblate_shear_scene_is_the_library_fig4_run() {
     let s = scene("oblate_shear.toml", &[("t_end = 30.0", "t_end = 3.0")]);

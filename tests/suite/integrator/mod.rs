@@ -4,6 +4,7 @@ mod choice;
 mod error_norm;
 mod every_scheme;
 mod imex;
+mod manifold;
 mod radau5;
 
 use proptest::prelude::*;
