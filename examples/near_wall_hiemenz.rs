@@ -84,7 +84,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         match fitted_order(&rows, layers, Measure::HalfCellGradient) {
             Some(p) if levels >= 3 && p >= 1.8 => {}
-            p => failures.push(format!("{layers} layers: ∇u order at half the first cell {p:?} over {levels} levels")),
+            p => failures.push(format!(
+                "{layers} layers: ∇u order at half the first cell {p:?} over {levels} levels"
+            )),
         }
         match fitted_order(&rows, layers, Measure::Velocity) {
             Some(p) if levels >= 3 && (p - 2.0).abs() <= 0.3 => {}

@@ -393,7 +393,14 @@ pub fn wall_layer_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, Out
 /// `case,layers,level,first_cell_height,u_rel_err,grad_rel_err` (case `hiemenz`; the errors
 /// of [`half_cell_errors`]), numbers with `digits` significant digits.
 pub fn gradient_order_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, OutputError> {
-    let mut csv = Csv::new(&["case", "layers", "level", "first_cell_height", "u_rel_err", "grad_rel_err"]);
+    let mut csv = Csv::new(&[
+        "case",
+        "layers",
+        "level",
+        "first_cell_height",
+        "u_rel_err",
+        "grad_rel_err",
+    ]);
     let g = |v: f64| format!("{v:.*e}", digits.saturating_sub(1));
     for r in rows {
         csv.push(vec![

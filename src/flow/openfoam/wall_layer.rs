@@ -22,45 +22,45 @@
 //! factors change these by a relative O(κδ).
 //!
 //! # The fit of wall face f
-//! With $y = x − x_f$, δ_p = n·y the height over the face's plane, $t = (I − nn^T) y$, S the
-//! wall's shape operator at the face (below) and δ = δ_p + ½ tᵀS t the height over the
-//! wall's osculating surface through $x_f$; $p_f$ the foot of the wall cell's centre on the
-//! face's plane, $r_t = (I − n n^T)(x − p_f)$ and $D_f$ the tangential gradient of γ at $p_f$:
+//! With $y = x − x_f$, δ = n·y the height over the face's plane, $p_f$ the foot of the wall
+//! cell's centre on the face's plane, $r_t = (I − n n^T)(x − p_f)$ and $D_f$ the tangential
+//! gradient of γ at $p_f$:
 //! ```math
-//! L_f(x) = \underbrace{u_w + W_f\,y + (a_f n + m_f)\,δ_p}_{U_f(x):\ \text{the wall's motion}}
+//! L_f(x) = \underbrace{u_w + W_f\,y + (a_f n + m_f)\,δ}_{U_f(x):\ \text{the wall's motion}}
 //!   + δ\,(γ_f + D_f r_t) + δ^2 q_f + (c_f δ^2 + e_f δ^3)\,n,
 //! ```
 //! ```math
 //! a_f = −\operatorname{tr} W_f,\qquad m_f = −(I − nn^T)\,W_f^T n,\qquad c_f = −\tfrac12 \operatorname{tr} D_f,
 //! ```
 //! ```math
-//! ∇L_f = W_f + (a_f n + m_f)\,n^T + \big(γ_f + D_f r_t + 2δ q_f + (2c_f δ + 3e_f δ^2)\,n\big)\,(n + S t)^T + δ\,D_f ,
+//! ∇L_f = W_f + (a_f n + m_f)\,n^T + \big(γ_f + D_f r_t + 2δ q_f + (2c_f δ + 3e_f δ^2)\,n\big)\,n^T + δ\,D_f ,
 //! ```
-//! the exact derivative of $L_f$ on a flat face (S = 0; on a curved one it drops the O(δ²κ)
-//! turning of q and n). Its terms:
+//! the exact derivative of $L_f$ on a flat face. Its terms:
 //! - *Wall motion* $U_f$: $u_w$ the face's value, $W_f$ by least squares over the neighbouring
 //!   wall faces' values (below), a from continuity, and $m_f$ the normal derivative a rigid
 //!   motion with this W has ($m = Ω × n$ for $u_w = V + Ω × x$), so a rotating wall's velocity
 //!   is extended into the fluid exactly, curved or not. The rest of $L_f$ is the shear part,
 //!   zero on the wall.
 //! - *Tangential*: the profile $u_t − U_{f,t} = γδ + qδ^2$ through the values $u_o$ of the
-//!   wall cell (centre at plane height ρ, wall height ρ + σ with σ = ½ tᵀSt at the foot) and
+//!   wall cell (centre at height ρ) and
 //!   $u_1$ of the cell above it (plane height ρ₁, the wall cell's face neighbour furthest along
 //!   n for its tangential offset $s_1$, moved onto the normal through the foot by its own
 //!   gradient, $u_1 − G_1 s_1$):
 //!   ```math
-//!   q = \frac{v_1/(ρ_1 + σ) − v_o/(ρ + σ)}{ρ_1 − ρ},\qquad γ = \frac{v_o}{ρ + σ} − q\,(ρ + σ),\qquad v = (I − nn^T)\big(u − U_f\big).
+//!   q = \frac{v_1/ρ_1 − v_o/ρ}{ρ_1 − ρ},\qquad γ = \frac{v_o}{ρ} − qρ,\qquad v = (I − nn^T)\big(u − U_f\big).
 //!   ```
 //!   Exact for a quadratic profile, so γ is second order in the cell size and q first: ∇u at
 //!   δ = O(h) is second order. A wall cell with no cell above it (one cell across a channel)
 //!   takes the wall cell's gradient for the normal derivative at ρ, $G_o n − m = γ + 2qρ$,
 //!   first order (the least-squares gradient at a wall cell is one-sided).
-//! - *Curved walls*: the shear part grows with the height δ over the curved wall, and γ turns
-//!   with it: $D_f$'s tangential rows by least squares, its normal row $−(Sγ)^T$ from
-//!   γ·n = 0 (so that the trace terms γ·St and n·D r_t cancel, as continuity needs).
+//! - *Curved walls*: the fit is a flat-face expansion. The solver's no-slip wall is the
+//!   faceted one, which this keeps; against the smooth wall it drops the shear part's
+//!   curvature term, $κγ|t|$ in ∇u over a face (first order in the face size), and q's and
+//!   n's turning (O(δ²κ)). (Measuring δ over the osculating surface instead made ∇u second
+//!   order on a convex cylinder but moved no-slip off the faces of a concave pipe.)
 //! - *Normal*: continuity fixes $a_f$ and $c_f$, and the solver's own value at the centre the
-//!   next, $e_f = ((u_o − U_f)·n − c_f (ρ+σ)^2)/(ρ+σ)^3$, so the fit passes through the
-//!   cell's value. The cubic is limited to $|e_f| (ρ+σ) ≤ |c_f|$ (`MAX_CUBIC`): a finite-volume
+//!   next, $e_f = ((u_o − U_f)·n − c_f ρ^2)/ρ^3$, so the fit passes through the
+//!   cell's value. The cubic is limited to $|e_f| ρ ≤ |c_f|$ (`MAX_CUBIC`): a finite-volume
 //!   value of $u_n$ at a thin cell's centre has an O(1) relative error of its own (it is O(ρ²),
 //!   like $u_n$ itself), and the limit keeps the sign of continuity's term below the centre, so
 //!   no spurious stagnation layer appears.
@@ -73,24 +73,24 @@
 //! tangential variation is linear over a face (W is constant on it: a quadratic wall velocity
 //! leaves ∇u first order, as in the cellwise fits, with a larger constant on uniform boxes).
 //!
-//! # The surface gradients D, W and S
+//! # The surface gradients D and W
 //! By least squares over the neighbouring wall faces (those sharing a vertex with f and
 //! turned by less than 45° from it, so a sharp edge between two walls is not differenced
 //! across), in f's tangent plane with inverse-square distance weights: D from the shears at
-//! the feet, W from the wall velocities and S = ∇ₛn (symmetrised) from the normals at the face
-//! centres; exact for values linear along the wall. On a curved wall a neighbour's centre lies
+//! the feet, W from the wall velocities at the face centres; exact for values linear along
+//! the wall. On a curved wall a neighbour's centre lies
 //! O(κh²) off f's plane, where a rigid motion's velocity differs by (a n + m) times the offset:
 //! W is estimated twice, the second time with that difference taken out (otherwise W, and ∇u
 //! with it, would be first order wherever the stencil is one-sided). A wall face with fewer
-//! than two independent neighbours (an isolated face) gets D = W = S = 0, and so no
+//! than two independent neighbours (an isolated face) gets D = W = 0, and so no
 //! continuity term.
 //!
 //! # Verification
 //! `tests/suite/flow/openfoam/` writes exact fields into boxes meshed as users mesh them
 //! (uniform and graded blockMesh, 2 and 5 prism layers; hexahedra and prisms; snappyHexMesh):
 //! - divergence-free linear fields with moving, transpiring walls: exact to round-off;
-//! - Taylor–Couette flow at a rotating cylinder (quarter annuli, uniform and layered): u and
-//!   ∇u at half the first cell's height second order;
+//! - Taylor–Couette flow at a rotating cylinder (quarter annuli, uniform and layered): u at
+//!   half the first cell's height second order, ∇u within the curvature term's bound;
 //! - Hiemenz's stagnation flow ([`crate::flow::stagnation`]): the normal velocity within 10 %
 //!   of the exact one throughout the first cell, v/δ² within 4 % of continuity's coefficient,
 //!   u and ∇u at half the first cell's height second order under refinement, and a sphere's
@@ -128,9 +128,6 @@ pub struct WallGeometry {
     stencil: Vec<(usize, Vec3, Vec3)>,
     /// The cell above the wall cell along the normal, if there is one (module docs).
     above: Vec<Option<Above>>,
-    /// Shape operator S = ∇ₛn of the wall at the face centre (symmetric, S n = 0; zero where
-    /// the face has no stencil): the wall lies at δ = −½ rᵀ S r below the face's plane.
-    shapes: Vec<Mat3>,
 }
 
 /// The second cell of a wall face's normal profile: the wall cell's face neighbour whose centre
@@ -272,16 +269,8 @@ impl WallGeometry {
             }
             offsets.push(stencil.len());
         }
-        let above = (0..n).map(|k| above(mesh, owners[k], normals[k], centres[k], feet[k], depths[k])).collect();
-        let shapes = (0..n)
-            .map(|k| {
-                let project = Mat3::identity() - normals[k] * normals[k].transpose();
-                let s = stencil[offsets[k]..offsets[k + 1]]
-                    .iter()
-                    .fold(Mat3::zeros(), |s, (j, _, b)| s + (normals[*j] - normals[k]) * b.transpose());
-                let s = project * s * project;
-                (s + s.transpose()) * 0.5
-            })
+        let above = (0..n)
+            .map(|k| above(mesh, owners[k], normals[k], centres[k], feet[k], depths[k]))
             .collect();
         Self {
             normals,
@@ -292,7 +281,6 @@ impl WallGeometry {
             offsets,
             stencil,
             above,
-            shapes,
         }
     }
 
@@ -342,11 +330,6 @@ impl WallGeometry {
             let (n, y) = (self.normals[k], x - self.centres[k]);
             velocity[k] + w * y + (n * a + m) * n.dot(&y)
         };
-        // Height of the foot's normal above the wall: ρ + σ with σ = ½ tᵀ S t at the foot.
-        let shift = |k: usize| {
-            let t = tangential(&self.normals[k], self.feet[k] - self.centres[k]);
-            0.5 * t.dot(&(self.shapes[k] * t))
-        };
         // γ and q of the tangential profile u_t − U_w = γδ + qδ² (module docs).
         let profiles: Vec<(Vec3, Vec3)> = (0..self.len())
             .map(|k| {
@@ -355,19 +338,18 @@ impl WallGeometry {
                 if depth <= 0.0 {
                     return (tangential(&n, grad[o] * n) - m, Vec3::zeros());
                 }
-                let sigma = shift(k);
-                let near = tangential(&n, u[o] - moving(k, self.feet[k] + n * depth)) / (depth + sigma);
+                let near = tangential(&n, u[o] - moving(k, self.feet[k] + n * depth)) / depth;
                 match self.above[k] {
                     Some(Above { cell, height, offset }) => {
                         let value = u[cell] - grad[cell] * offset - moving(k, self.feet[k] + n * height);
-                        let far = tangential(&n, value) / (height + sigma);
+                        let far = tangential(&n, value) / height;
                         let curvature = (far - near) / (height - depth);
-                        (near - curvature * (depth + sigma), curvature)
+                        (near - curvature * depth, curvature)
                     }
                     None => {
                         let slope = tangential(&n, grad[o] * n) - m;
                         let shear = near * 2.0 - slope;
-                        (shear, (slope - shear) / (2.0 * (depth + sigma)))
+                        (shear, (slope - shear) / (2.0 * depth))
                     }
                 }
             })
@@ -376,19 +358,18 @@ impl WallGeometry {
             .map(|k| {
                 let n = self.normals[k];
                 let (shear, curvature) = profiles[k];
-                let d = neighbours(k)
-                    .iter()
-                    .fold(Mat3::zeros(), |d, (j, a, _)| d + (profiles[*j].0 - shear) * a.transpose());
-                // The tangential rows by least squares; the normal row follows from γ·n = 0,
-                // n·∂γ = −γ·∂n = −(Sγ)ᵀ: γ turns with a curved wall.
+                let d = neighbours(k).iter().fold(Mat3::zeros(), |d, (j, a, _)| {
+                    d + (profiles[*j].0 - shear) * a.transpose()
+                });
+                // Only the tangential components of γ vary along the wall at this order.
                 let project = Mat3::identity() - n * n.transpose();
-                let d = project * d - n * (self.shapes[k] * shear).transpose();
+                let d = project * d;
                 let (w, a, m) = motions[k];
                 // Continuity one order up: ∂²u_n/∂n² = −∇ₛ·γ.
                 let c = -0.5 * d.trace();
                 let depth = self.depths[k];
                 let e = if depth > 0.0 {
-                    let height = depth + shift(k);
+                    let height = depth;
                     let bound = MAX_CUBIC * c.abs() / height;
                     let rise = (u[self.owners[k]] - moving(k, self.feet[k] + n * depth)).dot(&n) - c * height * height;
                     let fitted = rise / height.powi(3);
@@ -415,11 +396,7 @@ impl WallGeometry {
     pub fn evaluate(&self, k: usize, fit: &WallFit, x: &Vec3) -> (Vec3, Mat3) {
         let n = self.normals[k];
         let y = x - self.centres[k];
-        let plane = n.dot(&y);
-        let t = y - n * plane;
-        // Height over the wall's osculating surface and its gradient.
-        let st = self.shapes[k] * t;
-        let (delta, normal) = (plane + 0.5 * t.dot(&st), n + st);
+        let delta = n.dot(&y);
         let along = x - self.feet[k];
         let r_t = along - n * n.dot(&along);
         let (w, d) = (fit.velocity_gradient, fit.shear_gradient);
@@ -427,12 +404,12 @@ impl WallGeometry {
         let [c, e] = fit.normal;
         let u = fit.velocity
             + w * y
-            + fit.rigid_slope * plane
+            + fit.rigid_slope * delta
             + g * delta
             + fit.curvature * (delta * delta)
             + n * (delta * delta * (c + e * delta));
         let slope = g + fit.curvature * (2.0 * delta) + n * (delta * (2.0 * c + 3.0 * e * delta));
-        let grad = w + fit.rigid_slope * n.transpose() + slope * normal.transpose() + d * delta;
+        let grad = w + (fit.rigid_slope + slope) * n.transpose() + d * delta;
         (u, grad)
     }
 

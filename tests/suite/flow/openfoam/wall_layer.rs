@@ -27,12 +27,20 @@ fn wall_meshes() -> Vec<(String, PolyMesh, f64)> {
     for layering in [Layering::Uniform, Layering::Graded, Layering::Layers(5)] {
         for prisms in [false, true] {
             let flow = stagnation_box(layering, 0, prisms);
-            meshes.push((format!("{layering:?} prisms {prisms}"), flow.cellwise.mesh().clone(), flow.first_cell));
+            meshes.push((
+                format!("{layering:?} prisms {prisms}"),
+                flow.cellwise.mesh().clone(),
+                flow.first_cell,
+            ));
         }
     }
     for n in [0, 2, 5] {
         let flow = stagnation_box(Layering::Snapped(n), 0, false);
-        meshes.push((format!("snapped, {n} layers"), flow.cellwise.mesh().clone(), flow.first_cell));
+        meshes.push((
+            format!("snapped, {n} layers"),
+            flow.cellwise.mesh().clone(),
+            flow.first_cell,
+        ));
     }
     meshes
 }
@@ -64,7 +72,11 @@ fn linear_fields_are_exact_at_moving_walls() {
             .into_iter()
             .map(|p| Vec3::new(p[0] - 0.5, 2.0 * first * p[1] * p[1], 0.25 * p[2]))
             .collect();
-        pts.extend(points(200, 0.0, 1.0, 41).into_iter().map(|p| Vec3::new(p[0] - 0.5, 0.4 * p[1], 0.25 * p[2])));
+        pts.extend(
+            points(200, 0.0, 1.0, 41)
+                .into_iter()
+                .map(|p| Vec3::new(p[0] - 0.5, 0.4 * p[1], 0.25 * p[2])),
+        );
         let (mut eu, mut eg) = (0.0f64, 0.0f64);
         for x in &pts {
             let s = blend.sample(x, 0.0).unwrap();
@@ -92,7 +104,10 @@ fn hiemenz_gradient_at_half_the_first_cell_converges_at_second_order() {
         for refine in 0..3 {
             let flow = stagnation_box(layering, refine, false);
             let (eu, eg) = half_cell_errors(&flow.blended, flow.first_cell).unwrap();
-            eprintln!("{layering:?} refine {refine}: first cell {:.3e}, u {eu:.3e}, ∇u {eg:.3e}", flow.first_cell);
+            eprintln!(
+                "{layering:?} refine {refine}: first cell {:.3e}, u {eu:.3e}, ∇u {eg:.3e}",
+                flow.first_cell
+            );
             u.push((flow.first_cell, eu));
             grad.push((flow.first_cell, eg));
         }
@@ -132,7 +147,9 @@ fn couette(x: &Vec3) -> (Vec3, Mat3) {
 /// Returns the mesh and its first cell's height.
 fn quarter_annulus(level: u32, layers: usize) -> (PolyMesh, f64) {
     let n = 8usize << level;
-    let thetas: Vec<f64> = (0..=n).map(|i| std::f64::consts::FRAC_PI_2 * i as f64 / n as f64).collect();
+    let thetas: Vec<f64> = (0..=n)
+        .map(|i| std::f64::consts::FRAC_PI_2 * i as f64 / n as f64)
+        .collect();
     let core = 1.0 / n as f64;
     let mut radii = vec![1.0];
     if layers > 0 {
@@ -171,34 +188,41 @@ fn couette_half_cell(flow: &dyn FlowField, first: f64) -> (f64, f64) {
         .fold((0.0f64, 0.0f64), |(a, b), (u, g)| (a.max(u), b.max(g)))
 }
 
-/// Taylor–Couette at the rotating inner cylinder, exact field on cells and patches: u and ∇u
-/// at half the first cell's height converge at second order, on uniform cells and with 2 and
-/// 5 layers (levels 1–3: the coarsest quarter annulus, 8 cells over 90°, is pre-asymptotic).
-/// The fit follows the wall's rigid rotation exactly (its normal derivative m from W), the
-/// shear part over the curved wall's height (S from the neighbours' normals) and γ's turning
-/// with the wall (D's normal row): each misses a first-order term without the others. Bound
-/// 1.8 as for Hiemenz (measured 2.12–2.21 for ∇u, 3.2–3.3 for u). Before the wall's motion
-/// entered the fit ∇u missed by 0.30 of its largest value at every level (order −0.05) and u
-/// converged at first order, 14× worse than the cellwise fits at level 3 (the test fails so).
+/// Taylor–Couette at the rotating inner cylinder, exact field on cells and patches, uniform
+/// cells and 2 and 5 layers (levels 1–3: the coarsest quarter annulus, 8 cells over 90°, is
+/// pre-asymptotic). The fit extends the wall's rigid rotation exactly (its normal derivative m
+/// from W) and is a flat-face expansion of the shear part, so:
+/// - u at half the first cell's height converges at second order (bound 1.8 as for Hiemenz);
+/// - ∇u misses the shear part's curvature term along the face, κ|γ_s||t| with |t| ≤ h/2 (h
+///   the face's arc, κ = 1, |γ_s| = 2B = 8/3 the shear rate of the non-rigid part on the
+///   wall): relative to the largest |∇u| (3), at most κ|γ_s|h/6 at every level, and below the
+///   cellwise fits' error.
+/// Before the wall's motion entered the fit ∇u missed by 0.30 of its largest value at every
+/// level (order −0.05) and u converged at first order, 14× worse than the cellwise fits at
+/// level 3 (the test fails so).
 #[test]
-fn taylor_couette_at_a_rotating_wall_converges_at_second_order() {
+fn taylor_couette_at_a_rotating_wall() {
     for layers in [0, 2, 5] {
-        let (mut u, mut grad) = (Vec::new(), Vec::new());
+        let mut u = Vec::new();
         for level in 1..=3 {
             let (mesh, first) = quarter_annulus(level, layers);
             let cells = FoamFlow::new(mesh.clone(), vec![(0.0, build::sampled(&mesh, |x| couette(x).0))]).unwrap();
             let blend = BlendedFlow::new(cells.clone()).unwrap();
             let (eu, eg) = couette_half_cell(&blend, first);
             let (cu, cg) = couette_half_cell(&cells, first);
-            eprintln!("{layers} layers, level {level}: first cell {first:.3e}, u {eu:.3e}, ∇u {eg:.3e} (cellwise {cu:.3e}, {cg:.3e})");
+            let arc = std::f64::consts::FRAC_PI_2 / (8u32 << level) as f64;
+            let bound = (8.0 / 3.0) * arc / 6.0;
+            eprintln!(
+                "{layers} layers, level {level}: first cell {first:.3e}, u {eu:.3e}, ∇u {eg:.3e} (bound {bound:.3e}; cellwise {cu:.3e}, {cg:.3e})"
+            );
+            assert!(
+                eg <= bound && eg < cg,
+                "{layers} layers, level {level}: ∇u {eg:e}, bound {bound:e}, cellwise {cg:e}"
+            );
             u.push((first, eu));
-            grad.push((first, eg));
         }
-        let (pu, pg) = (slope(&u), slope(&grad));
-        eprintln!("{layers} layers: fitted order u {pu:.2}, ∇u {pg:.2}");
-        assert!(pu >= 1.8 && pg >= 1.8, "{layers} layers: orders {pu:.2}, {pg:.2}");
+        let pu = slope(&u);
+        eprintln!("{layers} layers: fitted order u {pu:.2}");
+        assert!(pu >= 1.8, "{layers} layers: order {pu:.2}");
     }
 }
-
-
-
