@@ -197,6 +197,7 @@ fn couette_half_cell(flow: &dyn FlowField, first: f64) -> (f64, f64) {
 ///   the face's arc, κ = 1, |γ_s| = 2B = 8/3 the shear rate of the non-rigid part on the
 ///   wall): relative to the largest |∇u| (3), at most κ|γ_s|h/6 at every level, and below the
 ///   cellwise fits' error.
+///
 /// Before the wall's motion entered the fit ∇u missed by 0.30 of its largest value at every
 /// level (order −0.05) and u converged at first order, 14× worse than the cellwise fits at
 /// level 3 (the test fails so).
