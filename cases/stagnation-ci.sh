@@ -8,7 +8,9 @@
 # within 10 % in the first cell, v/δ² within 10 % of continuity's coefficient, order 2 ± 0.3).
 # The dataset it writes goes to cases/stagnation/ci/out (paper-figures/near-wall holds the
 # committed one). The Pich pipes of the same deliverable (cases/pich-pipe) are regenerated and
-# checked against tests/data/pich-snappy the same way.
+# checked against tests/data/pich-snappy the same way. The Taylor–Couette annuli
+# (cases/taylor-couette, levels 0-2, 0/2/5 layers; level 0 shipped in tests/data/couette-snappy)
+# add the rotating curved wall's rows to gradient_order.csv (u second order asserted).
 set -eu
 repo=$(cd "$(dirname "$0")/.." && pwd)
 
@@ -33,6 +35,12 @@ for layers in 0 2 5; do
     "$repo/cases/pich-pipe/Allmesh" "$layers" "$work/pipe$layers" > /dev/null
     same_as_shipped "$work/pipe$layers" "tests/data/pich-snappy/layers$layers"
 done
+for layers in 0 2 5; do
+    for level in 0 1 2; do
+        "$repo/cases/taylor-couette/Allmesh" "$layers" "$level" "$work/couette/layers$layers/level$level" > /dev/null
+    done
+    same_as_shipped "$work/couette/layers$layers/level0" "tests/data/couette-snappy/layers$layers"
+done
 cd "$repo"
-cargo run --release --quiet --example near_wall_hiemenz -- "$work" "$work/out"
+cargo run --release --quiet --example near_wall_hiemenz -- "$work" "$work/out" "$work/couette"
 echo "stagnation-ci: OK"

@@ -31,6 +31,8 @@
 //!   (2005);
 //! - `stagnation` (feature `mesh`): the exact Hiemenz stagnation flow written into meshed boxes
 //!   (snappyHexMesh prism layers, `cases/stagnation`), the wall layer against it;
+//! - `couette` (feature `mesh`): the exact Taylor–Couette flow written into snappyHexMesh
+//!   annuli (`cases/taylor-couette`), the wall layer at a rotating curved wall;
 //! - `peer` (feature `parallel`): OpenFOAM's own tracker on the same particles
 //!   (`benches/peers/openfoam_tracker`), and the race of the two trackers' cost.
 
@@ -46,6 +48,8 @@ pub mod bifurcation;
 pub mod cavity;
 #[cfg(feature = "mesh")]
 pub mod cavity_benchmark;
+#[cfg(feature = "mesh")]
+pub mod couette;
 pub mod forces;
 pub mod particles;
 #[cfg(feature = "parallel")]

@@ -321,17 +321,7 @@ pub fn fitted_order(rows: &[WallLayerRow], layers: usize, measure: Measure) -> O
         .filter(|r| r.layers == layers)
         .map(|r| (r.first_cell.ln(), measure.of(r).ln()))
         .collect();
-    if pts.len() < 2 {
-        return None;
-    }
-    let n = pts.len() as f64;
-    let (mx, my) = (
-        pts.iter().map(|p| p.0).sum::<f64>() / n,
-        pts.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    Some(sxy / sxx)
+    least_squares_slope(&pts)
 }
 
 /// The dataset: one row per mesh, numbers with `digits` significant digits (the observed orders
@@ -389,10 +379,41 @@ pub fn wall_layer_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, Out
     Ok(csv)
 }
 
-/// The near-wall convergence dataset `paper-figures/near-wall/gradient_order.csv`: per mesh
-/// `case,layers,level,first_cell_height,u_rel_err,grad_rel_err` (case `hiemenz`; the errors
-/// of [`half_cell_errors`]), numbers with `digits` significant digits.
-pub fn gradient_order_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv, OutputError> {
+/// One row of the near-wall convergence dataset `paper-figures/near-wall/gradient_order.csv`:
+/// an exact flow on one mesh, its u and ∇u errors at half the first cell's height relative to
+/// the exact field's maxima.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrderRow {
+    /// The exact flow: `hiemenz` or `taylor_couette`.
+    pub case: &'static str,
+    /// Prism layers asked of snappyHexMesh.
+    pub layers: usize,
+    /// Refinement level.
+    pub level: u32,
+    /// First cell's height δ₁.
+    pub first_cell_height: f64,
+    /// Largest |u| error at δ₁/2, relative.
+    pub u_rel_err: f64,
+    /// Largest |∇u| error at δ₁/2, relative.
+    pub grad_rel_err: f64,
+}
+
+impl From<&WallLayerRow> for OrderRow {
+    fn from(r: &WallLayerRow) -> Self {
+        Self {
+            case: "hiemenz",
+            layers: r.layers,
+            level: r.level,
+            first_cell_height: r.first_cell,
+            u_rel_err: r.half_cell_velocity_error,
+            grad_rel_err: r.half_cell_gradient_error,
+        }
+    }
+}
+
+/// The dataset `gradient_order.csv`: `case,layers,level,first_cell_height,u_rel_err,grad_rel_err`,
+/// numbers with `digits` significant digits.
+pub fn gradient_order_table(rows: &[OrderRow], digits: usize) -> Result<Csv, OutputError> {
     let mut csv = Csv::new(&[
         "case",
         "layers",
@@ -404,15 +425,46 @@ pub fn gradient_order_table(rows: &[WallLayerRow], digits: usize) -> Result<Csv,
     let g = |v: f64| format!("{v:.*e}", digits.saturating_sub(1));
     for r in rows {
         csv.push(vec![
-            "hiemenz".into(),
+            r.case.into(),
             r.layers.to_string(),
             r.level.to_string(),
-            g(r.first_cell),
-            g(r.half_cell_velocity_error),
-            g(r.half_cell_gradient_error),
+            g(r.first_cell_height),
+            g(r.u_rel_err),
+            g(r.grad_rel_err),
         ])?;
     }
     Ok(csv)
+}
+
+/// The least-squares slope of ln e against ln δ₁ over the rows of one case and layering, for
+/// the velocity (`gradient` false) or the gradient error; `None` with fewer than two rows.
+pub fn order_row_slope(rows: &[OrderRow], case: &str, layers: usize, gradient: bool) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.case == case && r.layers == layers)
+        .map(|r| {
+            (
+                r.first_cell_height.ln(),
+                if gradient { r.grad_rel_err } else { r.u_rel_err }.ln(),
+            )
+        })
+        .collect();
+    least_squares_slope(&pts)
+}
+
+/// Slope of the least-squares line through `pts`, `None` with fewer than two points.
+fn least_squares_slope(pts: &[(f64, f64)]) -> Option<f64> {
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    Some(sxy / sxx)
 }
 
 /// The |u| error against δ₁ beside a slope-2 guide, and the normal-velocity error at a

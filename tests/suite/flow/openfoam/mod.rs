@@ -18,7 +18,7 @@ use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, Layout, PatchRole, PatchSet, PolyMesh};
 use pseudorigid::scenes::stagnation::{
-    FRACTIONS, NU, STRAIN, StagnationBox, WallLayerRow, coefficient_ratio, gradient_order_table, hiemenz,
+    FRACTIONS, NU, OrderRow, STRAIN, StagnationBox, WallLayerRow, coefficient_ratio, gradient_order_table, hiemenz,
     normal_velocity_error, velocity_errors, wall_layer_points, wall_layer_table,
 };
 use pseudorigid::tensor::{Mat3, Vec3};
@@ -865,7 +865,13 @@ fn hiemenz_snapped_dataset_snapshot() {
     }
     insta::assert_snapshot!(wall_layer_table(&rows, 3).unwrap().to_text());
     // `paper-figures/near-wall/gradient_order.csv`'s coarse rows.
-    insta::assert_snapshot!("gradient_order", gradient_order_table(&rows, 3).unwrap().to_text());
+    let mut orders: Vec<OrderRow> = rows.iter().map(OrderRow::from).collect();
+    for n in [0, 2, 5] {
+        let case = format!("{}/tests/data/couette-snappy/layers{n}", env!("CARGO_MANIFEST_DIR"));
+        let annulus = pseudorigid::scenes::couette::CouetteAnnulus::read(case.as_ref()).unwrap();
+        orders.push(pseudorigid::scenes::couette::order_row(n, 0, &annulus).unwrap());
+    }
+    insta::assert_snapshot!("gradient_order", gradient_order_table(&orders, 3).unwrap().to_text());
 }
 
 /// An inertialess rigid sphere of radius ℓ/20 released on the stagnation line at y₀ = 2ℓ
