@@ -5,6 +5,7 @@ use super::{Layering, points, stagnation_box};
 use crate::common::build;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamFlow, PolyMesh};
+use pseudorigid::scenes::couette::exact as couette;
 use pseudorigid::scenes::stagnation::half_cell_errors;
 use pseudorigid::tensor::{Mat3, Vec3};
 
@@ -115,29 +116,6 @@ fn hiemenz_gradient_at_half_the_first_cell_converges_at_second_order() {
         eprintln!("{layering:?}: fitted order u {pu:.2}, ∇u {pg:.2}");
         assert!(pu >= 1.8 && pg >= 1.8, "{layering:?}: orders {pu:.2}, {pg:.2}");
     }
-}
-
-/// Circular Couette flow between cylinders r = 1 (rotating at Ω = 1) and r = 2 (at rest):
-/// u = ω(r) e_z × x with ω = A + B/r², A = −1/3, B = 4/3, and its gradient.
-fn couette(x: &Vec3) -> (Vec3, Mat3) {
-    let (a, b) = (-1.0 / 3.0, 4.0 / 3.0);
-    let r2 = x[0] * x[0] + x[1] * x[1];
-    let omega = a + b / r2;
-    // dω/dr · x_j/r = −2B x_j/r⁴.
-    let d = -2.0 * b / (r2 * r2);
-    let u = Vec3::new(-omega * x[1], omega * x[0], 0.0);
-    let g = Mat3::new(
-        -d * x[1] * x[0],
-        -omega - d * x[1] * x[1],
-        0.0,
-        omega + d * x[0] * x[0],
-        d * x[0] * x[1],
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    );
-    (u, g)
 }
 
 /// The quarter annulus θ ∈ [0, π/2], r ∈ [1, 2] as blockMesh makes it with arc edges:
