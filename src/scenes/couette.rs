@@ -17,8 +17,8 @@
 
 use crate::error::FlowError;
 use crate::flow::FlowField;
-use crate::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, PatchRole, PolyMesh, VolField};
-use crate::scenes::stagnation::OrderRow;
+use crate::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, PolyMesh, VolField};
+use crate::scenes::stagnation::{OrderRow, first_cell_height};
 use crate::tensor::{Mat3, Vec3};
 use std::path::Path;
 
@@ -77,23 +77,12 @@ impl CouetteAnnulus {
     /// The exact field at the cell and boundary-face centres of `mesh`, whose `wall` patches
     /// include faces on the inner cylinder (within 1 % of its radius).
     pub fn new(mesh: PolyMesh) -> Result<Self, FoamError> {
-        let heights: Vec<f64> = mesh
-            .patches()
-            .iter()
-            .filter(|p| PatchRole::of(&p.kind) == PatchRole::Wall)
-            .flat_map(|p| p.start..p.start + p.size)
-            .filter(|&f| {
-                let x = mesh.face_centres()[f];
-                (x[0].hypot(x[1]) - INNER).abs() < 0.01 * INNER
-            })
-            .map(|f| mesh.cell_volumes()[mesh.owner(f)] / mesh.face_areas()[f].norm())
-            .collect();
-        if heights.is_empty() {
-            return Err(FoamError::Mesh {
-                reason: format!("no wall face on the inner cylinder r = {INNER}"),
-            });
-        }
-        let first_cell = heights.iter().sum::<f64>() / heights.len() as f64;
+        let first_cell =
+            first_cell_height(&mesh, |x| (x[0].hypot(x[1]) - INNER).abs() < 0.01 * INNER).ok_or_else(|| {
+                FoamError::Mesh {
+                    reason: format!("no wall face on the inner cylinder r = {INNER}"),
+                }
+            })?;
         let field = VolField::from_fn(&mesh, |x| exact(x).0);
         let cellwise = FoamFlow::new(mesh, vec![(0.0, field)])?;
         let blended = BlendedFlow::new(cellwise.clone())?;

@@ -89,25 +89,27 @@ pub struct StagnationBox {
     pub first_cell: f64,
 }
 
+/// Mean height δ₁ of the cells on the `wall`-type faces of `mesh` whose centres satisfy `on`:
+/// V/A of each (its volume over its wall face's area, the height of a prism with a face
+/// parallel to the wall); `None` without such a face.
+pub fn first_cell_height(mesh: &PolyMesh, on: impl Fn(&Vec3) -> bool) -> Option<f64> {
+    let heights: Vec<f64> = mesh
+        .patches()
+        .iter()
+        .filter(|p| PatchRole::of(&p.kind) == PatchRole::Wall)
+        .flat_map(|p| p.start..p.start + p.size)
+        .filter(|&f| on(&mesh.face_centres()[f]))
+        .map(|f| mesh.cell_volumes()[mesh.owner(f)] / mesh.face_areas()[f].norm())
+        .collect();
+    (!heights.is_empty()).then(|| heights.iter().sum::<f64>() / heights.len() as f64)
+}
+
 impl StagnationBox {
     /// The exact field written at the cell and boundary-face centres of `mesh`, whose wall
     /// patch (type `wall`) covers y = 0.
     pub fn new(mesh: PolyMesh) -> Result<Self, StagnationError> {
-        let heights: Vec<f64> = mesh
-            .patches()
-            .iter()
-            .filter(|p| PatchRole::of(&p.kind) == PatchRole::Wall)
-            .flat_map(|p| p.start..p.start + p.size)
-            .filter(|&f| {
-                let x = mesh.face_centres()[f];
-                x[1].abs() < 1e-9 && over_the_middle(&x)
-            })
-            .map(|f| mesh.cell_volumes()[mesh.owner(f)] / mesh.face_areas()[f].norm())
-            .collect();
-        if heights.is_empty() {
-            return Err(StagnationError::NoWall);
-        }
-        let first_cell = heights.iter().sum::<f64>() / heights.len() as f64;
+        let first_cell =
+            first_cell_height(&mesh, |x| x[1].abs() < 1e-9 && over_the_middle(x)).ok_or(StagnationError::NoWall)?;
         let exact = hiemenz();
         // The snapped wall's points lie on y = 0 to round-off, some just below: they take the
         // wall's value.
