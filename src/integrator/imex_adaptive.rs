@@ -57,7 +57,8 @@ const H_MIN: f64 = 1e-14;
 /// Adaptive IMEX integrator.
 #[derive(Debug, Clone, Copy)]
 pub struct ImexAdaptive {
-    /// rtol = atol = tol, applied as tol·(1 + |Fⁿ|∞) (module docs).
+    /// rtol = atol = tol, applied as tol·(1 + |Fⁿ|∞) (module docs): the error test measures F
+    /// alone, so the steps do not depend on the position (nor on the origin).
     tol: Tolerances,
 }
 

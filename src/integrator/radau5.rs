@@ -94,7 +94,9 @@
 //! # Tolerances
 //! Norms are weighted root-mean-square norms (Hairer's choice) with weights atol + rtol·|y₀ᵢ|
 //! in Newton and atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|) in the error test, or the same with each block
-//! of the state (a vector, a tensor) weighted by its norm ([`super::control::ErrorNorm`]); rtol and atol act on the
+//! of the state (a vector, a tensor) weighted by its norm ([`super::control::ErrorNorm`]); a
+//! position block, if the tolerances name one, is weighted by atol + rtol·ℓ in both instead of
+//! its own size (`Tolerances::with_position`: steps independent of the origin); rtol and atol act on the
 //! O(h⁴) local estimate directly, as in SciPy's
 //! `solve_ivp(method="Radau")` (RADAU5 itself maps rtol ↦ 0.1·rtol^{2/3} first).
 //!

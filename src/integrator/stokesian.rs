@@ -89,7 +89,9 @@ pub struct Stokesian {
     pub barycentre: BarycentreModel,
     /// Time-stepping scheme.
     pub scheme: Scheme,
-    /// How the local error is measured: F, x and v each as a whole, or componentwise.
+    /// How the local error is measured: F, x and v each as a whole, or componentwise. Either
+    /// way the position x is measured against the particle's largest rest semi-axis r₁, not
+    /// its distance from the origin ([`Tolerances`]).
     pub norm: ErrorNorm,
 }
 
@@ -187,10 +189,14 @@ impl TimeIntegrator for Stokesian {
         let f0 = e0.vector();
         let eval = |t: f64, y: &Y| model.inertialess(barycentre, t, y);
         let jacobian = |y: &Y, e: &InertialessRate| model.inertialess_jacobian(barycentre, y, e);
+        // The position x = y[9..12] against the particle's largest rest semi-axis, not |x|
+        // (`Tolerances`: translation-independent steps).
+        let r1 = particle.shape().semi_axes().max();
+        let tol = self.tol.with_position(STATE_BLOCKS[1].start, r1)?;
         let acc = match self.scheme {
             Scheme::Rosenbrock23 => {
                 let jac = jacobian(&y0, &e0);
-                rosenbrock::step(state.t, &y0, &f0, &jac, dt, self.tol, self.blocks(), |t, y| {
+                rosenbrock::step(state.t, &y0, &f0, &jac, dt, tol, self.blocks(), |t, y| {
                     eval(t, y).map(|e| (e.vector(), e))
                 })?
             }
@@ -199,7 +205,7 @@ impl TimeIntegrator for Stokesian {
                     state.t,
                     &y0,
                     dt,
-                    self.tol,
+                    tol,
                     self.blocks(),
                     &mut memory.radau,
                     |t, y| {

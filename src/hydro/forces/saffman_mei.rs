@@ -1,27 +1,67 @@
-//! Shear lift on a sphere: Saffman's force with Mei's finite-Reynolds-number correction.
+//! Shear lift on a sphere: Saffman's force, reduced by McLaughlin's J(ε) where the slip
+//! competes with the shear and by Mei's finite-Reynolds-number correction.
 //!
-//! # Physics (Saffman 1965, 1968 corrigendum; Mei 1992; Crowe et al., *Multiphase Flows with
-//! Droplets and Particles*, 2nd ed., §4.4)
+//! # Physics (Saffman 1965, 1968 corrigendum; McLaughlin 1991; Mei 1992; Crowe et al.,
+//! *Multiphase Flows with Droplets and Particles*, 2nd ed., §4.4)
 //! A sphere of diameter d slipping with w = u − v through a flow of vorticity ω = ∇ × u feels
 //! ```math
-//! f = 1.615\, d^2 \sqrt{\rho_f \mu_f / |\omega|}\;(w \times \omega)\; C(\mathrm{Re}_p, \beta),
+//! f = 1.615\, d^2 \sqrt{\rho_f \mu_f / |\omega|}\;(w \times \omega)\; C,
 //! ```
-//! Saffman's 6.46 μ a² |w| √(|ω|/ν) in vector form, pointing towards the faster fluid for a
-//! sphere that lags it. Saffman's result assumes Re_p = ρ_f|w|d/μ_f ≪ Re_ω^{1/2} ≪ 1 with
-//! Re_ω = ρ_f|ω|d²/μ_f. Mei (1992) fitted Dandy & Dwyer's (1990) numerical lift for
+//! Saffman's 6.46 μ a² |w| √(|ω|/ν) in vector form (C = 1), pointing towards the faster fluid
+//! for a sphere that lags it. Saffman's result assumes Re_p = ρ_f|w|d/μ_f ≪ Re_ω^{1/2} ≪ 1
+//! with Re_ω = ρ_f|ω|d²/μ_f, i.e. ε → ∞ with
+//! ```math
+//! \varepsilon = \frac{\mathrm{Re}_\omega^{1/2}}{\mathrm{Re}_p} = \frac{\sqrt{|\omega|\,\nu}}{|w|},
+//! ```
+//! the ratio of the Oseen length ν/|w| to the Saffman length √(ν/|ω|). ε is McLaughlin's
+//! (1991) parameter; it is the same whether both Reynolds numbers are formed with the radius
+//! (as McLaughlin does, Re_G = G a²/ν, Re_s = V a/ν) or both with the diameter (Mei 1992),
+//! because the length cancels in √(L²)/L. (Mei's β = ½ Re_ω/Re_p does depend on the choice:
+//! it is the diameter's here, β = |ω| d/(2|w|), so ε² = 2β/Re_p.)
+//!
+//! **ε of order 1 or smaller** (McLaughlin 1991, JFM 224:261): for Re_p, Re_ω ≪ 1 at any ε the
+//! lift is Saffman's times J(ε)/J(∞), with J(∞) = 2.255 = 6.46 π/9 (McLaughlin writes the lift
+//! (9/π) μ a² |w| √(|ω|/ν) J); as ε falls below 1 the lift "rapidly decreases to very small
+//! values" (his abstract) and changes sign near ε ≈ 0.2. Mei (1992) fitted McLaughlin's J:
+//! ```math
+//! J^*(\varepsilon) = \frac{J(\varepsilon)}{J(\infty)}
+//!   = \frac{\{1 + \tanh[2.5(\log_{10}\varepsilon + 0.191)]\}\,\{0.667 + \tanh[6(\varepsilon - 0.32)]\}}{2 \cdot 1.667}
+//! ```
+//! (Mei's 0.6765{…}{…} divided by its own ε → ∞ value 0.6765·2·1.667 = 2.2554, so that
+//! J* → 1 exactly: Saffman's limit; dividing by 2.255 instead would give 1.0002).
+//! J*(1) = 0.722, J*(0.5) = 0.320, J*(0.3) = 0.053, J*(0.2) = 0.0022; J* < 0 below ε = 0.186,
+//! with |J*| < 0.003 there, and J* → 0 as ε → 0 (like ε^{2.17}; the fit's, not McLaughlin's
+//! ε⁵ ln ε, tail — both are negligible against Saffman's force).
+//!
+//! **Finite Re_p** (Mei 1992): Mei fitted Dandy & Dwyer's (1990) numerical lift for
 //! 0.1 ≤ Re_p ≤ 100 with β = ½ Re_ω/Re_p ∈ [0.005, 0.4]:
 //! ```math
 //! C = (1 - 0.3314\,\beta^{1/2})\,e^{-\mathrm{Re}_p/10} + 0.3314\,\beta^{1/2}\quad(\mathrm{Re}_p \le 40),\qquad
 //! C = 0.0524\,(\beta\,\mathrm{Re}_p)^{1/2}\quad(\mathrm{Re}_p > 40),
 //! ```
-//! which tends to 1 (Saffman) as Re_p → 0. The two branches do not meet at Re_p = 40 for small
-//! β (0.041 against 0.023 at β = 0.005), as in Mei's paper; the lift is a few per cent of
-//! Saffman's there either way. The force is that of an unbounded shear: within a
-//! few diameters of a wall the lift changes sign and size (Cherukat & McLaughlin 1994), which
-//! this term does not model. Ellipsoids: the shear lift of a non-spherical particle depends on
-//! its orientation and no closed form or accepted correlation covers the shapes of this code
-//! (only spheroids at moderate Re by resolved simulation, e.g. Ouchene et al. 2016), so the
-//! term admits spheres only.
+//! which tends to 1 (Saffman) as Re_p → 0 at fixed β ([`SaffmanMei::mei_ratio`]).
+//!
+//! **Both** ([`SaffmanMei::lift_ratio`]): Mei's form decays Saffman's low-Re value 1 by
+//! e^{−Re_p/10} towards the part 0.3314√β that survives at larger Re_p. Here McLaughlin's
+//! J*(ε), which is the low-Re value at any ε (and 1 at ε = ∞), takes the place of Saffman's 1:
+//! ```math
+//! C = J^*(\varepsilon)\,e^{-\mathrm{Re}_p/10} + 0.3314\,\beta^{1/2}\,\bigl(1 - e^{-\mathrm{Re}_p/10}\bigr)\quad(\mathrm{Re}_p \le 40),
+//! ```
+//! Mei's large-Re branch unchanged. It is Mei's C wherever J* = 1 (within 1.2 % for ε ≥ 5), McLaughlin's
+//! J* for Re_p → 0 at any ε, Saffman's 1 for Re_p → 0 at fixed β (then ε → ∞), and continuous in
+//! (Re_p, ε). This combination is ours: Loth & Dorgan (2009, Environ. Fluid Mech. 9:187)
+//! give a combined J(ε)/finite-Re correlation, but its formula could not be checked against
+//! the paper here, so it is not used. Where the two sources overlap (Re_p = 0.1 with
+//! β ≤ 0.05, ε ≤ 1) Mei's fit of Dandy & Dwyer is close to 1 while McLaughlin's asymptotic
+//! theory, valid there, gives J* ≤ 0.72; this term follows McLaughlin (at Re_p = 0.1 the
+//! weight e^{−0.01} keeps 99 % of J*). At the bend's outer wall (ε ≈ 0.3–1.3, Re_p ≪ 1) the
+//! lift is 0.05–0.82 of Saffman's.
+//!
+//! The force is that of an unbounded shear: within a few diameters of a wall the lift changes
+//! sign and size (Cherukat & McLaughlin 1994), which this term does not model. Ellipsoids: the
+//! shear lift of a non-spherical particle depends on its orientation and no closed form or
+//! accepted correlation covers the shapes of this code (only spheroids at moderate Re by
+//! resolved simulation, e.g. Ouchene et al. 2016), so the term admits spheres only.
 
 use super::schiller_naumann::sphere_only;
 use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
@@ -30,7 +70,7 @@ use crate::tensor::Vec3;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-/// Saffman's shear lift with Mei's correction (module docs).
+/// Saffman's shear lift with McLaughlin's and Mei's corrections (module docs).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct SaffmanMei;
 
@@ -38,7 +78,9 @@ impl SaffmanMei {
     /// Name in scene files.
     pub const NAME: &'static str = "saffman_mei";
 
-    /// Mei's ratio C of the lift to Saffman's at Re_p ≥ 0 and Re_ω ≥ 0 (β = ½ Re_ω/Re_p).
+    /// Mei's ratio C of the lift to Saffman's at Re_p ≥ 0 and Re_ω ≥ 0 (β = ½ Re_ω/Re_p),
+    /// Saffman's ε → ∞ limit at every Re_p (module docs; [`SaffmanMei::lift_ratio`] is the
+    /// term's ratio).
     ///
     /// The branch Re_p ≤ 40 is evaluated as
     /// C = e^{−Re_p/10} + 0.3314 √(Re_ω/2) (1 − e^{−Re_p/10})/√Re_p, the same expression with β
@@ -47,12 +89,39 @@ impl SaffmanMei {
     /// (1 − ∞)·1 + ∞ (NaN) at Re_p = 0, and at small Re_p the two large terms (1 − s) e^{…} and
     /// s cancelled to 0 once s = 0.3314 √β exceeded 1/ε.
     pub fn mei_ratio(re_p: f64, re_omega: f64) -> f64 {
+        Self::blend(1.0, re_p, re_omega)
+    }
+
+    /// McLaughlin's reduction J*(ε) = J(ε)/J(∞) of Saffman's lift in Mei's fit (module docs),
+    /// for ε ≥ 0 (∞ allowed): 1 at ε = ∞, 0 at ε = 0, finite everywhere (log₁₀ 0 = −∞ and
+    /// tanh(±∞) = ±1 in IEEE arithmetic). NaN for a NaN ε.
+    pub fn mclaughlin_ratio(eps: f64) -> f64 {
+        (1.0 + (2.5 * (eps.log10() + 0.191)).tanh()) * (0.667 + (6.0 * (eps - 0.32)).tanh()) / (2.0 * 1.667)
+    }
+
+    /// McLaughlin's ε = Re_ω^{1/2}/Re_p = √(|ω|ν)/|w| from the two Reynolds numbers (each on
+    /// the same length), ∞ at Re_p = 0: within the term (|w|, |ω|, d > 0) Re_p = 0 means ν = ∞
+    /// (ρ_f = 0), where ε = √(|ω|ν)/|w| is ∞ too, whatever Re_ω is.
+    pub fn epsilon(re_p: f64, re_omega: f64) -> f64 {
+        if re_p == 0.0 { f64::INFINITY } else { re_omega.sqrt() / re_p }
+    }
+
+    /// The term's ratio C of the lift to Saffman's at Re_p ≥ 0 and Re_ω ≥ 0: McLaughlin's
+    /// J*(ε) in the place of Saffman's low-Re value in Mei's C (module docs). Re_p → 0 at fixed
+    /// ε gives J*(ε); Re_p → 0 at fixed β gives 1; Re_p > 40 gives Mei's large-Re branch.
+    pub fn lift_ratio(re_p: f64, re_omega: f64) -> f64 {
+        Self::blend(Self::mclaughlin_ratio(Self::epsilon(re_p, re_omega)), re_p, re_omega)
+    }
+
+    /// C = c₀ e^{−Re_p/10} + 0.3314 √β (1 − e^{−Re_p/10}) (Re_p ≤ 40), 0.0524 √(β Re_p) above,
+    /// with c₀ the low-Re value (Saffman's 1 or McLaughlin's J*).
+    fn blend(low_re: f64, re_p: f64, re_omega: f64) -> f64 {
         let half = 0.5 * re_omega;
         if re_p == 0.0 {
-            1.0
+            low_re
         } else if re_p <= 40.0 {
             let decay = -re_p / 10.0;
-            decay.exp() - 0.3314 * half.sqrt() * decay.exp_m1() / re_p.sqrt()
+            low_re * decay.exp() - 0.3314 * half.sqrt() * decay.exp_m1() / re_p.sqrt()
         } else {
             0.0524 * half.sqrt()
         }
@@ -90,7 +159,7 @@ impl ForceTerm for SaffmanMei {
         let d = ctx.volume_diameter();
         let re_p = ctx.reynolds();
         let re_omega = ctx.rho_f * magnitude * d * d / ctx.mu_f;
-        let ratio = Self::mei_ratio(re_p, re_omega);
+        let ratio = Self::lift_ratio(re_p, re_omega);
         Contribution {
             force: w.cross(&omega) * (1.615 * d * d * (ctx.rho_f * ctx.mu_f / magnitude).sqrt() * ratio),
             ..Contribution::default()
