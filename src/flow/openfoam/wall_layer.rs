@@ -86,7 +86,10 @@
 //! components along the edge (none in a corner, where three walls meet): the part taken out is
 //! the exact $∂u_{n_j}/∂n_k$ at the face's foot, $O(δ_j^2) = O(h^2)$, within the fit's order.
 //! Convex edges (the carina's ridge, a step's corner) keep the fit as it is: fluid near them
-//! lies beyond the other wall's plane.
+//! lies beyond the other wall's plane. So do edges between walls that move differently (a
+//! lid-driven cavity's lid and its side walls): there the velocity jumps at the edge, the flow
+//! is singular and not parallel to both walls, and projecting the side wall's shear would
+//! drop its O(1) part (it stalled a soft prolate of the Re = 470 cavity in 5.7·10⁷ steps).
 //!
 //! # The surface gradients D and W
 //! By least squares over the neighbouring wall faces (those sharing a vertex with f and
@@ -149,9 +152,10 @@ pub struct WallGeometry {
     stencil: Vec<(usize, Vec3, Vec3)>,
     /// The cell above the wall cell along the normal, if there is one (module docs).
     above: Vec<Option<Above>>,
-    /// At a concave edge or corner (module docs, *Edges and corners*): the projector onto the
-    /// directions along every wall face k meets there; `None` elsewhere.
-    along_edges: Vec<Option<Mat3>>,
+    /// The wall faces meeting face k at a concave edge (module docs, *Edges and corners*):
+    /// `edge_faces[edge_offsets[k]..edge_offsets[k + 1]]`.
+    edge_offsets: Vec<usize>,
+    edge_faces: Vec<usize>,
 }
 
 /// The second cell of a wall face's normal profile: the wall cell's face neighbour whose centre
@@ -248,10 +252,10 @@ impl WallGeometry {
         offsets.push(0);
         let mut stencil = Vec::new();
         let mut near: Vec<usize> = Vec::new();
-        let mut along_edges = Vec::with_capacity(n);
+        let (mut edge_offsets, mut edge_faces) = (vec![0], Vec::new());
         for (k, &f) in faces.iter().enumerate() {
             near.clear();
-            let mut across: Vec<usize> = Vec::new();
+            let first_across = edge_faces.len();
             for v in mesh.face(f as usize) {
                 let from = by_vertex.partition_point(|e| e.0 < *v);
                 for j in by_vertex[from..].iter().take_while(|e| e.0 == *v).map(|e| e.1) {
@@ -261,13 +265,17 @@ impl WallGeometry {
                     if normals[j].dot(&normals[k]) > SAME_WALL {
                         near.push(j);
                     } else if normals[k].dot(&(centres[j] - centres[k])) > 0.0 {
-                        across.push(j);
+                        edge_faces.push(j);
                     }
                 }
             }
             near.sort_unstable();
             near.dedup();
-            along_edges.push(edge_projector(&normals[k], across.iter().map(|&j| normals[j])));
+            let mut across = edge_faces.split_off(first_across);
+            across.sort_unstable();
+            across.dedup();
+            edge_faces.append(&mut across);
+            edge_offsets.push(edge_faces.len());
             let (e1, e2) = tangent_basis(&normals[k]);
             // One least-squares gradient in k's tangent plane from offsets `at[j] − at[k]`.
             let weights = |at: &[Vec3]| -> Option<Vec<Vec3>> {
@@ -315,7 +323,8 @@ impl WallGeometry {
             offsets,
             stencil,
             above,
-            along_edges,
+            edge_offsets,
+            edge_faces,
         }
     }
 
@@ -327,6 +336,11 @@ impl WallGeometry {
     /// Whether there are no wall faces.
     pub fn is_empty(&self) -> bool {
         self.depths.is_empty()
+    }
+
+    /// Inward unit normal of wall face k.
+    pub fn normal(&self, k: usize) -> Vec3 {
+        self.normals[k]
     }
 
     /// Depth ρ of wall face k's cell centre above the face's plane.
@@ -374,6 +388,15 @@ impl WallGeometry {
             let (n, y) = (self.normals[k], x - self.centres[k]);
             velocity[k] + w * y + (n * a + m) * n.dot(&y)
         };
+        // At a concave edge between walls moving alike (at rest, or the same velocity at both
+        // faces), the directions along the edge (module docs, Edges and corners).
+        let along_edges: Vec<Option<Mat3>> = (0..self.len())
+            .map(|k| {
+                let across = &self.edge_faces[self.edge_offsets[k]..self.edge_offsets[k + 1]];
+                let alike = across.iter().filter(|&&j| velocity[j] == velocity[k]);
+                edge_projector(&self.normals[k], alike.map(|&j| self.normals[j]))
+            })
+            .collect();
         // γ and q of the tangential profile u_t − U_w = γδ + qδ² (module docs).
         let profiles: Vec<(Vec3, Vec3)> = (0..self.len())
             .map(|k| {
@@ -396,7 +419,7 @@ impl WallGeometry {
                         (shear, (slope - shear) / (2.0 * depth))
                     }
                 };
-                match self.along_edges[k] {
+                match along_edges[k] {
                     Some(along) => (along * shear, along * curvature),
                     None => (shear, curvature),
                 }
@@ -411,7 +434,7 @@ impl WallGeometry {
                 });
                 // Only the tangential components of γ vary along the wall at this order, and
                 // at an edge only those along it.
-                let project = self.along_edges[k].unwrap_or_else(|| Mat3::identity() - n * n.transpose());
+                let project = along_edges[k].unwrap_or_else(|| Mat3::identity() - n * n.transpose());
                 let d = project * d;
                 let (w, a, m) = motions[k];
                 // Continuity one order up: ∂²u_n/∂n² = −∇ₛ·γ.

@@ -188,6 +188,58 @@ pub fn cube(shape: Shape, n: usize) -> Raw {
     assemble(points, &cells)
 }
 
+/// An L-shaped channel along z: uniform hexahedra, `n` per unit edge (n even), filling the unit
+/// cube less the block x > ½, y < ½, so the walls meet at a convex edge along (½, ½, z) (and at
+/// concave ones elsewhere). Patches: `inlet` (z = 0, patch), `outlet` (z = 1, patch), `walls`
+/// (wall) on every other side.
+pub fn l_channel(n: usize) -> Raw {
+    let id = |i: usize, j: usize, k: usize| (i + (n + 1) * (j + (n + 1) * k)) as u32;
+    let mut points = Vec::new();
+    for k in 0..=n {
+        for j in 0..=n {
+            for i in 0..=n {
+                points.push(Vec3::new(i as f64, j as f64, k as f64) / n as f64);
+            }
+        }
+    }
+    let mut cells: Vec<Vec<Vec<u32>>> = Vec::new();
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                if 2 * i >= n && 2 * j < n {
+                    continue;
+                }
+                let v = [
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ];
+                cells.push(
+                    [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [3, 7, 6, 2], [0, 4, 7, 3], [1, 2, 6, 5]]
+                        .iter()
+                        .map(|f| f.iter().map(|&l| v[l]).collect())
+                        .collect(),
+                );
+            }
+        }
+    }
+    let order = [("inlet", "patch"), ("outlet", "patch"), ("walls", "wall")];
+    assemble_with(points, &cells, &order, |c| {
+        if c[2] < 1e-9 {
+            0
+        } else if c[2] > 1.0 - 1e-9 {
+            1
+        } else {
+            2
+        }
+    })
+}
+
 /// Patch of a boundary face by its centre.
 fn patch_name(c: &Vec3) -> &'static str {
     if c[0] < 1e-9 {

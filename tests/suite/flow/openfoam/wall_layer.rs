@@ -291,3 +291,50 @@ fn duct_edges_carry_no_flow_into_the_walls() {
         }
     }
 }
+
+/// Around the convex edge of an L-shaped channel (8 cells per unit, the edge along (½, ½, z)),
+/// a wall face's weight fades out behind its plane (`flow::openfoam::blend`, Convex edges). The
+/// fade's gradient must enter the weights' gradients, or the convective acceleration the
+/// fluid-inertia terms use is no longer the derivative of the blended u along u. Checked
+/// against the central difference of u over ±h along u, h = 10⁻⁶ of the distance r to the
+/// edge, at points whose direction from the edge lies in the fade (c from −0.48 to −0.29; also
+/// −0.71 and −0.09, where H is 0 and 1), with a smooth field that moves the
+/// walls (so every fit carries shear and wall motion). The difference's truncation is about
+/// (h/r)²/6 ≈ 10⁻¹³ and its round-off ε|u|/h ≈ 10⁻⁹ of |u|²/r; the bound 10⁻⁶ of
+/// |(u·∇)u| + |u|²/r is a thousand times that, and the fade's term ω H'∇c is of the size of
+/// (u·∇)u itself here: measured 1.7·10⁻¹⁰; without the fade's term the test fails (0.28 at
+/// r = 0.02, 61°).
+#[test]
+fn convective_acceleration_is_the_derivative_of_u_at_a_convex_edge() {
+    let exact = |x: &Vec3| {
+        Vec3::new(
+            (2.0 * x[1]).sin() + 0.3 * x[2],
+            0.5 * (3.0 * x[0]).cos(),
+            1.0 + x[0] * x[1] + 0.2 * x[0] * x[0],
+        )
+    };
+    let mesh = build::l_channel(8).mesh();
+    let cells = FoamFlow::new(mesh.clone(), vec![(0.0, build::sampled(&mesh, exact))]).unwrap();
+    let blend = BlendedFlow::new(cells).unwrap();
+    let mut worst: f64 = 0.0;
+    for r in [0.02, 0.05] {
+        for degrees in [45.0_f64, 61.0, 64.0, 67.0, 70.0, 73.0, 85.0] {
+            let (s, c) = degrees.to_radians().sin_cos();
+            // At `degrees` from the wall y = ½ (x > ½) around the edge: 90° − `degrees` past the
+            // plane of the face x = ½ (inward normal −x), whose cosine c = −cos(`degrees`).
+            let x = Vec3::new(0.5 + r * c, 0.5 + r * s, 0.5);
+            let sample = blend.sample(&x, 0.0).unwrap();
+            let speed = sample.u.norm();
+            let along = sample.u / speed;
+            let h = 1e-6 * r;
+            let ahead = blend.sample(&(x + along * h), 0.0).unwrap().u;
+            let behind = blend.sample(&(x - along * h), 0.0).unwrap().u;
+            let difference = (ahead - behind) * (speed / (2.0 * h));
+            let scale = sample.convective.norm() + speed * speed / r;
+            let error = (sample.convective - difference).norm() / scale;
+            worst = worst.max(error);
+            assert!(error < 1e-6, "r {r}, {degrees}°: (u·∇)u {:?}, difference {difference:?}", sample.convective);
+        }
+    }
+    eprintln!("convex edge: largest |(u·∇)u − difference| / scale {worst:.2e}");
+}
