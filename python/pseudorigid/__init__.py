@@ -13,6 +13,7 @@ The Rust library does the work: scenes are validated by the same code as the
 
 from __future__ import annotations
 
+import math
 import os
 import warnings
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
@@ -130,13 +131,15 @@ class Results:
         return dict(self._native.counts())
 
     def records(self) -> Table:
-        """One row per particle: the columns of ``results.csv`` plus the end state's F
-        (``F11`` .. ``F33``) and step statistics; NaN, -1 or "" where a value does not exist."""
+        """One row per particle: the columns of ``records.parquet`` in its order (those of
+        ``results.csv`` plus the end state's F, ``F11`` .. ``F33``, and step statistics). Where
+        the file has a null, a float column holds NaN and ``patch``, ``patch_name`` and
+        ``error`` hold None."""
         return _table(self._native.records())
 
     def frames(self) -> Table:
         """Every particle at every frame time (0 and the output times): the columns of
-        ``frames.csv``."""
+        ``frames.parquet`` in its order (V by its six independent components)."""
         return _table(self._native.frames())
 
     def trajectory(self, index: int = 0) -> Dict[str, Any]:
@@ -266,7 +269,8 @@ def integrate(
     base: Optional[PathLike] = None,
 ) -> Dict[str, Any]:
     """Integrate one particle and return its states as arrays: ``t`` (n), ``x``, ``v``,
-    ``r`` (n x 3), ``F``, ``axes`` (n x 3 x 3), its ``fate`` and ``error``.
+    ``r`` (n x 3), ``F``, ``axes`` (n x 3 x 3), its ``fate`` and ``error``. The states are
+    kept every ``every`` (default ``t_end / 100``: 101 states) and at the end.
 
     ``flow`` is a scene's ``[flow]`` table (``{"type": "shear", "rate": 1.0}``, or
     ``{"type": "openfoam", "case": "path"}``); ``material`` a scene material
@@ -292,6 +296,9 @@ def integrate(
         "end": {"t_end": t_end},
         "output": {"vtk": False},
     }
+    if every is None and math.isfinite(t_end) and t_end > 0.0:
+        # A trajectory to plot: 100 intervals (without `every` the run keeps only its ends).
+        every = t_end / 100.0
     if every is not None:
         d["output"]["every"] = every
     if max_steps is not None:

@@ -546,8 +546,10 @@ impl Results {
         .collect()
     }
 
-    /// One row per particle: the columns of `results.csv` (NaN, -1 or "" where a quantity does
-    /// not exist), the end state's F (`F11`..`F33`) and step statistics.
+    /// One row per particle: the columns of `records.parquet`, in its order (the columns of
+    /// `results.csv` with the end state's F, `F11`..`F33`, and step statistics). Where the file
+    /// has a null a float column holds NaN and the integer and text columns (`patch`,
+    /// `patch_name`, `error`) hold None.
     fn records<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let recs = &self.output.records;
         let n = recs.len();
@@ -608,22 +610,21 @@ impl Results {
                 col.push(v);
             }
             fate.push(r.fate.label());
-            patch.push(r.fate.patch().map_or(-1, |p| p as i64));
+            patch.push(r.fate.patch().map(|p| p as i64));
             patch_name.push(
                 r.fate
                     .patch()
-                    .and_then(|p| self.output.patches.get(p).cloned())
-                    .unwrap_or_default(),
+                    .map(|p| self.output.patches.get(p).cloned().unwrap_or_default()),
             );
             error.push(match &r.fate {
-                Fate::Failed { error } => error.clone(),
-                _ => String::new(),
+                Fate::Failed { error } => Some(error.clone()),
+                _ => None,
             });
         }
         let (index, stats) = ints.split_at_mut(1);
         column_i64(py, &d, "index", std::mem::take(&mut index[0].1))?;
         d.set_item("fate", fate)?;
-        column_i64(py, &d, "patch", patch)?;
+        d.set_item("patch", patch)?;
         d.set_item("patch_name", patch_name)?;
         for (name, col) in flt {
             column(py, &d, &name, col)?;
@@ -636,7 +637,8 @@ impl Results {
     }
 
     /// The frames as one long table: a row per particle per frame time, the columns of
-    /// `frames.csv` (frame, time, id, x1..x3, V11..V33, r1..r3, flag).
+    /// `frames.parquet` in its order (frame, time, id, x1..x3, the six independent components
+    /// V11, V12, V13, V22, V23, V33 of the symmetric V, r1..r3, flag).
     fn frames<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let Some(times) = &self.times else {
             return Err(typed(
@@ -648,7 +650,7 @@ impl Results {
         };
         let (mut frame, mut id, mut flag) = (Vec::new(), Vec::new(), Vec::new());
         let mut time = Vec::new();
-        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 15];
+        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 12];
         for (k, &t) in times.iter().enumerate() {
             for p in at_time(&self.output.records, t) {
                 let (v, r) = stretch(&p.f_bar);
@@ -656,8 +658,8 @@ impl Results {
                 time.push(t);
                 id.push(p.id);
                 flag.push(p.flag);
-                let vt = v.transpose();
-                let row = p.x.iter().chain(vt.iter()).chain(r.iter());
+                let upper = [v[(0, 0)], v[(0, 1)], v[(0, 2)], v[(1, 1)], v[(1, 2)], v[(2, 2)]];
+                let row = p.x.iter().chain(upper.iter()).chain(r.iter());
                 for (c, &x) in cols.iter_mut().zip(row) {
                     c.push(x);
                 }
@@ -667,9 +669,8 @@ impl Results {
         column_i64(py, &d, "frame", frame)?;
         column(py, &d, "time", time)?;
         column_i64(py, &d, "id", id)?;
-        let names = [
-            "x1", "x2", "x3", "V11", "V12", "V13", "V21", "V22", "V23", "V31", "V32", "V33", "r1", "r2", "r3",
-        ];
+        // frames.parquet's measured columns, between `id` and `flag`.
+        let names = &pseudorigid::cli::parquet::FRAME_COLUMNS[3..15];
         for (name, c) in names.iter().zip(cols) {
             column(py, &d, name, c)?;
         }

@@ -36,6 +36,14 @@ def test_rigid_prolate_returns_after_one_jeffery_period():
     np.testing.assert_allclose(np.linalg.det(out["F"]), 1.0, atol=1e-12)
 
 
+def test_integrate_keeps_a_trajectory_by_default():
+    """Without ``every`` the particle's states are kept every t_end/100: 101 of them, evenly
+    spaced (before, only the start and the end)."""
+    out = pr.integrate({"type": "shear", "rate": 1.0}, [2.0, 1.0, 1.0], t_end=2.0)
+    assert out["t"].shape == (101,)
+    np.testing.assert_allclose(np.diff(out["t"]), 0.02, rtol=1e-9)
+
+
 def test_bad_particle_input_raises():
     with pytest.raises(pr.SceneError):
         pr.integrate({"type": "shear", "rate": 1.0}, [1.0, math.nan, 1.0], t_end=1.0)

@@ -185,8 +185,14 @@ def test_parquet_tables_hold_the_records_bit_for_bit(tmp_path, small_scene):
     for c in ["steps", "rejected", "rhs_evals", "jac_evals"]:
         assert table[c] == list(rec[c]), c
     assert table["patch"] == [None] * 12 and table["error"] == [None] * 12
+    # The same columns in the same order, and the same nulls (None in the integer and text
+    # columns; NaN, checked above through the bits, in the float columns).
+    assert rec.columns == list(table.keys())
+    for c in ["patch", "patch_name", "error"]:
+        assert list(rec[c]) == table[c], c
     frames = results.frames()
     ft = pq.read_table(tmp_path / "frames.parquet").to_pydict()
+    assert frames.columns == list(ft.keys())
     assert len(ft["id"]) == len(frames)
     for c in ["frame", "id", "flag"]:
         assert ft[c] == list(frames[c]), c
