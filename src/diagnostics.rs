@@ -400,7 +400,8 @@ where
         }
         if !self.carries.saffman_mei {
             let re_omega = vorticity(&sample.grad_u).norm() * self.d_eq * self.d_eq / self.nu;
-            let lift = 1.615 / (3.0 * std::f64::consts::PI) * re_omega.sqrt() * SaffmanMei::lift_ratio(re_slip, re_omega);
+            let lift =
+                1.615 / (3.0 * std::f64::consts::PI) * re_omega.sqrt() * SaffmanMei::lift_ratio(re_slip, re_omega);
             o.saffman_mei = o.saffman_mei.max(lift);
         }
     }

@@ -103,7 +103,11 @@ impl SaffmanMei {
     /// the same length), ∞ at Re_p = 0: within the term (|w|, |ω|, d > 0) Re_p = 0 means ν = ∞
     /// (ρ_f = 0), where ε = √(|ω|ν)/|w| is ∞ too, whatever Re_ω is.
     pub fn epsilon(re_p: f64, re_omega: f64) -> f64 {
-        if re_p == 0.0 { f64::INFINITY } else { re_omega.sqrt() / re_p }
+        if re_p == 0.0 {
+            f64::INFINITY
+        } else {
+            re_omega.sqrt() / re_p
+        }
     }
 
     /// The term's ratio C of the lift to Saffman's at Re_p ≥ 0 and Re_ω ≥ 0: McLaughlin's

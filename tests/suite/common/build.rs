@@ -220,10 +220,17 @@ pub fn l_channel(n: usize) -> Raw {
                     id(i, j + 1, k + 1),
                 ];
                 cells.push(
-                    [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [3, 7, 6, 2], [0, 4, 7, 3], [1, 2, 6, 5]]
-                        .iter()
-                        .map(|f| f.iter().map(|&l| v[l]).collect())
-                        .collect(),
+                    [
+                        [0, 3, 2, 1],
+                        [4, 5, 6, 7],
+                        [0, 1, 5, 4],
+                        [3, 7, 6, 2],
+                        [0, 4, 7, 3],
+                        [1, 2, 6, 5],
+                    ]
+                    .iter()
+                    .map(|f| f.iter().map(|&l| v[l]).collect())
+                    .collect(),
                 );
             }
         }

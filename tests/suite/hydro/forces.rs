@@ -479,7 +479,10 @@ fn mclaughlin_reduction_and_its_limits() {
         let j = SaffmanMei::mclaughlin_ratio(eps);
         let fit = mei_fit_of_mclaughlin(eps) / j_inf;
         assert!(j.is_finite() && (-0.003..=1.0).contains(&j), "ε = {eps:e}: {j}");
-        assert!((j - fit).abs() <= 2.5e-4 * fit.abs() + 1e-15, "ε = {eps:e}: {j} vs {fit}");
+        assert!(
+            (j - fit).abs() <= 2.5e-4 * fit.abs() + 1e-15,
+            "ε = {eps:e}: {j} vs {fit}"
+        );
         if eps < 0.186 {
             assert!(j.abs() < 0.003, "ε = {eps:e}: {j}");
         }
@@ -551,11 +554,17 @@ fn lift_ratio_limits() {
     }
     for re_p in [1e-3_f64, 0.1, 1.0, 10.0, 39.0] {
         let re_omega = (1e4 * re_p).powi(2);
-        let (c, mei) = (SaffmanMei::lift_ratio(re_p, re_omega), SaffmanMei::mei_ratio(re_p, re_omega));
+        let (c, mei) = (
+            SaffmanMei::lift_ratio(re_p, re_omega),
+            SaffmanMei::mei_ratio(re_p, re_omega),
+        );
         assert!((c / mei - 1.0).abs() < 1e-6, "Re_p = {re_p}: {c} vs {mei}");
     }
     for (re_p, beta) in [(41.0, 0.1), (100.0, 0.4), (1e6, 1e-3)] {
-        let (c, mei) = (SaffmanMei::lift_ratio(re_p, 2.0 * beta * re_p), 0.0524 * (beta * re_p).sqrt());
+        let (c, mei) = (
+            SaffmanMei::lift_ratio(re_p, 2.0 * beta * re_p),
+            0.0524 * (beta * re_p).sqrt(),
+        );
         assert!((c / mei - 1.0).abs() < 1e-14, "Re_p = {re_p}: {c} vs {mei}");
     }
     let grid = [0.0, 1e-300, 1e-100, 1e-10, 0.01, 1.0, 40.0, 1e10, 1e100, 1e300];

@@ -121,9 +121,16 @@ proptest! {
 /// The accepted steps' sizes of a run of `integ` for the particle `p` from x0 in `flow`.
 fn step_sizes(integ: &Stokesian, p: &Particle<NeoHooke>, x0: Vec3, flow: &LinearFlow) -> (Vec<f64>, u64, State) {
     let mut h = Vec::new();
-    let (end, stats) = pseudorigid::driver::run(integ, p, State::at_rest(x0), flow, 1e-3, &[2.0], |_| {}, |_, info| {
-        h.push(info.dt)
-    })
+    let (end, stats) = pseudorigid::driver::run(
+        integ,
+        p,
+        State::at_rest(x0),
+        flow,
+        1e-3,
+        &[2.0],
+        |_| {},
+        |_, info| h.push(info.dt),
+    )
     .unwrap();
     (h, stats.rejected, end)
 }

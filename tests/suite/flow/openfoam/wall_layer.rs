@@ -333,7 +333,11 @@ fn convective_acceleration_is_the_derivative_of_u_at_a_convex_edge() {
             let scale = sample.convective.norm() + speed * speed / r;
             let error = (sample.convective - difference).norm() / scale;
             worst = worst.max(error);
-            assert!(error < 1e-6, "r {r}, {degrees}°: (u·∇)u {:?}, difference {difference:?}", sample.convective);
+            assert!(
+                error < 1e-6,
+                "r {r}, {degrees}°: (u·∇)u {:?}, difference {difference:?}",
+                sample.convective
+            );
         }
     }
     eprintln!("convex edge: largest |(u·∇)u − difference| / scale {worst:.2e}");
