@@ -76,19 +76,6 @@ pub fn cube(shape: Shape, n: usize) -> Raw {
             id(i, j + s, k + s),
         ]
     };
-    let hex_faces = |v: [u32; 8]| -> Vec<Vec<u32>> {
-        [
-            [0, 3, 2, 1],
-            [4, 5, 6, 7],
-            [0, 1, 5, 4],
-            [3, 7, 6, 2],
-            [0, 4, 7, 3],
-            [1, 2, 6, 5],
-        ]
-        .iter()
-        .map(|f| f.iter().map(|&l| v[l]).collect())
-        .collect()
-    };
     let mut cells: Vec<Vec<Vec<u32>>> = Vec::new();
     match shape {
         Shape::Hex => {
@@ -188,6 +175,22 @@ pub fn cube(shape: Shape, n: usize) -> Raw {
     assemble(points, &cells)
 }
 
+/// The six faces of the hexahedron with vertices `v` (blockMesh's order), each listed
+/// counter-clockwise seen from outside.
+fn hex_faces(v: [u32; 8]) -> Vec<Vec<u32>> {
+    [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [3, 7, 6, 2],
+        [0, 4, 7, 3],
+        [1, 2, 6, 5],
+    ]
+    .iter()
+    .map(|f| f.iter().map(|&l| v[l]).collect())
+    .collect()
+}
+
 /// An L-shaped channel along z: uniform hexahedra, `n` per unit edge (n even), filling the unit
 /// cube less the block x > ½, y < ½, so the walls meet at a convex edge along (½, ½, z) (and at
 /// concave ones elsewhere). Patches: `inlet` (z = 0, patch), `outlet` (z = 1, patch), `walls`
@@ -219,19 +222,7 @@ pub fn l_channel(n: usize) -> Raw {
                     id(i + 1, j + 1, k + 1),
                     id(i, j + 1, k + 1),
                 ];
-                cells.push(
-                    [
-                        [0, 3, 2, 1],
-                        [4, 5, 6, 7],
-                        [0, 1, 5, 4],
-                        [3, 7, 6, 2],
-                        [0, 4, 7, 3],
-                        [1, 2, 6, 5],
-                    ]
-                    .iter()
-                    .map(|f| f.iter().map(|&l| v[l]).collect())
-                    .collect(),
-                );
+                cells.push(hex_faces(v));
             }
         }
     }
