@@ -416,12 +416,9 @@ fn schiller_naumann_terminal_velocity() {
     );
 }
 
-/// Saffman (1965): |f| = 6.46 μ a² |w| √(γ/ν) for a sphere of radius a slipping with w along a
-/// simple shear of rate γ, towards the faster fluid when it lags; Mei's ratio tends to 1 as
-/// Re_p → 0 (here Re_p = 10⁻⁴, so the ratio is 1 − O(10⁻⁵·√β)).
-#[test]
-fn saffman_lift_in_simple_shear() {
-    let (a, gamma, mu, rho) = (1e-5, 100.0, 1e-3, 1000.0);
+/// `saffman_mei`'s force on a sphere of radius `a` in a simple shear of rate `gamma` (flow along
+/// x, faster at larger y) that lags the fluid by `w` (u − v = +w e_x).
+fn lift_on_lagging_sphere(a: f64, gamma: f64, mu: f64, rho: f64, w: f64) -> Vec3 {
     let r = Vec3::repeat(a);
     let frame = PrincipalFrame::from_total_distortion(&Mat3::from_diagonal(&r));
     let ints = EllipsoidIntegrals::new(&frame.r);
@@ -429,10 +426,18 @@ fn saffman_lift_in_simple_shear() {
         .unwrap()
         .sample(&Vec3::zeros(), 0.0)
         .unwrap();
-    let w = 5e-6;
-    // The sphere lags the fluid (u − v = +w e_x); the flow is faster at larger y.
     let ctx = context(&frame, &ints, mu, rho, Vec3::new(-w, 0.0, 0.0), &flow);
-    let f = SaffmanMei.contribution(&ctx).force;
+    SaffmanMei.contribution(&ctx).force
+}
+
+/// Saffman (1965): |f| = 6.46 μ a² |w| √(γ/ν) for a sphere of radius a slipping with w along a
+/// simple shear of rate γ, towards the faster fluid when it lags; Mei's ratio tends to 1 as
+/// Re_p → 0 (here Re_p = 10⁻⁴, so the ratio is 1 − O(10⁻⁵·√β)).
+#[test]
+fn saffman_lift_in_simple_shear() {
+    let (a, gamma, mu, rho) = (1e-5, 100.0, 1e-3, 1000.0);
+    let w = 5e-6;
+    let f = lift_on_lagging_sphere(a, gamma, mu, rho, w);
     let saffman = 6.46 * mu * a * a * w * (gamma * rho / mu).sqrt();
     assert!(f[1] > 0.0 && f[0].abs() + f[2].abs() < 1e-12 * f[1], "{f:?}");
     assert!((f[1] / saffman - 1.0).abs() < 1e-3, "{} vs Saffman {saffman}", f[1]);
@@ -505,18 +510,10 @@ fn mclaughlin_reduction_and_its_limits() {
 /// gave 1.0 (19× the fit): this test fails on it. The force keeps Saffman's direction.
 #[test]
 fn lift_at_small_epsilon_is_reduced() {
-    let (a, gamma, mu, rho) = (1e-6, 1.0, 1e-3, 1000.0);
+    let (a, gamma, mu, rho): (f64, f64, f64, f64) = (1e-6, 1.0, 1e-3, 1000.0);
     let nu = mu / rho;
-    let r = Vec3::repeat(a);
-    let frame = PrincipalFrame::from_total_distortion(&Mat3::from_diagonal(&r));
-    let ints = EllipsoidIntegrals::new(&frame.r);
-    let flow = LinearFlow::simple_shear(gamma)
-        .unwrap()
-        .sample(&Vec3::zeros(), 0.0)
-        .unwrap();
     let w = (gamma * nu).sqrt() / 0.3;
-    let ctx = context(&frame, &ints, mu, rho, Vec3::new(-w, 0.0, 0.0), &flow);
-    let f = SaffmanMei.contribution(&ctx).force;
+    let f = lift_on_lagging_sphere(a, gamma, mu, rho, w);
     let saffman = 6.46 * mu * a * a * w * (gamma / nu).sqrt();
     let (re_p, re_omega) = (w * 2.0 * a / nu, gamma * 4.0 * a * a / nu);
     let beta = 0.5 * re_omega / re_p;
