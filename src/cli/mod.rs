@@ -35,6 +35,7 @@
 //! | `integrator.norm` | how the local error is measured (`radau_iia`, `rosenbrock_w23`, `auto`): `"componentwise"` (the default) or `"tensor"`, F, x and v each by its norm, independent of the frame's orientation (`crate::integrator::ErrorNorm`; cost against accuracy on the bifurcation: `paper-figures/work-precision/NOTES.md`) |
 //! | `[end] t_end`, `max_steps` | end time of every particle's run; accepted steps allowed per particle |
 //! | `[output] every`, `vtk` | output interval (default: the end only); write ParaView files (default true) |
+//! | `output.adequacy_sample` | particles of the mesh-adequacy diagnostic's re-track (`cli::adequacy`): the first min(N, n) by index run again on the other reconstruction of the field (cellwise for a blended run, blended for `flow.blend = false`) and paired with the run; default 200 on a steady OpenFOAM field, 0 (none) elsewhere; refused above 0 on an analytic flow and on a transient field |
 //!
 //! # Transient fields
 //! `flow.time = [t0, t1, ...]` (times of the case's time directories, ascending, at least two)
@@ -71,6 +72,23 @@
 //! inflow then, such as an inlet at the start of a sinusoidal cycle, is refused), and
 //! `fluid_velocity` samples u(x, 0).
 //!
+//! # Mesh adequacy
+//! Every run on an OpenFOAM field prints `note: adequacy:` lines (`cli::adequacy`): the
+//! first-cell height 2ρ at the walls (median and max over the no-slip wall faces) against each
+//! injection group's largest semi-axis and stopping distance τ_p·U (τ_p the response time of
+//! the `auto` integrator's Stokes number, U the field's largest cell speed), with what the
+//! ratios mean (both below 1: the particles' deposition is decided inside the wall layer,
+//! which models the flow there rather than resolving it). A whole run on a steady field then
+//! re-tracks the first `output.adequacy_sample` particles on the other reconstruction of the
+//! same solution and pairs their fates with the run's (McNemar's paired difference of the
+//! deposition fractions and its standard error); a `warning: adequacy:` line says when the
+//! deposition moves by more than two paired standard errors: the near-wall resolution, not
+//! the particles, sets the answer. The numbers and every pair go to `adequacy.json`. The
+//! re-track runs after the run from its records: records, tables, checkpoints and `--resume`
+//! are unchanged by it. A shard prints the ratios only; `merge` re-tracks the whole run's first
+//! particles (the same sample however the run was split). A transient field gets the ratios
+//! only.
+//!
 //! A particle's run ends at `t_end` (*suspended*), when it touches a `stick` wall
 //! (*deposited*) or an `exit` (*escaped*), or when a step fails (*failed*, with the error).
 //!
@@ -90,8 +108,10 @@
 //! suspended, 4 failed) and `vtk/trajectories.vtp` (polylines), binary (appended, zlib) in
 //! single precision, as `foamToVTK` writes (the exact values are in the tables). `--shard k/N`
 //! (or `SLURM_ARRAY_TASK_ID`/`SLURM_ARRAY_TASK_COUNT`) runs one shard; `merge` joins the shards
-//! into the files of the whole run.
+//! into the files of the whole run. `adequacy.json` (a run on an OpenFOAM field; *Mesh
+//! adequacy*) is written by a whole run and by `merge`.
 
+pub mod adequacy;
 pub mod error;
 pub mod frames;
 pub mod inject;
@@ -243,7 +263,10 @@ pub fn execute(cli: Cli) -> Result<String, CliError> {
             };
             let progress = if quiet { Progress::Quiet } else { Progress::Auto };
             let options = run::run_options(&out, checkpoint_every, resume, progress)?;
-            run::run_on(&s, &out, shard, options, threads, csv).map(|done| with_advice(&s, done.summary))
+            run::run_on(&s, &out, shard, options, threads, csv).map(|done| {
+                let adequacy = done.adequacy.as_ref().map_or(String::new(), adequacy::Adequacy::log);
+                with_advice(&s, adequacy + &done.summary)
+            })
         }
         Command::Merge { scene, out, csv } => {
             let s = load(&scene)?;

@@ -1,6 +1,7 @@
 //! `run` and `merge`: a scene's particles through the population runner (parallel,
 //! checkpointed, resumable, shardable), then its files.
 
+use super::adequacy::{Adequacy, adequacy};
 use super::error::CliError;
 use super::frames::{csv_tables, write_run};
 use super::models::{SceneFlow, SceneLaw, SceneTransient, Windows};
@@ -197,14 +198,18 @@ pub fn run_options(
         .resume(resume))
 }
 
-/// A finished [`run`]: the command's one-line summary and the records it wrote (which a
-/// caller such as the Python package hands on without reading the files back).
+/// A finished [`run`]: the command's one-line summary, the records it wrote (which a
+/// caller such as the Python package hands on without reading the files back) and the
+/// mesh-adequacy diagnostic of a run on an OpenFOAM field.
 #[derive(Debug)]
 pub struct Finished {
     /// The summary line.
     pub summary: String,
     /// The run's (or shard's) records, as its checkpoint holds them.
     pub output: RunOutput<SceneLaw>,
+    /// The mesh-adequacy diagnostic ([`super::adequacy`]; `None` on an analytic flow): of a
+    /// whole run also in `adequacy.json`; a shard's has no re-track (`merge` does it).
+    pub adequacy: Option<Adequacy>,
 }
 
 /// [`run`] on `threads` worker threads (`None`: rayon's global pool, all cores).
@@ -230,7 +235,10 @@ pub fn run_on(
 /// ([`crate::population::checkpoint_dir`]: the only file of its records) and tables. A whole
 /// run writes its tables and frames ([`write_run`]). Shard k of N writes, with the feature
 /// `parquet`, `records/part-k-of-N.parquet` and `frames/part-k-of-N.parquet`, and with CSV
-/// ([`csv_tables`]) `results-k-of-N.csv`. Returns a one-line summary and the records.
+/// ([`csv_tables`]) `results-k-of-N.csv`. Returns a one-line summary, the records and, on an
+/// OpenFOAM field, the mesh-adequacy diagnostic ([`adequacy`], computed after the run from its
+/// records: the run's files are those of a run without it; a whole run writes it to
+/// `adequacy.json`, a shard leaves the re-track to [`merge`]).
 pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bool) -> Result<Finished, CliError> {
     let output = scene.population(&Job::Run {
         shard,
@@ -246,8 +254,13 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bo
         counts.suspended,
         counts.failed
     );
-    let summary = if shard == Shard::ALL {
+    let whole = shard == Shard::ALL;
+    let adequacy = adequacy(scene, &output.records, !whole)?;
+    let summary = if whole {
         let frames = write_run(&output, &scene.frame_times(), scene.vtk, csv, out)?;
+        if let Some(a) = &adequacy {
+            a.write(out)?;
+        }
         format!("{what}; {frames} frames in {}", out.display())
     } else {
         // A shard's tables go into `records/` and `frames/`: each folder reads as one dataset
@@ -267,15 +280,26 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bo
             checkpoint_dir(out, shard).display()
         )
     };
-    Ok(Finished { summary, output })
+    Ok(Finished {
+        summary,
+        output,
+        adequacy,
+    })
 }
 
-/// Merge the shard checkpoints in `out` into the whole run's tables and frames.
+/// Merge the shard checkpoints in `out` into the whole run's tables and frames, and on an
+/// OpenFOAM field the whole run's mesh-adequacy diagnostic (`adequacy.json`, with the re-track
+/// the shards left out). Returns the lines to print: the diagnostic's, then a summary.
 pub fn merge(scene: &Scene, out: &Path, csv: bool) -> Result<String, CliError> {
     let output = scene.population(&Job::Merge { dir: out.to_path_buf() })?;
     let frames = write_run(&output, &scene.frame_times(), scene.vtk, csv, out)?;
+    let adequacy = adequacy(scene, &output.records, false)?;
+    if let Some(a) = &adequacy {
+        a.write(out)?;
+    }
     Ok(format!(
-        "merged {} particles; {frames} frames in {}",
+        "{}merged {} particles; {frames} frames in {}",
+        adequacy.as_ref().map_or(String::new(), Adequacy::log),
         output.records.len(),
         out.display()
     ))

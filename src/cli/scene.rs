@@ -110,6 +110,9 @@ pub struct Scene {
     pub outputs: Vec<f64>,
     /// Write ParaView files.
     pub vtk: bool,
+    /// Particles the mesh-adequacy diagnostic re-tracks on the other reconstruction of the
+    /// field (`output.adequacy_sample`, [`super::adequacy`]); 0: none.
+    pub adequacy_sample: u64,
     /// The scene text (the run's fingerprint for checkpoints and shards).
     pub text: String,
 }
@@ -126,7 +129,7 @@ impl Scene {
     }
 
     /// Each list entry and injection group with its scene-file key.
-    fn placements(&self) -> Vec<(String, &Placement)> {
+    pub(crate) fn placements(&self) -> Vec<(String, &Placement)> {
         match &self.particles {
             ParticleSource::List(list) => list
                 .iter()
@@ -247,7 +250,7 @@ impl Scene {
 /// `key: message` lines with the lines of one message joined: the first key names them, with
 /// the count of the others (`particles.list[0] and 299 other entries: ...`), so a list of 300
 /// like particles gives one line where it gave 300. In the order of each message's first key.
-fn grouped(lines: Vec<(String, String)>) -> Vec<String> {
+pub(crate) fn grouped(lines: Vec<(String, String)>) -> Vec<String> {
     let mut groups: Vec<(String, String, usize)> = Vec::new();
     for (key, message) in lines {
         match groups.iter_mut().find(|(_, m, _)| *m == message) {
@@ -365,6 +368,7 @@ impl Builder<'_> {
         let (integrator, dt, dt_max) = self.integrator(&raw.integrator)?;
         self.barycentre_admits(&integrator, &forces, &raw.integrator)?;
         let (plan, outputs) = self.plan(&dt, dt_max.as_ref(), &raw.end, &raw.output, particles.count())?;
+        let adequacy_sample = self.adequacy_sample(&raw.output, &flow)?;
         Ok(Scene {
             seed: raw.seed,
             flow,
@@ -376,8 +380,34 @@ impl Builder<'_> {
             plan,
             outputs,
             vtk: raw.output.vtk.unwrap_or(true),
+            adequacy_sample,
             text: self.src.text.to_string(),
         })
+    }
+
+    /// `output.adequacy_sample`: the particles the mesh-adequacy diagnostic re-tracks
+    /// ([`super::adequacy`]), by default [`super::adequacy::DEFAULT_SAMPLE`] on a steady
+    /// OpenFOAM field and none elsewhere. A positive value is refused on an analytic flow (no
+    /// mesh, no wall layer) and on a transient field (the re-track is not implemented there).
+    fn adequacy_sample(&self, output: &OutputSpec, flow: &SceneFlow) -> Result<u64, CliError> {
+        let steady_foam = matches!(flow, SceneFlow::Foam(_) | SceneFlow::Blended(_));
+        let Some(sample) = &output.adequacy_sample else {
+            return Ok(if steady_foam { super::adequacy::DEFAULT_SAMPLE } else { 0 });
+        };
+        let n = *sample.get_ref();
+        match flow {
+            _ if n == 0 || steady_foam => Ok(n),
+            SceneFlow::Transient(_) => Err(self.err(
+                sample.span(),
+                "output.adequacy_sample",
+                format!("got {n}: the re-track is not implemented on a transient field; give 0 (the adequacy line is printed all the same)"),
+            )),
+            _ => Err(self.err(
+                sample.span(),
+                "output.adequacy_sample",
+                format!("got {n}: an analytic flow has no mesh and no wall layer to re-track on; needs `flow.type = \"openfoam\"` (or 0)"),
+            )),
+        }
     }
 
     /// The integrator's barycentre model takes the particles' force terms

@@ -452,4 +452,8 @@ pub struct OutputSpec {
     pub every: Option<Num>,
     /// Write ParaView files (default true).
     pub vtk: Option<bool>,
+    /// Particles re-tracked on the other reconstruction of an OpenFOAM field
+    /// (`cli::adequacy`; default `cli::adequacy::DEFAULT_SAMPLE` on a steady OpenFOAM field, 0
+    /// elsewhere; 0: no re-track).
+    pub adequacy_sample: Option<Spanned<u64>>,
 }

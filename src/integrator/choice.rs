@@ -67,6 +67,17 @@ pub struct ParticleNumbers {
 }
 
 impl ParticleNumbers {
+    /// The largest response time of `particle`'s rest shape, τ = m/(μ_f λ_min(K̂)): the
+    /// e-folding time of its slip in the slowest direction of the drag tensor, what
+    /// [`ParticleNumbers::of`] divides by the flow's time scale (and what a stopping distance
+    /// τU is made of).
+    pub fn response_time<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Result<f64, ParamError> {
+        let rest = particle.try_geometry(&Mat3::identity())?;
+        let resistance = particle.drag().resistance(&rest.frame, &rest.ints);
+        let slowest = resistance.symmetric_eigenvalues().min();
+        Ok(particle.mass() / (particle.fluid().mu * slowest))
+    }
+
     /// The numbers of `particle` in `flow`: the largest response time of the rest shape,
     /// τ = m/(μ_f λ_min(K̂)) (the slowest direction of the drag tensor), over the flow's time
     /// scale 1/γ̇ ([`FlowField::strain_rate`]; a flow without one gives St = ∞, so the particle
@@ -75,10 +86,7 @@ impl ParticleNumbers {
         particle: &Particle<M, D>,
         flow: &F,
     ) -> Result<Self, ParamError> {
-        let rest = particle.try_geometry(&Mat3::identity())?;
-        let resistance = particle.drag().resistance(&rest.frame, &rest.ints);
-        let slowest = resistance.symmetric_eigenvalues().min();
-        let tau = particle.mass() / (particle.fluid().mu * slowest);
+        let tau = Self::response_time(particle)?;
         let rate = flow.strain_rate().unwrap_or(f64::INFINITY);
         let d_eq = 2.0 * particle.shape().semi_axes().product().cbrt();
         Ok(Self {

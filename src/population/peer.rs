@@ -81,7 +81,7 @@ pub fn read_peer_fates(path: &Path) -> Result<HashMap<u64, PeerFate>, PeerError>
 }
 
 /// The 2×2 table of deposition by us and by the peer over the same particles.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct Pairing {
     /// Deposited by both.
     pub both: u64,
