@@ -197,6 +197,11 @@ impl Plan {
         self
     }
 
+    /// The run's limits.
+    pub fn budget(&self) -> Budget {
+        self.budget
+    }
+
     /// End time.
     pub fn t_end(&self) -> f64 {
         self.t_end

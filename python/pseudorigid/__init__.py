@@ -13,6 +13,7 @@ The Rust library does the work: scenes are validated by the same code as the
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import warnings
@@ -109,14 +110,25 @@ class Results:
     """The records of a run: :meth:`records` (one row per particle), :meth:`frames` (a long
     table, one row per particle per output time) and :meth:`trajectory` (one particle)."""
 
-    def __init__(self, native: "_native.Results") -> None:
+    def __init__(self, native: "_native.Results", adequacy: Optional[Dict[str, Any]] = None) -> None:
         self._native = native
+        self._adequacy = adequacy
 
     def __len__(self) -> int:
         return len(self._native)
 
     def __repr__(self) -> str:
         return f"Results({len(self)} particles, {self.counts()})"
+
+    @property
+    def adequacy(self) -> Optional[Dict[str, Any]]:
+        """The mesh-adequacy diagnostic of a whole :func:`run` on an OpenFOAM field, as in its
+        ``adequacy.json``: ``resolution`` (the first-cell height 2ρ at the walls against each
+        group's largest semi-axis and stopping distance), ``sensitivity`` (the first
+        ``output.adequacy_sample`` particles re-tracked on the other reconstruction of the
+        field, paired with the run), ``skipped`` and ``log`` (the command's lines). None for a
+        run in memory, a shard (``merge`` re-tracks) or an analytic flow."""
+        return self._adequacy
 
     @property
     def config_hash(self) -> str:
@@ -223,7 +235,22 @@ def run(
     finally:
         if bar is not None:
             bar.close()
-    return Results(results)
+    return Results(results, _adequacy(out, shard))
+
+
+def _adequacy(out: PathLike, shard: Optional[Tuple[int, int]]) -> Optional[Dict[str, Any]]:
+    """A whole run's ``adequacy.json`` (None for a shard or without one), its warning lines
+    raised as :class:`RuntimeWarning` at the caller's line, as the command prints them."""
+    path = os.path.join(os.fspath(out), "adequacy.json")
+    if shard is not None or not os.path.exists(path):
+        return None
+    with open(path, encoding="utf-8") as f:
+        adequacy: Dict[str, Any] = json.load(f)
+    for line in adequacy.get("log", []):
+        if line.startswith("warning: "):
+            # Through _adequacy and run to the caller's line.
+            warnings.warn(line[len("warning: ") :], RuntimeWarning, stacklevel=3)
+    return adequacy
 
 
 def run_in_memory(

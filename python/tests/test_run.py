@@ -5,9 +5,11 @@ from __future__ import annotations
 import _thread
 import csv
 import gzip
+import json
 import pathlib
 import signal
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -63,6 +65,29 @@ def test_shipped_scene_file_equals_cli(tmp_path, cli, root):
     cli_run(cli, scene_file, tmp_path / "cli", "--csv")
     pr.run(pr.Scene.from_toml(scene_file), tmp_path / "py", csv=True)
     assert_same_files(tmp_path / "cli", tmp_path / "py")
+
+
+def test_adequacy_is_the_commands_file(tmp_path, cli, root, small_scene):
+    """On an OpenFOAM field `run` returns the command's `adequacy.json` (the same run through
+    the binding) and raises its warning lines; a run on an analytic flow has none, and
+    removes an earlier run's file from its folder."""
+    scene_file = root / "scenes" / "bifurcation.toml"
+    cli_run(cli, scene_file, tmp_path / "cli")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        results = pr.run(pr.Scene.from_toml(scene_file), tmp_path / "py")
+    expected = json.loads((tmp_path / "cli" / "adequacy.json").read_text())
+    assert results.adequacy == expected
+    pairing = expected["sensitivity"]["pairing"]
+    assert sum(pairing.values()) == 20 and len(expected["sensitivity"]["particles"]) == 20
+    assert expected["resolution"]["walls"]["faces"] > 0
+    assert any(line.startswith("note: adequacy: the first 20 particles re-tracked") for line in expected["log"])
+    warned = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert warned == [line[len("warning: ") :] for line in expected["log"] if line.startswith("warning: ")]
+    (tmp_path / "shear").mkdir()
+    (tmp_path / "shear" / "adequacy.json").write_text(json.dumps(expected))
+    assert pr.run(pr.Scene.from_dict(small_scene), tmp_path / "shear").adequacy is None
+    assert not (tmp_path / "shear" / "adequacy.json").exists()
 
 
 def test_shard_equals_cli_shard(tmp_path, cli, small_scene):

@@ -258,8 +258,10 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bo
     let adequacy = adequacy(scene, &output.records, !whole)?;
     let summary = if whole {
         let frames = write_run(&output, &scene.frame_times(), scene.vtk, csv, out)?;
-        if let Some(a) = &adequacy {
-            a.write(out)?;
+        match &adequacy {
+            Some(a) => a.write(out)?,
+            // A diagnostic of an earlier run into the same folder would speak for this one.
+            None => super::adequacy::remove(out)?,
         }
         format!("{what}; {frames} frames in {}", out.display())
     } else {
@@ -294,8 +296,9 @@ pub fn merge(scene: &Scene, out: &Path, csv: bool) -> Result<String, CliError> {
     let output = scene.population(&Job::Merge { dir: out.to_path_buf() })?;
     let frames = write_run(&output, &scene.frame_times(), scene.vtk, csv, out)?;
     let adequacy = adequacy(scene, &output.records, false)?;
-    if let Some(a) = &adequacy {
-        a.write(out)?;
+    match &adequacy {
+        Some(a) => a.write(out)?,
+        None => super::adequacy::remove(out)?,
     }
     Ok(format!(
         "{}merged {} particles; {frames} frames in {}",

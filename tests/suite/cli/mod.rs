@@ -3,6 +3,7 @@
 //! printed in shortest round-trip form, so the particle, flow and plan are bitwise the
 //! library's, and so must be the trajectory: every comparison is exact.
 
+mod adequacy;
 mod command;
 mod run;
 mod scene;
