@@ -311,7 +311,10 @@ impl Adequacy {
                 if s.warning {
                     // The paired standard error vanishes when every pair is discordant one way.
                     let sigmas = if s.stderr > 0.0 {
-                        format!("{:.1} paired standard errors, more than {WARN_SIGMAS}", s.difference.abs() / s.stderr)
+                        format!(
+                            "{:.1} paired standard errors, more than {WARN_SIGMAS}",
+                            s.difference.abs() / s.stderr
+                        )
                     } else {
                         format!("all {} pairs that differ, one way", p.only_ours + p.only_peer)
                     };
@@ -347,7 +350,7 @@ impl Adequacy {
     pub fn write(&self, dir: &Path) -> Result<(), CliError> {
         let mut value = serde_json::to_value(self).map_err(|e| CliError::Input(format!("{FILE}: {e}")))?;
         if let serde_json::Value::Object(map) = &mut value {
-            let lines = self.log().lines().map(|l| serde_json::Value::from(l)).collect();
+            let lines = self.log().lines().map(serde_json::Value::from).collect();
             map.insert("log".into(), serde_json::Value::Array(lines));
         }
         let json = serde_json::to_vec_pretty(&value).map_err(|e| CliError::Input(format!("{FILE}: {e}")))?;
@@ -495,7 +498,11 @@ pub fn sensitivity(
 /// A ratio to the first cell for the log: three decimals, or three digits below 0.01 (a
 /// tracer's are ~10⁻⁴).
 fn ratio(x: f64) -> String {
-    if x >= 0.01 { format!("{x:.3}") } else { format!("{x:.2e}") }
+    if x >= 0.01 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.2e}")
+    }
 }
 
 /// Whether `fate` is a deposit.
@@ -513,7 +520,11 @@ fn retrack<F: FlowField + Sync + ?Sized>(scene: &Scene, flow: &F, runs: &[&Parti
     let budget = scene.plan.budget();
     runs.par_iter()
         .map(|r| {
-            let steps = r.stats.steps.saturating_mul(RETRACK_STEP_FACTOR).saturating_add(RETRACK_STEP_FLOOR);
+            let steps = r
+                .stats
+                .steps
+                .saturating_mul(RETRACK_STEP_FACTOR)
+                .saturating_add(RETRACK_STEP_FLOOR);
             let plan = scene.plan.clone().with_budget(Budget {
                 max_steps: steps.min(budget.max_steps),
                 ..budget

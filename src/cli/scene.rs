@@ -392,7 +392,11 @@ impl Builder<'_> {
     fn adequacy_sample(&self, output: &OutputSpec, flow: &SceneFlow) -> Result<u64, CliError> {
         let steady_foam = matches!(flow, SceneFlow::Foam(_) | SceneFlow::Blended(_));
         let Some(sample) = &output.adequacy_sample else {
-            return Ok(if steady_foam { super::adequacy::DEFAULT_SAMPLE } else { 0 });
+            return Ok(if steady_foam {
+                super::adequacy::DEFAULT_SAMPLE
+            } else {
+                0
+            });
         };
         let n = *sample.get_ref();
         match flow {

@@ -13,9 +13,9 @@
 use super::command::{ok, pseudorigid};
 use crate::common::build;
 use pseudorigid::cli::adequacy::{Adequacy, Skipped};
+use pseudorigid::cli::error::Source;
 use pseudorigid::cli::run::run;
 use pseudorigid::cli::scene::parse;
-use pseudorigid::cli::error::Source;
 use pseudorigid::population::{RunOptions, Shard};
 use pseudorigid::tensor::Vec3;
 use std::path::{Path, PathBuf};
@@ -74,7 +74,14 @@ vtk = false
 /// The run of `scene_text(case, extra)` in `out` and its diagnostic.
 fn adequacy_of(case: &Path, extra: &str, out: &str) -> Adequacy {
     let text = scene_text(case, extra);
-    let scene = parse(&Source { file: "box.toml", text: &text }, Path::new(".")).unwrap();
+    let scene = parse(
+        &Source {
+            file: "box.toml",
+            text: &text,
+        },
+        Path::new("."),
+    )
+    .unwrap();
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(out);
     let _ = std::fs::remove_dir_all(&dir);
     let done = run(&scene, &dir, Shard::ALL, RunOptions::default().quiet(), false).unwrap();
@@ -96,10 +103,16 @@ fn coarse_first_cell_numbers_and_warning() {
     let r = a.resolution.as_ref().unwrap();
     // The heights are twice the cell centre's distance from the face: round-off of a few ulp.
     assert_eq!(r.walls.faces, 10);
-    assert!((r.walls.median - 0.2).abs() < 1e-15 && (r.walls.max - 0.2).abs() < 1e-15, "{:?}", r.walls);
+    assert!(
+        (r.walls.median - 0.2).abs() < 1e-15 && (r.walls.max - 0.2).abs() < 1e-15,
+        "{:?}",
+        r.walls
+    );
     let speed = S * (0.6f64 * 0.6 + 0.5625 * 0.5625).sqrt();
     assert!((r.speed - speed).abs() < 1e-12 * speed, "{} {speed}", r.speed);
-    let [p] = r.particles.as_slice() else { panic!("{:?}", r.particles) };
+    let [p] = r.particles.as_slice() else {
+        panic!("{:?}", r.particles)
+    };
     let tau = 2.0 * 2.0 * A * A / 9.0;
     assert_eq!(p.key, "particles.inject[0]");
     assert_eq!(p.largest_semi_axis, A);
@@ -112,11 +125,23 @@ fn coarse_first_cell_numbers_and_warning() {
     assert_eq!(s.pairing.n(), 20);
     assert!(s.warning, "{s:?}");
     assert!(s.difference > 0.5, "{s:?}");
-    assert!(a.log().contains("warning: adequacy: the deposition fraction moves by 1.0000 (all 20 pairs that differ, one way)"), "{}", a.log());
-    let json = std::fs::read_to_string(Path::new(env!("CARGO_TARGET_TMPDIR")).join("adequacy_coarse_out/adequacy.json")).unwrap();
+    assert!(
+        a.log()
+            .contains("warning: adequacy: the deposition fraction moves by 1.0000 (all 20 pairs that differ, one way)"),
+        "{}",
+        a.log()
+    );
+    let json =
+        std::fs::read_to_string(Path::new(env!("CARGO_TARGET_TMPDIR")).join("adequacy_coarse_out/adequacy.json"))
+            .unwrap();
     assert!(json.contains("\"warning\": true"), "{json}");
     let file: serde_json::Value = serde_json::from_str(&json).unwrap();
-    let logged: Vec<&str> = file["log"].as_array().unwrap().iter().map(|l| l.as_str().unwrap()).collect();
+    let logged: Vec<&str> = file["log"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l.as_str().unwrap())
+        .collect();
     assert_eq!(logged, a.log().lines().collect::<Vec<_>>());
 }
 
@@ -150,7 +175,15 @@ fn adequacy_sample_on_an_analytic_flow_is_refused() {
              [end]\nt_end = 0.1\n[output]\nvtk = false\n{extra}\n"
         )
     };
-    let parsed = |extra: &str| parse(&Source { file: "shear.toml", text: &text(extra) }, Path::new("."));
+    let parsed = |extra: &str| {
+        parse(
+            &Source {
+                file: "shear.toml",
+                text: &text(extra),
+            },
+            Path::new("."),
+        )
+    };
     match parsed("adequacy_sample = 3") {
         Err(pseudorigid::cli::CliError::Scene { key, message, .. }) => {
             assert_eq!(key, "output.adequacy_sample");
@@ -164,5 +197,8 @@ fn adequacy_sample_on_an_analytic_flow_is_refused() {
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("scene.toml"), text("")).unwrap();
     let log = ok(pseudorigid(&dir, &["run", "scene.toml", "--out", "out", "--quiet"]));
-    assert!(!log.contains("adequacy") && !dir.join("out/adequacy.json").exists(), "{log}");
+    assert!(
+        !log.contains("adequacy") && !dir.join("out/adequacy.json").exists(),
+        "{log}"
+    );
 }
