@@ -16,8 +16,10 @@ use serde::Deserialize;
 use std::hash::Hasher;
 use std::path::Path;
 
-/// The code version written into, and required of, every sealed file.
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+/// The code version written into, and required of, every sealed file: the crate version and
+/// a hash of the crate's sources (`build.rs`), so a file written by other code of the same
+/// version number is refused too.
+pub const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), "+src.", env!("PSEUDORIGID_SOURCE_HASH"));
 
 /// The checksum of `body` (a JSON object's text) written by code version `version`.
 pub fn checksum(version: &str, body: &[u8]) -> String {

@@ -154,3 +154,51 @@ fn killed_run_resumes_bitwise() {
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
 }
+
+/// 64-bit FNV-1a, as `build.rs` computes the source hash.
+fn fnv1a(mut h: u64, bytes: &[u8]) -> u64 {
+    for &b in bytes {
+        h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// The code version sealed into checkpoints and caches is the crate version plus the hash of
+/// the sources this test binary was built from: recomputed here from `src/` (FNV-1a, checked
+/// first against the published test vectors of Fowler, Noll & Vo), it matches, so the build
+/// script reran on the last change of any source file, and a cache written before that change
+/// cannot be taken for this code's.
+#[test]
+fn sealed_version_is_the_hash_of_the_sources() {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    assert_eq!(fnv1a(OFFSET, b""), 0xcbf2_9ce4_8422_2325);
+    assert_eq!(fnv1a(OFFSET, b"a"), 0xaf63_dc4c_8601_ec8c);
+    assert_eq!(fnv1a(OFFSET, b"foobar"), 0x8594_4171_f739_67e8);
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut paths = Vec::new();
+    let mut dirs = vec![src.clone()];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                dirs.push(path)
+            } else {
+                paths.push(path)
+            }
+        }
+    }
+    paths.sort();
+    let mut h = OFFSET;
+    for path in &paths {
+        let relative = path.strip_prefix(&src).unwrap().to_string_lossy().replace('\\', "/");
+        let bytes = std::fs::read(path).unwrap();
+        for part in [relative.as_bytes(), bytes.as_slice()] {
+            h = fnv1a(h, &(part.len() as u64).to_le_bytes());
+            h = fnv1a(h, part);
+        }
+    }
+    assert_eq!(
+        pseudorigid::population::seal::VERSION,
+        format!("{}+src.{h:016x}", env!("CARGO_PKG_VERSION"))
+    );
+}
