@@ -288,11 +288,19 @@ pub fn load(path: &Path) -> Result<Scene, CliError> {
 /// Validate a scene's text; relative paths in it are relative to `base`.
 pub fn parse(src: &Source<'_>, base: &Path) -> Result<Scene, CliError> {
     let raw: SceneFile = toml::from_str(src.text).map_err(|e| src.parse_error(&e))?;
-    Builder { src }.scene(raw, base)
+    Builder {
+        src,
+        boundary_flux: std::cell::OnceCell::new(),
+    }
+    .scene(raw, base)
 }
 
 struct Builder<'a> {
     src: &'a Source<'a>,
+    /// A steady OpenFOAM field's face flux `phi` on the boundary faces at its first time, where
+    /// the case has one ([`FoamCase::read_boundary_flux`]): the inflow a `patch` injection
+    /// region is weighted by.
+    boundary_flux: std::cell::OnceCell<Vec<f64>>,
 }
 
 impl Builder<'_> {

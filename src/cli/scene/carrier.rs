@@ -98,6 +98,13 @@ impl Builder<'_> {
                     }
                 };
                 let cells = FoamFlow::read(&foam, &times).map_err(|e| self.err(span.clone(), key, e.to_string()))?;
+                let flux = foam
+                    .read_boundary_flux(times[0])
+                    .map_err(|e| self.err(span.clone(), key, e.to_string()))?;
+                if let Some(flux) = flux {
+                    // Built once per scene: the cell is empty here.
+                    let _ = self.boundary_flux.set(flux);
+                }
                 if cells.is_zero() {
                     return Err(self.err(
                         span,

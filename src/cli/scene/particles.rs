@@ -435,15 +435,19 @@ impl Builder<'_> {
     }
 
     /// The inflow through patch `name` as weighted triangles: each face's fan of triangles
-    /// around its centre, weighted by the face's inflow −u·S (u of the face's cell fit at the
-    /// face centre, the first time level) times the triangle's share of the face's area, moved
+    /// around its centre, weighted by the face's inflow (below; at the first time level) times
+    /// the triangle's share of the face's area, moved
     /// inside along the face normal by 1.01 `extent` (the particle's largest semi-axis, or the
     /// contact radius of barycentre contact if larger), so a
     /// particle does not start touching the patch it enters through (at least 10⁻⁶ of the
     /// face's size for point particles).
     ///
-    /// Refused, naming the patch, its type and its flux Σ u·S (the fits' at the face centres:
-    /// the case's face flux `phi`, a surface field, is not read by the library): a patch of
+    /// The face's inflow is the case's own face flux −`phi` where the steady field's time
+    /// directory has `phi` (the solver's conservative flux: the injection then splits as the
+    /// solver's flow does), else −u·S of the cell fit (a transient field, a decomposed case,
+    /// a field written without `phi`).
+    ///
+    /// Refused, naming the patch, its type and its flux: a patch of
     /// type `wall`, which no fluid crosses (a cell fit's round-off or a non-zero wall velocity
     /// gives some of its faces an inflow, and particles would start on the wall), and a patch
     /// with no inflow at the field's first time (an outlet; on a transient field, an inlet
@@ -482,11 +486,15 @@ impl Builder<'_> {
             ));
         };
         let t = cells.times()[0];
+        let phi = self.boundary_flux.get().filter(|_| !transient);
         let (mut triangles, mut net, mut inflow_total) = (Vec::new(), 0.0, 0.0);
         for f in patch.start..patch.start + patch.size {
             let (area, centre) = (mesh.face_areas()[f], mesh.face_centres()[f]);
             let size = area.norm();
-            let flux = cells.sample_cell(mesh.owner(f), &centre, t).u.dot(&area);
+            let flux = match phi {
+                Some(phi) => phi[f - mesh.n_internal_faces()],
+                None => cells.sample_cell(mesh.owner(f), &centre, t).u.dot(&area),
+            };
             let inflow = (-flux).max(0.0);
             net += flux;
             inflow_total += inflow;
@@ -501,9 +509,13 @@ impl Builder<'_> {
                 triangles.push(([centre + inward, a + inward, b + inward], inflow * share));
             }
         }
+        let source = match phi {
+            Some(_) => "the case's face flux `phi`",
+            None => "sum(u.S), the cell fits at its faces",
+        };
         let what = format!(
-            "patch `{}` (type `{}`, {} faces): net flux out of the domain sum(u.S) = {net:.3e}, inflow {inflow_total:.3e} \
-             (the cell fits at its faces at t = {t})",
+            "patch `{}` (type `{}`, {} faces): net flux out of the domain {net:.3e}, inflow {inflow_total:.3e} ({source} \
+             at t = {t})",
             patch.name, patch.kind, patch.size
         );
         let open = || -> Vec<&str> {

@@ -144,6 +144,47 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
     })
 }
 
+/// The face flux `phi` (a `surfaceScalarField`, m³/s, positive out of each face's owner cell,
+/// so out of the domain on the boundary) on the boundary faces, in face order, from time
+/// directory `dir`: `None` if the directory has no `phi` (nor `phi.gz`). A patch without a
+/// stored `value` (`empty`, or a condition written without one) carries no flux.
+pub fn read_boundary_flux(dir: &Path, mesh: &PolyMesh) -> Result<Option<Vec<f64>>, FoamError> {
+    let name = dir.join("phi");
+    let mut gz = name.as_os_str().to_owned();
+    gz.push(".gz");
+    if !name.is_file() && !Path::new(&gz).is_file() {
+        return Ok(None);
+    }
+    let patches = mesh.patches().len() as u64 * HEADER_BYTES;
+    let limit = Limit::entries(mesh.n_faces(), 1, "face fluxes", patches, "the patches");
+    let (path, text) = read_file(&name, limit)?;
+    let (header, dict) = dictionary_file(&path, &text)?;
+    let field_err = |reason: String| FoamError::Field {
+        path: path.clone(),
+        reason,
+    };
+    if header.class != "surfaceScalarField" {
+        return Err(field_err(format!(
+            "class is `{}`, expected `surfaceScalarField`",
+            header.class
+        )));
+    }
+    let boundary_dict = match dict.get("boundaryField") {
+        Some((Entry::Dict(d), _)) => d,
+        _ => return Err(field_err("no boundaryField dictionary".into())),
+    };
+    let mut flux = Vec::with_capacity(mesh.n_faces() - mesh.n_internal_faces());
+    for patch in mesh.patches() {
+        match patch_dict(boundary_dict, &patch.name).and_then(|d| d.get("value")) {
+            Some((Entry::Values(v), _)) => {
+                flux.extend(values(v, 1, patch.size).map_err(|r| field_err(format!("patch `{}`: {r}", patch.name)))?)
+            }
+            _ => flux.extend(std::iter::repeat_n(0.0, patch.size)),
+        }
+    }
+    Ok(Some(flux))
+}
+
 /// The entry of a patch, by exact name (solver-written fields name every patch; patterns
 /// such as `".*"` occur only in hand-written initial conditions).
 fn patch_dict<'d>(dict: &'d Dict, name: &str) -> Option<&'d Dict> {

@@ -243,6 +243,16 @@ impl FoamCase {
         Ok(self.decomposition.get_or_init(|| d))
     }
 
+    /// The face flux `phi` on the boundary faces at time `t` ([`field::read_boundary_flux`]):
+    /// `None` where the time directory has none, or the case is decomposed (the processors'
+    /// fluxes are not reassembled).
+    pub fn read_boundary_flux(&self, t: f64) -> Result<Option<Vec<f64>>, FoamError> {
+        match &self.find_time(t)?.top {
+            Some(dir) => field::read_boundary_flux(dir, &self.mesh),
+            None => Ok(None),
+        }
+    }
+
     /// Read field `name` (`comps` = 1 or 3 components) at time `t`: from the top-level time
     /// directory, or reassembled from the processors' ([`decomposed`]).
     pub fn read_field(&self, t: f64, name: &str, comps: usize) -> Result<VolField, FoamError> {
