@@ -7,9 +7,16 @@
 //! cell and face centres), so no time directory is needed.
 //! Queries: 1000 points spread over the mesh; "hint" starts each search from the cell of a
 //! point 0.3 cell sizes away (a particle's previous position), "no_hint" from nothing.
+//!
+//! Group `blended_sample`: one sample of the blended field ([`BlendedFlow`]) on the airway
+//! bifurcation (`reference-data/bifurcation`, prism layers on its walls): "cells" at 1000
+//! points 0.3 cell sizes from cell centres spread over the mesh, "near_wall" at 1000 points a
+//! quarter of the way from wall faces spread over the walls to their cells' centres (in the
+//! first prism layer, where the supports are finest).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use pseudorigid::flow::openfoam::{FoamCase, FoamFlow, VolField};
+use pseudorigid::flow::FlowField;
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow, VolField};
 use pseudorigid::tensor::Vec3;
 use std::hint::black_box;
 
@@ -67,5 +74,39 @@ fn openfoam(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, openfoam);
+fn blended(c: &mut Criterion) {
+    let dir = format!("{}/reference-data/bifurcation", env!("CARGO_MANIFEST_DIR"));
+    let case = FoamCase::open(&dir).expect("readable case");
+    let last = *case.times().last().expect("a time directory");
+    let flow = BlendedFlow::new(FoamFlow::read(&case, &[last]).expect("readable field")).expect("blendable");
+    let mesh = flow.cellwise().mesh();
+    let n_cells = mesh.n_cells();
+    let h = (mesh.cell_volumes().iter().sum::<f64>() / n_cells as f64).cbrt();
+    let step = Vec3::new(0.3, -0.2, 0.15).normalize() * 0.3 * h;
+    let cells: Vec<Vec3> = (0..1000)
+        .map(|k| mesh.cell_centres()[k * n_cells / 1000] + step)
+        .collect();
+    let walls = flow.cellwise().walls();
+    let near_wall: Vec<Vec3> = (0..1000)
+        .map(|k| {
+            let f = walls[k * walls.len() / 1000] as usize;
+            let (q, c) = (mesh.face_centres()[f], mesh.cell_centres()[mesh.owner(f)]);
+            q + 0.25 * (c - q)
+        })
+        .collect();
+    let mut g = c.benchmark_group("blended_sample");
+    g.throughput(Throughput::Elements(1000));
+    for (name, points) in [("cells", &cells), ("near_wall", &near_wall)] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                for x in points {
+                    black_box(flow.sample(black_box(x), 0.0).ok());
+                }
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, blended, openfoam);
 criterion_main!(benches);
