@@ -104,13 +104,12 @@
 //! nearest patch.
 
 use super::grid::BallGrid;
+use super::memo;
 use super::walls::WallFaces;
 use super::{FoamError, FoamFlow};
 use crate::error::FlowError;
 use crate::flow::{FlowField, FlowSample};
 use crate::tensor::{Mat3, Vec3};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// [`FoamFlow`] blended into a continuous field (module docs).
 #[derive(Debug, Clone)]
@@ -126,19 +125,8 @@ pub struct BlendedFlow {
     /// The wall faces owned by cell c: `cell_walls[wall_offsets[c]..wall_offsets[c + 1]]`.
     wall_offsets: Vec<u32>,
     cell_walls: Vec<u32>,
-    /// Identity of this field for [`LAST_SAMPLE`] (a clone shares it: same data).
+    /// Identity of this field for [`memo`] (a clone shares it: same data).
     id: u64,
-}
-
-/// Source of [`BlendedFlow`] identities.
-static NEXT_ID: AtomicU64 = AtomicU64::new(0);
-
-thread_local! {
-    /// The last sample this thread took: (field id, x and t as bits, sample). A particle's step
-    /// samples its start state where the contact event's step cap sampled it a moment before
-    /// (the same x and t), so the repeat is answered from here. A pure function's memo: the
-    /// answer is bit for bit the one a new evaluation gives.
-    static LAST_SAMPLE: Cell<Option<(u64, [u64; 4], FlowSample)>> = const { Cell::new(None) };
 }
 
 /// Scale σ of a cell's support over the ellipsoid through its vertices: neighbouring supports
@@ -250,7 +238,7 @@ impl BlendedFlow {
             walls,
             wall_offsets,
             cell_walls: owned.into_iter().map(|(_, k)| k).collect(),
-            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+            id: memo::new_id(),
         })
     }
 
@@ -303,7 +291,7 @@ impl BlendedFlow {
     /// Forget the samples remembered for this field: its levels are about to change
     /// ([`super::Windowed::cellwise_mut`]). A new identity, so no thread's memo matches.
     pub(super) fn forget_samples(&mut self) {
-        self.id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
+        self.id = memo::new_id();
     }
 
     /// The cellwise field underneath, to replace its levels.
@@ -316,16 +304,7 @@ impl FlowField for BlendedFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         crate::flow::check_query(x, t)?;
         self.flow.check_time(t)?;
-        let key = [x[0].to_bits(), x[1].to_bits(), x[2].to_bits(), t.to_bits()];
-        if let Some((id, at, sample)) = LAST_SAMPLE.get()
-            && id == self.id
-            && at == key
-        {
-            return Ok(sample);
-        }
-        let sample = self.blend(x, t)?;
-        LAST_SAMPLE.set(Some((self.id, key, sample)));
-        Ok(sample)
+        memo::remembered(self.id, x, t, || self.blend(x, t))
     }
 
     fn strain_rate(&self) -> Option<f64> {

@@ -49,6 +49,7 @@ pub mod field;
 pub mod frame;
 pub mod grid;
 pub mod locate;
+mod memo;
 pub mod mesh;
 pub mod octree;
 pub mod parse;

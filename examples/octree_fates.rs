@@ -1,0 +1,89 @@
+//! Fates on the tabulated field (`flow::openfoam::octree`) against the blend it tabulates: the
+//! same rigid λ = 20 prolates of Fig. 18 (the datasets' seed) through the airway bifurcation,
+//! at the studies' integrator, tolerances and contact rule, paired particle by particle. The
+//! evidence behind the module docs' "Fates" table: whether a table fast enough to pay for
+//! itself keeps Fig. 18's deposition.
+//!
+//! ```text
+//! cargo run --release --example octree_fates -- [N STK U_TOL LEAVES_PER_CELL]   # 4000 0.5 inf 12
+//! ```
+//! `U_TOL` the table's tolerance of u against the blend relative to |u|max (`inf`: leaves sized
+//! by the mesh alone); the tolerance of ∇u is infinite, the wall leaves [`Options`]' default.
+//! One thread per run, so the two times compare.
+
+use pseudorigid::flow::FlowField;
+use pseudorigid::flow::openfoam::OctreeFlow;
+use pseudorigid::flow::openfoam::octree::Options;
+use pseudorigid::population::peer::Pairing;
+use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, Shard, run};
+use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, study};
+use pseudorigid::scenes::cavity::Shape;
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let arg = |i: usize, default: &str| args.get(i).map_or(default.to_string(), Clone::clone);
+    let n: u64 = arg(0, "4000").parse()?;
+    let stokes: f64 = arg(1, "0.5").parse()?;
+    let options = Options {
+        u_tolerance: arg(2, "inf").parse()?,
+        gradient_tolerance: f64::INFINITY,
+        leaves_per_cell: arg(3, "12").parse()?,
+        ..Options::default()
+    };
+    let airway = Airway::open(Airway::shipped_dir())?;
+    let start = Instant::now();
+    let table = OctreeFlow::with_options(airway.flow().clone(), options)?;
+    let r = table.report();
+    println!(
+        "table: built in {:.1} s, {:.0} bytes per cell, {} tabulated leaves, {} wall leaves, {} left to the blend; \
+         largest miss at the midpoints u {:.2e}, ∇u {:.2e} (of the maxima)",
+        start.elapsed().as_secs_f64(),
+        r.bytes_per_cell(),
+        r.table_leaves,
+        r.wall_leaves,
+        r.unconverged,
+        r.u_miss,
+        r.gradient_miss
+    );
+    let kind = Kind {
+        shape: Shape::Prolate(20.0),
+        material: Material::Rigid,
+        stokes,
+    };
+    let integ = study::integrator(&airway, kind)?.integrator;
+    let injection = Injection::new(&airway, kind)?;
+    let config = RunConfig {
+        seed: figures::SEED,
+        particles: n,
+        fingerprint: "octree_fates".into(),
+    };
+    let mut deposited = Vec::new();
+    for (name, field) in [("blend", airway.flow() as &dyn FlowField), ("table", &table)] {
+        let case = Case::new(&integ, field, airway.boundary(), &injection, study::plan(&airway)?);
+        let start = Instant::now();
+        let out = run(&case, &config, Shard::ALL, &RunOptions::default().serial().quiet())?;
+        let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
+        let fates: Vec<bool> = out
+            .records
+            .iter()
+            .map(|r| matches!(r.fate, Fate::Deposited { .. }))
+            .collect();
+        println!(
+            "{name}: {:.1} s, {steps} steps, {} of {n} deposited",
+            start.elapsed().as_secs_f64(),
+            fates.iter().filter(|d| **d).count()
+        );
+        deposited.push(fates);
+    }
+    let mut pairing = Pairing::default();
+    for (table, blend) in deposited[1].iter().zip(&deposited[0]) {
+        pairing.add(*table, *blend);
+    }
+    let (difference, se) = pairing.difference();
+    println!(
+        "paired: {} deposited on the table only, {} on the blend only; DE table − blend {difference:+.4} ± {se:.4}",
+        pairing.only_ours, pairing.only_peer
+    );
+    Ok(())
+}
