@@ -97,9 +97,16 @@
 //!   leaves miss the blend's u by 1.7·10⁻³ of its maximum at the median of 20 000 points, 10⁻²
 //!   at the 90th percentile, most near the inlet's thin entrance layer; the blend and the cellwise
 //!   fits differ by 6·10⁻⁴ and 4·10⁻³ there.
-//! - Widening the wall leaves to two or three first-cell heights leaves the shift (−0.0043,
-//!   −0.0037 ± 0.0012, the scratch variant). A tolerance on u removes it only where the table no longer pays
-//!   (10⁻²: every fate kept, no time saved).
+//! - Neither the wall band nor the leaves' size next to the walls is the cause. Wall leaves two
+//!   or three first-cell heights deep leave the shift (−0.0043 and −0.0037 ± 0.0012, the scratch
+//!   variant, seed 7). Leaves no larger than the thinnest support at their centre (the prism
+//!   layers resolved, 1 732 bytes per cell) leave it too: −0.0047 ± 0.0013 (the datasets' seed).
+//!   Only a tolerance on u removes it, which refines the table down to the blend's fine structure
+//!   everywhere. At 10⁻² every fate is kept, and no time is saved.
+//! - So at Stk ≥ 0.3 deposition depends on the field's structure below a fifth of a cell, by
+//!   about half a percentage point: two reconstructions, each O(h²) in u, do not agree on it.
+//!   That is a discretisation uncertainty of Fig. 18's upper points on this mesh. Which of the
+//!   two is nearer the converged answer is not known here; a finer mesh would say.
 //!
 //! So tabulating the blend cannot make tracking cheaper at the accuracy the datasets need: the
 //! table must resolve the blend's own fine structure. A faster field has to be one whose
