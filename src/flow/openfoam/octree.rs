@@ -91,7 +91,7 @@
 //!   fall in wall leaves and pay the blend (callgrind, 200 particles at Stk 0.1: 38.6 k
 //!   instructions per step on the blend, 33 k on the table).
 //! - From Stk 0.3 the table deposits fewer particles, by 5–6 paired standard errors at these N
-//!   (20 at the paper's 10⁵). It is its u, not its ∇u: with the table's u and the blend's ∇u
+//!   (about 17 at the paper's 10⁵). It is its u, not its ∇u: with the table's u and the blend's ∇u
 //!   the shift stays, with the blend's u and the table's ∇u it goes (a scratch variant of the
 //!   example, seed 7, Stk 0.5, 4 000 particles: −0.0060 ± 0.0013 and −0.0005 ± 0.0011). Mesh-sized
 //!   leaves miss the blend's u by 1.7·10⁻³ of its maximum at the median of 20 000 points, 10⁻²
