@@ -30,24 +30,72 @@ fn graded_box(u: impl Fn(&Vec3) -> Vec3) -> FoamFlow {
 /// ≤ 1, and the fits' least squares lose about two digits (the reconstruction's tests), so
 /// 1e-12 is a hundred times what round-off can reach; a corner holding anything but the
 /// shear's value would show as an O(1) miss of the trilinear interpolant.
+///
+/// The same with infinite tolerances (leaves sized by the mesh alone, as `examples/octree_fates`
+/// builds them): fewer, larger leaves, still exact.
 #[test]
 fn a_linear_shear_at_a_no_slip_wall_is_exact_everywhere() {
     let shear = |x: &Vec3| Vec3::new(2.0 * x[1], 0.0, -x[1]);
-    let table = OctreeFlow::new(BlendedFlow::new(graded_box(shear)).unwrap()).unwrap();
-    let points = table.check_points(2000, 1, &[0.1, 0.25, 0.5], 7);
-    let (mut tabulated, mut worst) = (0, 0.0f64);
-    for x in points.spread.iter().chain(points.near_wall.iter().map(|p| &p.0)) {
-        let s = table.sample(x, 0.0).unwrap();
-        tabulated += usize::from(table.is_tabulated(x));
-        let gradient = s.grad_u - pseudorigid::tensor::Mat3::new(0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0);
-        worst = worst.max((s.u - shear(x)).norm()).max(gradient.norm());
+    let blend = BlendedFlow::new(graded_box(shear)).unwrap();
+    let mesh_sized = Options {
+        u_tolerance: f64::INFINITY,
+        gradient_tolerance: f64::INFINITY,
+        ..Options::default()
+    };
+    for options in [Options::default(), mesh_sized] {
+        let table = OctreeFlow::with_options(blend.clone(), options).unwrap();
+        let points = table.check_points(2000, 1, &[0.1, 0.25, 0.5], 7);
+        let (mut tabulated, mut worst) = (0, 0.0f64);
+        for x in points.spread.iter().chain(points.near_wall.iter().map(|p| &p.0)) {
+            let s = table.sample(x, 0.0).unwrap();
+            tabulated += usize::from(table.is_tabulated(x));
+            let gradient = s.grad_u - pseudorigid::tensor::Mat3::new(0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0);
+            worst = worst.max((s.u - shear(x)).norm()).max(gradient.norm());
+        }
+        println!(
+            "{options:?}: {:?}; tabulated alone at {tabulated} points; worst {worst:e}",
+            table.report()
+        );
+        assert!(tabulated > 500, "the test must reach tabulated leaves: {tabulated}");
+        assert!(worst < 1e-12, "{worst:e}");
     }
-    println!(
-        "{:?}; tabulated alone at {tabulated} points; worst {worst:e}",
-        table.report()
-    );
-    assert!(tabulated > 500, "the test must reach tabulated leaves: {tabulated}");
-    assert!(worst < 1e-12, "{worst:e}");
+}
+
+/// Tolerances must be positive (infinite allowed), the wall leaf finite and positive, the
+/// budget at least one leaf per cell: anything else is a typed error, not a table.
+#[test]
+fn bad_options_are_refused() {
+    let blend = BlendedFlow::new(graded_box(|x| Vec3::new(x[1], 0.0, 0.0))).unwrap();
+    let bad = [
+        Options {
+            u_tolerance: 0.0,
+            ..Options::default()
+        },
+        Options {
+            gradient_tolerance: f64::NAN,
+            ..Options::default()
+        },
+        Options {
+            u_tolerance: -1.0,
+            ..Options::default()
+        },
+        Options {
+            wall_leaf: f64::INFINITY,
+            ..Options::default()
+        },
+        Options {
+            wall_leaf: 0.0,
+            ..Options::default()
+        },
+        Options {
+            leaves_per_cell: 0,
+            ..Options::default()
+        },
+    ];
+    for options in bad {
+        let refused = OctreeFlow::with_options(blend.clone(), options);
+        assert!(refused.is_err(), "{options:?} was accepted");
+    }
 }
 
 /// Continuity across leaf faces: at the centre and the edge midpoints of every face of every
