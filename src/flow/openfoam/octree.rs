@@ -686,7 +686,7 @@ impl OctreeFlow {
             leaves_per_cell,
             wall_leaf,
         } = options;
-        // A tolerance may be infinite (leaves sized by the mesh alone, `Options::tracking`).
+        // A tolerance may be infinite: leaves sized by the mesh alone (module docs, Fates).
         if !([u_tolerance, gradient_tolerance].iter().all(|t| *t > 0.0)
             && wall_leaf.is_finite()
             && wall_leaf > 0.0
