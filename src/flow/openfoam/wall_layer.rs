@@ -23,7 +23,7 @@
 //!
 //! # The fit of wall face f
 //! With $y = x − x_f$, δ = n·y the height over the face's plane, $p_f$ the foot of the wall
-//! cell's centre on the face's plane, $r_t = (I − n n^T)(x − p_f)$ and $D_f$ the tangential
+//! cell's centre on the face's plane, $r_t = (I − n n^T)(x − p_f)$ and $D_f$ the surface
 //! gradient of γ at $p_f$:
 //! ```math
 //! L_f(x) = \underbrace{u_w + W_f\,y + (a_f n + m_f)\,δ}_{U_f(x):\ \text{the wall's motion}}
@@ -35,7 +35,8 @@
 //! ```math
 //! ∇L_f = W_f + (a_f n + m_f)\,n^T + \big(γ_f + D_f r_t + 2δ q_f + (2c_f δ + 3e_f δ^2)\,n\big)\,n^T + δ\,D_f ,
 //! ```
-//! the exact derivative of $L_f$ on a flat face. Its terms:
+//! the exact derivative of $L_f$, and the fit's gradient $G_f = ∇L_f + γ_f (K_f r_t)^T$ (the
+//! last term vanishes on a flat wall; *Curved walls* below). Its terms:
 //! - *Wall motion* $U_f$: $u_w$ the face's value, $W_f$ by least squares over the neighbouring
 //!   wall faces' values (below), a from continuity, and $m_f$ the normal derivative a rigid
 //!   motion with this W has ($m = Ω × n$ for $u_w = V + Ω × x$), so a rotating wall's velocity
@@ -53,11 +54,18 @@
 //!   δ = O(h) is second order. A wall cell with no cell above it (one cell across a channel)
 //!   takes the wall cell's gradient for the normal derivative at ρ, $G_o n − m = γ + 2qρ$,
 //!   first order (the least-squares gradient at a wall cell is one-sided).
-//! - *Curved walls*: the fit is a flat-face expansion. The solver's no-slip wall is the
-//!   faceted one, which this keeps; against the smooth wall it drops the shear part's
-//!   curvature term, $κγ|t|$ in ∇u over a face (first order in the face size), and q's and
-//!   n's turning (O(δ²κ)). (Measuring δ over the osculating surface instead made ∇u second
-//!   order on a convex cylinder but moved no-slip off the faces of a concave pipe.)
+//! - *Curved walls*: u is a flat-face expansion: the solver's no-slip wall is the faceted
+//!   one, which this keeps (measuring δ over the osculating surface instead moved no-slip off
+//!   the faces of a concave pipe). ∇u takes the wall's turning, with the shape operator
+//!   $K = ∇_s n$ of the faceted wall (least squares over the neighbours' normals, as W):
+//!   γ stays tangential along a curved wall, so D's normal row is $−(Kγ)^T$ (the shear
+//!   turns with the wall, and u_n grows as $−δ\,Kγ·r_t$ off the foot), and the shear part
+//!   grows with the distance from the curved wall, $δ + \tfrac12 r_t^T K r_t$, so ∇u gets
+//!   $γ\,(K r_t)^T$ beside ∇L_f. Both are $κ|γ||r_t|$, first order in the face size, and
+//!   trace-free together ($γ^T K r_t − (Kγ)·r_t = 0$), so continuity is unchanged. What is
+//!   left is q's and n's turning, O(δκ) relative. On built quarter annuli (Taylor–Couette)
+//!   ∇u at half the first cell's height is then second order (it was first order, at about
+//!   half of $κ|γ|h/2$).
 //! - *Normal*: continuity fixes $a_f$ and $c_f$, and the solver's own value at the centre the
 //!   next, $e_f = ((u_o − U_f)·n − c_f ρ^2)/ρ^3$, so the fit passes through the
 //!   cell's value. The cubic is limited to $|e_f| ρ ≤ |c_f|$ (`MAX_CUBIC`): a finite-volume
@@ -108,8 +116,8 @@
 //! `tests/suite/flow/openfoam/` writes exact fields into boxes meshed as users mesh them
 //! (uniform and graded blockMesh, 2 and 5 prism layers; hexahedra and prisms; snappyHexMesh):
 //! - divergence-free linear fields with moving, transpiring walls: exact to round-off;
-//! - Taylor–Couette flow at a rotating cylinder (quarter annuli, uniform and layered): u at
-//!   half the first cell's height second order, ∇u within the curvature term's bound;
+//! - Taylor–Couette flow at a rotating cylinder (quarter annuli, uniform and layered): u and
+//!   ∇u at half the first cell's height second order;
 //! - Hiemenz's stagnation flow ([`crate::flow::stagnation`]): the normal velocity within 10 %
 //!   of the exact one throughout the first cell, v/δ² within 4 % of continuity's coefficient,
 //!   u and ∇u at half the first cell's height second order under refinement, and a sphere's
@@ -144,6 +152,9 @@ pub struct WallGeometry {
     depths: Vec<f64>,
     /// Owner cell of wall face k.
     owners: Vec<usize>,
+    /// Shape operator $K = ∇_s n$ of the faceted wall at face k (symmetric, tangential; zero
+    /// on a flat wall): least squares over the neighbours' normals (module docs, Curved walls).
+    shapes: Vec<Mat3>,
     /// Least-squares stencils of the surface gradients: neighbours
     /// `stencil[offsets[k]..offsets[k + 1]]` as (wall face j, a_j, b_j) with
     /// $∇_s φ = \sum_j a_j (φ_j − φ_k)$ for values at the feet (the shear γ, for D) and
@@ -190,7 +201,8 @@ pub struct WallFit {
     pub rigid_slope: Vec3,
     /// Wall shear rate γ at the foot (tangential).
     pub shear: Vec3,
-    /// Tangential gradient D of γ.
+    /// Surface gradient D of γ: its tangential rows from the neighbours' shears, its normal
+    /// row $−(Kγ)^T$ from the wall's turning (module docs, Curved walls).
     pub shear_gradient: Mat3,
     /// Tangential δ² coefficient q = ½ ∂²u_t/∂n² at the foot.
     pub curvature: Vec3,
@@ -252,6 +264,7 @@ impl WallGeometry {
         offsets.push(0);
         let mut stencil = Vec::new();
         let mut near: Vec<usize> = Vec::new();
+        let mut shapes = Vec::with_capacity(n);
         let (mut edge_offsets, mut edge_faces) = (vec![0], Vec::new());
         for (k, &f) in faces.iter().enumerate() {
             near.clear();
@@ -306,9 +319,18 @@ impl WallGeometry {
                         .collect()
                 })
             };
+            let mut shape = Mat3::zeros();
             if let (Some(a), Some(b)) = (weights(&feet), weights(&centres)) {
+                // K = ∇ₛn from the normals at the face centres, symmetrised in k's tangent plane.
+                let raw = near.iter().zip(&b).fold(Mat3::zeros(), |m, (&j, b)| {
+                    m + (normals[j] - normals[k]) * b.transpose()
+                });
+                let planar = Mat3::identity() - normals[k] * normals[k].transpose();
+                let raw = planar * raw * planar;
+                shape = (raw + raw.transpose()) * 0.5;
                 stencil.extend(near.iter().zip(a.into_iter().zip(b)).map(|(&j, (a, b))| (j, a, b)));
             }
+            shapes.push(shape);
             offsets.push(stencil.len());
         }
         let above = (0..n)
@@ -320,6 +342,7 @@ impl WallGeometry {
             feet,
             depths,
             owners,
+            shapes,
             offsets,
             stencil,
             above,
@@ -432,10 +455,11 @@ impl WallGeometry {
                 let d = neighbours(k).iter().fold(Mat3::zeros(), |d, (j, a, _)| {
                     d + (profiles[*j].0 - shear) * a.transpose()
                 });
-                // Only the tangential components of γ vary along the wall at this order, and
-                // at an edge only those along it.
+                // The tangential components of γ vary along the wall as the data say (at an
+                // edge only those along it); its normal component as the wall turns: γ·n = 0
+                // along the wall, so ∂(γ·n)/∂r = −Kγ (module docs, Curved walls).
                 let project = along_edges[k].unwrap_or_else(|| Mat3::identity() - n * n.transpose());
-                let d = project * d;
+                let d = project * d - n * (self.shapes[k] * shear).transpose();
                 let (w, a, m) = motions[k];
                 // Continuity one order up: ∂²u_n/∂n² = −∇ₛ·γ.
                 let c = -0.5 * d.trace();
@@ -481,7 +505,10 @@ impl WallGeometry {
             + fit.curvature * (delta * delta)
             + n * (delta * delta * (c + e * delta));
         let slope = g + fit.curvature * (2.0 * delta) + n * (delta * (2.0 * c + 3.0 * e * delta));
-        let grad = w + (fit.rigid_slope + slope) * n.transpose() + d * delta;
+        // The shear part grows with the distance from the curved wall, δ + ½ r_tᵀK r_t, not
+        // from the face's plane: its tangential derivative γ (K r_t)ᵀ (module docs, Curved walls).
+        let turning = fit.shear * (self.shapes[k] * r_t).transpose();
+        let grad = w + (fit.rigid_slope + slope) * n.transpose() + d * delta + turning;
         (u, grad)
     }
 
