@@ -8,7 +8,8 @@
 //! 0.3 of a cell, outer steps of 10⁻⁴ s, every patch removing the parcel; its README).
 //! [`OpenFoamTracker::run`] writes the particles (`index,x,y,z,u,v,w,d,rho`, SI), runs the
 //! script and reads back every particle's fate ([`crate::population::peer`]) and what the run
-//! cost ([`TrackerSummary`]). The airway (`examples/openfoam_peer.rs`), the bend
+//! cost ([`TrackerSummary`]). The airway and the airway tree (`examples/openfoam_peer.rs`,
+//! `scenes::airway_tree::peer`), the bend
 //! (`examples/bend_deposition.rs --peer`) and the race (`examples/openfoam_race.rs`) run it
 //! through here.
 //!
