@@ -538,3 +538,101 @@ fn rigid_spheres_agree_with_openfoams_tracker_per_generation() {
     }
     insta::assert_snapshot!(openfoam_table(&cmp.generations).unwrap().to_text());
 }
+
+/// The pairing rule of `scenes::airway_tree::peer` on four particles by hand: particle 0 is
+/// deposited in a G4 tube by us and in the G3 tube by the peer, so it is a discordant pair of
+/// G3 (the peer's) and absent from G4's pairs, which hold only the particles both saw enter G4;
+/// particle 1 escapes through an outlet in both (a pair of every generation, deposited in
+/// none); particle 2 failed in ours and particle 3 stayed suspended in the peer, so neither is
+/// paired (`unpaired` 2), while each tracker's own counts keep its own finished particles.
+#[test]
+fn peer_pairs_are_the_particles_both_saw_enter() {
+    use pseudorigid::driver::RunStats;
+    use pseudorigid::material::NeoHooke;
+    use pseudorigid::population::peer::{Pairing, PeerFate};
+    use pseudorigid::population::{Fate, ParticleRecord, RunOutput, Shard};
+    use pseudorigid::scenes::airway_tree::Reached;
+    use pseudorigid::scenes::airway_tree::peer::against_peer;
+    use std::collections::HashMap;
+    let tree = shipped().tree();
+    let inside = |generation: u8| {
+        let tube = tree.tubes().iter().find(|t| t.generation == generation).unwrap();
+        (tube.id, tube.point(tube.entry + 0.5 * (tube.length() - tube.entry)))
+    };
+    let outlet = tree.tubes().iter().find_map(|t| t.outlet.clone()).unwrap();
+    let reached = |generation: u8, tube: usize| {
+        serde_json::to_value(Reached {
+            generation,
+            tube,
+            zone: false,
+        })
+        .unwrap()
+    };
+    let record = |index: u64, fate: Fate, observed: serde_json::Value| ParticleRecord::<NeoHooke> {
+        index,
+        spec: None,
+        fate,
+        end: None,
+        stats: RunStats::default(),
+        samples: Vec::new(),
+        observed,
+    };
+    let (g4, x4) = inside(4);
+    let (g6, _) = inside(6);
+    let (_, x3) = inside(3);
+    let escaped = |patch: usize| Fate::Escaped { patch, time: 0.1 };
+    let ours = RunOutput {
+        format: 1,
+        config_hash: String::new(),
+        seed: 1,
+        particles: 4,
+        shard: Shard::ALL,
+        patches: vec!["wall".into(), outlet.clone()],
+        records: vec![
+            record(
+                0,
+                Fate::Deposited {
+                    patch: 0,
+                    position: x4,
+                    time: 0.01,
+                },
+                reached(4, g4),
+            ),
+            record(1, escaped(1), reached(6, g6)),
+            record(2, Fate::Failed { error: "x".into() }, serde_json::Value::Null),
+            record(3, escaped(1), reached(6, g6)),
+        ],
+    };
+    let peer_fate = |fate: &str, patch: &str, x: Vec3| PeerFate {
+        fate: fate.into(),
+        patch: patch.into(),
+        t: "0.01".into(),
+        x: [x.x.to_string(), x.y.to_string(), x.z.to_string()],
+    };
+    let peer: HashMap<u64, PeerFate> = [
+        (0, peer_fate("deposited", "wall", x3)),
+        (1, peer_fate("escaped", &outlet, Vec3::zeros())),
+        (2, peer_fate("escaped", &outlet, Vec3::zeros())),
+        (3, peer_fate("suspended", "", Vec3::zeros())),
+    ]
+    .into_iter()
+    .collect();
+    let cmp = against_peer(tree, &ours, &peer).unwrap();
+    let pairs: Vec<Pairing> = cmp.generations.iter().map(|g| g.pairing).collect();
+    let p = |both, only_ours, only_peer, neither| Pairing {
+        both,
+        only_ours,
+        only_peer,
+        neither,
+    };
+    assert_eq!(pairs, vec![p(0, 0, 1, 1), p(0, 0, 0, 1), p(0, 0, 0, 1), p(0, 0, 0, 1)]);
+    assert_eq!((cmp.unpaired, cmp.returned), (2, 0));
+    let g3 = &cmp.generations[0];
+    assert_eq!((g3.entered(), g3.de_ours(), g3.de_peer()), (2, 0.0, 0.5));
+    // Our own counts: particles 0, 1 and 3 (2 failed); the peer's: 0, 1 and 2 (3 suspended).
+    let own = |c: &[pseudorigid::scenes::airway_tree::GenerationCounts]| -> Vec<(u64, u64)> {
+        c.iter().map(|c| (c.entered, c.deposited)).collect()
+    };
+    assert_eq!(own(&cmp.ours), vec![(3, 0), (3, 1), (2, 0), (2, 0)]);
+    assert_eq!(own(&cmp.peer), vec![(3, 1), (2, 0), (2, 0), (2, 0)]);
+}
