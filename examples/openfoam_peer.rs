@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! cargo run --release --example openfoam_peer -- [--check] [--point-contact] CASE_DIR N STK [STK...]
-//! cargo run --release --example openfoam_peer -- [--check] --tree CASE_DIR N STK
+//! cargo run --release --example openfoam_peer -- [--check] [--point-contact] --tree CASE_DIR N STK
 //! ```
 //! For each Stokes number: particles 0..N of the datasets' run ([`figures::SEED`]), drawn by the
 //! bifurcation's injector ([`Injection::particle_spec`]: particle k from stream k, the same
@@ -34,7 +34,7 @@
 //!
 //! `--point-contact`: pseudorigid deposits a particle when its barycentre reaches a wall (as
 //! OpenFOAM's parcels do) instead of its extent (the studies' rule); the case label gets
-//! `-point`. This measures what interception adds to the difference.
+//! `-point`. This measures what interception adds to the difference (on the tree too).
 //!
 //! `--tree`: CASE_DIR is an airway tree (`cases/airway-tree`; the shipped
 //! `reference-data/airway-tree/rotated` serves, OpenFOAM reading its gzipped mesh and U), one
@@ -61,7 +61,7 @@ use pseudorigid::material::NeoHooke;
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, RunOutput, Shard, run};
-use pseudorigid::scenes::airway_tree::{self, AirwayTree};
+use pseudorigid::scenes::airway_tree::{self, AirwayTree, Generations};
 use pseudorigid::scenes::bifurcation::setup::{GRAVITY, NU, RHO_FLUID, rho_particle};
 use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, run_kind, study};
 use pseudorigid::scenes::cavity::Shape;
@@ -119,25 +119,31 @@ fn label(dir: &Path) -> String {
 }
 
 /// What the comparison runs on: the bifurcation (as its studies) or the tree.
-enum Scene {
-    Bifurcation { airway: Airway, point_contact: bool },
+enum Geometry {
+    Bifurcation(Airway),
     Tree(AirwayTree),
+}
+
+/// The geometry and our contact rule: by extent (the studies') or by barycentre.
+struct Scene {
+    geometry: Geometry,
+    point_contact: bool,
 }
 
 impl Scene {
     fn airway(&self) -> &Airway {
-        match self {
-            Scene::Bifurcation { airway, .. } => airway,
-            Scene::Tree(tree) => tree.airway(),
+        match &self.geometry {
+            Geometry::Bifurcation(airway) => airway,
+            Geometry::Tree(tree) => tree.airway(),
         }
     }
 
     /// Rigid spheres at `stokes`: the bifurcation's peer datasets took the unit prolate, the
     /// tree's study the sphere (the same body; kept so that each tracks its datasets' particles).
     fn kind(&self, stokes: f64) -> Kind {
-        let shape = match self {
-            Scene::Bifurcation { .. } => Shape::Prolate(1.0),
-            Scene::Tree(_) => Shape::Sphere,
+        let shape = match self.geometry {
+            Geometry::Bifurcation(_) => Shape::Prolate(1.0),
+            Geometry::Tree(_) => Shape::Sphere,
         };
         Kind {
             shape,
@@ -146,33 +152,42 @@ impl Scene {
         }
     }
 
-    /// Our run of particles 0..n of `kind` (the studies' seed).
+    /// Our run of particles 0..n of `kind` (the studies' seed): the study's own, or with
+    /// barycentre contact (the tree's still watched by the generation observer).
     fn run(&self, kind: Kind, injection: &Injection, n: u64) -> Result<RunOutput<NeoHooke>, Error> {
         let options = RunOptions::default().quiet();
-        Ok(match self {
-            Scene::Bifurcation {
-                airway,
-                point_contact: true,
-            } => {
-                let integ = study::integrator(airway, kind)?.integrator;
-                let case = Case::new(
-                    &integ,
-                    airway.flow(),
-                    airway.boundary(),
-                    injection,
-                    study::plan(airway)?,
-                )
-                .with_contact(ContactModel::Barycentre { radius: 0.0 });
-                let config = RunConfig {
-                    seed: figures::SEED,
-                    particles: n,
-                    fingerprint: "openfoam_peer, point contact".into(),
-                };
-                run(&case, &config, Shard::ALL, &options)?
-            }
-            Scene::Bifurcation { airway, .. } => run_kind(airway, kind, n, figures::SEED, Shard::ALL, &options, None)?,
-            Scene::Tree(tree) => airway_tree::run_kind(tree, kind, n, figures::SEED, Shard::ALL, &options, None)?,
-        })
+        let airway = self.airway();
+        if !self.point_contact {
+            return Ok(match &self.geometry {
+                Geometry::Bifurcation(airway) => run_kind(airway, kind, n, figures::SEED, Shard::ALL, &options, None)?,
+                Geometry::Tree(tree) => {
+                    airway_tree::run_kind(tree, kind, n, figures::SEED, Shard::ALL, &options, None)?
+                }
+            });
+        }
+        let observer = match &self.geometry {
+            Geometry::Tree(tree) => Some(Generations::new(tree.tree())),
+            Geometry::Bifurcation(_) => None,
+        };
+        let integ = study::integrator(airway, kind)?.integrator;
+        let case = Case::new(
+            &integ,
+            airway.flow(),
+            airway.boundary(),
+            injection,
+            study::plan(airway)?,
+        )
+        .with_contact(ContactModel::Barycentre { radius: 0.0 });
+        let case = match &observer {
+            Some(observer) => case.with_observer(observer),
+            None => case,
+        };
+        let config = RunConfig {
+            seed: figures::SEED,
+            particles: n,
+            fingerprint: "openfoam_peer, point contact".into(),
+        };
+        Ok(run(&case, &config, Shard::ALL, &options)?)
     }
 }
 
@@ -406,8 +421,7 @@ fn output_dir(figure: &str) -> PathBuf {
 }
 
 fn main() -> Result<(), Error> {
-    const USAGE: &str =
-        "usage: openfoam_peer [--check] [--point-contact] CASE_DIR N STK [STK...] | [--check] --tree CASE_DIR N STK";
+    const USAGE: &str = "usage: openfoam_peer [--check] [--point-contact] CASE_DIR N STK [STK...] | [--check] [--point-contact] --tree CASE_DIR N STK";
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let flag = |args: &mut Vec<String>, name: &str| {
         let given = args.iter().any(|a| a == name);
@@ -421,22 +435,23 @@ fn main() -> Result<(), Error> {
         return Err(USAGE.into());
     };
     // The tree's table has one Stokes number (issue 37's columns carry none).
-    if stks.is_empty() || (tree && (stks.len() > 1 || point_contact)) {
+    if stks.is_empty() || (tree && stks.len() > 1) {
         return Err(USAGE.into());
     }
     let n: u64 = n.parse()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = if tree {
-        Scene::Tree(AirwayTree::open(dir)?)
+    let geometry = if tree {
+        Geometry::Tree(AirwayTree::open(dir)?)
     } else {
-        Scene::Bifurcation {
-            airway: Airway::open(dir)?,
-            point_contact,
-        }
+        Geometry::Bifurcation(Airway::open(dir)?)
     };
-    let case_label = match &scene {
-        Scene::Tree(t) => format!("tree-{}-{}", t.tree().variant(), label(Path::new(dir))),
-        Scene::Bifurcation { .. } => label(Path::new(dir)) + if point_contact { "-point" } else { "" },
+    let case_label = match &geometry {
+        Geometry::Tree(t) => format!("tree-{}-{}", t.tree().variant(), label(Path::new(dir))),
+        Geometry::Bifurcation(_) => label(Path::new(dir)),
+    } + if point_contact { "-point" } else { "" };
+    let scene = Scene {
+        geometry,
+        point_contact,
     };
     let airway = scene.airway();
     // OpenFOAM gets the viscosity our tracker uses (the shipped tree keeps no transportProperties).
@@ -481,9 +496,9 @@ fn main() -> Result<(), Error> {
             }
             failures.extend(compared.unfinished());
         }
-        failures.extend(match &scene {
-            Scene::Tree(t) => tree_table(t, &compared, check)?,
-            Scene::Bifurcation { .. } => bifurcation_row(&compared, check)?,
+        failures.extend(match &scene.geometry {
+            Geometry::Tree(t) => tree_table(t, &compared, check)?,
+            Geometry::Bifurcation(_) => bifurcation_row(&compared, check)?,
         });
     }
     if !failures.is_empty() {
