@@ -8,7 +8,8 @@
 //! 0.3 of a cell, outer steps of 10⁻⁴ s, every patch removing the parcel; its README).
 //! [`OpenFoamTracker::run`] writes the particles (`index,x,y,z,u,v,w,d,rho`, SI), runs the
 //! script and reads back every particle's fate ([`crate::population::peer`]) and what the run
-//! cost ([`TrackerSummary`]). The airway (`examples/openfoam_peer.rs`), the bend
+//! cost ([`TrackerSummary`]). The airway and the airway tree (`examples/openfoam_peer.rs`,
+//! `scenes::airway_tree::peer`), the bend
 //! (`examples/bend_deposition.rs --peer`) and the race (`examples/openfoam_race.rs`) run it
 //! through here.
 //!
@@ -122,6 +123,9 @@ pub struct OpenFoamTracker {
     pub gravity: Vec3,
     /// Fluid density (kg/m³) (`FLUID_RHO`).
     pub fluid_density: f64,
+    /// Kinematic viscosity (m²/s) (`NU`) for a case without `constant/transportProperties`
+    /// (the shipped fields of `reference-data` keep only the mesh and U); `None`: the case's.
+    pub viscosity: Option<f64>,
 }
 
 /// The fates and the cost of one run of the peer.
@@ -191,6 +195,16 @@ impl OpenFoamTracker {
             end_time,
             gravity,
             fluid_density,
+            viscosity: None,
+        })
+    }
+
+    /// The same tracker with the fluid's kinematic viscosity `nu` given (> 0) instead of read
+    /// from the case.
+    pub fn with_viscosity(self, nu: f64) -> Result<Self, crate::error::ParamError> {
+        Ok(Self {
+            viscosity: Some(crate::error::positive("kinematic viscosity", nu)?),
+            ..self
         })
     }
 
@@ -207,16 +221,19 @@ impl OpenFoamTracker {
         std::fs::write(&input, particles_csv(particles)).map_err(io(&input))?;
         let out = work.join("openfoam");
         let g = self.gravity;
-        let status = Command::new("sh")
+        let mut command = Command::new("sh");
+        let _ = command
             .arg(&self.script)
             .arg(case_dir)
             .arg(&input)
             .arg(&out)
             .env("END_TIME", format!("{:e}", self.end_time))
             .env("GRAVITY", format!("({:e} {:e} {:e})", g.x, g.y, g.z))
-            .env("FLUID_RHO", format!("{:e}", self.fluid_density))
-            .status()
-            .map_err(io(&self.script))?;
+            .env("FLUID_RHO", format!("{:e}", self.fluid_density));
+        if let Some(nu) = self.viscosity {
+            let _ = command.env("NU", format!("{nu:e}"));
+        }
+        let status = command.status().map_err(io(&self.script))?;
         if !status.success() {
             return Err(PeerRunError::Script {
                 script: self.script.clone(),

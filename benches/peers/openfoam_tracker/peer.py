@@ -17,6 +17,7 @@ Stdlib and NumPy only.
 
 import argparse
 import glob
+import gzip
 import math
 import os
 import re
@@ -68,7 +69,13 @@ def read_particles(path):
 
 def patches(work):
     """(name, type) of the mesh's patches, from constant/polyMesh/boundary (always ASCII)."""
-    text = open(os.path.join(work, "constant/polyMesh/boundary"), errors="replace").read()
+    path = os.path.join(work, "constant/polyMesh/boundary")
+    # The shipped fields of reference-data keep the mesh gzipped; OpenFOAM reads either.
+    if os.path.exists(path):
+        text = open(path, errors="replace").read()
+    else:
+        with gzip.open(path + ".gz", "rt", errors="replace") as f:
+            text = f.read()
     body = text[text.index("(", text.index("}")) + 1 :]
     return PATCH_TYPES.findall(body)
 

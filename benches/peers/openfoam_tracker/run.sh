@@ -3,8 +3,9 @@
 # field: the peer of pseudorigid's tracking. See README.md here.
 #
 # Usage: run.sh CASE_DIR PARTICLES.csv OUT_DIR
-#   CASE_DIR       a solved OpenFOAM case: constant/polyMesh, constant/transportProperties (nu)
-#                  and the steady U (and phi) in its last time directory
+#   CASE_DIR       a solved OpenFOAM case: constant/polyMesh (plain or gzipped),
+#                  constant/transportProperties (nu; or NU below) and the steady U (and phi) in
+#                  its last time directory
 #   PARTICLES.csv  index,x,y,z,u,v,w,d,rho (SI): position, initial velocity, diameter, density
 #   OUT_DIR        created; OUT_DIR/case is the kinematic-cloud case, OUT_DIR/fates.csv the result
 # Environment (optional):
@@ -16,6 +17,8 @@
 #              +e1, src/scenes/bifurcation/setup.rs GRAVITY)
 #   DELTA_T    outer time step in s (default 1e-4; parcels sub-step within it at maxCo 0.3)
 #   INLET      name of the inlet patch for the flow rate (default inlet)
+#   NU         kinematic viscosity in m^2/s (default: nu of CASE_DIR/constant/transportProperties;
+#              needed for the shipped fields of reference-data, which keep only the mesh and U)
 #   Variants for measuring what the peer's choices do (defaults are the peer):
 #   STOKES_SCALE (1000: rho_f/1000 and 1000 nu, sphereDrag in its Stokes limit; 1: the real
 #   fluid, sphereDrag with its finite-Re correction), MAX_CO (0.3: parcel sub-steps of at most
@@ -48,8 +51,12 @@ last=$(cd "$case_dir" && ls -d [0-9]* | sort -g | tail -n 1)
 [ -f "$case_dir/$last/U" ] || [ -f "$case_dir/$last/U.gz" ] || { echo "run.sh: no U in $case_dir/$last" >&2; exit 1; }
 cp -r "$case_dir/constant/polyMesh" "$work/constant/"
 for f in U U.gz phi phi.gz; do [ -f "$case_dir/$last/$f" ] && cp "$case_dir/$last/$f" "$work/0/"; done
-nu=$(sed -n 's/^ *nu *\([^;]*\);.*/\1/p' "$case_dir/constant/transportProperties" | awk '{print $NF}')
-[ -n "$nu" ] || { echo "run.sh: no nu in $case_dir/constant/transportProperties" >&2; exit 1; }
+if [ -n "${NU:-}" ]; then
+    nu=$NU
+elif [ -f "$case_dir/constant/transportProperties" ]; then
+    nu=$(sed -n 's/^ *nu *\([^;]*\);.*/\1/p' "$case_dir/constant/transportProperties" | awk '{print $NF}')
+fi
+[ -n "${nu:-}" ] || { echo "run.sh: no nu in $case_dir/constant/transportProperties and no NU given" >&2; exit 1; }
 
 python3 "$here/peer.py" setup "$work" "$particles" --nu "$nu" --fluid-rho "$fluid_rho" --gravity "$gravity"
 cd "$work"

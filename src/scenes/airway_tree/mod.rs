@@ -13,7 +13,8 @@
 //! flow is read and tracked by the bifurcation's [`Airway`]; this module adds the tree's
 //! centrelines ([`tree`]), the generation classifier, an observer of the generations each
 //! particle enters ([`observe`]), the per-generation study ([`study`]) and drug release at a
-//! critical stretch, where and when soft particles first reach it ([`release`]). Every choice
+//! critical stretch, where and when soft particles first reach it ([`release`]); the comparison with
+//! OpenFOAM's tracker on the same particles, generation by generation ([`peer`]). Every choice
 //! the issue leaves open is in `cases/airway-tree/README.md`.
 //!
 //! # Deposition efficiency per generation
@@ -26,6 +27,7 @@
 //! particle, hence the binomial error.
 
 pub mod observe;
+pub mod peer;
 pub mod release;
 pub mod study;
 pub mod tree;
@@ -61,6 +63,14 @@ pub enum AirwayTreeError {
         patches: Vec<String>,
         /// The tree's outlet names.
         outlets: Vec<String>,
+    },
+    /// Another tracker's fate of a particle is missing or cannot be placed in the tree.
+    #[error("particle {index}: {reason}")]
+    Peer {
+        /// Particle index.
+        index: u64,
+        /// What is wrong.
+        reason: String,
     },
     /// A finished particle's record holds no generation summary (a run without the
     /// [`Generations`] observer).

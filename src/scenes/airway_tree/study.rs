@@ -105,6 +105,16 @@ impl GenerationCounts {
 
 /// Counts of every generation of `tree` over the finished particles of `output`.
 pub fn by_generation(tree: &Tree, output: &RunOutput<NeoHooke>) -> Result<Vec<GenerationCounts>, AirwayTreeError> {
+    let mut outcomes = Vec::with_capacity(output.records.len());
+    for record in &output.records {
+        outcomes.extend(outcome(tree, record)?);
+    }
+    Ok(count(tree, outcomes))
+}
+
+/// Counts of every generation of `tree` over some particles' outcomes: a particle entered
+/// every generation up to its deepest.
+pub fn count(tree: &Tree, outcomes: impl IntoIterator<Item = Outcome>) -> Vec<GenerationCounts> {
     let mut rows: Vec<GenerationCounts> = tree
         .generations()
         .map(|generation| GenerationCounts {
@@ -113,10 +123,7 @@ pub fn by_generation(tree: &Tree, output: &RunOutput<NeoHooke>) -> Result<Vec<Ge
             deposited: 0,
         })
         .collect();
-    for record in &output.records {
-        let Some(o) = outcome(tree, record)? else {
-            continue;
-        };
+    for o in outcomes {
         for row in &mut rows {
             if row.generation <= o.deepest {
                 row.entered += 1;
@@ -126,7 +133,7 @@ pub fn by_generation(tree: &Tree, output: &RunOutput<NeoHooke>) -> Result<Vec<Ge
             }
         }
     }
-    Ok(rows)
+    rows
 }
 
 /// One generation of a reference run against a soft run of the same particles.

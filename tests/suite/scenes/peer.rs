@@ -60,6 +60,11 @@ fn tracker_refuses_bad_parameters() {
     assert!(OpenFoamTracker::new(root, 1.0, Vec3::new(f64::NAN, 0.0, 0.0), 1.2).is_err());
     let t = OpenFoamTracker::new(root, 1.0, Vec3::new(9.81, 0.0, 0.0), 1.2).unwrap();
     assert!(t.script.ends_with("benches/peers/openfoam_tracker/run.sh"));
+    assert_eq!(t.viscosity, None);
+    for nu in [0.0, -1e-5, f64::NAN, f64::INFINITY] {
+        assert!(t.clone().with_viscosity(nu).is_err(), "nu = {nu}");
+    }
+    assert_eq!(t.with_viscosity(1.491e-5).unwrap().viscosity, Some(1.491e-5));
 }
 
 /// A script that fails is a typed error with its status, not a panic; the particles were
