@@ -59,9 +59,9 @@
 //!   the faces of a concave pipe). ∇u takes the wall's turning, with the shape operator
 //!   $K = ∇_s n$ of the faceted wall (least squares over the neighbours' normals, as W):
 //!   γ stays tangential along a curved wall, so D's normal row is $−(Kγ)^T$ (the shear
-//!   turns with the wall, and u_n grows as $−δ\,Kγ·r_t$ off the foot), and the shear part
+//!   turns with the wall, and u_n grows as $−δ Kγ·r_t$ off the foot), and the shear part
 //!   grows with the distance from the curved wall, $δ + \tfrac12 r_t^T K r_t$, so ∇u gets
-//!   $γ\,(K r_t)^T$ beside ∇L_f. Both are $κ|γ||r_t|$, first order in the face size, and
+//!   $γ (K r_t)^T$ beside ∇L_f. Both are $κ|γ||r_t|$, first order in the face size, and
 //!   trace-free together ($γ^T K r_t − (Kγ)·r_t = 0$), so continuity is unchanged. What is
 //!   left is q's and n's turning, O(δκ) relative. On built quarter annuli (Taylor–Couette)
 //!   ∇u at half the first cell's height is then second order (it was first order, at about
