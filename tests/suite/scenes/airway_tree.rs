@@ -16,6 +16,26 @@ fn shipped() -> &'static AirwayTree {
     TREE.get_or_init(|| AirwayTree::open(AirwayTree::shipped_dir("rotated")).expect("shipped airway tree"))
 }
 
+/// The first `n` particles of `kind` on the shipped tree: the datasets' seed, one shard, no
+/// progress output, no run cache.
+fn run_quietly(
+    kind: pseudorigid::scenes::bifurcation::Kind,
+    n: u64,
+) -> pseudorigid::population::RunOutput<pseudorigid::material::NeoHooke> {
+    use pseudorigid::population::{RunOptions, Shard};
+    use pseudorigid::scenes::bifurcation::figures;
+    run_kind(
+        shipped(),
+        kind,
+        n,
+        figures::SEED,
+        Shard::ALL,
+        &RunOptions::default().quiet(),
+        None,
+    )
+    .unwrap()
+}
+
 /// A unit vector normal to `d`.
 fn normal_to(d: &Vec3) -> Vec3 {
     let helper = if d[2].abs() < 0.9 { Vec3::z() } else { Vec3::x() };
@@ -234,8 +254,7 @@ fn shipped_field_carries_the_flow_rate_through_every_generation() {
 /// field and spheres, per generation, paired).
 #[test]
 fn spheres_at_stokes_0_4_snapshot() {
-    use pseudorigid::population::{RunOptions, Shard};
-    use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
+    use pseudorigid::scenes::bifurcation::{Kind, Material};
     use pseudorigid::scenes::particles::Shape;
     let a = shipped();
     let n = 200;
@@ -247,16 +266,7 @@ fn spheres_at_stokes_0_4_snapshot() {
             material,
             stokes: 0.4,
         };
-        let out = run_kind(
-            a,
-            kind,
-            n,
-            figures::SEED,
-            Shard::ALL,
-            &RunOptions::default().quiet(),
-            None,
-        )
-        .unwrap();
+        let out = run_quietly(kind, n);
         assert_eq!(out.counts().failed, 0);
         let counts = by_generation(a.tree(), &out).unwrap();
         assert_eq!(counts[0].entered, n);
@@ -498,9 +508,8 @@ fn peer_fates_are_placed_by_the_tree_classifier() {
 #[test]
 fn rigid_spheres_agree_with_openfoams_tracker_per_generation() {
     use pseudorigid::population::peer::read_peer_fates;
-    use pseudorigid::population::{RunOptions, Shard};
     use pseudorigid::scenes::airway_tree::peer::{against_peer, openfoam_table};
-    use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
+    use pseudorigid::scenes::bifurcation::{Kind, Material};
     use pseudorigid::scenes::particles::Shape;
     let a = shipped();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -513,16 +522,7 @@ fn rigid_spheres_agree_with_openfoams_tracker_per_generation() {
         material: Material::Rigid,
         stokes: 0.4,
     };
-    let out = run_kind(
-        a,
-        kind,
-        n,
-        figures::SEED,
-        Shard::ALL,
-        &RunOptions::default().quiet(),
-        None,
-    )
-    .unwrap();
+    let out = run_quietly(kind, n);
     let cmp = against_peer(a.tree(), &out, &fates).unwrap();
     assert_eq!(cmp.unpaired, 0);
     assert_eq!(cmp.generations[0].entered(), n);
