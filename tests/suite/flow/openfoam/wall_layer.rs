@@ -202,6 +202,65 @@ fn taylor_couette_at_a_rotating_wall() {
     }
 }
 
+/// A curved wall at rest carries no flow into its faces. On a flat no-slip face, continuity
+/// gives ∂u_n/∂n = −∇ₛ·u_t = 0, so the velocity towards the face grows as δ² whatever the data
+/// in the cells; the fit's u is the flat-face expansion, which keeps that on a faceted curved
+/// wall too. The wall's turning (−Kγ·r_t, the normal part of the shear's surface gradient)
+/// belongs in ∇u only: in u it was a normal velocity −δ Kγ·r_t on a face still no-slip, a sink
+/// on half of every face (on the 90° bend it carried spheres' centres onto the wall; the test
+/// fails so, |u·n|/(δ|∇u|max) = 2–4·10⁻² here). Circular Couette flow with the inner cylinder
+/// r = 1 (the quarter annulus' wall, level 1, 16 faces over 90°) at rest and the outer one
+/// turning, u_θ = (4/3)(r − 1/r), on the cells and the open patch, the inner faces at rest
+/// (shear 8/3 there, |∇u|max); each inner face approached along its normal from a point
+/// half-way and nine tenths of the way from its centre to a vertex. Bound 10⁻⁶ at δ = 10⁻⁸ h,
+/// as for the duct's edges: a term C δ² with C of the field's second derivatives (≤ 10 here)
+/// gives at most 10⁻⁸ · 0.06 · 10/(8/3) ≈ 2·10⁻⁹.
+#[test]
+fn a_curved_wall_at_rest_draws_no_flow_into_its_faces() {
+    let (mesh, _) = quarter_annulus(1, 0);
+    let resting = |x: &Vec3| {
+        let r2 = x[0] * x[0] + x[1] * x[1];
+        if r2 < 1.001 {
+            Vec3::zeros()
+        } else {
+            Vec3::new(-x[1], x[0], 0.0) * (4.0 / 3.0 * (1.0 - 1.0 / r2))
+        }
+    };
+    let cells = FoamFlow::new(mesh.clone(), vec![(0.0, build::sampled(&mesh, resting))]).unwrap();
+    let blend = BlendedFlow::new(cells).unwrap();
+    let n = 16usize;
+    let (h, largest_shear) = (1.0 / n as f64, 8.0 / 3.0);
+    let z = 0.5 * 0.125 / 2.0;
+    let on_wall = |theta: f64| Vec3::new(theta.sin(), theta.cos(), z);
+    let mut worst = 0.0f64;
+    for i in [1usize, 5, 8, 12, 14] {
+        let (a, b) = (
+            std::f64::consts::FRAC_PI_2 * i as f64 / n as f64,
+            std::f64::consts::FRAC_PI_2 * (i + 1) as f64 / n as f64,
+        );
+        let (va, vb) = (on_wall(a), on_wall(b));
+        let centre = (va + vb) * 0.5;
+        let inward = Vec3::new(centre[0], centre[1], 0.0).normalize();
+        for (toward, fraction) in [(va, 0.5), (vb, 0.9)] {
+            let foot = centre + (toward - centre) * fraction;
+            let ratios: Vec<f64> = [1e-2, 1e-4, 1e-6, 1e-8]
+                .iter()
+                .map(|&f| {
+                    let delta = f * h;
+                    let u = blend.sample(&(foot + inward * delta), 0.0).unwrap().u;
+                    u.dot(&inward).abs() / (delta * largest_shear)
+                })
+                .collect();
+            let shown: Vec<String> = ratios.iter().map(|r| format!("{r:.2e}")).collect();
+            eprintln!(
+                "inner face {i}, {fraction} of the way to a vertex: |u·n|/(δ|∇u|max) at δ/h = 1e-2 … 1e-8: {shown:?}"
+            );
+            worst = worst.max(ratios[3]);
+        }
+    }
+    assert!(worst < 1e-6, "largest |u·n|/(δ|∇u|max) at δ = 1e-8 h: {worst:e}");
+}
+
 /// The snappyHexMesh annuli shipped in `tests/data/couette-snappy` (`cases/taylor-couette`,
 /// coarse level: 96 faces around the inner cylinder, 0, 2 and 5 layers on both cylinders).
 fn snapped_annulus(layers: usize) -> PolyMesh {
