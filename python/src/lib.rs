@@ -5,7 +5,6 @@
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
 use pseudorigid::cli::error::Source;
-use pseudorigid::cli::frames::{at_time, fate_code};
 use pseudorigid::cli::models::SceneLaw;
 use pseudorigid::cli::run::{Job, run_on, run_options};
 use pseudorigid::cli::{CliError, Scene};
@@ -13,7 +12,7 @@ use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
 use pseudorigid::material::Softness;
-use pseudorigid::output::vtk::stretch;
+use pseudorigid::population::columns::{FRAME_COLUMNS, at_time, fate_code, frame_measures};
 use pseudorigid::population::{
     Fate, PopulationError, Progress, RunControl, RunOptions, RunOutput, Shard, checkpoint_dir,
 };
@@ -653,14 +652,11 @@ impl Results {
         let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 12];
         for (k, &t) in times.iter().enumerate() {
             for p in at_time(&self.output.records, t) {
-                let (v, r) = stretch(&p.f_bar);
                 frame.push(k as i64);
                 time.push(t);
                 id.push(p.id);
                 flag.push(p.flag);
-                let upper = [v[(0, 0)], v[(0, 1)], v[(0, 2)], v[(1, 1)], v[(1, 2)], v[(2, 2)]];
-                let row = p.x.iter().chain(upper.iter()).chain(r.iter());
-                for (c, &x) in cols.iter_mut().zip(row) {
+                for (c, x) in cols.iter_mut().zip(frame_measures(&p)) {
                     c.push(x);
                 }
             }
@@ -670,8 +666,7 @@ impl Results {
         column(py, &d, "time", time)?;
         column_i64(py, &d, "id", id)?;
         // frames.parquet's measured columns, between `id` and `flag`.
-        let names = &pseudorigid::cli::parquet::FRAME_COLUMNS[3..15];
-        for (name, c) in names.iter().zip(cols) {
+        for (name, c) in FRAME_COLUMNS[3..15].iter().zip(cols) {
             column(py, &d, name, c)?;
         }
         column_i64(py, &d, "flag", flag)?;
