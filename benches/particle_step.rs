@@ -85,14 +85,14 @@ fn bench_steps(c: &mut Criterion) {
 /// sphere-only terms), beside the same particle without terms.
 fn bench_force_terms(c: &mut Criterion) {
     use pseudorigid::hydro::forces::{ForceTerms, by_name};
-    use std::collections::BTreeMap;
+    use pseudorigid::registry::{Value, Values};
     let mut g = c.benchmark_group("force_terms");
     g.throughput(Throughput::Elements(1));
     // Off the shear's zero line (u₀ = 0.5 e_x, v = 0 at start), so that the slip and
     // Du/Dt = (∇u)u are not zero.
     let flow = LinearFlow::new(Vec3::new(0.5, 0.0, 0.0), LinearFlow::simple_shear(1.0).unwrap().grad_u).unwrap();
-    let lambda = BTreeMap::from([("mean_free_path".to_string(), 1e-3)]);
-    let none = BTreeMap::new();
+    let lambda = Values::from([("mean_free_path".to_string(), Value::Number(1e-3))]);
+    let none = Values::new();
     for (semi_axes, terms) in [
         ([2.5, 2.5, 1.0], vec![]),
         ([2.5, 2.5, 1.0], vec!["undisturbed_flow"]),

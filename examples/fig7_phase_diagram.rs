@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         .collect();
     let points = phase_map::compute(&phase_map::paper_search()?, &shapes)?;
     for p in &points {
-        let b = p.boundary;
+        let b = &p.boundary;
         println!(
             "{:8} λ = {:4}: Ca_c ∈ [{:.4}, {:.4}]  ({} runs)",
             p.series, p.x, b.ca_tu, b.ca_tr, b.evaluations

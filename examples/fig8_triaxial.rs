@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let shapes: Vec<_> = section_a.chain(section_b).collect();
     let points = phase_map::compute(&phase_map::paper_search()?, &shapes)?;
     for p in &points {
-        let b = p.boundary;
+        let b = &p.boundary;
         println!(
             "{}  ω = {:.1}: Ca_c ∈ [{:.4}, {:.4}]  ({} runs)",
             p.series, p.x, b.ca_tu, b.ca_tr, b.evaluations
@@ -34,7 +34,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     boundary_table(&points)?.write(paper_figure_path("fig8", "boundary.csv"))?;
     // The paper search is inertialess (Re = 0 by assumption).
     validity_table(&points, true)?.write(paper_figure_path("fig8", "validity.csv"))?;
-    let (a, b): (Vec<_>, Vec<_>) = points.iter().partition(|p| p.series.starts_with('a'));
+    let (a, b): (Vec<_>, Vec<_>) = points.into_iter().partition(|p| p.series.starts_with('a'));
     Figure::grid(
         vec![
             boundary_panel(&a, "Fig. 8(a): ω₁ = 0.5", "ω₂ = r_vorticity / r_long"),

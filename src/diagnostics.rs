@@ -24,28 +24,17 @@
 //!
 //! # Force terms the run leaves out ([`Omitted`])
 //! The paper's barycentre has Stokes drag and reduced gravity only; [`crate::hydro::forces`]
-//! has the terms beyond it. For each term the particle does not carry, the monitor estimates
-//! its size from the run's numbers, as the relative change it would make to the slip u − v
-//! (or to the response time), and flags it above [`Thresholds::omitted_term`] (1 %):
-//! - undisturbed flow: in quasi-steady slip (v̇ ≈ Du/Dt) the drag balances
-//!   m Du/Dt − (m − m_f) g without the term and (m − m_f)(Du/Dt − g) with it (added mass
-//!   cancels there), so omitting it changes the slip by m_f|Du/Dt| / |(m − m_f)(Du/Dt − g)| —
-//!   about ρ_f/(ρ_p − ρ_f) where the flow's acceleration dominates gravity (2 000 for the
-//!   cavity's particle), ρ_f/ρ_p·|Du/Dt|/g where gravity dominates;
-//! - added mass: the response time m/(c μ_f K) grows by M_a/m, at most (ρ_f/ρ_p) max k_i with
-//!   Lamb's coefficients of the rest shape (½ ρ_f/ρ_p for a sphere);
-//! - finite-Re drag (neither `schiller_naumann` nor `holzer_sommerfeld` on): Schiller–Naumann's
-//!   0.15 Re_s^{0.687} with the slip Reynolds number;
-//! - shear lift: the lift of [`SaffmanMei`] over the Stokes drag,
-//!   1.615 d²√(ρ_f μ_f |ω|)|w| C / (3π μ_f d |w|) = 0.171 Re_ω^{1/2} C with Re_ω = |ω| d²/ν and
-//!   the term's own C = [`SaffmanMei::lift_ratio`]`(Re_s, Re_ω)`: McLaughlin's J*(ε) where the
-//!   slip competes with the shear (ε = Re_ω^{1/2}/Re_s of order 1 or smaller), Mei's decay at
-//!   larger Re_s, Saffman's C = 1 as the slip vanishes (ε → ∞). Saffman's limit alone
-//!   overstated the lift 1.4× at ε = 1 and 19× at ε = 0.3;
-//! - gas slip: Cunningham's C_c − 1 at d_eq for a gas in SI units (ρ_f < [`GAS_DENSITY`] and
-//!   μ_f < [`GAS_VISCOSITY`]; a scene in shear units is not read as a gas), with the mean free
-//!   path λ = μ_f/(0.499 ρ_f c̄) of kinetic theory and air's mean molecular speed c̄ = 463 m/s at
-//!   20 °C (the run's gas is assumed to be air-like; 66 nm for air at 1 atm).
+//! has the terms beyond it. Every registered term with an estimate
+//! ([`crate::hydro::forces::Omission`]) that the particle does not carry is estimated from the
+//! run's numbers, as the relative change it would make to the slip u − v, the drag or the
+//! response time, and flagged above [`Thresholds::omitted_term`] (1 %). The monitor iterates
+//! the registry; each estimate and its argument are in the term's file:
+//! [`undisturbed`](crate::hydro::forces::undisturbed) (the quasi-steady slip),
+//! [`added_mass`](crate::hydro::forces::added_mass) (the response time, from the rest shape),
+//! [`schiller_naumann`](crate::hydro::forces::schiller_naumann) (the finite-Re drag, for a
+//! particle with no finite-Re correction), [`saffman_mei`](crate::hydro::forces::saffman_mei)
+//! (the shear lift over the drag) and [`cunningham`](crate::hydro::forces::cunningham) (gas slip,
+//! from d_eq and the fluid).
 //!
 //! # Unbounded linear flows
 //! In the shear scenes ([`Monitor::in_linear_flow`]) there is no wall and u is exactly linear
@@ -55,18 +44,15 @@
 //! the scenes report their inertialess runs with [`Validity::inertialess`]).
 
 use crate::contact::{Boundary, Extent, Unbounded};
-use crate::ellipsoid::EllipsoidIntegrals;
 use crate::flow::FlowField;
+use crate::flow::FlowSample;
 use crate::flow::analytic::LinearFlow;
 use crate::hydro::DragModel;
-use crate::hydro::forces::{
-    AddedMass, Cunningham, HolzerSommerfeld, SaffmanMei, SchillerNaumann, UndisturbedFlow, added_mass,
-    saffman_mei::vorticity,
-};
+use crate::hydro::forces::omission::{self, Observed, Rest, Size, StateEstimate};
 use crate::material::Response;
 use crate::particle::{Particle, State};
 use crate::tensor::sym;
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// Limits beyond which a [`Validity`] quantity is flagged (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -95,90 +81,117 @@ impl Default for Thresholds {
     }
 }
 
-/// Fluids lighter than this (kg/m³) are gases for the slip estimate: gases at ordinary
-/// pressures are below 10, liquids above 500.
-pub const GAS_DENSITY: f64 = 10.0;
-
-/// Fluids more viscous than this (Pa s) are not gases for the slip estimate: gases are
-/// 1–3·10⁻⁵ Pa s, liquids 2·10⁻⁴ and up, and a scene in nondimensional units (μ_f = 1 in the
-/// shear scenes) is not read as SI.
-pub const GAS_VISCOSITY: f64 = 1e-4;
-
-/// Mean molecular speed of air at 20 °C, c̄ = √(8RT/(πM)) (m/s), for the mean free path of a gas.
-pub const AIR_MOLECULAR_SPEED: f64 = 463.0;
-
-/// Sizes of the force terms a run left out (module docs), each the largest over the run; zero
-/// for the terms the particle carries.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct Omitted {
-    /// Undisturbed-flow force: relative change of the quasi-steady slip.
-    #[serde(with = "extended")]
-    pub undisturbed_flow: f64,
-    /// Added mass: relative change of the response time.
-    #[serde(with = "extended")]
-    pub added_mass: f64,
-    /// Finite-Re drag: relative change of the drag.
-    #[serde(with = "extended")]
-    pub schiller_naumann: f64,
-    /// Shear lift over the drag.
-    #[serde(with = "extended")]
-    pub saffman_mei: f64,
-    /// Gas slip: C_c − 1.
-    #[serde(with = "extended")]
-    pub cunningham: f64,
-}
+/// Sizes of the force terms a run left out (module docs), each the largest over the run, by
+/// term name in the order of [`crate::hydro::forces::Omission::order`]; zero for the terms the
+/// particle carries. In JSON, an object from term name to size, read back in the monitor's
+/// order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Omitted(Vec<(String, f64)>);
 
 impl Omitted {
     /// The terms and their sizes, by the names of [`crate::hydro::forces::by_name`].
-    pub fn sizes(&self) -> [(&'static str, f64); 5] {
-        [
-            (UndisturbedFlow::NAME, self.undisturbed_flow),
-            (AddedMass::NAME, self.added_mass),
-            (SchillerNaumann::NAME, self.schiller_naumann),
-            (SaffmanMei::NAME, self.saffman_mei),
-            (Cunningham::NAME, self.cunningham),
-        ]
+    pub fn sizes(&self) -> impl Iterator<Item = (&str, f64)> {
+        self.0.iter().map(|(name, size)| (name.as_str(), *size))
     }
 
-    fn max(self, other: Self) -> Self {
-        Self {
-            undisturbed_flow: self.undisturbed_flow.max(other.undisturbed_flow),
-            added_mass: self.added_mass.max(other.added_mass),
-            schiller_naumann: self.schiller_naumann.max(other.schiller_naumann),
-            saffman_mei: self.saffman_mei.max(other.saffman_mei),
-            cunningham: self.cunningham.max(other.cunningham),
+    /// The size of the term `name`, if estimated.
+    pub fn size(&self, name: &str) -> Option<f64> {
+        self.sizes().find(|(n, _)| *n == name).map(|(_, size)| size)
+    }
+
+    /// The larger of the two sizes of each term; a term estimated in one only keeps its size.
+    fn max(mut self, other: &Self) -> Self {
+        for (name, size) in other.sizes() {
+            match self.0.iter_mut().find(|(n, _)| n == name) {
+                Some((_, mine)) => *mine = mine.max(size),
+                None => self.0.push((name.to_string(), size)),
+            }
         }
+        self
+    }
+
+    /// The same terms, each of size 0.
+    fn zeroed(mut self) -> Self {
+        self.0.iter_mut().for_each(|(_, size)| *size = 0.0);
+        self
     }
 }
 
-/// The sizes of the terms of a particle that do not change during a run: added mass from its
-/// rest shape and densities, gas slip from its size and fluid (module docs); zero for the terms
-/// it carries.
-pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Omitted {
-    let on = particle.forces().names();
-    let off = |name: &str| !on.contains(&name);
+impl Serialize for Omitted {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.sizes().map(|(name, size)| (name, Extended(size))))
+    }
+}
+
+impl<'de> Deserialize<'de> for Omitted {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Sizes;
+        impl<'de> serde::de::Visitor<'de> for Sizes {
+            type Value = Omitted;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a table of force-term names and sizes")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Omitted, A::Error> {
+                let mut sizes = Vec::new();
+                while let Some((name, Extended(size))) = map.next_entry::<String, Extended>()? {
+                    sizes.push((name, size));
+                }
+                // In the monitor's order, whatever the text's (a `serde_json::Value` sorts its
+                // keys by name); names no term registers here go last, by name.
+                let order = omission::estimated();
+                sizes.sort_by_cached_key(|(name, _)| {
+                    let rank = order.iter().position(|(term, _)| term.name == name);
+                    (rank.unwrap_or(order.len()), name.clone())
+                });
+                Ok(Omitted(sizes))
+            }
+        }
+        d.deserialize_map(Sizes)
+    }
+}
+
+/// An f64 that keeps its infinities in JSON ([`extended`]).
+#[derive(Serialize, Deserialize)]
+struct Extended(#[serde(with = "extended")] f64);
+
+/// The particle's numbers as the estimates of omitted terms take them.
+fn rest<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Rest {
     let fluid = particle.fluid();
     let semi_axes = particle.shape().semi_axes();
-    let d_eq = 2.0 * semi_axes.product().cbrt();
-    let k_max = EllipsoidIntegrals::try_new(&semi_axes).map_or(f64::NAN, |ints| added_mass::coefficients(&ints).max());
-    let gas = fluid.rho > 0.0 && fluid.rho < GAS_DENSITY && fluid.mu < GAS_VISCOSITY;
-    let slip = || {
-        let lambda = fluid.mu / (0.499 * fluid.rho * AIR_MOLECULAR_SPEED);
-        Cunningham::new(lambda).map_or(0.0, |c| c.correction(d_eq) - 1.0)
-    };
-    Omitted {
-        added_mass: if off(AddedMass::NAME) {
-            fluid.rho / particle.rho_solid() * k_max
-        } else {
-            0.0
-        },
-        cunningham: if off(Cunningham::NAME) && gas { slip() } else { 0.0 },
-        ..Omitted::default()
+    Rest {
+        semi_axes,
+        d_eq: 2.0 * semi_axes.product().cbrt(),
+        mu_f: fluid.mu,
+        rho_f: fluid.rho,
+        nu: fluid.mu / fluid.rho,
+        rho_p: particle.rho_solid(),
+        mass: particle.mass(),
+        volume0: particle.volume0(),
+        gravity: *particle.gravity(),
     }
+}
+
+/// The sizes of the terms of a particle that do not change during a run
+/// ([`Size::Constant`]: added mass from its rest shape and densities, gas slip from its size
+/// and fluid); zero for the terms it carries and for those estimated state by state.
+pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Omitted {
+    let rest = rest(particle);
+    Omitted(
+        omission::estimated()
+            .into_iter()
+            .map(|(term, o)| {
+                let size = match o.size {
+                    Size::Constant(size) if !term.carried(particle.forces()) => size(&rest),
+                    _ => 0.0,
+                };
+                (term.name.to_string(), size)
+            })
+            .collect(),
+    )
 }
 
 /// Maxima over a run (0 before any state is observed).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Validity {
     /// max γ̇ d_eq²/ν.
     #[serde(with = "extended")]
@@ -211,7 +224,7 @@ impl Validity {
         Self {
             max_re_shear: 0.0,
             max_re_slip: 0.0,
-            omitted: Omitted::default(),
+            omitted: self.omitted.zeroed(),
             ..self
         }
     }
@@ -226,7 +239,7 @@ impl Validity {
             max_r1_over_flow_scale: self.max_r1_over_flow_scale.max(other.max_r1_over_flow_scale),
             states: self.states + other.states,
             unsampled: self.unsampled + other.unsampled,
-            omitted: self.omitted.max(other.omitted),
+            omitted: self.omitted.max(&other.omitted),
         }
     }
 
@@ -237,7 +250,6 @@ impl Validity {
         let omitted = self
             .omitted
             .sizes()
-            .into_iter()
             .filter(|(_, size)| !(*size <= limits.omitted_term))
             .map(|(name, _)| format!("omits_{name}"));
         [
@@ -293,21 +305,14 @@ pub struct Monitor<'a, M, D, F: ?Sized, B: ?Sized> {
     particle: &'a Particle<M, D>,
     flow: &'a F,
     boundary: &'a B,
-    d_eq: f64,
-    nu: f64,
     /// The flow is homogeneous (linear in x): r₁/ℓ_u is 0 whatever the particle's size.
     linear: bool,
-    /// Which of the estimated terms the particle carries (no estimate then).
-    carries: Carries,
+    /// The particle's numbers for the estimates of omitted terms.
+    rest: Rest,
+    /// The estimates taken state by state, each with its place in `validity.omitted`: the
+    /// registered [`Size::PerState`] estimates of the terms the particle does not carry.
+    per_state: Vec<(usize, StateEstimate)>,
     validity: Validity,
-}
-
-/// The state-dependent terms a particle carries.
-#[derive(Debug, Clone, Copy)]
-struct Carries {
-    undisturbed_flow: bool,
-    schiller_naumann: bool,
-    saffman_mei: bool,
 }
 
 impl<'a, M, D> Monitor<'a, M, D, LinearFlow, Unbounded>
@@ -333,20 +338,23 @@ where
 {
     /// A monitor with nothing observed yet; d_eq from the rest shape, ν = μ_f/ρ_f.
     pub fn new(particle: &'a Particle<M, D>, flow: &'a F, boundary: &'a B) -> Self {
-        let fluid = particle.fluid();
-        let on = particle.forces().names();
+        let rest = rest(particle);
+        // omitted_constants lists the same estimates in the same order: index i is term i.
+        let per_state = omission::estimated()
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, (term, o))| match o.size {
+                Size::PerState(size) if !term.carried(particle.forces()) => Some((i, size)),
+                _ => None,
+            })
+            .collect();
         Self {
             particle,
             flow,
             boundary,
-            d_eq: 2.0 * particle.shape().semi_axes().product().cbrt(),
-            nu: fluid.mu / fluid.rho,
             linear: false,
-            carries: Carries {
-                undisturbed_flow: on.contains(&UndisturbedFlow::NAME),
-                schiller_naumann: on.contains(&SchillerNaumann::NAME) || on.contains(&HolzerSommerfeld::NAME),
-                saffman_mei: on.contains(&SaffmanMei::NAME),
-            },
+            rest,
+            per_state,
             validity: Validity {
                 omitted: omitted_constants(particle),
                 ..Validity::default()
@@ -367,8 +375,8 @@ where
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
         let wall = self.boundary.nearest(&state.x, &Extent::Point { radius: 0.0 }).gap;
         let ratio = |num: f64, den: f64| if den > 0.0 { num / den } else { f64::INFINITY };
-        let re_shear = shear_rate * self.d_eq * self.d_eq / self.nu;
-        let re_slip = (sample.u - state.v).norm() * self.d_eq / self.nu;
+        let re_shear = shear_rate * self.rest.d_eq * self.rest.d_eq / self.rest.nu;
+        let re_slip = (sample.u - state.v).norm() * self.rest.d_eq / self.rest.nu;
         v.max_re_shear = v.max_re_shear.max(re_shear);
         v.max_re_slip = v.max_re_slip.max(re_slip);
         v.max_r1 = v.max_r1.max(r1);
@@ -381,34 +389,21 @@ where
     }
 
     /// The state-dependent sizes of the terms left out (module docs).
-    fn estimate_omitted(&mut self, state: &State, sample: &crate::flow::FlowSample, re_slip: f64) {
-        let p = self.particle;
-        let o = &mut self.validity.omitted;
-        if !self.carries.undisturbed_flow {
-            let m_f = p.fluid().rho * p.volume0() * state.det_f();
-            let du_dt = sample.material_acceleration();
-            let driving = (du_dt - p.gravity()) * (p.mass() - m_f);
-            let ratio = match (m_f * du_dt.norm(), driving.norm()) {
-                (0.0, _) => 0.0,
-                (num, den) if den > 0.0 => num / den,
-                _ => f64::INFINITY,
-            };
-            o.undisturbed_flow = o.undisturbed_flow.max(ratio);
-        }
-        if !self.carries.schiller_naumann {
-            o.schiller_naumann = o.schiller_naumann.max(SchillerNaumann::factor(re_slip) - 1.0);
-        }
-        if !self.carries.saffman_mei {
-            let re_omega = vorticity(&sample.grad_u).norm() * self.d_eq * self.d_eq / self.nu;
-            let lift =
-                1.615 / (3.0 * std::f64::consts::PI) * re_omega.sqrt() * SaffmanMei::lift_ratio(re_slip, re_omega);
-            o.saffman_mei = o.saffman_mei.max(lift);
+    fn estimate_omitted(&mut self, state: &State, sample: &FlowSample, re_slip: f64) {
+        let at = Observed {
+            det_f: state.det_f(),
+            flow: sample,
+            re_slip,
+        };
+        let sizes = &mut self.validity.omitted.0;
+        for &(i, size) in &self.per_state {
+            sizes[i].1 = sizes[i].1.max(size(&self.rest, &at));
         }
     }
 
     /// The maxima so far.
     pub fn validity(&self) -> Validity {
-        self.validity
+        self.validity.clone()
     }
 }
 

@@ -5,15 +5,15 @@
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
 use pseudorigid::cli::error::Source;
-use pseudorigid::cli::frames::{at_time, fate_code};
 use pseudorigid::cli::models::SceneLaw;
 use pseudorigid::cli::run::{Job, run_on, run_options};
 use pseudorigid::cli::{CliError, Scene};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
-use pseudorigid::material::Softness;
-use pseudorigid::output::vtk::stretch;
+use pseudorigid::population::columns::{
+    FRAME_COLUMNS, Row, Values, at_time, fate_code, frame_measures, record_columns,
+};
 use pseudorigid::population::{
     Fate, PopulationError, Progress, RunControl, RunOptions, RunOutput, Shard, checkpoint_dir,
 };
@@ -547,92 +547,25 @@ impl Results {
     }
 
     /// One row per particle: the columns of `records.parquet`, in its order (the columns of
-    /// `results.csv` with the end state's F, `F11`..`F33`, and step statistics). Where the file
-    /// has a null a float column holds NaN and the integer and text columns (`patch`,
-    /// `patch_name`, `error`) hold None.
+    /// `results.csv` with the end state's F, `F11`..`F33`, and step statistics; all from
+    /// `population::columns::record_columns`). Where the file has a null a float column holds
+    /// NaN and the integer and text columns (`patch`, `patch_name`, `error`) hold None.
     fn records<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let recs = &self.output.records;
-        let n = recs.len();
-        let d = PyDict::new(py);
-        let nan = f64::NAN;
-        let mut fate = Vec::with_capacity(n);
-        let mut patch_name = Vec::with_capacity(n);
-        let mut error = Vec::with_capacity(n);
-        let mut patch = Vec::with_capacity(n);
-        let mut flt: Vec<(String, Vec<f64>)> = [
-            "t", "x1", "x2", "x3", "r1", "r2", "r3", "F11", "F12", "F13", "F21", "F22", "F23", "F31", "F32", "F33",
-            "x0_1", "x0_2", "x0_3", "rest_r1", "rest_r2", "rest_r3", "mu_s", "rho_s",
-        ]
-        .iter()
-        .map(|c| (c.to_string(), Vec::with_capacity(n)))
-        .collect();
-        let mut ints: Vec<(&str, Vec<i64>)> = ["index", "steps", "rejected", "rhs_evals", "jac_evals"]
+        let rows: Vec<Row<'_, SceneLaw>> = self
+            .output
+            .records
             .iter()
-            .map(|c| (*c, Vec::with_capacity(n)))
+            .map(|r| Row::new(r, &self.output.patches))
             .collect();
-        for r in recs {
-            let mut row: Vec<f64> = Vec::with_capacity(flt.len());
-            match &r.end {
-                Some(s) => row.extend([s.t, s.x[0], s.x[1], s.x[2]]),
-                None => row.extend([nan; 4]),
+        let d = PyDict::new(py);
+        for c in record_columns::<SceneLaw>() {
+            match c.values {
+                Values::Count(f) => column_i64(py, &d, c.name, rows.iter().map(|r| f(r) as i64).collect())?,
+                Values::Int(f) => d.set_item(c.name, rows.iter().map(f).collect::<Vec<_>>())?,
+                Values::Real(f) => column(py, &d, c.name, rows.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect())?,
+                Values::Text(f) => d.set_item(c.name, rows.iter().map(f).collect::<Vec<_>>())?,
             }
-            match r.end_frame() {
-                Some(f) => row.extend(f.r.iter()),
-                None => row.extend([nan; 3]),
-            }
-            match &r.end {
-                Some(s) => row.extend((0..9).map(|k| s.f[(k / 3, k % 3)])),
-                None => row.extend([nan; 9]),
-            }
-            match &r.spec {
-                Some(spec) => {
-                    row.extend(spec.position.iter());
-                    row.extend(spec.shape.semi_axes().iter());
-                    row.push(match &spec.softness {
-                        Softness::Rigid => nan,
-                        Softness::Elastic(law) => pseudorigid::material::StressLaw::shear_modulus(law),
-                    });
-                    row.push(spec.density);
-                }
-                None => row.extend([nan; 8]),
-            }
-            for ((_, col), v) in flt.iter_mut().zip(row) {
-                col.push(v);
-            }
-            let stats = [
-                r.index as i64,
-                r.stats.steps as i64,
-                r.stats.rejected as i64,
-                r.stats.rhs_evals as i64,
-                r.stats.jac_evals as i64,
-            ];
-            for ((_, col), v) in ints.iter_mut().zip(stats) {
-                col.push(v);
-            }
-            fate.push(r.fate.label());
-            patch.push(r.fate.patch().map(|p| p as i64));
-            patch_name.push(
-                r.fate
-                    .patch()
-                    .map(|p| self.output.patches.get(p).cloned().unwrap_or_default()),
-            );
-            error.push(match &r.fate {
-                Fate::Failed { error } => Some(error.clone()),
-                _ => None,
-            });
         }
-        let (index, stats) = ints.split_at_mut(1);
-        column_i64(py, &d, "index", std::mem::take(&mut index[0].1))?;
-        d.set_item("fate", fate)?;
-        d.set_item("patch", patch)?;
-        d.set_item("patch_name", patch_name)?;
-        for (name, col) in flt {
-            column(py, &d, &name, col)?;
-        }
-        for (name, col) in stats.iter_mut() {
-            column_i64(py, &d, name, std::mem::take(col))?;
-        }
-        d.set_item("error", error)?;
         Ok(d)
     }
 
@@ -653,14 +586,11 @@ impl Results {
         let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 12];
         for (k, &t) in times.iter().enumerate() {
             for p in at_time(&self.output.records, t) {
-                let (v, r) = stretch(&p.f_bar);
                 frame.push(k as i64);
                 time.push(t);
                 id.push(p.id);
                 flag.push(p.flag);
-                let upper = [v[(0, 0)], v[(0, 1)], v[(0, 2)], v[(1, 1)], v[(1, 2)], v[(2, 2)]];
-                let row = p.x.iter().chain(upper.iter()).chain(r.iter());
-                for (c, &x) in cols.iter_mut().zip(row) {
+                for (c, x) in cols.iter_mut().zip(frame_measures(&p)) {
                     c.push(x);
                 }
             }
@@ -670,8 +600,7 @@ impl Results {
         column(py, &d, "time", time)?;
         column_i64(py, &d, "id", id)?;
         // frames.parquet's measured columns, between `id` and `flag`.
-        let names = &pseudorigid::cli::parquet::FRAME_COLUMNS[3..15];
-        for (name, c) in names.iter().zip(cols) {
+        for (name, c) in FRAME_COLUMNS[3..15].iter().zip(cols) {
             column(py, &d, name, c)?;
         }
         column_i64(py, &d, "flag", flag)?;

@@ -2,28 +2,19 @@
 //! their `.pvd` index, trajectories as polylines, and the same numbers as CSV.
 //!
 //! A frame at time t shows every particle at its last state at or before t. Its `flag` says
-//! what the particle is doing then: 0 while it moves, afterwards its fate ([`fate_code`]). A
-//! deposited particle therefore stays where it touched, flagged 1, in every later frame.
+//! what the particle is doing then: 0 while it moves, afterwards its fate
+//! ([`fate_code`](crate::population::columns::fate_code)). A deposited particle therefore stays
+//! where it touched, flagged 1, in every later frame. The particles of a frame are
+//! [`at_time`], beside the columns of a run's tables.
 
 use super::error::CliError;
 use super::models::SceneLaw;
 use crate::output::vtk::{CloudPoint, PolyData, Values, particle_cloud, stretch, write_pvd};
 use crate::output::{Csv, OutputError};
-use crate::particle::State;
-use crate::population::{Fate, ParticleRecord, RunOutput};
+use crate::population::columns::at_time;
+use crate::population::{ParticleRecord, RunOutput};
 use crate::tensor::Vec3;
 use std::path::Path;
-
-/// Flag of a particle after its run: 1 deposited, 2 escaped, 3 suspended (reached the end
-/// time), 4 failed. (0 is a moving particle.)
-pub fn fate_code(fate: &Fate) -> i64 {
-    match fate {
-        Fate::Deposited { .. } => 1,
-        Fate::Escaped { .. } => 2,
-        Fate::Suspended => 3,
-        Fate::Failed { .. } => 4,
-    }
-}
 
 /// Columns of `frames.csv`: one row per particle per frame, the numbers of the `.vtp` files.
 pub const FRAME_HEADER: [&str; 19] = [
@@ -33,22 +24,6 @@ pub const FRAME_HEADER: [&str; 19] = [
 
 /// Columns of `trajectories.csv`: every kept state of every particle.
 pub const TRAJECTORY_HEADER: [&str; 5] = ["id", "t", "x1", "x2", "x3"];
-
-/// The particles of `records` at `time`: (id, state, flag) of those with a state by then.
-pub fn at_time<'a>(records: &'a [ParticleRecord<SceneLaw>], time: f64) -> impl Iterator<Item = CloudPoint> + 'a {
-    records.iter().filter_map(move |r| {
-        let spec = r.spec.as_ref()?;
-        let last = r.samples.last()?;
-        let state: &State = r.samples.iter().rev().find(|s| s.t <= time)?;
-        let flag = if time < last.t { 0 } else { fate_code(&r.fate) };
-        Some(CloudPoint {
-            id: r.index as i64,
-            x: state.x,
-            f_bar: state.f * spec.shape.shape_tensor(),
-            flag,
-        })
-    })
-}
 
 /// Whether a run writes CSV tables: when `asked`, and always without the feature `parquet`
 /// (CSV is then the only table format).

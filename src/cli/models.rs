@@ -7,7 +7,7 @@ use crate::contact::MeshBoundary;
 use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Planes, Unbounded};
 use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
-use crate::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, TransientFlow};
+use crate::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, TransientFlow, window_ends};
 use crate::flow::{FlowField, FlowSample};
 use crate::hydro::drag::NamedDrag;
 use crate::material::NamedLaw;
@@ -124,19 +124,9 @@ impl SceneTransient {
         self.window
     }
 
-    /// The window ends of a run from 0 to `t_end`: every multiple of the window length below
-    /// it, then `t_end` (a last window shorter than a thousandth of one is merged into the
-    /// one before: it would cost every particle a landing step for nothing).
+    /// The window ends of a run from 0 to `t_end` ([`window_ends`] of the window length).
     pub fn window_ends(&self, t_end: f64) -> Vec<f64> {
-        let n = (t_end / self.window).floor() as u64;
-        let mut ends = vec![0.0];
-        ends.extend(
-            (1..=n)
-                .map(|k| k as f64 * self.window)
-                .filter(|&t| t < t_end - 1e-3 * self.window),
-        );
-        ends.push(t_end);
-        ends
+        window_ends(self.window, t_end)
     }
 
     /// `f` of the field as held now.

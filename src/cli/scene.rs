@@ -225,7 +225,7 @@ impl Scene {
                 .forces()
                 .names()
                 .contains(&crate::hydro::forces::UndisturbedFlow::NAME);
-            let mut sizes: Vec<(&str, f64)> = omitted.sizes().into_iter().filter(|(_, s)| *s > limit).collect();
+            let mut sizes: Vec<(&str, f64)> = omitted.sizes().filter(|(_, s)| *s > limit).collect();
             let density_ratio = particle.fluid().rho / particle.rho_solid();
             if density_ratio > limit && !carries_flow_force {
                 sizes.insert(0, ("undisturbed_flow", density_ratio));

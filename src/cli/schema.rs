@@ -287,7 +287,7 @@ impl<'de> Deserialize<'de> for Groups {
 }
 
 /// One entry of `particles.forces`: a term's name, or a table with the name under `term`
-/// and the term's parameters (numbers, SI units).
+/// and the term's parameters (SI units), as a drag model's are given.
 #[derive(Debug, Deserialize)]
 #[serde(untagged)]
 pub enum ForceEntry {
@@ -299,7 +299,7 @@ pub enum ForceEntry {
         term: String,
         /// Its parameters.
         #[serde(flatten)]
-        parameters: std::collections::BTreeMap<String, f64>,
+        parameters: std::collections::BTreeMap<String, toml::Value>,
     },
 }
 

@@ -28,6 +28,8 @@
 //! - [`observe`]: an [`Observer`] of every particle's run, whose summary the record keeps
 //!   (a scene's per-run columns);
 //! - [`record`]: [`Fate`] (deposited, escaped, suspended, failed), [`ParticleRecord`];
+//! - [`columns`]: the columns of a run's tables, defined once for `results.csv`,
+//!   `records.parquet`, `frames.parquet` and the Python package;
 //! - [`release`]: drug release at a critical deformation, a non-terminal event recorded by
 //!   an observer (where and when each threshold is first crossed);
 //! - [`runner`]: [`run`] with [`RunOptions`] (parallel or serial, progress, checkpoints);
@@ -48,6 +50,7 @@ pub mod batch;
 pub mod binomial;
 pub mod case;
 pub mod checkpoint;
+pub mod columns;
 pub mod observe;
 pub mod output;
 pub mod packed;

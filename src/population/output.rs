@@ -2,6 +2,7 @@
 //! writes), merged over shards, as a CSV table, or as one JSON file that round-trips every f64
 //! exactly (a cache of results, as the bifurcation studies keep).
 
+use super::columns::{Column, Row, Values, record_columns};
 use super::record::{FateCounts, ParticleRecord};
 use super::shard::Shard;
 use super::{FORMAT, PopulationError};
@@ -268,73 +269,28 @@ fn parse_checkpoint_name(name: &str) -> Option<(u64, u64)> {
     Some((k.parse().ok()?, n.parse().ok()?))
 }
 
-/// Columns of [`RunOutput::table`].
-pub const TABLE_HEADER: [&str; 21] = [
-    "index",
-    "fate",
-    "patch",
-    "patch_name",
-    "t",
-    "x1",
-    "x2",
-    "x3",
-    "r1",
-    "r2",
-    "r3",
-    "x0_1",
-    "x0_2",
-    "x0_3",
-    "rest_r1",
-    "rest_r2",
-    "rest_r3",
-    "mu_s",
-    "rho_s",
-    "steps",
-    "error",
-];
-
 impl<L: StressLaw + Serialize + DeserializeOwned> RunOutput<L> {
-    /// One row per particle: fate, patch, end time and barycentre, current semi-axes r₁ ≥ r₂ ≥
-    /// r₃ at the end, injection point, rest semi-axes, shear modulus μ_s (empty: rigid), solid
-    /// density ρ_s, steps
-    /// and the error of a failed particle (commas and line breaks replaced by spaces). Empty
-    /// fields where a quantity does not exist.
+    /// One row per particle: the columns of [`record_columns`] that `results.csv` has
+    /// ([`Column::csv`]). Numbers in their shortest round-trip form; empty fields where a
+    /// quantity does not exist; in text, commas and line breaks replaced by spaces.
     pub fn table(&self) -> Result<Csv, PopulationError> {
-        let mut csv = Csv::new(&TABLE_HEADER);
-        let num = |v: f64| format!("{v:?}");
-        for r in &self.records {
-            let mut row = vec![r.index.to_string(), r.fate.label().to_string()];
-            match r.fate.patch() {
-                Some(p) => row.extend([p.to_string(), self.patches.get(p).cloned().unwrap_or_default()]),
-                None => row.extend([String::new(), String::new()]),
-            }
-            match &r.end {
-                Some(s) => row.extend([s.t, s.x[0], s.x[1], s.x[2]].map(num)),
-                None => row.extend([const { String::new() }; 4]),
-            }
-            match r.end_frame() {
-                Some(frame) => row.extend(frame.r.iter().map(|&v| num(v))),
-                None => row.extend([const { String::new() }; 3]),
-            }
-            match &r.spec {
-                Some(spec) => {
-                    row.extend(spec.position.iter().map(|&v| num(v)));
-                    row.extend(spec.shape.semi_axes().iter().map(|&v| num(v)));
-                    row.push(match &spec.softness {
-                        crate::material::Softness::Rigid => String::new(),
-                        crate::material::Softness::Elastic(law) => num(law.shear_modulus()),
-                    });
-                    row.push(num(spec.density));
-                }
-                None => row.extend([const { String::new() }; 8]),
-            }
-            row.push(r.stats.steps.to_string());
-            row.push(match &r.fate {
-                super::Fate::Failed { error } => error.replace([',', '\n', '\r'], " "),
-                _ => String::new(),
-            });
-            csv.push(row)?;
+        let columns: Vec<Column<L>> = record_columns().into_iter().filter(|c| c.csv).collect();
+        let header: Vec<&str> = columns.iter().map(|c| c.name).collect();
+        let mut csv = Csv::new(&header);
+        for record in &self.records {
+            let row = Row::new(record, &self.patches);
+            csv.push(columns.iter().map(|c| field(&c.values, &row)).collect())?;
         }
         Ok(csv)
+    }
+}
+
+/// The CSV field of a column's value in `row`.
+fn field<L>(values: &Values<L>, row: &Row<'_, L>) -> String {
+    match values {
+        Values::Count(f) => f(row).to_string(),
+        Values::Int(f) => f(row).map(|v| v.to_string()).unwrap_or_default(),
+        Values::Real(f) => f(row).map(|v| format!("{v:?}")).unwrap_or_default(),
+        Values::Text(f) => f(row).map(|v| v.replace([',', '\n', '\r'], " ")).unwrap_or_default(),
     }
 }

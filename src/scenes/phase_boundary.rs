@@ -35,7 +35,7 @@ pub struct BoundarySearch<I, L = NeoHookeLaw> {
 }
 
 /// A located phase boundary.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Boundary {
     /// Shape searched.
     pub shape: ShearShape,
@@ -89,15 +89,17 @@ impl<I: TimeIntegrator, L: LawFactory> BoundarySearch<I, L> {
             if lo.0 <= self.ca_min {
                 return Err(self.no_bracket(lo.1.regime, hi.1.regime, lo.0, hi.0));
             }
+            let ca = (0.5 * lo.0).max(self.ca_min);
             hi = lo;
-            lo = eval((0.5 * lo.0).max(self.ca_min))?;
+            lo = eval(ca)?;
         }
         while hi.1.regime == Regime::Tumbling {
             if hi.0 >= self.ca_max {
                 return Err(self.no_bracket(lo.1.regime, hi.1.regime, lo.0, hi.0));
             }
+            let ca = (2.0 * hi.0).min(self.ca_max);
             lo = hi;
-            hi = eval((2.0 * hi.0).min(self.ca_max))?;
+            hi = eval(ca)?;
         }
         while hi.0 - lo.0 > self.tol {
             let mid_ca = 0.5 * (lo.0 + hi.0);

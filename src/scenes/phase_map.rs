@@ -27,7 +27,7 @@ pub struct MapShape {
 }
 
 /// One located boundary and the series and abscissa it is plotted at.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MapPoint {
     /// Series label.
     pub series: &'static str,
@@ -68,7 +68,7 @@ pub fn compute<I: TimeIntegrator + Sync, L: LawFactory + Sync>(
 pub fn boundary_table(points: &[MapPoint]) -> Result<Csv, OutputError> {
     let mut csv = Csv::new(&["family", "r_flow", "r_gradient", "r_vorticity", "ca_tu", "ca_tr"]);
     for p in points {
-        let ([flow, gradient, vorticity], b) = (p.boundary.shape.ratios(), p.boundary);
+        let ([flow, gradient, vorticity], b) = (p.boundary.shape.ratios(), &p.boundary);
         csv.push(vec![
             p.series.to_string(),
             flow.to_string(),
@@ -94,9 +94,9 @@ pub fn validity_table(points: &[MapPoint], inertialess: bool) -> Result<Csv, Out
     for p in points {
         let [flow, gradient, vorticity] = p.boundary.shape.ratios();
         let v = if inertialess {
-            p.boundary.validity.inertialess()
+            p.boundary.validity.clone().inertialess()
         } else {
-            p.boundary.validity
+            p.boundary.validity.clone()
         };
         let mut cells = vec![
             p.series.to_string(),

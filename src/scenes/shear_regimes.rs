@@ -50,7 +50,7 @@ pub enum Regime {
 }
 
 /// Result of one classification run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Classification {
     /// TU or TR.
     pub regime: Regime,

@@ -203,7 +203,7 @@ pub fn roscoe(ca: f64) -> Result<RoscoeSolution, SceneError> {
 
 /// The steady state by time integration: an initially spherical particle in unit shear,
 /// inertialess integration (Radau IIA) with rtol = atol = `tol` up to `t_end`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct IntegratedSteady {
     /// State read at t_end.
     pub steady: TankTreading,

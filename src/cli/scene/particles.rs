@@ -61,17 +61,31 @@ impl Builder<'_> {
         })
     }
 
-    /// `particles.forces`: each entry through the registry of force terms.
+    /// `particles.forces`: each entry through the registry of force terms; a refusal that
+    /// names a parameter is reported at `particles.forces[i].<key>`.
     pub(super) fn forces(&self, entries: &[Spanned<ForceEntry>]) -> Result<ForceTerms, CliError> {
-        let none = BTreeMap::new();
         let mut terms = Vec::with_capacity(entries.len());
         for (i, entry) in entries.iter().enumerate() {
-            let (name, parameters) = match entry.get_ref() {
-                ForceEntry::Name(name) => (name, &none),
-                ForceEntry::Table { term, parameters } => (term, parameters),
-            };
             let key = format!("particles.forces[{i}]");
-            terms.push(forces::by_name(name, parameters).map_err(|e| self.param(entry.span(), &key, e))?);
+            let (name, values) = match entry.get_ref() {
+                ForceEntry::Name(name) => (name, Values::new()),
+                ForceEntry::Table { term, parameters } => {
+                    let mut values = Values::new();
+                    for (k, v) in parameters {
+                        let value =
+                            to_value(v).ok_or_else(|| self.err(entry.span(), &format!("{key}.{k}"), VALUE_KINDS))?;
+                        values.insert(k.clone(), value);
+                    }
+                    (term, values)
+                }
+            };
+            terms.push(forces::by_name(name, &values).map_err(|e| {
+                let key = match e.key() {
+                    Some(k) => format!("{key}.{k}"),
+                    None => key.clone(),
+                };
+                self.param(entry.span(), &key, e)
+            })?);
         }
         ForceTerms::new(terms)
             .map_err(|e| self.param(entries.last().map_or(0..0, Spanned::span), "particles.forces", e))

@@ -70,7 +70,7 @@ pub use mesh::{Patch, PolyMesh};
 pub use octree::OctreeFlow;
 pub use patch::{PatchRole, PatchSet, SetFace};
 pub use reconstruct::Stencils;
-pub use transient::{Cycle, TransientFlow, Windowed};
+pub use transient::{Cycle, TransientFlow, Windowed, window_ends};
 pub use wall_layer::{WallFit, WallGeometry};
 
 use super::{FlowField, FlowSample, check_query};

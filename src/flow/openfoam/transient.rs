@@ -392,6 +392,23 @@ impl<F: Windowed> TransientFlow<F> {
     }
 }
 
+/// The window ends of a run from 0 to `t_end` in windows of length `window` (> 0): every
+/// multiple of `window` below `t_end`, then `t_end` (a last window shorter than a thousandth of
+/// one is merged into the one before: it would cost every particle a landing step for nothing).
+/// The command's schedule on a transient field (a scene's `flow.window`, by default the smallest
+/// spacing of the levels); the batch runner (`population::batch`) slides the field to each end.
+pub fn window_ends(window: f64, t_end: f64) -> Vec<f64> {
+    let n = (t_end / window).floor() as u64;
+    let mut ends = vec![0.0];
+    ends.extend(
+        (1..=n)
+            .map(|k| k as f64 * window)
+            .filter(|&t| t < t_end - 1e-3 * window),
+    );
+    ends.push(t_end);
+    ends
+}
+
 /// Check that `levels` (ascending, distinct) cover one period (module docs) and drop a last
 /// level at the first's time plus the period.
 fn one_period(levels: &mut Vec<f64>, period: f64) -> Result<(), FoamError> {

@@ -18,11 +18,9 @@
 //! deforms (a deformation added inertia) is not included: it is of the order of
 //! M_a |v − u| |l_s| against the drag, which the validity monitor can estimate.
 
-use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
+use super::{Contribution, ForceContext, ForceTerm, Omission, Registration, Rest, Size};
 use crate::ellipsoid::EllipsoidIntegrals;
-use crate::error::ParamError;
 use crate::tensor::{Mat3, Vec3};
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Added mass with the ellipsoid's tensor (module docs).
@@ -59,14 +57,25 @@ impl ForceTerm for AddedMass {
     }
 }
 
-fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
-    no_parameters(AddedMass::NAME, parameters)?;
-    Ok(Arc::new(AddedMass))
+/// The term's size where it is left out: the response time m/(c μ_f K) grows by M_a/m, at most
+/// (ρ_f/ρ_p) max k_i with Lamb's coefficients of the rest shape (½ ρ_f/ρ_p for a sphere); NaN
+/// for a rest shape outside Carlson's domain.
+fn omitted(rest: &Rest) -> f64 {
+    let k_max = EllipsoidIntegrals::try_new(&rest.semi_axes).map_or(f64::NAN, |ints| coefficients(&ints).max());
+    rest.rho_f / rest.rho_p * k_max
 }
 
 inventory::submit! {
     Registration {
         name: AddedMass::NAME,
-        build,
+        build: |p| {
+            p.only(&[])?;
+            Ok(Arc::new(AddedMass))
+        },
+        omitted: Some(Omission {
+            order: 20,
+            carried_by: None,
+            size: Size::Constant(omitted),
+        }),
     }
 }

@@ -14,14 +14,26 @@
 //! the adjusted-sphere estimate of Dahneke 1973 otherwise: a shape-resolved slip correction
 //! is not known to this code). +7 % settling speed at d = 2.5 µm in air, +16 % at 1 µm.
 
-use super::{Contribution, ForceContext, ForceTerm, Registration};
+use super::{Contribution, ForceContext, ForceTerm, Omission, Registration, Rest, Size};
 use crate::error::{ParamError, positive};
+use crate::registry::Parameters;
 use crate::tensor::Vec3;
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Davies (1945): A₁, A₂, A₃.
 pub const DAVIES: [f64; 3] = [1.257, 0.400, 1.10];
+
+/// Fluids lighter than this (kg/m³) are gases for the estimate of the slip left out: gases at
+/// ordinary pressures are below 10, liquids above 500.
+pub const GAS_DENSITY: f64 = 10.0;
+
+/// Fluids more viscous than this (Pa s) are not gases for the estimate of the slip left out:
+/// gases are 1–3·10⁻⁵ Pa s, liquids 2·10⁻⁴ and up, and a scene in nondimensional units (μ_f = 1
+/// in the shear scenes) is not read as SI.
+pub const GAS_VISCOSITY: f64 = 1e-4;
+
+/// Mean molecular speed of air at 20 °C, c̄ = √(8RT/(πM)) (m/s), for the mean free path of a gas.
+pub const AIR_MOLECULAR_SPEED: f64 = 463.0;
 
 /// Largest Knudsen number 2λ/d of a particle's rest shape the term admits. For Kn ≫ 1 the
 /// correction is the free-molecular asymptote C_c → (A₁ + A₂) Kn = 1.657 Kn (Epstein's drag),
@@ -52,16 +64,11 @@ impl Cunningham {
     }
 
     /// From scene parameters: `mean_free_path` (m), required and alone.
-    pub fn from_parameters(parameters: &BTreeMap<String, f64>) -> Result<Self, ParamError> {
-        if let Some(key) = parameters.keys().find(|k| *k != "mean_free_path") {
-            return Err(ParamError::Unknown {
-                kind: "force-term parameter",
-                name: format!("{}.{key}", Self::NAME),
-                known: vec!["mean_free_path"],
-            });
-        }
-        let lambda = parameters.get("mean_free_path").copied().unwrap_or(f64::NAN);
-        Self::new(lambda)
+    pub fn from_parameters(p: &Parameters) -> Result<Self, ParamError> {
+        p.only(&["mean_free_path"])?;
+        Ok(Self {
+            mean_free_path: p.positive("mean_free_path")?,
+        })
     }
 
     /// The gas's mean free path λ.
@@ -106,13 +113,28 @@ impl ForceTerm for Cunningham {
     }
 }
 
-fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
-    Ok(Arc::new(Cunningham::from_parameters(parameters)?))
+/// The slip's size where it is left out: C_c − 1 at d_eq for a gas in SI units (ρ_f <
+/// [`GAS_DENSITY`] and μ_f < [`GAS_VISCOSITY`]; a scene in shear units is not read as a gas),
+/// with the mean free path λ = μ_f/(0.499 ρ_f c̄) of kinetic theory and air's mean molecular
+/// speed c̄ = [`AIR_MOLECULAR_SPEED`] (the gas is assumed to be air-like; 66 nm for air at
+/// 1 atm); 0 in a liquid.
+fn omitted(rest: &Rest) -> f64 {
+    let gas = rest.rho_f > 0.0 && rest.rho_f < GAS_DENSITY && rest.mu_f < GAS_VISCOSITY;
+    if !gas {
+        return 0.0;
+    }
+    let lambda = rest.mu_f / (0.499 * rest.rho_f * AIR_MOLECULAR_SPEED);
+    Cunningham::new(lambda).map_or(0.0, |c| c.correction(rest.d_eq) - 1.0)
 }
 
 inventory::submit! {
     Registration {
         name: Cunningham::NAME,
-        build,
+        build: |p| Ok(Arc::new(Cunningham::from_parameters(p)?)),
+        omitted: Some(Omission {
+            order: 50,
+            carried_by: None,
+            size: Size::Constant(omitted),
+        }),
     }
 }

@@ -25,11 +25,9 @@
 //! The factor is scalar: the correlation gives the drag's size along the slip, not a tensor,
 //! which is the usual reading of it (and exact for a sphere).
 
-use super::{Contribution, FINITE_RE_DRAG, ForceContext, ForceTerm, Registration, no_parameters};
+use super::{Contribution, FINITE_RE_DRAG, ForceContext, ForceTerm, Registration};
 use crate::ellipsoid::integrals::{carlson_rd, carlson_rf};
-use crate::error::ParamError;
 use crate::tensor::Vec3;
-use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -94,14 +92,15 @@ impl ForceTerm for HolzerSommerfeld {
     }
 }
 
-fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
-    no_parameters(HolzerSommerfeld::NAME, parameters)?;
-    Ok(Arc::new(HolzerSommerfeld))
-}
-
+// Not estimated on its own: Schiller–Naumann's estimate of the finite-Re drag stands for every
+// correction of FINITE_RE_DRAG, and is not taken for a particle that carries this one.
 inventory::submit! {
     Registration {
         name: HolzerSommerfeld::NAME,
-        build,
+        build: |p| {
+            p.only(&[])?;
+            Ok(Arc::new(HolzerSommerfeld))
+        },
+        omitted: None,
     }
 }

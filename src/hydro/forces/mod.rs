@@ -27,6 +27,13 @@
 //! [`undisturbed`], [`added_mass`], [`cunningham`], [`schiller_naumann`] (spheres),
 //! [`holzer_sommerfeld`] (any ellipsoid), [`saffman_mei`].
 //!
+//! Each file also registers its term ([`Registration`]): its name, its builder from the scene's
+//! [`Parameters`] and, where the run's numbers can tell how large the term would be on a particle
+//! that leaves it out, that estimate ([`Omission`]), which the validity monitor
+//! ([`crate::diagnostics`]) iterates. A drag correlation that depends on the slip, the fluid or
+//! the gas is a term's drag factor; one of the shape alone is a [`crate::hydro::DragModel`]
+//! (the guide, [`crate::guide`], says why).
+//!
 //! # What is left out, and when it matters
 //! - **Fluid inertia in the shape equation.** The undisturbed flow also loads the force dyad:
 //!   its stress integrated against X over the particle gives ρ_f vol(B_t) (l̇ + l²) Θ/m-type
@@ -52,6 +59,7 @@
 pub mod added_mass;
 pub mod cunningham;
 pub mod holzer_sommerfeld;
+pub mod omission;
 pub mod saffman_mei;
 pub mod schiller_naumann;
 pub mod undisturbed;
@@ -59,6 +67,7 @@ pub mod undisturbed;
 pub use added_mass::AddedMass;
 pub use cunningham::Cunningham;
 pub use holzer_sommerfeld::HolzerSommerfeld;
+pub use omission::{Observed, Omission, Rest, Size};
 pub use saffman_mei::SaffmanMei;
 pub use schiller_naumann::SchillerNaumann;
 pub use undisturbed::UndisturbedFlow;
@@ -66,8 +75,8 @@ pub use undisturbed::UndisturbedFlow;
 use crate::ellipsoid::{EllipsoidIntegrals, PrincipalFrame};
 use crate::error::ParamError;
 use crate::flow::FlowSample;
+use crate::registry::{self, Entry, Parameters, Values};
 use crate::tensor::{Mat3, Vec3};
-use std::collections::BTreeMap;
 use std::fmt::Debug;
 use std::sync::Arc;
 
@@ -247,33 +256,25 @@ impl PartialEq for ForceTerms {
     }
 }
 
-/// A force term selectable by name from scene files and Python: its name and how to build it
-/// from the scene's parameters (SI units). Each term registers itself in its own file with
-/// `inventory::submit!` (re-exported here), so a new term is one file.
+/// A force term selectable by name from scene files and Python: its name, how to build it
+/// from the scene's parameters (SI units) and, optionally, how the validity monitor estimates
+/// it on a particle that leaves it out. Each term registers itself in its own file with
+/// `inventory::submit!` (re-exported here), so a new term is one file: selectable by name,
+/// and estimated, flagged and recorded by the monitor ([`omission`]).
 pub struct Registration {
     /// Name in scene files (`particles.forces`).
     pub name: &'static str,
-    /// Build the term from its parameters; refuse parameters it does not know.
-    pub build: fn(&BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError>,
+    /// Build the term; refuse parameters it does not take ([`Parameters::only`]).
+    pub build: fn(&Parameters) -> Result<Arc<dyn ForceTerm>, ParamError>,
+    /// The size of the term when a particle leaves it out ([`Omission`]); `None`: not estimated.
+    pub omitted: Option<Omission>,
 }
 
 inventory::collect!(Registration);
 
 pub use inventory;
 
-/// Refuse every parameter: for the `build` of a term that takes none.
-pub fn no_parameters(term: &'static str, parameters: &BTreeMap<String, f64>) -> Result<(), ParamError> {
-    match parameters.keys().next() {
-        Some(key) => Err(ParamError::Unknown {
-            kind: "force-term parameter",
-            name: format!("{term}.{key}"),
-            known: vec![],
-        }),
-        None => Ok(()),
-    }
-}
-
-impl crate::registry::Entry for Registration {
+impl Entry for Registration {
     const KIND: &'static str = "force term";
     fn name(&self) -> &'static str {
         self.name
@@ -282,10 +283,11 @@ impl crate::registry::Entry for Registration {
 
 /// The registered names, sorted.
 pub fn names() -> Vec<&'static str> {
-    crate::registry::names::<Registration>()
+    registry::names::<Registration>()
 }
 
-/// The registry: the term called `name` with its `parameters` (SI units).
-pub fn by_name(name: &str, parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
-    (crate::registry::find::<Registration>(name)?.build)(parameters)
+/// The registry: the term called `name` with parameters `values` (SI units).
+pub fn by_name(name: &str, values: &Values) -> Result<Arc<dyn ForceTerm>, ParamError> {
+    let entry = registry::find::<Registration>(name)?;
+    (entry.build)(&Parameters::new(entry.name, values))
 }

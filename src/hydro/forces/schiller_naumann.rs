@@ -13,10 +13,9 @@
 //! deformation is assumed small enough that the volume-equivalent diameter carries it. For
 //! ellipsoids at finite Re use [`super::HolzerSommerfeld`].
 
-use super::{Contribution, FINITE_RE_DRAG, ForceContext, ForceTerm, Registration, no_parameters};
+use super::{Contribution, FINITE_RE_DRAG, ForceContext, ForceTerm, Observed, Omission, Registration, Rest, Size};
 use crate::error::ParamError;
 use crate::tensor::Vec3;
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Relative spread of the rest semi-axes below which a particle counts as a sphere.
@@ -80,14 +79,24 @@ impl ForceTerm for SchillerNaumann {
     }
 }
 
-fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
-    no_parameters(SchillerNaumann::NAME, parameters)?;
-    Ok(Arc::new(SchillerNaumann))
+/// The finite-Re drag's size where no correction of [`FINITE_RE_DRAG`] is carried: this
+/// correlation's increase c − 1 = 0.15 Re_s^{0.687} at the slip Reynolds number, the relative
+/// change of the drag (a sphere's correlation, taken as the size for every shape).
+fn omitted(_: &Rest, at: &Observed) -> f64 {
+    SchillerNaumann::factor(at.re_slip) - 1.0
 }
 
 inventory::submit! {
     Registration {
         name: SchillerNaumann::NAME,
-        build,
+        build: |p| {
+            p.only(&[])?;
+            Ok(Arc::new(SchillerNaumann))
+        },
+        omitted: Some(Omission {
+            order: 30,
+            carried_by: Some(FINITE_RE_DRAG),
+            size: Size::PerState(omitted),
+        }),
     }
 }

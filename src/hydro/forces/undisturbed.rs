@@ -16,9 +16,7 @@
 //! not for aerosols (ρ_f/ρ_p ≈ 10⁻³). Faxén's curvature corrections (∝ r² ∇²u) are left out,
 //! as is the curvature of u across the particle in the rest of the model.
 
-use super::{Contribution, ForceContext, ForceTerm, Registration, no_parameters};
-use crate::error::ParamError;
-use std::collections::BTreeMap;
+use super::{Contribution, ForceContext, ForceTerm, Observed, Omission, Registration, Rest, Size};
 use std::sync::Arc;
 
 /// The undisturbed-flow (pressure-gradient) force m_f Du/Dt (module docs).
@@ -43,14 +41,38 @@ impl ForceTerm for UndisturbedFlow {
     }
 }
 
-fn build(parameters: &BTreeMap<String, f64>) -> Result<Arc<dyn ForceTerm>, ParamError> {
-    no_parameters(UndisturbedFlow::NAME, parameters)?;
-    Ok(Arc::new(UndisturbedFlow))
+/// The term's size where it is left out: in quasi-steady slip (v̇ ≈ Du/Dt) the drag balances
+/// m Du/Dt − (m − m_f) g without the term and (m − m_f)(Du/Dt − g) with it (added mass cancels
+/// there), so omitting it changes the slip by
+/// ```math
+/// \frac{m_f\,|Du/Dt|}{|(m - m_f)(Du/Dt - g)|},
+/// ```
+/// about ρ_f/(ρ_p − ρ_f) where the flow's acceleration dominates gravity (2 000 for the cavity's
+/// particle) and ρ_f/ρ_p·|Du/Dt|/g where gravity dominates; 0 where Du/Dt = 0, ∞ where the
+/// driving vanishes but the term does not (a neutrally buoyant particle in an accelerating
+/// flow).
+fn omitted(rest: &Rest, at: &Observed) -> f64 {
+    let m_f = rest.rho_f * rest.volume0 * at.det_f;
+    let du_dt = at.flow.material_acceleration();
+    let driving = (du_dt - rest.gravity) * (rest.mass - m_f);
+    match (m_f * du_dt.norm(), driving.norm()) {
+        (0.0, _) => 0.0,
+        (num, den) if den > 0.0 => num / den,
+        _ => f64::INFINITY,
+    }
 }
 
 inventory::submit! {
     Registration {
         name: UndisturbedFlow::NAME,
-        build,
+        build: |p| {
+            p.only(&[])?;
+            Ok(Arc::new(UndisturbedFlow))
+        },
+        omitted: Some(Omission {
+            order: 10,
+            carried_by: None,
+            size: Size::PerState(omitted),
+        }),
     }
 }

@@ -197,7 +197,11 @@ impl Breath {
         })
     }
 
-    /// The window ends of a run: 0, every level inside the inhalation, and its end.
+    /// The window ends of a run: 0, every level inside the inhalation, and its end. Not the
+    /// command's equal windows ([`crate::flow::openfoam::window_ends`]) on purpose: a window
+    /// ends on a level's own time, as its directory names it, so each holds exactly the two
+    /// levels around it; a multiple k·Δt of the spacing differs from a level's time in the last
+    /// bits, and a window ending just past a level holds a third.
     pub fn windows(&self) -> Vec<f64> {
         let end = self.waveform.duration();
         let mut w = vec![0.0];

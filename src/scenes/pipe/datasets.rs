@@ -85,7 +85,7 @@ pub fn trajectory_panel(runs: &[Run<'_>], title: &str) -> Panel {
 }
 
 /// One row of the deposition table.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct DepositionRow {
     /// λ₁.
     pub lambda1: f64,
@@ -153,7 +153,7 @@ pub fn deposition_rows(runs: &[(PipeScene, Deposition)], checks: &[(PipeScene, D
                 steps: run.steps,
                 beyond_pipe: run.distance() * l > scene.flow_data.length,
                 shape: run.shape,
-                validity: run.validity,
+                validity: run.validity.clone(),
             }
         })
         .collect()

@@ -812,8 +812,9 @@ vtk = false
 /// z(t) = v_t(t − τ(1 − e^{−t/τ})) with τ = (ρ_p + ½ρ_f)d²/(18μ) (Maxey & Riley without the
 /// history force), within 10⁻⁴ of the fall (the tolerance 10⁻⁸ on v ≈ 5·10⁻³ m/s over
 /// t = 10⁻² s gives ≤ 10⁻⁸ m against a fall of 4·10⁻⁵ m); with the paper's τ = ρ_p d²/(18μ) the
-/// fall differs by 4 %. A term with parameters is a table; an unknown name or parameter is
-/// refused at `particles.forces[i]`.
+/// fall differs by 4 %. A term with parameters is a table; an unknown name is refused at
+/// `particles.forces[i]`, a parameter the term does not take, one of the wrong kind or a missing
+/// one at `particles.forces[i].<key>`, as the other registries' are.
 #[test]
 fn force_terms_from_a_scene_file() {
     let (mu, rho_f, rho_p, g, d) = (1e-3, 1000.0, 2000.0, 9.81, 1e-4);
@@ -864,8 +865,13 @@ vtk = false
         (r#"["added_mass", "basset"]"#, "particles.forces[1]"),
         (
             r#"[{ term = "cunningham", mean_free_pth = 6.65e-8 }]"#,
-            "particles.forces[0]",
+            "particles.forces[0].mean_free_pth",
         ),
+        (
+            r#"[{ term = "cunningham", mean_free_path = "66 nm" }]"#,
+            "particles.forces[0].mean_free_path",
+        ),
+        (r#"[{ term = "cunningham" }]"#, "particles.forces[0].mean_free_path"),
     ] {
         match parse_text(&text(forces)) {
             Err(CliError::Scene { key: k, .. }) => assert_eq!(k, key),

@@ -13,7 +13,6 @@ use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::Rigid;
 use pseudorigid::prelude::*;
 use pseudorigid::scenes::forces::{SettlingCase, added_mass_shapes, settle};
-use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -767,12 +766,15 @@ fn light_sphere_with_added_mass_rises_stably() {
     }
 }
 
-/// The registry: every name it lists builds; unknown names and parameters, a missing mean
-/// free path, a term given twice and a sphere's correlation on an ellipsoid are typed errors.
+/// The registry: every name it lists builds; an unknown name, a parameter the term does not
+/// take, a missing or wrongly typed mean free path (each naming its key, as the other
+/// registries' refusals do), a term given twice and a sphere's correlation on an ellipsoid are
+/// typed errors.
 #[test]
 fn force_terms_by_name() {
-    let none = BTreeMap::new();
-    let lambda = BTreeMap::from([("mean_free_path".to_string(), 6.65e-8)]);
+    use pseudorigid::registry::{Value, Values};
+    let none = Values::new();
+    let lambda = Values::from([("mean_free_path".to_string(), Value::Number(6.65e-8))]);
     let names = pseudorigid::hydro::forces::names();
     assert_eq!(
         names,
@@ -790,11 +792,18 @@ fn force_terms_by_name() {
         assert_eq!(by_name(name, params).unwrap().name(), name);
     }
     assert!(matches!(by_name("basset", &none), Err(ParamError::Unknown { .. })));
-    assert!(matches!(
-        by_name("added_mass", &lambda),
-        Err(ParamError::Unknown { .. })
-    ));
-    assert!(by_name("cunningham", &none).is_err());
+    let refused = by_name("added_mass", &lambda).unwrap_err();
+    assert!(
+        matches!(&refused, ParamError::Unexpected { model: "added_mass", key, .. } if key == "mean_free_path"),
+        "{refused:?}"
+    );
+    let refused = by_name("cunningham", &none).unwrap_err();
+    assert!(
+        matches!(&refused, ParamError::Missing { model: "cunningham", key } if key == "mean_free_path"),
+        "{refused:?}"
+    );
+    let text = Values::from([("mean_free_path".to_string(), Value::from("66 nm"))]);
+    assert_eq!(by_name("cunningham", &text).unwrap_err().key(), Some("mean_free_path"));
     let twice: Vec<Arc<dyn ForceTerm>> = vec![Arc::new(AddedMass), Arc::new(AddedMass)];
     assert!(ForceTerms::new(twice).is_err());
     let prolate = Particle::with_drag(

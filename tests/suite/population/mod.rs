@@ -2,6 +2,8 @@
 
 mod batch;
 mod checkpoint;
+#[cfg(feature = "parquet")]
+mod columns;
 mod common;
 mod injection;
 mod release;
