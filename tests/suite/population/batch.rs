@@ -2,7 +2,7 @@
 //! runner on a steady field, the same records bit for bit on 1 and 2 threads, for two shard
 //! layouts and across a stop and resume; its particle-steps per second against the runner's.
 
-use super::common::{Faulty, config, integrator, plan, soft_pipe};
+use super::common::{FaultySoftPipe, config, plan};
 use pseudorigid::material::NeoHooke;
 use pseudorigid::population::batch::{Batch, Steady, run_batch};
 use pseudorigid::population::{Case, Fate, PopulationError, RunControl, RunOptions, RunOutput, Shard, run};
@@ -31,11 +31,7 @@ fn kind(f: &Fate) -> (&'static str, Option<usize>) {
 
 #[test]
 fn batch_fates_are_the_runners_on_a_steady_field() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
+    let FaultySoftPipe { stokes, pipe, faulty } = FaultySoftPipe::new();
     let config = config(40);
     let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
     let quiet = RunOptions::default().quiet();
@@ -75,11 +71,7 @@ fn batch_fates_are_the_runners_on_a_steady_field() {
 
 #[test]
 fn batch_records_are_the_same_for_threads_shards_and_a_resume() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
+    let FaultySoftPipe { stokes, pipe, faulty } = FaultySoftPipe::new();
     let config = config(31);
     let batch = Batch::new(&stokes, pipe.boundary(), &faulty, plan());
     let quiet = RunOptions::default().quiet();
@@ -167,11 +159,7 @@ fn batch_over_a_sliding_window_is_the_batch_over_every_level() {
     let case = FoamCase::open(&dir).unwrap();
     let every = FoamFlow::read(&case, &times).unwrap();
     let mut window = TransientFlow::<FoamFlow>::open(case, &times, Cycle::Once, Precision::F64).unwrap();
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
+    let FaultySoftPipe { stokes, pipe, faulty } = FaultySoftPipe::new();
     let batch = Batch::new(&stokes, pipe.boundary(), &faulty, plan());
     let config = config(24);
     let quiet = RunOptions::default().quiet();

@@ -5,7 +5,7 @@
 
 use super::common as population_common;
 
-use population_common::{Faulty, config, integrator, plan, soft_pipe};
+use population_common::{Faulty, FaultySoftPipe, config, integrator, plan, soft_pipe};
 use pseudorigid::population::{Case, Progress, RunOptions, RunOutput, Shard, run};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -136,12 +136,8 @@ fn killed_run_resumes_bitwise() {
         "{log}"
     );
     let resumed = RunOutput::<pseudorigid::material::NeoHooke>::read_json(output_path(&dir)).unwrap();
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let fast = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
-    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &fast, plan());
+    let soft = FaultySoftPipe::new();
+    let case = soft.case(plan());
     let whole = run(&case, &config(PARTICLES), Shard::ALL, &RunOptions::default().quiet()).unwrap();
     assert!(resumed.to_json().unwrap() == whole.to_json().unwrap());
     // No temporary file of a killed write is taken for a chunk, and none is left after the

@@ -2,12 +2,12 @@
 //! columns and values of `records.parquet`, for every fate, a rigid particle and one that
 //! could not be drawn.
 
-use super::common::{Faulty, config, integrator, plan, soft_pipe};
+use super::common::{FaultySoftPipe, config, plan};
 use arrow_array::{Array, Float64Array, Int64Array, StringArray, UInt64Array};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::population::columns::record_columns;
-use pseudorigid::population::{Case, Fate, RunOptions, Shard, run};
+use pseudorigid::population::{Fate, RunOptions, Shard, run};
 
 /// The value in row `i` of `column` as `results.csv` writes it.
 fn csv_field(column: &dyn Array, i: usize) -> String {
@@ -30,12 +30,8 @@ fn csv_field(column: &dyn Array, i: usize) -> String {
 
 #[test]
 fn results_csv_read_back_holds_the_records_parquet_columns_and_values() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
-    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let soft = FaultySoftPipe::new();
+    let case = soft.case(plan());
     let mut out = run(&case, &config(12), Shard::ALL, &RunOptions::default().quiet()).unwrap();
     // A rigid particle (no μ_s), a suspended one (none of these twelve is left at the end time),
     // a patch name and an error with a comma (a space in CSV).

@@ -1,13 +1,15 @@
 //! Shared set-up of the population tests: the settling pipe as a population, with an
 //! injector wrapper that fails some particles on purpose and can slow every draw down.
 
+use pseudorigid::contact::{Composite, PipeWall};
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::error::{ParamError, StepError};
+use pseudorigid::flow::analytic::Poiseuille;
 use pseudorigid::integrator::{BarycentreModel, Stokesian};
 use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::particle::Particle;
 use pseudorigid::population::settling_pipe::SettlingPipe;
-use pseudorigid::population::{Injector, ParticleRng, ParticleSpec, RunConfig};
+use pseudorigid::population::{Case, Injector, ParticleRng, ParticleSpec, RunConfig};
 use pseudorigid::prelude::Brenner;
 use std::time::Duration;
 
@@ -69,6 +71,33 @@ impl Injector for Faulty {
 
     fn particle(&self, spec: &ParticleSpec<NeoHooke>) -> Result<Particle<Softness<NeoHooke>, Brenner>, ParamError> {
         self.inner.particle(spec)
+    }
+}
+
+/// The faulty soft pipe without delay and its integrator, owned together so that a test makes
+/// its [`Case`] in one line: `let soft = FaultySoftPipe::new(); let case = soft.case(plan());`.
+pub struct FaultySoftPipe {
+    pub stokes: Stokesian,
+    pub pipe: SettlingPipe,
+    pub faulty: Faulty,
+}
+
+impl FaultySoftPipe {
+    pub fn new() -> Self {
+        let pipe = soft_pipe();
+        Self {
+            stokes: integrator(),
+            faulty: Faulty {
+                inner: pipe.clone(),
+                delay: None,
+            },
+            pipe,
+        }
+    }
+
+    /// The case of these particles in the pipe's flow and wall, run to `plan`.
+    pub fn case(&self, plan: Plan) -> Case<'_, Stokesian, Poiseuille, Composite<PipeWall>, Faulty> {
+        Case::new(&self.stokes, self.pipe.flow(), self.pipe.boundary(), &self.faulty, plan)
     }
 }
 

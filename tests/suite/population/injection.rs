@@ -2,7 +2,7 @@
 //! before they existed, bit for bit; with them every particle starts at its own time, in the
 //! batch runner's window that contains it, with the particle-major runner's fate.
 
-use super::common::{Faulty, config, integrator, plan, soft_pipe};
+use super::common::{Faulty, FaultySoftPipe, config, integrator, plan, soft_pipe};
 use proptest::prelude::*;
 use pseudorigid::error::{FlowError, ParamError, StepError};
 use pseudorigid::flow::{FlowField, FlowSample};
@@ -39,11 +39,7 @@ fn fnv1a(bytes: &[u8]) -> String {
 /// A regression guard by design, not a check.
 #[test]
 fn records_without_injection_times_are_those_before_them() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
+    let FaultySoftPipe { stokes, pipe, faulty } = FaultySoftPipe::new();
     let config = config(40);
     let quiet = RunOptions::default().quiet();
     let case = pseudorigid::population::Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());

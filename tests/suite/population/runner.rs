@@ -3,7 +3,7 @@
 
 use super::common as population_common;
 
-use population_common::{Faulty, config, integrator, pipe, plan, soft_pipe};
+use population_common::{FaultySoftPipe, config, pipe, plan};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
 use pseudorigid::population::settling_pipe::sphere_deposition;
@@ -89,12 +89,8 @@ fn rigid_spheres_deposit_at_the_closed_form_point() {
 /// Serial, and 1, 2 and 3 threads give the same bytes; the population holds every fate.
 #[test]
 fn same_results_serial_and_on_any_number_of_threads() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
-    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let soft = FaultySoftPipe::new();
+    let case = soft.case(plan());
     let config = config(40);
     let serial = run(&case, &config, Shard::ALL, &RunOptions::default().serial().quiet()).unwrap();
     let counts = serial.counts();
@@ -118,7 +114,7 @@ fn same_results_serial_and_on_any_number_of_threads() {
             max_steps: 30,
             wall_time: None,
         });
-    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, tight);
+    let case = soft.case(tight);
     let serial = run(&case, &config, Shard::ALL, &RunOptions::default().serial().quiet()).unwrap();
     let budget_failures = serial
         .records
@@ -134,12 +130,8 @@ fn same_results_serial_and_on_any_number_of_threads() {
 /// for byte; merges of the wrong parts are typed errors.
 #[test]
 fn merged_shards_equal_the_whole_run() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
-    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let soft = FaultySoftPipe::new();
+    let case = soft.case(plan());
     let config = config(31);
     let opts = RunOptions::default().quiet();
     let whole = run(&case, &config, Shard::ALL, &opts).unwrap();
@@ -223,12 +215,8 @@ fn merged_shards_equal_the_whole_run() {
 /// new run refuses an existing checkpoint, and a different run refuses it with its hash.
 #[test]
 fn checkpoint_guards_and_resume_of_a_finished_run() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
-    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let soft = FaultySoftPipe::new();
+    let case = soft.case(plan());
     let config = config(12);
     let dir = scratch("checkpoint");
     let opts = RunOptions::default().quiet().with_checkpoints(&dir, Duration::ZERO);
@@ -309,12 +297,8 @@ fn edit_digit(text: &str, key: &str) -> String {
 /// version's or an unsealed file is refused as such; the untouched files resume and merge.
 #[test]
 fn edited_chunk_and_shard_are_refused_by_their_checksum() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
-    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let soft = FaultySoftPipe::new();
+    let case = soft.case(plan());
     let config = config(6);
     let dir = scratch("checksum");
     let opts = RunOptions::default()
@@ -383,12 +367,8 @@ fn edited_chunk_and_shard_are_refused_by_their_checksum() {
 /// components, and particle k draws the same numbers whatever else has been drawn.
 #[test]
 fn records_round_trip_exactly() {
-    let (stokes, pipe) = (integrator(), soft_pipe());
-    let faulty = Faulty {
-        inner: pipe.clone(),
-        delay: None,
-    };
-    let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &faulty, plan());
+    let soft = FaultySoftPipe::new();
+    let case = soft.case(plan());
     let mut out = run(&case, &config(6), Shard::ALL, &RunOptions::default().quiet()).unwrap();
     let end = out.records[0].end.as_mut().unwrap();
     end.x = nalgebra::Vector3::new(5e-324, -0.0, 1.7976931348623157e308);
