@@ -124,6 +124,15 @@ pub enum ParamError {
         /// What it must be.
         expected: &'static str,
     },
+    /// One model given twice in a list where each may appear once (a force term named twice
+    /// would add its force twice).
+    #[error("{kind} `{name}` given twice: it would count twice; give it once")]
+    Repeated {
+        /// What the list holds.
+        kind: &'static str,
+        /// The model given twice.
+        name: String,
+    },
     /// Two models of the same physics chosen together, which would count it twice (two
     /// finite-Reynolds-number drag corrections on one particle, ...).
     #[error("`{first}` and `{second}` are both a {what}: together they count it twice; keep one")]

@@ -97,6 +97,18 @@ impl ParticleNumbers {
     }
 }
 
+/// The scheme for relative tolerance `rtol`: the Rosenbrock-W 2(3) pair at rtol ≥
+/// [`ROSENBROCK_RTOL`], Radau IIA(5) below (module docs). Every integrator that wraps an
+/// inertialess full model by tolerance alone takes its scheme from here (`auto`, and the
+/// slow manifold's full model).
+pub fn scheme_for(rtol: f64) -> Scheme {
+    if rtol >= ROSENBROCK_RTOL {
+        Scheme::Rosenbrock23
+    } else {
+        Scheme::Radau5
+    }
+}
+
 /// An integrator and why it was chosen.
 #[derive(Debug, Clone)]
 pub struct Choice {
@@ -124,12 +136,8 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
         });
     }
     let equilibrium = stokes <= EQUILIBRIUM_STOKES;
-    let rosenbrock = tol.rtol() >= ROSENBROCK_RTOL;
-    let scheme = if rosenbrock {
-        Scheme::Rosenbrock23
-    } else {
-        Scheme::Radau5
-    };
+    let scheme = scheme_for(tol.rtol());
+    let rosenbrock = scheme == Scheme::Rosenbrock23;
     let reason = format!(
         "{} inertialess shape, {} barycentre, {}: St = {stokes:.3e} {} {EQUILIBRIUM_STOKES}, rtol = {:.0e} {} \
          {ROSENBROCK_RTOL:.0e}, rho* = {rho_star:.3e}{}",

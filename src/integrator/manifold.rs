@@ -297,6 +297,9 @@ impl TimeIntegrator for Manifold {
 
 // Selectable by name: `[integrator] type = "slow_manifold"` with `tol` (rtol = atol of the full
 // model), `overdamped` and `norm` as for `radau_iia`, and `delta_max` (default √tol, in (0, 1)).
+// The full model's scheme is the one `auto` takes at that tolerance
+// ([`super::choice::scheme_for`]: Rosenbrock-W 2(3) at tol ≥ 10⁻³, Radau IIA below), so that a
+// particle off the manifold, and a rigid one, costs what it costs under `auto`.
 inventory::submit! {
     super::IntegratorRegistration {
         name: "slow_manifold",
@@ -309,6 +312,7 @@ inventory::submit! {
             } else {
                 Stokesian::new(tol)
             }?
+            .with_scheme(super::choice::scheme_for(tol))
             .with_norm(super::stokesian::error_norm(p)?);
             let manifold = match p.positive("delta_max") {
                 Err(ParamError::Missing { .. }) => Manifold::new(full),

@@ -190,16 +190,15 @@ pub const FLUID_INERTIA: [&str; 2] = [UndisturbedFlow::NAME, AddedMass::NAME];
 pub struct ForceTerms(Arc<[Arc<dyn ForceTerm>]>);
 
 impl ForceTerms {
-    /// The given terms, in order. A term named twice would count twice and is refused, and so
-    /// are two terms of one [`ForceTerm::exclusive_group`] ([`ParamError::Conflict`], naming
-    /// both).
+    /// The given terms, in order. A term named twice would count twice and is refused
+    /// ([`ParamError::Repeated`]), and so are two terms of one [`ForceTerm::exclusive_group`]
+    /// ([`ParamError::Conflict`], naming both).
     pub fn new(terms: Vec<Arc<dyn ForceTerm>>) -> Result<Self, ParamError> {
         for (i, term) in terms.iter().enumerate() {
             if terms[..i].iter().any(|t| t.name() == term.name()) {
-                return Err(ParamError::Unknown {
-                    kind: "force term (given twice)",
+                return Err(ParamError::Repeated {
+                    kind: "force term",
                     name: term.name().to_string(),
-                    known: names(),
                 });
             }
             let Some(group) = term.exclusive_group() else {

@@ -112,12 +112,22 @@ fn scheme_names_and_their_aliases_choose_the_scheme() {
 }
 
 /// `slow_manifold` is selectable by name with its `delta_max`, which must lie in (0, 1): a
-/// value outside is refused with the key named (no panic, no run).
+/// value outside is refused with the key named (no panic, no run). Its full model takes the
+/// scheme `auto` takes at the same tolerance (Radau IIA at the scene's 10⁻⁸, Rosenbrock-W 2(3)
+/// at the studies' 10⁻²), as the run log says.
 #[test]
 fn slow_manifold_is_selectable_and_checks_delta_max() {
     let from = "type = \"radau_iia\"";
     let s = scene("oblate_shear.toml", &[(from, "type = \"slow_manifold\"")]);
     assert_eq!(s.integrator.name(), "slow_manifold");
+    let log = s.integrator_log().join("\n");
+    assert!(log.contains("the full model, radau_iia"), "{log}");
+    let loose = scene(
+        "oblate_shear.toml",
+        &[(from, "type = \"slow_manifold\""), ("tol = 1e-8", "tol = 1e-2")],
+    );
+    let log = loose.integrator_log().join("\n");
+    assert!(log.contains("the full model, rosenbrock_w23"), "{log}");
     let s = scene(
         "oblate_shear.toml",
         &[(from, "type = \"slow_manifold\"\ndelta_max = 0.05")],

@@ -805,7 +805,10 @@ fn force_terms_by_name() {
     let text = Values::from([("mean_free_path".to_string(), Value::from("66 nm"))]);
     assert_eq!(by_name("cunningham", &text).unwrap_err().key(), Some("mean_free_path"));
     let twice: Vec<Arc<dyn ForceTerm>> = vec![Arc::new(AddedMass), Arc::new(AddedMass)];
-    assert!(ForceTerms::new(twice).is_err());
+    assert!(matches!(
+        ForceTerms::new(twice),
+        Err(ParamError::Repeated { name, .. }) if name == "added_mass"
+    ));
     let prolate = Particle::with_drag(
         Ellipsoid::new([2e-5, 1e-5, 1e-5], Mat3::identity()).unwrap(),
         Rigid,
