@@ -27,7 +27,7 @@
 //!
 //! # How much the answer moves: the re-track
 //! The ratios say whether the wall layer decides; the re-track measures by how much. The first
-//! min(N, `output.adequacy_sample`) particles by index (default [`DEFAULT_SAMPLE`]; the same
+//! min(N, `output.adequacy_sample`) particles by index (default [`DEFAULT_SAMPLE`](super::scene::DEFAULT_SAMPLE); the same
 //! particles every time) are run again from the same injection on the other reconstruction of
 //! the same solution: the cellwise field (each cell's linear fit, no wall layer) for a run on
 //! the blended field, the blended field for a run with `flow.blend = false`. Their fates are
@@ -81,12 +81,6 @@ use crate::tensor::Vec3;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
-
-/// Particles re-tracked by default: the paired standard error of a deposition fraction near
-/// f over n pairs is at most √(f(1 − f)·2/n), 0.07 at f = 0.5 and n = 200, so a shift of a
-/// tenth of the particles' fates is seen; 200 particles cost a fifth of the TJunction
-/// tutorial's 1 000-tracer run.
-pub const DEFAULT_SAMPLE: u64 = 200;
 
 /// Paired standard errors beyond which the re-track warns: two, a two-sided 95 % test in the
 /// normal approximation. At a handful of discordant pairs that approximation is liberal (4

@@ -453,7 +453,7 @@ pub struct OutputSpec {
     /// Write ParaView files (default true).
     pub vtk: Option<bool>,
     /// Particles re-tracked on the other reconstruction of an OpenFOAM field
-    /// (`cli::adequacy`; default `cli::adequacy::DEFAULT_SAMPLE` on a steady OpenFOAM field, 0
+    /// (`cli::adequacy`; default `cli::scene::DEFAULT_SAMPLE` on a steady OpenFOAM field, 0
     /// elsewhere; 0: no re-track).
     pub adequacy_sample: Option<Spanned<u64>>,
 }
