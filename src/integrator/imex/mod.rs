@@ -287,11 +287,13 @@ impl TimeIntegrator for ImexPaper {
     }
 }
 
-// Selectable by name: `[integrator] type = "imex"` (fixed `dt`, inertial barycentre only).
+// Selectable by name: `[integrator] type = "imex_paper"` (the name datasets and run logs give
+// it, [`TimeIntegrator::name`]; `imex` is kept as an alias), fixed `dt`, inertial barycentre
+// only.
 inventory::submit! {
     super::IntegratorRegistration {
-        name: "imex",
-        aliases: &["imex_paper"],
+        name: "imex_paper",
+        aliases: &["imex"],
         build: |p| {
             p.only(&["overdamped"])?;
             super::registry::inertial_only(p)?;

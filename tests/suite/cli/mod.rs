@@ -89,8 +89,6 @@ fn every_example_scene_validates() {
     }
 }
 
-/// Fig. 4's oblate at Ca = 0.4: the scene's material lines at every output time equal the
-/// library's `oblate_fig4_run` bitwise.
 /// `radau_iia` and `rosenbrock_w23` pick their scheme, and the integrator's dataset name is the
 /// scheme's name. Earlier scene files' names are aliases: `stokesian` (the library's
 /// `Stokesian::new`) and `stokesian_radau5` read as `radau_iia`, `stokesian_rosenbrock23` as
@@ -143,6 +141,8 @@ fn slow_manifold_is_selectable_and_checks_delta_max() {
     }
 }
 
+/// Fig. 4's oblate at Ca = 0.4: the scene's material lines at every output time equal the
+/// library's `oblate_fig4_run` bitwise.
 #[test]
 fn oblate_shear_scene_is_the_library_fig4_run() {
     let s = scene("oblate_shear.toml", &[("t_end = 30.0", "t_end = 3.0")]);

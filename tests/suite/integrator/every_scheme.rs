@@ -311,3 +311,22 @@ fn radau_error_falls_faster_than_second_order_with_tolerance() {
     let e7 = (run(1e-7) - reference).amax();
     assert!(e5 / e7 >= 10f64.powf(1.6), "errors {e5:e} (1e-5), {e7:e} (1e-7)");
 }
+
+/// One name per integrator: the paper's IMEX scheme is registered under the name its runs and
+/// datasets report ([`TimeIntegrator::name`], `imex_paper`), which the registry lists, and the
+/// earlier scene files' `imex` reads as it.
+#[test]
+fn imex_is_registered_under_the_name_it_reports() {
+    use pseudorigid::integrator::registry::{by_name, names};
+    use pseudorigid::registry::Values;
+    assert_eq!(ImexPaper::default().name(), "imex_paper");
+    for given in ["imex_paper", "imex"] {
+        let integrator = by_name(given, &Values::new()).unwrap();
+        assert_eq!(integrator.name(), "imex_paper", "{given}");
+    }
+    let listed = names();
+    assert!(
+        listed.contains(&"imex_paper") && !listed.contains(&"imex"),
+        "{listed:?}"
+    );
+}
