@@ -355,7 +355,7 @@ fn models_by_name_are_refused_at_their_keys() {
             "dt = 0.001",
             "dt = 0.001\ntol = 1e-6",
             "integrator.tol",
-            "`imex` does not take `tol`",
+            "`imex_paper` does not take `tol`",
         ),
         (
             "dt = 0.001",
@@ -369,7 +369,8 @@ fn models_by_name_are_refused_at_their_keys() {
         let text = LISTED.replacen(from, to, 1);
         refused_at(&text, key, says, to);
     }
-    // The earlier spelling `imex_paper` (the scheme's dataset name) and a drag table are read.
+    // The scheme's name `imex_paper` (the scene above writes the earlier `imex`; errors name
+    // it `imex_paper`, above) and a drag table are read.
     for (from, to) in [
         ("type = \"imex\"", "type = \"imex_paper\""),
         ("drag = \"brenner\"", "drag = { model = \"stokes_sphere\" }"),
