@@ -111,9 +111,9 @@ pub trait LawFactory: Send + Sync {
 
 /// Builds [`NeoHooke`] laws (the paper's eq. 9).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct NeoHookeLaw;
+pub struct NeoHookeFactory;
 
-impl LawFactory for NeoHookeLaw {
+impl LawFactory for NeoHookeFactory {
     type Law = NeoHooke;
 
     fn law(&self, mu_s: f64, lambda_s: f64) -> Result<NeoHooke, crate::error::ParamError> {
@@ -124,12 +124,12 @@ impl LawFactory for NeoHookeLaw {
 /// Builds [`MooneyRivlin`] laws with μ₁ = (1 − β)μ_s and μ₂ = βμ_s, whose small-strain shear
 /// modulus is μ₁ + μ₂ = μ_s; β = 0 is Neo-Hooke-like.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MooneyRivlinLaw {
+pub struct MooneyRivlinFactory {
     /// Share β ∈ [0, 1] of the second invariant.
     pub beta: f64,
 }
 
-impl LawFactory for MooneyRivlinLaw {
+impl LawFactory for MooneyRivlinFactory {
     type Law = MooneyRivlin;
 
     fn law(&self, mu_s: f64, lambda_s: f64) -> Result<MooneyRivlin, crate::error::ParamError> {

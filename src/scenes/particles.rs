@@ -4,13 +4,13 @@
 //!
 //! A scene takes a [`ParticleModel`] so that a study with another hyperelastic law (any
 //! [`LawFactory`]) or drag model (any [`DragModel`]) runs through the paper's scenes unchanged:
-//! `Cavity::new(&field)?.with_model(ParticleModel::new(MooneyRivlinLaw { beta: 0.3 }, Brenner,
+//! `Cavity::new(&field)?.with_model(ParticleModel::new(MooneyRivlinFactory { beta: 0.3 }, Brenner,
 //! DEFAULT_BULK_RATIO)?)`.
 
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, positive};
 use crate::hydro::{Brenner, DragModel};
-use crate::material::{self, LawFactory, NeoHookeLaw};
+use crate::material::{self, LawFactory, NeoHookeFactory};
 use crate::particle::{Fluid, Particle};
 use crate::tensor::Mat3;
 use serde::{Deserialize, Serialize};
@@ -154,7 +154,7 @@ pub type SceneResponse<L> = material::Softness<<L as LawFactory>::Law>;
 
 /// Law family, drag model and bulk ratio of a study's particles.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ParticleModel<L = NeoHookeLaw, D = Brenner> {
+pub struct ParticleModel<L = NeoHookeFactory, D = Brenner> {
     law: L,
     drag: D,
     bulk_ratio: f64,
@@ -164,7 +164,7 @@ impl Default for ParticleModel {
     /// The paper's model: Neo-Hooke (eq. 9), Brenner drag, [`DEFAULT_BULK_RATIO`].
     fn default() -> Self {
         Self {
-            law: NeoHookeLaw,
+            law: NeoHookeFactory,
             drag: Brenner,
             bulk_ratio: DEFAULT_BULK_RATIO,
         }

@@ -14,12 +14,12 @@ use super::shear_regimes::{Classification, Regime, RegimeClassifier};
 use super::shear_shape::ShearShape;
 use crate::diagnostics::Validity;
 use crate::integrator::TimeIntegrator;
-use crate::material::{LawFactory, NeoHookeLaw};
+use crate::material::{LawFactory, NeoHookeFactory};
 use crate::particle::ShearScaling;
 
 /// Bracket search settings.
 #[derive(Debug, Clone, Copy)]
-pub struct BoundarySearch<I, L = NeoHookeLaw> {
+pub struct BoundarySearch<I, L = NeoHookeFactory> {
     /// Classifier used at every Ca.
     pub classifier: RegimeClassifier<I, L>,
     /// ρ* and λ_s/μ_s of the particles (Ca is replaced).

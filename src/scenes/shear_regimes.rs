@@ -35,7 +35,7 @@ use crate::diagnostics::{Monitor, Validity};
 use crate::driver::{Plan, RunStats, integrate};
 use crate::integrator::Dense;
 use crate::integrator::{Scheme, Stokesian, TimeIntegrator};
-use crate::material::{LawFactory, NeoHookeLaw};
+use crate::material::{LawFactory, NeoHookeFactory};
 use crate::particle::{ShearScaling, State};
 use crate::tensor::Vec3;
 use serde::{Deserialize, Serialize};
@@ -70,7 +70,7 @@ pub struct Classification {
 
 /// The TU/TR classifier: an integrator, the particles' law, the horizon and checking density.
 #[derive(Debug, Clone, Copy)]
-pub struct RegimeClassifier<I, L = NeoHookeLaw> {
+pub struct RegimeClassifier<I, L = NeoHookeFactory> {
     /// Time integrator.
     pub integrator: I,
     /// Builds each particle's law from μ_s = 1/Ca and λ_s = (λ_s/μ_s)/Ca.
@@ -97,7 +97,7 @@ impl<I: TimeIntegrator> RegimeClassifier<I> {
     pub fn new(integrator: I, dt0: f64) -> Self {
         Self {
             integrator,
-            law: NeoHookeLaw,
+            law: NeoHookeFactory,
             dt0,
             t_min: 30.0,
             periods: 8.0,

@@ -41,7 +41,7 @@ use std::time::Instant;
 
 /// Reference problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum Case {
+pub enum Problem {
     /// Rigid prolate r = 5 on its Jeffery orbit.
     Jeffery,
     /// Tank-treading sphere at Ca = 0.2 against Roscoe.
@@ -50,13 +50,13 @@ pub enum Case {
     Oblate,
 }
 
-impl Case {
+impl Problem {
     /// Name used in the dataset.
     pub fn name(self) -> &'static str {
         match self {
-            Case::Jeffery => "jeffery",
-            Case::TankTreading => "tank_treading",
-            Case::Oblate => "oblate",
+            Problem::Jeffery => "jeffery",
+            Problem::TankTreading => "tank_treading",
+            Problem::Oblate => "oblate",
         }
     }
 }
@@ -118,7 +118,7 @@ impl Setting {
 
 /// The settings of the study for `case`: every integrator with its sweep of Δt or tolerance.
 /// This table is the one place that lists the integrators; a new one is a line here.
-pub fn sweep(case: Case) -> Vec<Setting> {
+pub fn sweep(case: Problem) -> Vec<Setting> {
     const DECADES: [f64; 7] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
     let mut s: Vec<Setting> = [80.0, 160.0, 320.0, 640.0]
         .iter()
@@ -127,7 +127,7 @@ pub fn sweep(case: Case) -> Vec<Setting> {
     s.extend([1e-3, 1e-4, 1e-5, 1e-6].map(Setting::ImexAdaptive));
     s.extend(DECADES.map(Setting::RosenbrockW23));
     s.extend(DECADES.map(Setting::RadauIia));
-    if case == Case::Jeffery {
+    if case == Problem::Jeffery {
         s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::Rigid));
     }
     if has_peer(case) {
@@ -146,7 +146,7 @@ pub fn sweep(case: Case) -> Vec<Setting> {
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Record {
     /// Problem.
-    pub case: Case,
+    pub case: Problem,
     /// Integrator and setting.
     pub setting: Setting,
     /// Error against the reference.
@@ -167,22 +167,22 @@ fn shear() -> LinearFlow {
 }
 
 /// Initial shape and capillary number of `case`.
-fn definition(case: Case) -> (ShearShape, f64) {
+fn definition(case: Problem) -> (ShearShape, f64) {
     match case {
-        Case::Jeffery => (ShearShape::new(Shape::Prolate(JEFFERY_R)), 1e-4),
-        Case::TankTreading => (ShearShape::new(Shape::Sphere), 0.2),
+        Problem::Jeffery => (ShearShape::new(Shape::Prolate(JEFFERY_R)), 1e-4),
+        Problem::TankTreading => (ShearShape::new(Shape::Sphere), 0.2),
         // paper §6.1.1: ω₁ = ω₂ = 2.5, the short axis along the gradient
-        Case::Oblate => (ShearShape::new(Shape::Oblate(2.5)), 0.4),
+        Problem::Oblate => (ShearShape::new(Shape::Oblate(2.5)), 0.4),
     }
 }
 
-fn particle(case: Case) -> Result<Particle<NeoHooke>, SceneError> {
+fn particle(case: Problem) -> Result<Particle<NeoHooke>, SceneError> {
     let (shape, ca) = definition(case);
     Ok(shape.particle(&ShearScaling::new(ca, RHO_STAR, BULK)?)?)
 }
 
 /// The peer's version of `case` (it runs the inertialess model, so ρ* does not enter).
-fn peer_case(case: Case) -> PeerCase {
+fn peer_case(case: Problem) -> PeerCase {
     let (shape, ca) = definition(case);
     PeerCase {
         semi_axes: shape.ratios(),
@@ -192,15 +192,15 @@ fn peer_case(case: Case) -> PeerCase {
     }
 }
 
-fn t_end(case: Case) -> f64 {
+fn t_end(case: Problem) -> f64 {
     match case {
-        Case::Jeffery => JEFFERY_T,
-        Case::TankTreading | Case::Oblate => 30.0,
+        Problem::Jeffery => JEFFERY_T,
+        Problem::TankTreading | Problem::Oblate => 30.0,
     }
 }
 
 /// Run `case` with `setting`, sampling F at t = 1, 2, …, t_end.
-fn trajectory(case: Case, setting: Setting) -> Result<(Vec<State>, RunStats, f64), SceneError> {
+fn trajectory(case: Problem, setting: Setting) -> Result<(Vec<State>, RunStats, f64), SceneError> {
     let p = particle(case)?;
     let times: Vec<f64> = (1..=t_end(case) as usize).map(|i| i as f64).collect();
     let mut samples = Vec::with_capacity(times.len());
@@ -256,7 +256,7 @@ fn trajectory(case: Case, setting: Setting) -> Result<(Vec<State>, RunStats, f64
     Ok((samples, stats, start.elapsed().as_secs_f64()))
 }
 
-fn peer_trajectory(case: Case, method: PeerMethod, tol: f64) -> Result<(Vec<State>, RunStats, f64), SceneError> {
+fn peer_trajectory(case: Problem, method: PeerMethod, tol: f64) -> Result<(Vec<State>, RunStats, f64), SceneError> {
     let run = Peer::from_env().run(&peer_case(case), method, tol)?;
     let stats = RunStats {
         steps: run.steps,
@@ -303,9 +303,9 @@ const SHORT_RUN_S: f64 = 0.1;
 /// Repetitions of a short run (library and peer alike).
 const REPEATS: usize = 5;
 
-/// Error of one run against the case's reference (`reference` only for [`Case::Oblate`]).
+/// Error of one run against the case's reference (`reference` only for [`Problem::Oblate`]).
 /// Runs shorter than 0.1 s are repeated five times and report their fastest wall time.
-pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Result<Record, SceneError> {
+pub fn measure(case: Problem, setting: Setting, reference: Option<&[State]>) -> Result<Record, SceneError> {
     let (samples, stats, mut wall_s) = trajectory(case, setting)?;
     if wall_s < SHORT_RUN_S {
         for _ in 1..REPEATS {
@@ -322,23 +322,23 @@ pub fn measure(case: Case, setting: Setting, reference: Option<&[State]>) -> Res
 }
 
 /// The case's error measure of a run sampled at t = 1, 2, …, t_end.
-fn error_of(case: Case, samples: &[State], reference: Option<&[State]>) -> Result<f64, SceneError> {
+fn error_of(case: Problem, samples: &[State], reference: Option<&[State]>) -> Result<f64, SceneError> {
     let last = samples.last().expect("at least one output time");
     Ok(match case {
-        Case::Jeffery => {
+        Problem::Jeffery => {
             let p = particle(case)?;
             let mut d =
                 long_axis_angle(&p, last) - jeffery_phi(JEFFERY_R, jeffery_flow_aligned_time(JEFFERY_R) + JEFFERY_T);
             d -= (d / std::f64::consts::PI).round() * std::f64::consts::PI;
             d.abs()
         }
-        Case::TankTreading => {
+        Problem::TankTreading => {
             let exact = roscoe(definition(case).1)?.steady;
             let p = particle(case)?;
             let sec = super::section::ShearPlaneSection::of(&p.total_distortion(&last.f));
             (sec.deformation() - exact.deformation()).abs() + (sec.angle - exact.theta).abs()
         }
-        Case::Oblate => {
+        Problem::Oblate => {
             let reference = reference.expect("oblate case needs a reference run");
             crate::tensor::max_or_nan(samples.iter().zip(reference).map(|(a, b)| (a.f - b.f).amax()))
         }
@@ -348,20 +348,20 @@ fn error_of(case: Case, samples: &[State], reference: Option<&[State]>) -> Resul
 /// Whether the SciPy peer runs `case`. It does not run the Jeffery case: its error there is the
 /// elastic model's distance to the rigid orbit (≈ 0.2 Ca), the same for every inertialess
 /// solver, so equal-error comparisons cannot be read from it.
-pub fn has_peer(case: Case) -> bool {
-    case != Case::Jeffery
+pub fn has_peer(case: Problem) -> bool {
+    case != Problem::Jeffery
 }
 
 /// The error the case's measure gives to the SciPy peer's high-accuracy run (DOP853 at
 /// rtol = atol = 1e-13, within ≈ 1e-11 of the converged F here): the floor below which the
 /// case's errors measure its reference (the oblate reference run, or the residual transient
 /// against Roscoe's steady state), not an integrator.
-pub fn error_floor(case: Case, reference: Option<&[State]>) -> Result<f64, SceneError> {
+pub fn error_floor(case: Problem, reference: Option<&[State]>) -> Result<f64, SceneError> {
     let run = Peer::from_env().reference(&peer_case(case), PeerMethod::Dop853)?;
     error_of(case, &peer_states(&run), reference)
 }
 
-/// A tight inertialess run of the oblate case (the reference for [`Case::Oblate`]).
+/// A tight inertialess run of the oblate case (the reference for [`Problem::Oblate`]).
 ///
 /// `radau_iia` at 1e-13. The Rosenbrock 2(3) reference used before (1e-13,
 /// ≈ 2.4·10⁵ steps) sat ≈ 1.7e-8 from the converged F: every Radau run from 1e-7 down and the
@@ -370,12 +370,12 @@ pub fn error_floor(case: Case, reference: Option<&[State]>) -> Result<f64, Scene
 /// the converged F; [`error_floor`] measures it against the SciPy peer (≈ 5e-12, the size of
 /// the peer's own dense-output error).
 pub fn oblate_reference() -> Result<Vec<State>, SceneError> {
-    Ok(trajectory(Case::Oblate, Setting::RadauIia(1e-13))?.0)
+    Ok(trajectory(Problem::Oblate, Setting::RadauIia(1e-13))?.0)
 }
 
 /// Work needed by `integrator` to reach `error` in `case`, by log-log interpolation between
 /// its two bracketing records: (model evaluations, wall seconds). `None` if not bracketed.
-pub fn work_at_error(records: &[Record], case: Case, integrator: &str, error: f64) -> Option<(f64, f64)> {
+pub fn work_at_error(records: &[Record], case: Problem, integrator: &str, error: f64) -> Option<(f64, f64)> {
     let mut pts: Vec<&Record> = records
         .iter()
         .filter(|r| r.case == case && r.setting.integrator() == integrator && r.error > 0.0)
@@ -400,7 +400,7 @@ pub const RATIO_ERRORS: [f64; 6] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct PeerRatio {
     /// Problem.
-    pub case: Case,
+    pub case: Problem,
     /// Error level.
     pub error: f64,
     /// The library integrator with the least interpolated wall time at `error`.
@@ -419,7 +419,7 @@ pub struct PeerRatio {
 /// and of the fastest library integrator at that error, both interpolated log-log along their
 /// work-precision curves ([`work_at_error`]). Levels that the peer or every library integrator
 /// does not bracket are left out.
-pub fn peer_ratios(records: &[Record], case: Case, errors: &[f64]) -> Vec<PeerRatio> {
+pub fn peer_ratios(records: &[Record], case: Problem, errors: &[f64]) -> Vec<PeerRatio> {
     let mut library: Vec<&'static str> = Vec::new();
     let mut peers: Vec<&'static str> = Vec::new();
     for r in records.iter().filter(|r| r.case == case) {
@@ -464,7 +464,7 @@ mod tests {
 
     fn record(setting: Setting, error: f64, wall_s: f64, rhs_evals: u64) -> Record {
         Record {
-            case: Case::Oblate,
+            case: Problem::Oblate,
             setting,
             error,
             wall_s,
@@ -484,11 +484,11 @@ mod tests {
             .iter()
             .map(|&e| record(Setting::RosenbrockW23(e), e, wall(e), (10.0 / e) as u64))
             .collect();
-        let (evals, w) = work_at_error(&records, Case::Oblate, "rosenbrock_w23", 3e-5).unwrap();
+        let (evals, w) = work_at_error(&records, Problem::Oblate, "rosenbrock_w23", 3e-5).unwrap();
         assert!((w / wall(3e-5) - 1.0).abs() < 1e-12, "{w} vs {}", wall(3e-5));
         assert!((evals / (10.0 / 3e-5) - 1.0).abs() < 1e-12, "{evals}");
-        assert_eq!(work_at_error(&records, Case::Oblate, "rosenbrock_w23", 1e-7), None);
-        assert_eq!(work_at_error(&records, Case::Oblate, "rigid", 1e-4), None);
+        assert_eq!(work_at_error(&records, Problem::Oblate, "rosenbrock_w23", 1e-7), None);
+        assert_eq!(work_at_error(&records, Problem::Oblate, "rigid", 1e-4), None);
     }
 
     /// Two library integrators, the faster one changing with the error, against a peer that
@@ -504,7 +504,7 @@ mod tests {
             record(Setting::ScipyRadau(1e-3), 1e-3, 100.0, 1),
             record(Setting::ScipyRadau(1e-6), 1e-6, 100.0, 1),
         ];
-        let rows = peer_ratios(&records, Case::Oblate, &[1e-4, 1e-8]);
+        let rows = peer_ratios(&records, Problem::Oblate, &[1e-4, 1e-8]);
         assert_eq!(rows.len(), 1, "{rows:?}");
         // rigid at 1e-4: one sixth of the way from 0.1 s to 10 s in log-log, 10^(-1 + 2/6)
         let rigid = 10f64.powf(-2.0 / 3.0);

@@ -56,10 +56,10 @@ pub(super) fn outcome_header() -> Vec<&'static str> {
 pub(super) fn outcome_cells(run: &CavityRun, limits: &Thresholds) -> Vec<String> {
     let (t, x) = run.path.last().copied().unwrap_or((0.0, release_point()));
     let (kind, wall) = match &run.outcome {
-        Outcome::Exited { .. } => ("exited", String::new()),
-        Outcome::Deposited { wall, .. } => ("deposited", wall.clone()),
-        Outcome::Suspended => ("suspended", String::new()),
-        Outcome::Failed { reason, .. } => ("failed", reason.replace(',', ";")),
+        CavityFate::Exited { .. } => ("exited", String::new()),
+        CavityFate::Deposited { wall, .. } => ("deposited", wall.clone()),
+        CavityFate::Suspended => ("suspended", String::new()),
+        CavityFate::Failed { reason, .. } => ("failed", reason.replace(',', ";")),
     };
     let mut cells = vec![
         run.contact.label().into(),

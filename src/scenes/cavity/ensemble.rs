@@ -47,7 +47,7 @@ pub struct Member {
 /// 100 s tracking horizon.
 pub const LATE_EVENT: f64 = 95.0;
 
-/// Outcome fractions per (shape, Ca) over the members given:
+/// CavityFate fractions per (shape, Ca) over the members given:
 /// `shape,ca,shape_model,runs,failed,exited,deposited,suspended,late_events,deposit_walls,
 /// nominal_outcome` where the fractions are of the runs that finished, `late_events` the
 /// fraction of them with an event after [`LATE_EVENT`], `deposit_walls` the walls hit with
@@ -83,12 +83,12 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             .iter()
             .filter(|m| key(m).as_ref() == Some(&(shape.clone(), ca)))
             .collect();
-        // A run that failed as a particle (`Outcome::Failed`) counts as failed, like one whose
+        // A run that failed as a particle (`CavityFate::Failed`) counts as failed, like one whose
         // set-up failed; the fractions are over the runs that finished.
         let runs: Vec<&CavityRun> = group
             .iter()
             .filter_map(|m| m.run.as_ref().ok())
-            .filter(|r| !matches!(r.outcome, Outcome::Failed { .. }))
+            .filter(|r| !matches!(r.outcome, CavityFate::Failed { .. }))
             .collect();
         let n = runs.len() as f64;
         // No finished run (every member failed): the fractions are empty cells, not 0/0.
@@ -98,7 +98,7 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
         };
         let mut walls: Vec<(String, usize)> = Vec::new();
         for r in &runs {
-            if let Outcome::Deposited { wall, .. } = &r.outcome {
+            if let CavityFate::Deposited { wall, .. } = &r.outcome {
                 match walls.iter_mut().find(|(w, _)| w == wall) {
                     Some((_, c)) => *c += 1,
                     None => walls.push((wall.clone(), 1)),
@@ -122,9 +122,9 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             shape_model.into(),
             group.len().to_string(),
             (group.len() - runs.len()).to_string(),
-            frac(&|r| matches!(r.outcome, Outcome::Exited { .. })),
-            frac(&|r| matches!(r.outcome, Outcome::Deposited { .. })),
-            frac(&|r| matches!(r.outcome, Outcome::Suspended)),
+            frac(&|r| matches!(r.outcome, CavityFate::Exited { .. })),
+            frac(&|r| matches!(r.outcome, CavityFate::Deposited { .. })),
+            frac(&|r| matches!(r.outcome, CavityFate::Suspended)),
             frac(&|r| event_time(&r.outcome).is_some_and(|t| t > LATE_EVENT)),
             walls
                 .iter()
@@ -166,19 +166,19 @@ pub fn member_table(members: &[Member]) -> Result<crate::output::Csv, crate::out
     Ok(csv)
 }
 
-fn outcome_label(outcome: &Outcome) -> String {
+fn outcome_label(outcome: &CavityFate) -> String {
     match outcome {
-        Outcome::Exited { .. } => "exited".into(),
-        Outcome::Deposited { wall, .. } => format!("deposited:{wall}"),
-        Outcome::Suspended => "suspended".into(),
-        Outcome::Failed { .. } => "failed".into(),
+        CavityFate::Exited { .. } => "exited".into(),
+        CavityFate::Deposited { wall, .. } => format!("deposited:{wall}"),
+        CavityFate::Suspended => "suspended".into(),
+        CavityFate::Failed { .. } => "failed".into(),
     }
 }
 
-fn event_time(outcome: &Outcome) -> Option<f64> {
+fn event_time(outcome: &CavityFate) -> Option<f64> {
     match outcome {
-        Outcome::Exited { t } | Outcome::Deposited { t, .. } => Some(*t),
-        Outcome::Suspended | Outcome::Failed { .. } => None,
+        CavityFate::Exited { t } | CavityFate::Deposited { t, .. } => Some(*t),
+        CavityFate::Suspended | CavityFate::Failed { .. } => None,
     }
 }
 
@@ -186,7 +186,7 @@ fn event_time(outcome: &Outcome) -> Option<f64> {
 /// `t_max` seconds at tolerance `tol` with barycentre contact. Each variant's releases are
 /// one population of the runner per shape model ([`crate::population`]; particle k is the
 /// k-th (release, orientation) pair of that model, in the order given, and its fate is read as
-/// an [`Outcome`]), so they run in parallel and a failed particle is kept as its outcome. A
+/// an [`CavityFate`]), so they run in parallel and a failed particle is kept as its outcome. A
 /// member whose release could not be built is kept as its error message, so one failure does
 /// not hide the rest of the ensemble.
 #[allow(clippy::too_many_arguments)]

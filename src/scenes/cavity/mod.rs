@@ -50,7 +50,7 @@
 //! # Layout
 //! This module holds the set-up's numbers, walls ([`walls`]) and releases; `setup` the choices
 //! a run is made of ([`Contact`], [`Release`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]);
-//! `tracking` particles through the cavity ([`Cavity`], [`CavityRun`], [`Outcome`], [`Slip`]):
+//! `tracking` particles through the cavity ([`Cavity`], [`CavityRun`], [`CavityFate`], [`Slip`]):
 //! releases are a population of [`crate::population`] (an injector, the cavity's observer of
 //! path, validity and slip), and the outcome is read from the record's fate; `datasets` the
 //! tables and panels of single runs; `ensemble` the outcome fractions over orientations and
@@ -66,7 +66,7 @@ use crate::flow::openfoam::{BlendedFlow, FoamError};
 use crate::hydro::forces::{AddedMass, UndisturbedFlow};
 use crate::hydro::{Brenner, DragModel, ForceTerms, VolumetricTraction};
 use crate::integrator::{BarycentreModel, ImexAdaptive, Scheme, Stokesian, TimeIntegrator};
-use crate::material::{LawFactory, NeoHookeLaw};
+use crate::material::{LawFactory, NeoHookeFactory};
 use crate::particle::{Fluid, Particle, State};
 pub use crate::scenes::particles::Shape;
 use crate::scenes::particles::{Deformability, ParticleModel, SceneResponse};

@@ -9,7 +9,7 @@ use crate::population::{
 
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub enum Outcome {
+pub enum CavityFate {
     /// Left through the lid.
     Exited {
         /// Time (s).
@@ -44,8 +44,8 @@ pub struct CavityRun {
     pub shape_model: ShapeModel,
     /// (t, x) samples [s, m].
     pub path: Vec<(f64, Vec3)>,
-    /// Outcome.
-    pub outcome: Outcome,
+    /// CavityFate.
+    pub outcome: CavityFate,
     /// Work.
     pub stats: RunStats,
     /// Validity diagnostics over the accepted steps (r₁ in m).
@@ -101,7 +101,7 @@ pub struct QuasiSteady {
 
 /// The cavity experiment: flow field, walls, fluid and the particle model (law family and drag;
 /// the paper's Neo-Hooke and Brenner by default).
-pub struct Cavity<'a, L = NeoHookeLaw, D = Brenner> {
+pub struct Cavity<'a, L = NeoHookeFactory, D = Brenner> {
     flow: VariantFlow<'a>,
     boundary: Planes,
     fluid: Fluid,
@@ -354,7 +354,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     /// The cavity's releases `jobs` (release, initial rotation) as one population of the
     /// runner ([`crate::population`]): particle k is `jobs[k]`, tracked by `integ` for `t_max`
     /// seconds with `contact`, its path sampled about every `dt_out`, and its fate read as an
-    /// [`Outcome`]. A release that could not be drawn or built is its error's text.
+    /// [`CavityFate`]. A release that could not be drawn or built is its error's text.
     #[allow(clippy::too_many_arguments)] // the releases, their integrator and the run's limits
     fn run_population<I: TimeIntegrator + std::fmt::Debug>(
         &self,
@@ -393,7 +393,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             .collect())
     }
 
-    /// The scene's reading of a population record: the fate as an [`Outcome`] (an exit is the
+    /// The scene's reading of a population record: the fate as an [`CavityFate`] (an exit is the
     /// lid, a deposit names its wall), the observed path, validity and slip.
     fn cavity_run(
         &self,
@@ -414,13 +414,13 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         let log: Log = serde_json::from_value(record.observed).map_err(|e| e.to_string())?;
         let end_t = record.end.map_or(0.0, |s| s.t);
         let outcome = match record.fate {
-            Fate::Escaped { time, .. } => Outcome::Exited { t: time },
-            Fate::Deposited { patch, time, .. } => Outcome::Deposited {
+            Fate::Escaped { time, .. } => CavityFate::Exited { t: time },
+            Fate::Deposited { patch, time, .. } => CavityFate::Deposited {
                 t: time,
                 wall: self.boundary.patch_name(patch).to_string(),
             },
-            Fate::Suspended => Outcome::Suspended,
-            Fate::Failed { error } => Outcome::Failed {
+            Fate::Suspended => CavityFate::Suspended,
+            Fate::Failed { error } => CavityFate::Failed {
                 t: end_t,
                 reason: error,
             },

@@ -6,7 +6,7 @@ use pseudorigid::contact::{Boundary, Extent};
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::BlendedFlow;
 use pseudorigid::scenes::cavity::{
-    Cavity, Contact, EDGE, Outcome, Release, Shape, ShapeModel, Variant, orientations, outcome_table, release_point,
+    Cavity, CavityFate, Contact, EDGE, Release, Shape, ShapeModel, Variant, orientations, outcome_table, release_point,
 };
 use pseudorigid::scenes::particles::Deformability;
 use pseudorigid::tensor::{Mat3, Vec3};
@@ -93,7 +93,7 @@ fn extent_contact_with_the_lid_is_an_exit() {
             0.1,
         )
         .unwrap();
-    assert!(matches!(run.outcome, Outcome::Exited { .. }), "{:?}", run.outcome);
+    assert!(matches!(run.outcome, CavityFate::Exited { .. }), "{:?}", run.outcome);
     // The shear rate that sets Ca is √(2 d:d) of the field at the release point: recomputed
     // here from a fresh sample, it agrees to round-off (nine products summed in another
     // order: 16 ε relative). (A range check such as 1–100 1/s could not fail.)
@@ -143,7 +143,7 @@ fn soft_particles_that_crashed_in_the_corner_end_cleanly() {
                 run.validity.max_r1
             );
             assert!(run.validity.max_r1 < EDGE, "r₁ = {} m", run.validity.max_r1);
-            if let Outcome::Deposited { t, .. } | Outcome::Exited { t } = run.outcome {
+            if let CavityFate::Deposited { t, .. } | CavityFate::Exited { t } = run.outcome {
                 assert!(t <= 100.0);
             }
         }
@@ -257,7 +257,7 @@ fn a_user_drag_model_runs_through_the_cavity() {
         1e-9,
         cavity.track(release, Contact::Barycentre, 2.0, 1e-9, 0.5).unwrap(),
     );
-    let model = ParticleModel::new(pseudorigid::material::NeoHookeLaw, StokesSphere, DEFAULT_BULK_RATIO).unwrap();
+    let model = ParticleModel::new(pseudorigid::material::NeoHookeFactory, StokesSphere, DEFAULT_BULK_RATIO).unwrap();
     let stokes = Cavity::new(&flow).unwrap().with_model(model);
     let user = end(
         1e-7,
@@ -337,7 +337,7 @@ fn fluid_inertia_makes_a_neutrally_buoyant_sphere_follow_the_fluid() {
             cavity = cavity.with_forces(fluid_inertia().unwrap());
         }
         let run = cavity.track(release, Contact::Barycentre, 2.0, 1e-7, 0.01).unwrap();
-        assert!(matches!(run.outcome, Outcome::Suspended), "{:?}", run.outcome);
+        assert!(matches!(run.outcome, CavityFate::Suspended), "{:?}", run.outcome);
         let mut predicted: Vec<f64> = cavity.quasi_steady_slip(&run).unwrap().iter().map(|q| q.slip).collect();
         predicted.sort_by(f64::total_cmp);
         let predicted = predicted[predicted.len() / 2];

@@ -437,15 +437,15 @@ mod section {
 /// modulus in the second invariant the nonlinear response differs and the boundary moves.
 #[test]
 fn phase_boundary_with_mooney_rivlin_needs_no_scene_edit() {
-    use pseudorigid::material::MooneyRivlinLaw;
+    use pseudorigid::material::MooneyRivlinFactory;
     let shape = ShearShape::new(Shape::Oblate(2.5));
     let classifier = RegimeClassifier::stokesian(1e-7).unwrap();
     let neo = BoundarySearch::new(classifier, 1e-3).find(&shape).unwrap();
-    let mr0 = BoundarySearch::new(classifier.with_law(MooneyRivlinLaw { beta: 0.0 }), 1e-3)
+    let mr0 = BoundarySearch::new(classifier.with_law(MooneyRivlinFactory { beta: 0.0 }), 1e-3)
         .find(&shape)
         .unwrap();
     assert_eq!((mr0.ca_tu, mr0.ca_tr), (neo.ca_tu, neo.ca_tr));
-    let mr = BoundarySearch::new(classifier.with_law(MooneyRivlinLaw { beta: 0.5 }), 1e-3)
+    let mr = BoundarySearch::new(classifier.with_law(MooneyRivlinFactory { beta: 0.5 }), 1e-3)
         .find(&shape)
         .unwrap();
     assert!(mr.ca_tr < neo.ca_tu || mr.ca_tu > neo.ca_tr, "{mr:?} vs {neo:?}");

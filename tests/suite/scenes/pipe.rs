@@ -467,7 +467,7 @@ fn soft_extra_distance_matches_the_orbit_averaged_mobility() {
 /// distance (the rigid runs meet their closed form to 1e-5 at 1e-7): bound 1e-4.
 #[test]
 fn deposition_is_the_same_with_mooney_rivlin_at_beta_zero() {
-    use pseudorigid::material::MooneyRivlinLaw;
+    use pseudorigid::material::MooneyRivlinFactory;
     use pseudorigid::scenes::particles::{DEFAULT_BULK_RATIO, ParticleModel};
     let neo = near_wall(3.5, 0.25);
     let flow = PipeFlowData {
@@ -475,7 +475,7 @@ fn deposition_is_the_same_with_mooney_rivlin_at_beta_zero() {
         ..PipeFlowData::tian_cui()
     };
     let model = ParticleModel::new(
-        MooneyRivlinLaw { beta: 0.0 },
+        MooneyRivlinFactory { beta: 0.0 },
         pseudorigid::hydro::Brenner,
         DEFAULT_BULK_RATIO,
     )
