@@ -190,6 +190,27 @@ pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -
     )
 }
 
+/// What a scene can say of the terms a particle leaves out before any run: the constant sizes
+/// of [`omitted_constants`] and, for the terms estimated state by state, the bound each
+/// registration gives from the particle alone ([`Size::PerStateBounded`]: the undisturbed-flow
+/// force's density ratio ρ_f/ρ_p); zero for the terms the particle carries and for those with
+/// neither. The validity monitor does not take these bounds: it observes the run.
+pub fn omitted_before_run<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Omitted {
+    let rest = rest(particle);
+    Omitted(
+        omission::estimated()
+            .into_iter()
+            .map(|(term, o)| {
+                let size = match o.size.before_run() {
+                    Some(size) if !term.carried(particle.forces()) => size(&rest),
+                    _ => 0.0,
+                };
+                (term.name.to_string(), size)
+            })
+            .collect(),
+    )
+}
+
 /// Maxima over a run (0 before any state is observed).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Validity {
@@ -344,8 +365,8 @@ where
             .into_iter()
             .enumerate()
             .filter_map(|(i, (term, o))| match o.size {
-                Size::PerState(size) if !term.carried(particle.forces()) => Some((i, size)),
-                _ => None,
+                _ if term.carried(particle.forces()) => None,
+                size => size.per_state().map(|at| (i, at)),
             })
             .collect();
         Self {

@@ -94,3 +94,33 @@ fn monitor_reports_hand_computed_maxima_and_flags() {
     assert_eq!(monitor.validity().max_re_slip, v.max_re_slip);
     assert_eq!(monitor.validity().states, 2);
 }
+
+/// Before any run a scene's advice takes each registered term's estimate from the particle
+/// alone (`omitted_before_run`): the constant ones as the monitor does, and for the
+/// undisturbed-flow force, estimated state by state, its registration's bound ρ_f/ρ_p. The
+/// monitor itself does not take that bound (`omitted_constants` keeps it at zero), and a
+/// particle that carries the term is not estimated.
+#[test]
+fn before_a_run_the_undisturbed_flow_force_is_bounded_by_the_density_ratio() {
+    use pseudorigid::diagnostics::{omitted_before_run, omitted_constants};
+    use pseudorigid::hydro::forces::{self, ForceTerms};
+    use pseudorigid::registry::Values;
+    let shape = Ellipsoid::with_volume_diameter([1.0; 3], 2e-3, Mat3::identity()).unwrap();
+    // Water around a particle of density 2 500 kg/m³: ρ_f/ρ_p = 0.4.
+    let p = Particle::new(
+        shape,
+        NeoHooke::new(1.0, 1e3).unwrap(),
+        Fluid::new(1e-3, 1e3).unwrap(),
+        2.5e3,
+    )
+    .unwrap();
+    assert_eq!(omitted_before_run(&p).size("undisturbed_flow"), Some(0.4));
+    assert_eq!(omitted_constants(&p).size("undisturbed_flow"), Some(0.0));
+    // Added mass is constant: both give the same (a sphere's k = ½, so ½ ρ_f/ρ_p).
+    let added = omitted_constants(&p).size("added_mass").unwrap();
+    assert!((added - 0.2).abs() < 1e-12, "{added}");
+    assert_eq!(omitted_before_run(&p).size("added_mass"), Some(added));
+    let term = forces::by_name("undisturbed_flow", &Values::new()).unwrap();
+    let carrying = p.with_forces(ForceTerms::new(vec![term]).unwrap()).unwrap();
+    assert_eq!(omitted_before_run(&carrying).size("undisturbed_flow"), Some(0.0));
+}

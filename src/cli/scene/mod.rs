@@ -204,11 +204,11 @@ impl Scene {
     }
 
     /// Force terms the scene leaves out although its numbers say they matter, before any
-    /// run: for each list entry and injection group, the sizes that depend only on the
-    /// particle and the fluid ([`crate::diagnostics::omitted_constants`]: added mass from
-    /// ρ_f/ρ_p, gas slip from d_eq and the mean free path), above 1 %; and the
-    /// undisturbed-flow force at ρ_f/ρ_p, its size where gravity and the flow's acceleration
-    /// are comparable (ρ_f/(ρ_p − ρ_f) where the acceleration dominates). One line
+    /// run: for each list entry and injection group, what each registered term's estimate
+    /// says from the particle and the fluid alone ([`crate::diagnostics::omitted_before_run`]:
+    /// added mass from ρ_f/ρ_p, gas slip from d_eq and the mean free path, the
+    /// undisturbed-flow force's bound ρ_f/ρ_p, its size where gravity and the flow's
+    /// acceleration are comparable), above 1 %, in the registry's order. One line
     /// per kind and term (`grouped`: entries with the same numbers share a line); the run's
     /// own numbers (Re, shear, the flow's acceleration) are in the validity monitor of the
     /// library's scenes.
@@ -228,19 +228,10 @@ impl Scene {
             let Ok(particle) = self.template.build(&placement.spec(Vec3::zeros())) else {
                 continue;
             };
-            let omitted = crate::diagnostics::omitted_constants(&particle);
-            let carries_flow_force = particle
-                .forces()
-                .names()
-                .contains(&crate::hydro::forces::UndisturbedFlow::NAME);
-            let mut sizes: Vec<(&str, f64)> = omitted.sizes().filter(|(_, s)| *s > limit).collect();
-            let density_ratio = particle.fluid().rho / particle.rho_solid();
-            if density_ratio > limit && !carries_flow_force {
-                sizes.insert(0, ("undisturbed_flow", density_ratio));
-            }
-            for (term, size) in sizes
-                .into_iter()
-                .filter(|(term, _)| !(overdamped && inertial.contains(term)))
+            let omitted = crate::diagnostics::omitted_before_run(&particle);
+            for (term, size) in omitted
+                .sizes()
+                .filter(|&(term, size)| size > limit && !(overdamped && inertial.contains(&term)))
             {
                 advice.push((
                     key.clone(),

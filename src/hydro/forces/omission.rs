@@ -39,6 +39,33 @@ pub enum Size {
     Constant(fn(&Rest) -> f64),
     /// At one observed state; the monitor keeps the largest over the run.
     PerState(StateEstimate),
+    /// At one observed state, as [`Size::PerState`], with a bound from the particle alone
+    /// that a scene's advice gives before any run, when the flow it needs is not yet sampled
+    /// ([`crate::diagnostics::omitted_before_run`]); the monitor takes `at` only.
+    PerStateBounded {
+        /// The estimate at one observed state.
+        at: StateEstimate,
+        /// The bound before any run.
+        before_run: fn(&Rest) -> f64,
+    },
+}
+
+impl Size {
+    /// The estimate at one observed state, if the size has one.
+    pub fn per_state(&self) -> Option<StateEstimate> {
+        match *self {
+            Size::Constant(_) => None,
+            Size::PerState(at) | Size::PerStateBounded { at, .. } => Some(at),
+        }
+    }
+
+    /// What is known of the size before any run: the constant, or the bound.
+    pub fn before_run(&self) -> Option<fn(&Rest) -> f64> {
+        match *self {
+            Size::Constant(size) | Size::PerStateBounded { before_run: size, .. } => Some(size),
+            Size::PerState(_) => None,
+        }
+    }
 }
 
 /// An estimate at one observed state ([`Size::PerState`]).

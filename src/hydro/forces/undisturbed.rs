@@ -72,7 +72,18 @@ inventory::submit! {
         omitted: Some(Omission {
             order: 10,
             carried_by: None,
-            size: Size::PerState(omitted),
+            size: Size::PerStateBounded {
+                at: omitted,
+                before_run: density_ratio,
+            },
         }),
     }
+}
+
+/// The term's size before a run, from the particle alone: the density ratio ρ_f/ρ_p, the
+/// factor in front of |Du/Dt| over the driving (`omitted`) where the flow's acceleration is
+/// comparable to the rest of the driving. A scene's advice names the term above
+/// [`crate::diagnostics::Thresholds::omitted_term`] of it.
+fn density_ratio(rest: &Rest) -> f64 {
+    rest.rho_f / rest.rho_p
 }
