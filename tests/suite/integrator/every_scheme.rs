@@ -271,8 +271,8 @@ fn radau_is_l_stable_on_a_quasi_rigid_particle() {
         |_| {},
         |step| {
             // The last step is shortened to land on t_end.
-            if step.dense.t_start() > 0.1 && step.state.t < t_end - 1e-9 {
-                smallest_after_first = smallest_after_first.min(step.info.dt);
+            if step.dense().t_start() > 0.1 && step.state().t < t_end - 1e-9 {
+                smallest_after_first = smallest_after_first.min(step.info().dt);
             }
         },
     )
