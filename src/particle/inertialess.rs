@@ -28,8 +28,8 @@
 //! [`InertialessSolver`]: crate::hydro::InertialessSolver
 
 use super::dynamics::Model;
-use crate::error::{ParamError, StepError};
 use crate::ellipsoid::PrincipalFrame;
+use crate::error::{ParamError, StepError};
 use crate::flow::{FlowField, FlowSample};
 use crate::hydro::forces::{FLUID_INERTIA, ForceTerms};
 use crate::hydro::{DragModel, InertialessSolver};

@@ -9,11 +9,11 @@ use super::tracking::track_to_deposition;
 use super::tracking::{Deposition, ShapeStats};
 use crate::contact::PipeWall;
 use crate::diagnostics::{Monitor, Validity};
+use crate::driver::AcceptedStep;
 use crate::driver::Plan;
 use crate::error::{ParamError, StepError};
 use crate::flow::analytic::Poiseuille;
 use crate::hydro::Brenner;
-use crate::driver::AcceptedStep;
 use crate::material::{NeoHooke, Softness};
 use crate::particle::{Particle, State};
 use crate::population::{

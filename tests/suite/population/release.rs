@@ -8,8 +8,8 @@
 use crate::common::strategies::rotation;
 use proptest::prelude::*;
 use pseudorigid::driver::{AcceptedStep, Plan, StepContext, integrate};
-use pseudorigid::flow::analytic::LinearFlow;
 use pseudorigid::ellipsoid::Ellipsoid;
+use pseudorigid::flow::analytic::LinearFlow;
 use pseudorigid::integrator::dense::Knot;
 use pseudorigid::integrator::{Dense, EndEvaluation, Step, StepInfo, Stokesian, TimeIntegrator};
 use pseudorigid::material::NeoHooke;
