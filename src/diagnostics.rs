@@ -44,6 +44,7 @@
 //! the scenes report their inertialess runs with [`Validity::inertialess`]).
 
 use crate::contact::{Boundary, Extent, Unbounded};
+use crate::driver::AcceptedStep;
 use crate::flow::FlowField;
 use crate::flow::FlowSample;
 use crate::flow::analytic::LinearFlow;
@@ -321,7 +322,8 @@ impl Validity {
     }
 }
 
-/// Watches one particle in one flow and boundary; feed it from the driver's `on_step`.
+/// Watches one particle in one flow and boundary; feed it from the driver's `on_step`
+/// ([`Monitor::observe_step`]).
 pub struct Monitor<'a, M, D, F: ?Sized, B: ?Sized> {
     particle: &'a Particle<M, D>,
     flow: &'a F,
@@ -383,15 +385,37 @@ where
         }
     }
 
-    /// Take `state` into the maxima.
+    /// Take `state` into the maxima, sampling the flow and building the frame there.
     pub fn observe(&mut self, state: &State) {
+        let sample = self.flow.sample(&state.x, state.t);
+        let r1 = self.particle.frame(&state.f).r[0];
+        self.take(state, sample.as_ref().ok(), r1);
+    }
+
+    /// Take the end state of an accepted step into the maxima, with the frame and flow sample
+    /// the driver shows ([`AcceptedStep`]): the same maxima as [`Self::observe`] of its state,
+    /// without a second sample or frame.
+    ///
+    /// The distance to the nearest boundary is still this monitor's own query: ℓ_w is the
+    /// barycentre's distance, a point query, while the contact event measures the gap of the
+    /// particle's extent, and far from mesh walls asks for no gap at all but a lower bound of
+    /// the distance to every face ([`crate::contact::ContactEvent`]). That bound cannot stand in
+    /// for ℓ_w: over a ridge the point gap is the distance to the plane of the nearest face,
+    /// which lies below the distance to the face, so a maximum skipped on the bound could differ
+    /// from the one queried.
+    pub fn observe_step(&mut self, step: &AcceptedStep) {
+        self.take(step.state(), step.flow().ok(), step.frame().r[0]);
+    }
+
+    /// Take `state` into the maxima, with the flow `sample` there (`None`: unsampled) and its
+    /// longest semi-axis `r1`.
+    fn take(&mut self, state: &State, sample: Option<&FlowSample>, r1: f64) {
         let v = &mut self.validity;
         v.states += 1;
-        let Ok(sample) = self.flow.sample(&state.x, state.t) else {
+        let Some(sample) = sample else {
             v.unsampled += 1;
             return;
         };
-        let r1 = self.particle.frame(&state.f).r[0];
         let d = sym(&sample.grad_u);
         let shear_rate = (2.0 * d.component_mul(&d).sum()).sqrt();
         let wall = self.boundary.nearest(&state.x, &Extent::Point { radius: 0.0 }).gap;
@@ -406,7 +430,7 @@ where
         if grad > 0.0 && !self.linear {
             v.max_r1_over_flow_scale = v.max_r1_over_flow_scale.max(ratio(r1 * grad, sample.u.norm()));
         }
-        self.estimate_omitted(state, &sample, re_slip);
+        self.estimate_omitted(state, sample, re_slip);
     }
 
     /// The state-dependent sizes of the terms left out (module docs).

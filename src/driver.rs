@@ -11,6 +11,11 @@
 //! ([`Event::max_step`]) so that a tumbling tip cannot touch and leave a wall within one step,
 //! which no end-point test can see.
 //!
+//! # Accepted steps
+//! Every accepted step is shown to `on_step` as an [`AcceptedStep`] ([`accepted`]): the step,
+//! and its end state's principal frame and flow sample, carried from the scheme where it
+//! computed them and otherwise computed once, on first demand, for every reader.
+//!
 //! # Failures
 //! A run that fails keeps its record: [`integrate`] returns a [`RunFailure`] with the error, the
 //! state after the last accepted step and the [`RunStats`] of the steps taken up to the failure.
@@ -20,11 +25,15 @@
 use crate::error::{FlowError, ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::integrator::{Dense, Step, StepInfo, Stepper};
+use crate::integrator::{Dense, StepInfo, Stepper};
 use crate::material::Response;
 use crate::particle::{Particle, State};
 use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
+
+pub mod accepted;
+
+pub use accepted::{AcceptedStep, StepContext};
 
 /// Accumulated work of a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
@@ -231,7 +240,7 @@ const LANDING_TOL: f64 = 1e-12;
 
 /// Advance `state` with `memory` as `plan` says, stopping at the first event that fires.
 /// `observe` sees the start, every output time and the event state; `on_step` every accepted
-/// step. Refuses a start state already past t_end.
+/// step, with its end state's frame and flow sample ([`AcceptedStep`]). Refuses a start state already past t_end.
 ///
 /// # Errors
 /// A [`RunFailure`]: the [`StepError`] that stopped the run, with the state and the
@@ -249,7 +258,7 @@ pub fn integrate<I, M, D, F>(
     plan: &Plan,
     events: &[&dyn Event],
     observe: impl FnMut(&State),
-    on_step: impl FnMut(&Step),
+    on_step: impl FnMut(&AcceptedStep),
 ) -> Result<Outcome, RunFailure>
 where
     I: Stepper<M, D>,
@@ -289,7 +298,7 @@ pub fn resume<I, M, D, F>(
     plan: &Plan,
     events: &[&dyn Event],
     observe: impl FnMut(&State),
-    on_step: impl FnMut(&Step),
+    on_step: impl FnMut(&AcceptedStep),
 ) -> Result<Outcome, RunFailure>
 where
     I: Stepper<M, D>,
@@ -333,7 +342,7 @@ fn integrate_recorded<I, M, D, F>(
     plan: &Plan,
     events: &[&dyn Event],
     mut observe: impl FnMut(&State),
-    mut on_step: impl FnMut(&Step),
+    mut on_step: impl FnMut(&AcceptedStep),
     stats: &mut RunStats,
     last: &mut State,
     resumed: Option<f64>,
@@ -371,6 +380,7 @@ where
             });
         }
     }
+    let context = StepContext::new(particle, flow);
     let t_start = s.t;
     let mut outputs = plan.outputs.iter().copied().filter(|&t| t > t_start).peekable();
     loop {
@@ -437,7 +447,7 @@ where
         } else {
             step.info.dt_next
         };
-        on_step(&step);
+        on_step(&AcceptedStep::new(&step, &context));
         if let Some((index, at)) = first_event(events, &s, &step.dense, &step.state)? {
             observe(&at);
             return Ok(Outcome {
@@ -576,7 +586,7 @@ where
             }
             started = true;
         },
-        |step| on_step(&step.state, &step.info),
+        |step| on_step(step.state(), step.info()),
     )?;
     Ok((out.state, out.stats))
 }

@@ -123,6 +123,7 @@ impl TimeIntegrator for ImexAdaptive {
                         };
                         return Ok(Step {
                             dense: Dense::new(state.t, h, Knot::of_state(state), Knot::of_state(&next)),
+                            end: memory.end(&next.f),
                             state: next,
                             info,
                         });

@@ -208,6 +208,11 @@ impl Manifold {
             dense: Dense::new(state.t, h, start, end),
             state: next,
             info: inner.info,
+            // The same x and t; F is the manifold's, not the one the inner step evaluated.
+            end: super::EndEvaluation {
+                frame: None,
+                ..inner.end
+            },
         }))
     }
 }

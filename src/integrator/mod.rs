@@ -77,7 +77,8 @@ impl StepInfo {
     }
 }
 
-/// One accepted step: the new state, its record and the interpolant over [t, t + dt].
+/// One accepted step: the new state, its record, the interpolant over [t, t + dt] and what
+/// the scheme evaluated at the new state.
 #[derive(Debug, Clone)]
 pub struct Step {
     /// State at t + dt.
@@ -86,6 +87,24 @@ pub struct Step {
     pub info: StepInfo,
     /// Dense output over the step.
     pub dense: Dense,
+    /// The new state's principal frame and flow sample, where the scheme computed them there.
+    pub end: EndEvaluation,
+}
+
+/// What a scheme computed exactly at a step's new state (x, F, t) and hands on, so that the
+/// step's observers do not compute it again ([`crate::driver::AcceptedStep`]): the principal
+/// frame of F (the geometry of the drag and traction at the end of the step) and the flow
+/// sample u, ∇u at (x, t). `None` where the scheme evaluated elsewhere: the paper's IMEX step
+/// samples the flow at (xⁿ, t^{n+1}), and the rigid limit of [`Stokesian`] projects F onto
+/// SO(3) after its last evaluation. A value here is bitwise the one
+/// [`crate::particle::Particle::frame`] and [`crate::flow::FlowField::sample`] give at the new
+/// state.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct EndEvaluation {
+    /// The principal frame of the new F.
+    pub frame: Option<crate::ellipsoid::PrincipalFrame>,
+    /// The flow at the new barycentre and time.
+    pub flow: Option<crate::flow::FlowSample>,
 }
 
 /// Check the inputs of a step: a valid state and a step Δt that is finite, > 0 and advances

@@ -22,7 +22,7 @@ use super::control::{ErrorNorm, Tolerances};
 use super::dense::{Dense, Knot};
 use super::radau5::{self, RadauMemory};
 use super::rosenbrock;
-use super::{Step, StepInfo, TimeIntegrator};
+use super::{EndEvaluation, Step, StepInfo, TimeIntegrator};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
@@ -258,6 +258,11 @@ impl TimeIntegrator for Stokesian {
         };
         next.validate()?;
         memory.end_gradient = Some((next.t, acc.payload.l_f()));
+        // Evaluated at the new (t, x) and, unless the rigid projection moved it, the new F.
+        let end = EndEvaluation {
+            frame: (!rigid).then(|| *acc.payload.frame()),
+            flow: Some(*acc.payload.sample()),
+        };
         if !rigid {
             // The projection of the rigid limit moves F off the evaluated point.
             memory.last = Some((next.t, acc.y, acc.payload));
@@ -268,13 +273,14 @@ impl TimeIntegrator for Stokesian {
             f: state.f,
             f_dot: e0.f_dot(),
         };
-        let end = Knot { x, x_dot, f, f_dot: a };
+        let knot = Knot { x, x_dot, f, f_dot: a };
         Ok(Step {
             dense: if rigid {
-                Dense::new(state.t, acc.h, start, end).of_rotations()
+                Dense::new(state.t, acc.h, start, knot).of_rotations()
             } else {
-                Dense::new(state.t, acc.h, start, end)
+                Dense::new(state.t, acc.h, start, knot)
             },
+            end,
             state: next,
             info: StepInfo {
                 rejected: acc.rejected,

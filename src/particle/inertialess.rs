@@ -28,8 +28,9 @@
 //! [`InertialessSolver`]: crate::hydro::InertialessSolver
 
 use super::dynamics::Model;
+use crate::ellipsoid::PrincipalFrame;
 use crate::error::{ParamError, StepError};
-use crate::flow::FlowField;
+use crate::flow::{FlowField, FlowSample};
 use crate::hydro::forces::{FLUID_INERTIA, ForceTerms};
 use crate::hydro::{DragModel, InertialessSolver};
 use crate::material::{Response, StressLaw};
@@ -147,7 +148,10 @@ pub struct InertialessRate {
     x_dot: Vec3,
     v_dot: Vec3,
     drag_rate: Mat3,
-    l_f: Mat3,
+    /// The flow at the barycentre, and the principal frame of F, at the evaluated (t, y): what
+    /// an accepted step carries of its end state ([`crate::integrator::EndEvaluation`]).
+    sample: FlowSample,
+    frame: PrincipalFrame,
     /// `None` in the rigid limit.
     solver: Option<InertialessSolver>,
 }
@@ -170,7 +174,17 @@ impl InertialessRate {
 
     /// The flow's velocity gradient l_f = ∇u at the barycentre.
     pub fn l_f(&self) -> Mat3 {
-        self.l_f
+        self.sample.grad_u
+    }
+
+    /// The flow sampled at the barycentre.
+    pub fn sample(&self) -> &FlowSample {
+        &self.sample
+    }
+
+    /// The principal frame of the evaluated F.
+    pub fn frame(&self) -> &PrincipalFrame {
+        &self.frame
     }
 }
 
@@ -211,7 +225,8 @@ impl<M: Response, D: DragModel, F: FlowField + ?Sized> Model<'_, M, D, F> {
             x_dot,
             v_dot,
             drag_rate: forcing.drag_rate,
-            l_f: sample.grad_u,
+            sample,
+            frame: geo.frame,
             solver,
         })
     }
@@ -265,12 +280,12 @@ fn barycentre_jacobian(model: BarycentreModel, e: &InertialessRate) -> SMatrix<f
     match model {
         BarycentreModel::Inertial => {
             jac.fixed_view_mut::<3, 3>(0, 3).copy_from(&Mat3::identity());
-            jac.fixed_view_mut::<3, 3>(3, 0).copy_from(&(e.drag_rate * e.l_f));
+            jac.fixed_view_mut::<3, 3>(3, 0).copy_from(&(e.drag_rate * e.l_f()));
             jac.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-e.drag_rate));
         }
         // The drift R⁻¹(a − Du/Dt) varies with x on the flow's scale, τ times slower than u.
         BarycentreModel::Overdamped | BarycentreModel::Equilibrium => {
-            jac.fixed_view_mut::<3, 3>(0, 0).copy_from(&e.l_f);
+            jac.fixed_view_mut::<3, 3>(0, 0).copy_from(&e.l_f());
         }
     }
     jac

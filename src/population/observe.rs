@@ -8,9 +8,14 @@
 //! is shown, so the fate and the work of a run are the same with or without one; its summary
 //! is a function of the run, hence of (case, seed, index), and checkpoints and shards keep it
 //! like the rest of the record.
+//!
+//! An accepted step is shown as the driver's [`AcceptedStep`]: with the end state's principal
+//! frame and flow sample, carried from the scheme where it computed them and otherwise computed
+//! once for every reader, so a watch that needs r₁, u or ∇u there asks the step
+//! ([`AcceptedStep::frame`], [`AcceptedStep::flow`]) instead of computing them again.
 
 use super::record::Fate;
-use crate::integrator::Step;
+use crate::driver::AcceptedStep;
 use crate::particle::State;
 
 /// Builds a [`Watch`] for each particle of a case. `P` is the particle, `F` the flow and `B`
@@ -29,8 +34,8 @@ pub trait Watch {
     /// A state the driver shows: the start, each output time of the plan, the event.
     fn output(&mut self, _state: &State) {}
 
-    /// An accepted step.
-    fn step(&mut self, _step: &Step) {}
+    /// An accepted step, with its end state's frame and flow sample.
+    fn step(&mut self, _step: &AcceptedStep) {}
 
     /// The run ended with `fate` at `end` (the event, the end time, or the last accepted state
     /// before a failure): the summary the record keeps.

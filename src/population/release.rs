@@ -25,9 +25,9 @@
 
 use super::observe::{Observer, Watch};
 use super::record::Fate;
-use crate::driver::locate_root;
+use crate::driver::{AcceptedStep, locate_root};
 use crate::hydro::DragModel;
-use crate::integrator::{Dense, Step};
+use crate::integrator::Dense;
 use crate::material::Response;
 use crate::particle::release::{ReleaseThresholds, largest_stretch};
 use crate::particle::{Particle, State};
@@ -198,8 +198,8 @@ impl<M: Response, D: DragModel> Watching<'_, M, D> {
 }
 
 impl<M: Response, D: DragModel> Watch for Watching<'_, M, D> {
-    fn step(&mut self, step: &Step) {
-        if let Some(dense) = self.pending.replace(step.dense) {
+    fn step(&mut self, step: &AcceptedStep) {
+        if let Some(dense) = self.pending.replace(*step.dense()) {
             self.process(&dense, f64::INFINITY);
         }
     }

@@ -148,8 +148,8 @@ impl<I: TimeIntegrator, L: LawFactory> RegimeClassifier<I, L> {
             &[],
             |_| {},
             |step| {
-                track.step(&step.dense, self.substeps);
-                monitor.observe(&step.state);
+                track.step(step.dense(), self.substeps);
+                monitor.observe_step(step);
             },
         )?
         .stats;

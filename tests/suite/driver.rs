@@ -121,8 +121,8 @@ fn a_failed_run_reports_its_statistics_and_last_state() {
         &[],
         |_| {},
         |step| {
-            seen.record(&step.info);
-            last = Some(step.state);
+            seen.record(step.info());
+            last = Some(*step.state());
         },
     )
     .unwrap_err();

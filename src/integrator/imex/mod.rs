@@ -105,6 +105,15 @@ impl ImexMemory {
         }
     }
 
+    /// What a step that ended at `f` evaluated there: the frame of its geometry (the flow was
+    /// sampled at the old barycentre).
+    pub(crate) fn end(&self, f: &Mat3) -> super::EndEvaluation {
+        super::EndEvaluation {
+            frame: self.geometry.filter(|(key, _)| key == f).map(|(_, geo)| geo.frame),
+            flow: None,
+        }
+    }
+
     /// The stable step window at `f` under `guard`, re-computed only when needed: `None` for
     /// [`StabilityGuard::Off`]. The cached window's upper end carries the guard's safety factor.
     pub(crate) fn window<M: Response, D: DragModel>(
@@ -281,6 +290,7 @@ impl TimeIntegrator for ImexPaper {
         };
         Ok(Step {
             dense: Dense::new(state.t, dt, Knot::of_state(state), Knot::of_state(&next)),
+            end: memory.end(&next.f),
             state: next,
             info,
         })

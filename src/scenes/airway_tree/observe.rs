@@ -11,7 +11,7 @@
 //! passes shows in some accepted step.
 
 use super::tree::{Location, Part, Tree};
-use crate::integrator::Step;
+use crate::driver::AcceptedStep;
 use crate::particle::State;
 use crate::population::{Fate, Observer, Watch};
 use serde::{Deserialize, Serialize};
@@ -88,8 +88,8 @@ impl Watch for Watching<'_> {
         self.see(state);
     }
 
-    fn step(&mut self, step: &Step) {
-        self.see(&step.state);
+    fn step(&mut self, step: &AcceptedStep) {
+        self.see(step.state());
     }
 
     fn finish(mut self: Box<Self>, _fate: &Fate, end: &State) -> serde_json::Value {

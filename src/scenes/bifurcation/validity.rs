@@ -42,7 +42,7 @@ pub fn sample(airway: &Airway, kind: Kind, seed: u64, count: u64) -> Result<Vec<
             &plan,
             &[&contact],
             |_| {},
-            |step| monitor.observe(&step.state),
+            |step| monitor.observe_step(step),
         );
         out.push(monitor.validity());
     }

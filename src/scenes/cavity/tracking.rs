@@ -536,7 +536,6 @@ impl<M: crate::material::Response, D: DragModel> Observer<Particle<M, D>, Varian
         monitor.observe(start);
         Box::new(Watching {
             monitor,
-            flow,
             dt_out: self.dt_out,
             next_out: self.dt_out,
             path: Vec::new(),
@@ -547,7 +546,6 @@ impl<M: crate::material::Response, D: DragModel> Observer<Particle<M, D>, Varian
 
 struct Watching<'w, M, D, F> {
     monitor: Monitor<'w, M, D, F, Planes>,
-    flow: &'w F,
     dt_out: f64,
     next_out: f64,
     path: Vec<(f64, Vec3)>,
@@ -559,14 +557,15 @@ impl<M: crate::material::Response, D: DragModel, F: FlowField> Watch for Watchin
         self.path.push((state.t, state.x));
     }
 
-    fn step(&mut self, step: &crate::integrator::Step) {
-        self.monitor.observe(&step.state);
-        if let Ok(fluid) = self.flow.sample(&step.state.x, step.state.t) {
-            self.slips.push((step.info.dt, (step.state.v - fluid.u).norm()));
+    fn step(&mut self, step: &crate::driver::AcceptedStep) {
+        self.monitor.observe_step(step);
+        let state = step.state();
+        if let Ok(fluid) = step.flow() {
+            self.slips.push((step.info().dt, (state.v - fluid.u).norm()));
         }
-        if step.state.t >= self.next_out {
-            self.path.push((step.state.t, step.state.x));
-            self.next_out = self.dt_out * ((step.state.t / self.dt_out).floor() + 1.0);
+        if state.t >= self.next_out {
+            self.path.push((state.t, state.x));
+            self.next_out = self.dt_out * ((state.t / self.dt_out).floor() + 1.0);
         }
     }
 

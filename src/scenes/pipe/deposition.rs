@@ -9,11 +9,11 @@ use super::tracking::track_to_deposition;
 use super::tracking::{Deposition, ShapeStats};
 use crate::contact::PipeWall;
 use crate::diagnostics::{Monitor, Validity};
+use crate::driver::AcceptedStep;
 use crate::driver::Plan;
 use crate::error::{ParamError, StepError};
 use crate::flow::analytic::Poiseuille;
 use crate::hydro::Brenner;
-use crate::integrator::Step;
 use crate::material::{NeoHooke, Softness};
 use crate::particle::{Particle, State};
 use crate::population::{
@@ -213,11 +213,13 @@ impl Watching<'_> {
 }
 
 impl Watch for Watching<'_> {
-    fn step(&mut self, step: &Step) {
-        self.see(&step.state);
-        if step.state.t >= self.next_record {
-            self.states.push(step.state);
-            self.next_record = step.state.t + self.record_dt;
+    fn step(&mut self, step: &AcceptedStep) {
+        let state = *step.state();
+        self.shape.add(step.frame(), state.t);
+        self.monitor.observe_step(step);
+        if state.t >= self.next_record {
+            self.states.push(state);
+            self.next_record = state.t + self.record_dt;
         }
     }
 

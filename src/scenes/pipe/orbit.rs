@@ -95,7 +95,7 @@ pub fn shear_averaged_mobility<I: TimeIntegrator>(
         &[],
         |_| {},
         |step| {
-            let s = &step.state;
+            let s = step.state();
             let m = match mobility(s) {
                 Ok(m) => m,
                 Err(e) => {

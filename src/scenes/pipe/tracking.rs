@@ -175,8 +175,7 @@ pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
     let contact = scene.contact();
     let mut samples = vec![release];
     let mut shape = ShapeStats::default();
-    let frame = |s: &State| scene.particle.frame(&s.f);
-    shape.add(&frame(&state), state.t);
+    shape.add(&scene.particle.frame(&state.f), state.t);
     let mut monitor = Monitor::new(&scene.particle, &scene.flow, &scene.wall);
     monitor.observe(&state);
     let mut next_record = record_dt;
@@ -192,11 +191,12 @@ pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
         &[&contact],
         |_| {},
         |step| {
-            shape.add(&frame(&step.state), step.state.t);
-            monitor.observe(&step.state);
-            if step.state.t >= next_record {
-                samples.push(scene.observe(&step.state));
-                next_record = step.state.t + record_dt;
+            let state = step.state();
+            shape.add(step.frame(), state.t);
+            monitor.observe_step(step);
+            if state.t >= next_record {
+                samples.push(scene.observe(state));
+                next_record = state.t + record_dt;
             }
         },
     )?;

@@ -6,17 +6,23 @@
 //! - the steady tank-treading of an initially spherical particle (Roscoe 1967, solved
 //!   independently of any time integrator by `scenes::tank_treading::roscoe`);
 //! - a sphere settling from rest to the Stokes velocity v_s = (2/9)(ρ_s − ρ_f) g a²/μ_f;
-//! - a wall-contact event located against its analytic crossing time.
+//! - a wall-contact event located against its analytic crossing time;
+//! - the end state's frame and flow sample shown to `on_step` ([`AcceptedStep`]) against the
+//!   ones computed afresh at the step's state.
 use pseudorigid::contact::{Boundary, ContactEvent, ContactModel, Extent, Gap, PatchRule};
-use pseudorigid::driver::{Plan, Stop, advance, integrate};
+use pseudorigid::driver::{AcceptedStep, Plan, Stop, advance, integrate};
 use pseudorigid::ellipsoid::Ellipsoid;
-use pseudorigid::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator};
+use pseudorigid::integrator::choice::Auto;
+use pseudorigid::integrator::manifold::Manifold;
+use pseudorigid::integrator::{ErrorNorm, ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator, Tolerances};
+use pseudorigid::material::Response;
 use pseudorigid::prelude::*;
 use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
 use pseudorigid::scenes::particles::Shape;
 use pseudorigid::scenes::section::ShearPlaneSection;
 use pseudorigid::scenes::shear_shape::ShearShape;
 use pseudorigid::scenes::tank_treading::roscoe;
+use pseudorigid::tensor::nearest_rotation;
 
 /// How an integrator is driven through the reference problems.
 struct Setup<I> {
@@ -172,6 +178,86 @@ fn contact_event<I: TimeIntegrator>(s: &Setup<I>) {
     );
 }
 
+/// What `on_step` is shown of the end state is the end state's, bitwise: the frame
+/// `Particle::frame` and the sample `FlowField::sample` give there, whether the scheme carried
+/// them or the view computed them. A soft prolate, turned off the flow axes, released off the
+/// axis of a Poiseuille flow, where u and ∇u change with x: a frame or sample of the step's
+/// start, of an inner evaluation, or at the old barycentre (the IMEX step's) would differ.
+/// Returns how many steps carried each (frame, sample) from the scheme.
+fn end_evaluation<I: TimeIntegrator, M: Response, D: DragModel>(integ: &I, p: &Particle<M, D>, dt: f64) -> (u32, u32) {
+    let flow = Poiseuille::new(1.0, 1.0).unwrap();
+    let mut s0 = State::at_rest(Vec3::new(0.4, -0.2, 0.0));
+    s0.f = nearest_rotation(&Mat3::new(1.0, 0.3, 0.0, -0.3, 1.0, 0.2, 0.0, -0.2, 1.0));
+    let mut memory = I::Memory::default();
+    let plan = Plan::new(50.0 * dt, dt).unwrap();
+    let (mut steps, mut carried) = (0, (0, 0));
+    integrate(
+        integ,
+        p,
+        &flow,
+        s0,
+        &mut memory,
+        &plan,
+        &[],
+        |_| {},
+        |step: &AcceptedStep| {
+            let state = step.state();
+            carried.0 += u32::from(step.step().end.frame.is_some());
+            carried.1 += u32::from(step.step().end.flow.is_some());
+            assert_eq!(
+                *step.frame(),
+                p.frame(&state.f),
+                "{}: frame at t = {}",
+                integ.name(),
+                state.t
+            );
+            assert_eq!(
+                step.flow().ok(),
+                flow.sample(&state.x, state.t).ok().as_ref(),
+                "{}: flow at t = {}",
+                integ.name(),
+                state.t
+            );
+            steps += 1;
+        },
+    )
+    .unwrap();
+    assert!(steps >= 3, "{}: {steps} steps", integ.name());
+    carried
+}
+
+/// A soft 2:1 prolate (Ca = 0.2, ρ* = 1e-3) for [`end_evaluation`].
+fn soft_prolate() -> Particle<NeoHooke> {
+    ShearShape::new(Shape::Prolate(2.0))
+        .particle(&ShearScaling::new(0.2, 1e-3, 1e5).unwrap())
+        .unwrap()
+}
+
+/// The rigid limit, whose F the Stokesian step projects onto SO(3) after its last evaluation:
+/// the frame it evaluated is not the end state's, and the view must compute it.
+#[test]
+fn rigid_end_frame_is_the_projected_states() {
+    let soft = soft_prolate();
+    let p = soft.rigid_twin();
+    let (frames, samples) = end_evaluation(&Stokesian::new(1e-8).unwrap(), &p, 1e-2);
+    assert_eq!(frames, 0);
+    assert!(samples > 0);
+}
+
+/// The schemes outside the harness: the slow-manifold step (its own F, the inner step's x and
+/// t) and the automatic choice.
+#[test]
+fn manifold_and_auto_show_the_end_state() {
+    let p = soft_prolate();
+    let manifold = Manifold::new(Stokesian::overdamped(1e-8).unwrap());
+    end_evaluation(&manifold, &p, 1e-2);
+    let auto = Auto {
+        tol: Tolerances::new(1e-8, 1e-8, 1e-14).unwrap(),
+        norm: ErrorNorm::default(),
+    };
+    end_evaluation(&auto, &p, 1e-2);
+}
+
 macro_rules! harness {
     ($name:ident, $setup:expr) => {
         mod $name {
@@ -191,6 +277,11 @@ macro_rules! harness {
             #[test]
             fn contact_event() {
                 super::contact_event(&$setup);
+            }
+            #[test]
+            fn end_evaluation() {
+                let setup = $setup;
+                super::end_evaluation(&setup.integ, &super::soft_prolate(), setup.dt);
             }
         }
     };
@@ -271,8 +362,8 @@ fn radau_is_l_stable_on_a_quasi_rigid_particle() {
         |_| {},
         |step| {
             // The last step is shortened to land on t_end.
-            if step.dense.t_start() > 0.1 && step.state.t < t_end - 1e-9 {
-                smallest_after_first = smallest_after_first.min(step.info.dt);
+            if step.dense().t_start() > 0.1 && step.state().t < t_end - 1e-9 {
+                smallest_after_first = smallest_after_first.min(step.info().dt);
             }
         },
     )

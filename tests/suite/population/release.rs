@@ -7,10 +7,11 @@
 
 use crate::common::strategies::rotation;
 use proptest::prelude::*;
-use pseudorigid::driver::{Plan, integrate};
+use pseudorigid::driver::{AcceptedStep, Plan, StepContext, integrate};
 use pseudorigid::ellipsoid::Ellipsoid;
+use pseudorigid::flow::analytic::LinearFlow;
 use pseudorigid::integrator::dense::Knot;
-use pseudorigid::integrator::{Dense, Step, StepInfo, Stokesian, TimeIntegrator};
+use pseudorigid::integrator::{Dense, EndEvaluation, Step, StepInfo, Stokesian, TimeIntegrator};
 use pseudorigid::material::NeoHooke;
 use pseudorigid::particle::release::{ReleaseCriterion, ReleaseError, ReleaseThresholds, largest_stretch};
 use pseudorigid::particle::{Fluid, Particle, ShearScaling, State};
@@ -49,16 +50,21 @@ fn watch_history(release: &Release, history: &History, h: f64, t_end: f64, t_sto
     };
     let start = state(0.0);
     let mut watch = Observer::<Particle<NeoHooke>, (), ()>::watch(release, &particle, &(), &(), &start);
+    // The release watch reads the dense output only; the flow is any.
+    let flow = LinearFlow::simple_shear(1.0).unwrap();
+    let context = StepContext::new(&particle, &flow);
     let steps = (t_end / h).ceil() as usize;
     for k in 0..steps {
         let (t0, t1) = (k as f64 * h, (k + 1) as f64 * h);
         let dense = Dense::new(t0, h, Knot::of_state(&state(t0)), Knot::of_state(&state(t1)));
         let dense = if rigid { dense.of_rotations() } else { dense };
-        watch.step(&Step {
+        let step = Step {
             state: state(t1),
             info: StepInfo::default(),
             dense,
-        });
+            end: EndEvaluation::default(),
+        };
+        watch.step(&AcceptedStep::new(&step, &context));
     }
     Released::of(&watch.finish(&Fate::Suspended, &state(t_stop))).unwrap()
 }
@@ -444,8 +450,8 @@ fn release_in_uniaxial_extension_matches_quadrature() {
         &[],
         |_| {},
         |s| {
-            h_max = h_max.max(s.dense.t_end() - s.dense.t_start());
-            ends.push((s.state.t, largest_stretch(&s.state.f)));
+            h_max = h_max.max(s.dense().t_end() - s.dense().t_start());
+            ends.push((s.state().t, largest_stretch(&s.state().f)));
             watch.step(s)
         },
     )
