@@ -21,8 +21,8 @@
 use pseudorigid::output::{Csv, paper_figure_path};
 use pseudorigid::scenes::airway_tree::AirwayTree;
 use pseudorigid::scenes::airway_tree::release::{
-    Releases, release_figure, release_map, release_table, release_times_table, run_release_cached, stretch_thresholds,
-    write_release_parquet,
+    ReleaseResults, release_figure, release_map, release_table, release_times_table, run_release_cached,
+    stretch_thresholds, write_release_parquet,
 };
 use pseudorigid::scenes::airway_tree::study::mu_s_label;
 use pseudorigid::scenes::bifurcation::{Kind, Material};
@@ -53,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let out = run_release_cached(&tree, kind, &thresholds, n)?;
                 let seconds = started.elapsed().as_secs_f64();
                 let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
-                let releases = Releases::of(tree.tree(), &thresholds, &out)?;
+                let releases = ReleaseResults::of(tree.tree(), &thresholds, &out)?;
                 eprintln!("{kind:?}: {:?} in {seconds:.1} s ({steps} steps)", out.counts());
                 for &s in thresholds.levels() {
                     if let Some(t) = releases.times(s) {

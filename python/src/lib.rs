@@ -5,12 +5,12 @@
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
 use pseudorigid::cli::error::Source;
-use pseudorigid::cli::models::SceneLaw;
 use pseudorigid::cli::run::{Job, run_on, run_options};
 use pseudorigid::cli::{CliError, Scene};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
+use pseudorigid::material::NamedLaw;
 use pseudorigid::population::columns::{
     FRAME_COLUMNS, Row, Values, at_time, fate_code, frame_measures, record_columns,
 };
@@ -448,7 +448,7 @@ fn run_in_memory(
     let options = RunOptions::default().quiet().with_control(control.clone());
     let scene = &scene.get().inner;
     let job = Job::Memory { shard, options };
-    let work = || -> Result<RunOutput<SceneLaw>, CliError> {
+    let work = || -> Result<RunOutput<NamedLaw>, CliError> {
         match threads {
             None => scene.population(&job),
             Some(n) => rayon::ThreadPoolBuilder::new()
@@ -479,9 +479,9 @@ fn load_results(
     let output = py
         .detach(|| {
             if shard != Shard::ALL || checkpoint_dir(&out, Shard::ALL).is_dir() {
-                RunOutput::<SceneLaw>::read_checkpoint(&out, shard)
+                RunOutput::<NamedLaw>::read_checkpoint(&out, shard)
             } else {
-                RunOutput::<SceneLaw>::merge_dir(&out)
+                RunOutput::<NamedLaw>::merge_dir(&out)
             }
         })
         .map_err(|e| population_error(py, &e))?;
@@ -497,7 +497,7 @@ fn load_results(
 /// A run's records (see `pseudorigid.Results`).
 #[pyclass(name = "Results", module = "pseudorigid._native", frozen)]
 struct Results {
-    output: RunOutput<SceneLaw>,
+    output: RunOutput<NamedLaw>,
     times: Option<Vec<f64>>,
 }
 
@@ -551,14 +551,14 @@ impl Results {
     /// `population::columns::record_columns`). Where the file has a null a float column holds
     /// NaN and the integer and text columns (`patch`, `patch_name`, `error`) hold None.
     fn records<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let rows: Vec<Row<'_, SceneLaw>> = self
+        let rows: Vec<Row<'_, NamedLaw>> = self
             .output
             .records
             .iter()
             .map(|r| Row::new(r, &self.output.patches))
             .collect();
         let d = PyDict::new(py);
-        for c in record_columns::<SceneLaw>() {
+        for c in record_columns::<NamedLaw>() {
             match c.values {
                 Values::Count(f) => column_i64(py, &d, c.name, rows.iter().map(|r| f(r) as i64).collect())?,
                 Values::Int(f) => d.set_item(c.name, rows.iter().map(f).collect::<Vec<_>>())?,

@@ -69,12 +69,13 @@
 //! the run log and to `adequacy.json` in the output folder ([`Adequacy`]).
 
 use super::error::CliError;
-use super::models::{SceneFlow, SceneLaw};
+use super::models::SceneFlow;
 use super::scene::Scene;
 use crate::driver::Budget;
 use crate::flow::FlowField;
 use crate::flow::openfoam::{BlendedFlow, FoamFlow};
 use crate::integrator::choice::ParticleNumbers;
+use crate::material::NamedLaw;
 use crate::population::peer::Pairing;
 use crate::population::{Case, Fate, ParticleRecord, binomial};
 use crate::tensor::Vec3;
@@ -375,7 +376,7 @@ pub fn remove(dir: &Path) -> Result<(), CliError> {
 /// `scene.adequacy_sample` particles (module docs).
 pub fn adequacy(
     scene: &Scene,
-    records: &[ParticleRecord<SceneLaw>],
+    records: &[ParticleRecord<NamedLaw>],
     shard: bool,
 ) -> Result<Option<Adequacy>, CliError> {
     let Some(resolution) = resolution(scene) else {
@@ -442,10 +443,10 @@ pub fn resolution(scene: &Scene) -> Option<Option<Resolution>> {
 /// (module docs); `None` on an analytic or transient flow.
 pub fn sensitivity(
     scene: &Scene,
-    records: &[ParticleRecord<SceneLaw>],
+    records: &[ParticleRecord<NamedLaw>],
     sample: u64,
 ) -> Result<Option<Sensitivity>, CliError> {
-    let mut chosen: Vec<&ParticleRecord<SceneLaw>> = records.iter().collect();
+    let mut chosen: Vec<&ParticleRecord<NamedLaw>> = records.iter().collect();
     chosen.sort_by_key(|r| r.index);
     chosen.truncate(usize::try_from(sample).unwrap_or(usize::MAX));
     let deposited_in_run = records.iter().filter(|r| deposited(&r.fate)).count() as u64;
@@ -514,7 +515,7 @@ fn deposited(fate: &Fate) -> bool {
 /// integrator, boundary, contact and plan, with at most [`RETRACK_STEP_FACTOR`] times the
 /// particle's steps in the run plus [`RETRACK_STEP_FLOOR`] (beyond: `Failed`, undecided), in
 /// parallel on the current rayon pool.
-fn retrack<F: FlowField + Sync + ?Sized>(scene: &Scene, flow: &F, runs: &[&ParticleRecord<SceneLaw>]) -> Vec<Fate> {
+fn retrack<F: FlowField + Sync + ?Sized>(scene: &Scene, flow: &F, runs: &[&ParticleRecord<NamedLaw>]) -> Vec<Fate> {
     let injector = scene.injector();
     let budget = scene.plan.budget();
     runs.par_iter()

@@ -8,7 +8,7 @@
 //! [`at_time`], beside the columns of a run's tables.
 
 use super::error::CliError;
-use super::models::SceneLaw;
+use crate::material::NamedLaw;
 use crate::output::vtk::{CloudPoint, PolyData, Values, particle_cloud, stretch, write_pvd};
 use crate::output::{Csv, OutputError};
 use crate::population::columns::at_time;
@@ -37,7 +37,7 @@ pub fn csv_tables(asked: bool) -> bool {
 /// the trajectories (`vtk/trajectories.vtp`; `trajectories.csv` with CSV). The records
 /// themselves are in the run's checkpoint. Returns the number of frames.
 pub fn write_run(
-    output: &RunOutput<SceneLaw>,
+    output: &RunOutput<NamedLaw>,
     times: &[f64],
     vtk: bool,
     csv: bool,
@@ -84,7 +84,7 @@ pub fn write_run(
 }
 
 /// One polyline per particle through its kept states, with point arrays `id` and `t`.
-fn write_trajectories(records: &[ParticleRecord<SceneLaw>], dir: &Path, csv: bool) -> Result<(), CliError> {
+fn write_trajectories(records: &[ParticleRecord<NamedLaw>], dir: &Path, csv: bool) -> Result<(), CliError> {
     let mut points: Vec<Vec3> = Vec::new();
     let (mut ids, mut ts, mut lines) = (Vec::new(), Vec::new(), Vec::new());
     let mut table = Csv::new(&TRAJECTORY_HEADER);

@@ -2,10 +2,12 @@
 //! entry k) or injection groups, each drawing its particles from their own generators
 //! (particle k of the scene, in whichever group, draws from stream k).
 
-use super::models::{SceneDrag, SceneFlow, SceneLaw};
+use super::models::SceneFlow;
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
+use crate::hydro::drag::NamedDrag;
+use crate::material::NamedLaw;
 use crate::material::Softness;
 use crate::particle::Particle;
 use crate::population::sampling::{WeightedTriangles, haar_rotation, uniform_disc};
@@ -27,7 +29,7 @@ pub struct Placement {
     /// Stress-free ellipsoid (with its orientation).
     pub shape: Ellipsoid,
     /// Shape response.
-    pub softness: Softness<SceneLaw>,
+    pub softness: Softness<NamedLaw>,
     /// Solid density ρ_s.
     pub density: f64,
     /// Start point (ignored for injection, which draws it).
@@ -38,7 +40,7 @@ pub struct Placement {
 
 impl Placement {
     /// The specification with velocity `velocity`.
-    pub fn spec(&self, velocity: Vec3) -> ParticleSpec<SceneLaw> {
+    pub fn spec(&self, velocity: Vec3) -> ParticleSpec<NamedLaw> {
         ParticleSpec {
             shape: self.shape,
             softness: self.softness.clone(),
@@ -111,18 +113,18 @@ fn group_of(groups: &[Group], index: u64) -> Option<&Group> {
 /// A scene's particles over its flow, as the population runner draws them.
 #[derive(Debug, Clone, Copy)]
 pub struct SceneInjector<'a> {
-    template: &'a ParticleTemplate<SceneDrag>,
+    template: &'a ParticleTemplate<NamedDrag>,
     source: &'a Source,
     flow: &'a SceneFlow,
 }
 
 impl<'a> SceneInjector<'a> {
     /// Particles of `source` built with `template`, starting in `flow`.
-    pub fn new(template: &'a ParticleTemplate<SceneDrag>, source: &'a Source, flow: &'a SceneFlow) -> Self {
+    pub fn new(template: &'a ParticleTemplate<NamedDrag>, source: &'a Source, flow: &'a SceneFlow) -> Self {
         Self { template, source, flow }
     }
 
-    fn start(&self, placement: &Placement, position: Vec3) -> Result<ParticleSpec<SceneLaw>, StepError> {
+    fn start(&self, placement: &Placement, position: Vec3) -> Result<ParticleSpec<NamedLaw>, StepError> {
         let velocity = match placement.velocity {
             Velocity::Given(v) => v,
             Velocity::Fluid => self.flow.sample(&position, 0.0)?.u,
@@ -135,10 +137,10 @@ impl<'a> SceneInjector<'a> {
 }
 
 impl Injector for SceneInjector<'_> {
-    type Law = SceneLaw;
-    type Drag = SceneDrag;
+    type Law = NamedLaw;
+    type Drag = NamedDrag;
 
-    fn draw(&self, index: u64, rng: &mut ParticleRng) -> Result<ParticleSpec<SceneLaw>, StepError> {
+    fn draw(&self, index: u64, rng: &mut ParticleRng) -> Result<ParticleSpec<NamedLaw>, StepError> {
         match self.source {
             Source::List(list) => {
                 let placement =
@@ -183,7 +185,7 @@ impl Injector for SceneInjector<'_> {
         }
     }
 
-    fn particle(&self, spec: &ParticleSpec<SceneLaw>) -> Result<Particle<Softness<SceneLaw>, SceneDrag>, ParamError> {
+    fn particle(&self, spec: &ParticleSpec<NamedLaw>) -> Result<Particle<Softness<NamedLaw>, NamedDrag>, ParamError> {
         self.template.build(spec)
     }
 }

@@ -9,17 +9,9 @@ use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
 use crate::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, TransientFlow, window_ends};
 use crate::flow::{FlowField, FlowSample};
-use crate::hydro::drag::NamedDrag;
-use crate::material::NamedLaw;
 use crate::population::batch::Sliding;
 use crate::tensor::Vec3;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError, RwLock};
-
-/// The law a scene names: any registered law ([`crate::material::registry`]).
-pub type SceneLaw = NamedLaw;
-
-/// The drag model a scene names: any registered model ([`crate::hydro::drag::by_name`]).
-pub type SceneDrag = NamedDrag;
 
 /// A carrier flow named in a scene.
 #[derive(Debug, Clone)]

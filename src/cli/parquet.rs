@@ -13,7 +13,7 @@
 //! particle-frame.
 
 use super::error::CliError;
-use super::models::SceneLaw;
+use crate::material::NamedLaw;
 use crate::material::StressLaw;
 use crate::output::parquet::Table;
 use crate::population::RunOutput;
@@ -43,7 +43,7 @@ pub fn write_records<L: StressLaw + Serialize + DeserializeOwned>(
 
 /// `frames.parquet`: every particle at every frame time, the columns of [`FRAME_COLUMNS`] (the
 /// numbers of `frames.csv`, V by its six independent components).
-pub fn write_frames(output: &RunOutput<SceneLaw>, times: &[f64], path: &Path) -> Result<(), CliError> {
+pub fn write_frames(output: &RunOutput<NamedLaw>, times: &[f64], path: &Path) -> Result<(), CliError> {
     let (mut frame, mut time, mut id, mut flag) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 12];
     for (k, &t) in times.iter().enumerate() {

@@ -4,8 +4,9 @@
 use super::adequacy::{Adequacy, adequacy};
 use super::error::CliError;
 use super::frames::{csv_tables, write_run};
-use super::models::{SceneFlow, SceneLaw, SceneTransient, Windows};
+use super::models::{SceneFlow, SceneTransient, Windows};
 use super::scene::Scene;
+use crate::material::NamedLaw;
 use crate::population::batch::{Batch, Sliding, batch_config, run_batch};
 use crate::population::{
     CHECKPOINT_INTERVAL, Case, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir,
@@ -67,7 +68,7 @@ impl Scene {
     /// Do `job` with this scene's integrator: on a steady flow with the particle-major
     /// runner ([`crate::population::run`]), on a transient OpenFOAM field with the batch
     /// runner ([`run_batch`]) over the windows of [`Scene::windows`].
-    pub fn population(&self, job: &Job) -> Result<RunOutput<SceneLaw>, CliError> {
+    pub fn population(&self, job: &Job) -> Result<RunOutput<NamedLaw>, CliError> {
         if let SceneFlow::Transient(field) = &self.flow {
             return self.batch_population(field, job);
         }
@@ -125,7 +126,7 @@ impl Scene {
     }
 
     /// [`Scene::population`] on the transient `field`, window by window.
-    fn batch_population(&self, field: &SceneTransient, job: &Job) -> Result<RunOutput<SceneLaw>, CliError> {
+    fn batch_population(&self, field: &SceneTransient, job: &Job) -> Result<RunOutput<NamedLaw>, CliError> {
         let _exclusive = field.run();
         let injector = self.injector();
         let batch = Batch::new(&self.integrator, &self.boundary, &injector, self.plan.clone())
@@ -133,7 +134,7 @@ impl Scene {
             .with_samples();
         let windows = field.window_ends(self.plan.t_end());
         let config = self.config();
-        let run = |shard: Shard, options: &RunOptions| -> Result<RunOutput<SceneLaw>, CliError> {
+        let run = |shard: Shard, options: &RunOptions| -> Result<RunOutput<NamedLaw>, CliError> {
             let mut flow = Windows(field);
             // The first window before any particle is launched (its fluid velocity is sampled
             // at t = 0); the runner's own first slide then keeps these levels. A run before
@@ -166,7 +167,7 @@ impl Scene {
 
 /// The shards' outputs in `dir` merged ([`RunOutput::merge_dir`]), refused unless they are of
 /// the run whose configuration hash is `expected`.
-fn merged(dir: &Path, expected: String) -> Result<RunOutput<SceneLaw>, CliError> {
+fn merged(dir: &Path, expected: String) -> Result<RunOutput<NamedLaw>, CliError> {
     let merged = RunOutput::merge_dir(dir)?;
     if merged.config_hash != expected {
         return Err(PopulationError::ConfigMismatch {
@@ -206,7 +207,7 @@ pub struct Finished {
     /// The summary line.
     pub summary: String,
     /// The run's (or shard's) records, as its checkpoint holds them.
-    pub output: RunOutput<SceneLaw>,
+    pub output: RunOutput<NamedLaw>,
     /// The mesh-adequacy diagnostic ([`super::adequacy`]; `None` on an analytic flow): of a
     /// whole run also in `adequacy.json`; a shard's has no re-track (`merge` does it).
     pub adequacy: Option<Adequacy>,

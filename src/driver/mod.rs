@@ -118,7 +118,7 @@ pub enum Stop {
 
 /// The end of a run.
 #[derive(Debug, Clone)]
-pub struct Outcome {
+pub struct RunEnd {
     /// Final state (at t_end, or at the located event).
     pub state: State,
     /// Work statistics.
@@ -247,7 +247,7 @@ const LANDING_TOL: f64 = 1e-12;
 /// [`RunStats`] of the accepted steps before it.
 #[allow(clippy::too_many_arguments)]
 // the problem (4), its memory, the plan, events, two observers
-// A failure carries a State like the Outcome does: the Err variant is no larger than Ok's.
+// A failure carries a State like the RunEnd does: the Err variant is no larger than Ok's.
 #[allow(clippy::result_large_err)]
 pub fn integrate<I, M, D, F>(
     integrator: &I,
@@ -259,7 +259,7 @@ pub fn integrate<I, M, D, F>(
     events: &[&dyn Event],
     observe: impl FnMut(&State),
     on_step: impl FnMut(&AcceptedStep),
-) -> Result<Outcome, RunFailure>
+) -> Result<RunEnd, RunFailure>
 where
     I: Stepper<M, D>,
     M: Response,
@@ -280,7 +280,7 @@ where
 
 /// Continue a run that stopped at its plan's end time (`from`, a [`Stop::EndTime`] outcome) as
 /// `plan` says (a later end time: [`Plan::until`]), as if it had not stopped: from its state,
-/// with its step proposal ([`Outcome::dt_next`], not `plan`'s first step) and `memory`, its
+/// with its step proposal ([`RunEnd::dt_next`], not `plan`'s first step) and `memory`, its
 /// statistics counted on (the step budget is the whole run's) and its last state not observed
 /// again. The run differs from an uninterrupted one only in the step that landed on the
 /// stop's time.
@@ -293,13 +293,13 @@ pub fn resume<I, M, D, F>(
     integrator: &I,
     particle: &Particle<M, D>,
     flow: &F,
-    from: &Outcome,
+    from: &RunEnd,
     memory: &mut I::Memory,
     plan: &Plan,
     events: &[&dyn Event],
     observe: impl FnMut(&State),
     on_step: impl FnMut(&AcceptedStep),
-) -> Result<Outcome, RunFailure>
+) -> Result<RunEnd, RunFailure>
 where
     I: Stepper<M, D>,
     M: Response,
@@ -346,7 +346,7 @@ fn integrate_recorded<I, M, D, F>(
     stats: &mut RunStats,
     last: &mut State,
     resumed: Option<f64>,
-) -> Result<Outcome, StepError>
+) -> Result<RunEnd, StepError>
 where
     I: Stepper<M, D>,
     M: Response,
@@ -372,7 +372,7 @@ where
     }
     for (index, e) in events.iter().enumerate() {
         if e.gap(&s) <= 0.0 {
-            return Ok(Outcome {
+            return Ok(RunEnd {
                 state: s,
                 stats: *stats,
                 stop: Stop::Event { index },
@@ -392,7 +392,7 @@ where
                 observe(&s);
                 continue;
             }
-            return Ok(Outcome {
+            return Ok(RunEnd {
                 state: s,
                 stats: *stats,
                 stop: Stop::EndTime,
@@ -450,7 +450,7 @@ where
         on_step(&AcceptedStep::new(&step, &context));
         if let Some((index, at)) = first_event(events, &s, &step.dense, &step.state)? {
             observe(&at);
-            return Ok(Outcome {
+            return Ok(RunEnd {
                 state: at,
                 stats: *stats,
                 stop: Stop::Event { index },
@@ -619,7 +619,7 @@ pub fn until_event<I, M, D, F>(
     state: State,
     plan: &Plan,
     events: &[&dyn Event],
-) -> Result<Outcome, RunFailure>
+) -> Result<RunEnd, RunFailure>
 where
     I: Stepper<M, D>,
     M: Response,

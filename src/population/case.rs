@@ -4,7 +4,7 @@ use super::observe::{Observer, Watch};
 use super::record::{Fate, ParticleRecord};
 use super::spec::{Injector, particle_rng};
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
-use crate::driver::{Outcome, Plan, RunFailure, RunStats, Stop, integrate, resume};
+use crate::driver::{Plan, RunEnd, RunFailure, RunStats, Stop, integrate, resume};
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::integrator::Stepper;
@@ -169,7 +169,7 @@ where
     fn fate(
         &self,
         contact: &ContactEvent<'_, B, Softness<J::Law>, J::Drag, F>,
-        result: Result<Outcome, RunFailure>,
+        result: Result<RunEnd, RunFailure>,
     ) -> (Fate, State, RunStats) {
         match result {
             Ok(out) => {
@@ -405,7 +405,7 @@ pub struct InFlight<J: Injector, M> {
     plan: Plan,
     memory: M,
     start: State,
-    last: Option<Outcome>,
+    last: Option<RunEnd>,
     samples: Vec<State>,
 }
 

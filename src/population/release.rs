@@ -77,11 +77,11 @@ impl Released {
 
 /// Watches each particle's release criterion against `thresholds`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Release {
+pub struct ReleaseObserver {
     thresholds: ReleaseThresholds,
 }
 
-impl Release {
+impl ReleaseObserver {
     /// The observer of `thresholds`.
     pub fn new(thresholds: ReleaseThresholds) -> Self {
         Self { thresholds }
@@ -93,7 +93,7 @@ impl Release {
     }
 }
 
-impl<M: Response, D: DragModel, F: ?Sized, B: ?Sized> Observer<Particle<M, D>, F, B> for Release {
+impl<M: Response, D: DragModel, F: ?Sized, B: ?Sized> Observer<Particle<M, D>, F, B> for ReleaseObserver {
     fn fingerprint(&self) -> String {
         format!(
             "release: first crossing of {} at {:?}, {SAMPLES} samples per step, Illinois on the dense output",

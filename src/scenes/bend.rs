@@ -29,10 +29,10 @@
 //! developed entrance flow has no wall-normal velocity, so few if any deposit there). Each
 //! particle deposits independently, so the count is binomial: standard error √(DE(1 − DE)/N).
 
-use crate::cli::models::SceneLaw;
 use crate::cli::run::Job;
 use crate::cli::{CliError, Scene};
 use crate::error::ParamError;
+use crate::material::NamedLaw;
 use crate::output::plot::{Figure, Panel, Series};
 use crate::output::{Csv, OutputError};
 use crate::population::peer::PeerFate;
@@ -303,7 +303,7 @@ impl BendCase {
         seed: u64,
         settings: Settings,
         options: RunOptions,
-    ) -> Result<RunOutput<SceneLaw>, BendError> {
+    ) -> Result<RunOutput<NamedLaw>, BendError> {
         let scene = self.scene(stokes, n, seed, settings)?;
         Ok(scene.population(&Job::Memory {
             shard: Shard::ALL,
@@ -326,7 +326,7 @@ impl BendCase {
 
     /// Spheres 0..n of [`Self::run_output`] as the runner draws them (injection point, initial
     /// velocity): what another tracker needs to follow the same particles.
-    pub fn particle_specs(&self, stokes: f64, n: u64, seed: u64) -> Result<Vec<ParticleSpec<SceneLaw>>, BendError> {
+    pub fn particle_specs(&self, stokes: f64, n: u64, seed: u64) -> Result<Vec<ParticleSpec<NamedLaw>>, BendError> {
         let scene = self.scene(stokes, n, seed, Settings::default())?;
         let injector = scene.injector();
         (0..n)
@@ -399,7 +399,7 @@ pub struct BendDeposition {
 
 impl BendDeposition {
     /// Count the fates of a run of spheres of Stokes number `stokes`.
-    pub fn of(stokes: f64, out: &RunOutput<SceneLaw>) -> Self {
+    pub fn of(stokes: f64, out: &RunOutput<NamedLaw>) -> Self {
         let mut row = Self {
             stokes,
             injected: out.records.len() as u64,

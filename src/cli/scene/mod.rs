@@ -8,7 +8,7 @@ mod timing;
 
 use super::error::{CliError, Source};
 use super::inject::{Group, Placement, SceneInjector, Source as ParticleSource, Velocity};
-use super::models::{SceneBoundary, SceneDrag, SceneFlow, SceneLaw, SceneTransient, TransientField};
+use super::models::{SceneBoundary, SceneFlow, SceneTransient, TransientField};
 use super::schema::*;
 use crate::contact::MeshBoundary;
 use crate::contact::{ContactModel, PatchRule, PipeWall, Plane, Planes};
@@ -18,8 +18,10 @@ use crate::error::ParamError;
 use crate::flow::FlowField;
 use crate::flow::analytic::{LinearFlow, Poiseuille};
 use crate::flow::openfoam::{BlendedFlow, Cycle, FoamCase, FoamFlow, Precision, TransientFlow};
+use crate::hydro::drag::NamedDrag;
 use crate::hydro::{ForceTerms, VolumetricTraction, drag, forces};
 use crate::integrator::SceneIntegrator;
+use crate::material::NamedLaw;
 use crate::material::{self, Softness};
 use crate::particle::Fluid;
 use crate::population::ParticleTemplate;
@@ -107,7 +109,7 @@ pub struct Scene {
     /// Extent or point contact.
     pub contact: ContactModel,
     /// What the particles share.
-    pub template: ParticleTemplate<SceneDrag>,
+    pub template: ParticleTemplate<NamedDrag>,
     /// The particles.
     pub particles: ParticleSource,
     /// Time integrator.

@@ -11,7 +11,7 @@ impl Builder<'_> {
         fluid: &FluidSpec,
         particles: &ParticlesSpec,
         forces: ForceTerms,
-    ) -> Result<ParticleTemplate<SceneDrag>, CliError> {
+    ) -> Result<ParticleTemplate<NamedDrag>, CliError> {
         let mu = self.positive(&fluid.viscosity, "fluid.viscosity")?;
         let rho_f = self.finite(&fluid.density, "fluid.density")?;
         let fluid_model = Fluid::new(mu, rho_f).map_err(|e| match e.key() {
@@ -36,7 +36,7 @@ impl Builder<'_> {
     }
 
     /// `particles.drag` through the registry of drag models (default `brenner`, the paper's).
-    fn drag(&self, entry: Option<&Spanned<DragEntry>>) -> Result<SceneDrag, CliError> {
+    fn drag(&self, entry: Option<&Spanned<DragEntry>>) -> Result<NamedDrag, CliError> {
         let Some(entry) = entry else {
             return drag::by_name("brenner", &Values::new()).map_err(|e| self.param(0..0, "particles.drag", e));
         };
@@ -102,7 +102,7 @@ impl Builder<'_> {
     }
 
     /// `material`: the response by name through the registry of laws.
-    fn material(&self, m: &MaterialSpec, key: &str) -> Result<Softness<SceneLaw>, CliError> {
+    fn material(&self, m: &MaterialSpec, key: &str) -> Result<Softness<NamedLaw>, CliError> {
         let keys = self.model_keys(m, key, "law", &[])?;
         material::registry::response(&keys.name, &keys.values).map_err(|e| self.model_error(&keys, e))
     }
@@ -145,7 +145,7 @@ impl Builder<'_> {
     pub(super) fn particles(
         &self,
         spanned: &Spanned<ParticlesSpec>,
-        template: &ParticleTemplate<SceneDrag>,
+        template: &ParticleTemplate<NamedDrag>,
         flow: &SceneFlow,
         contact_radius: f64,
     ) -> Result<ParticleSource, CliError> {
@@ -206,7 +206,7 @@ impl Builder<'_> {
         p: &ParticleEntry,
         key: &str,
         shared: Option<&Num>,
-        template: &ParticleTemplate<SceneDrag>,
+        template: &ParticleTemplate<NamedDrag>,
         flow: &SceneFlow,
     ) -> Result<Placement, CliError> {
         let density = self.density(
@@ -283,7 +283,7 @@ impl Builder<'_> {
         inj: &InjectSpec,
         key: &str,
         shared: Option<&Num>,
-        template: &ParticleTemplate<SceneDrag>,
+        template: &ParticleTemplate<NamedDrag>,
         flow: &SceneFlow,
         contact_radius: f64,
     ) -> Result<Group, CliError> {

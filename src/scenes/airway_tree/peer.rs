@@ -12,7 +12,7 @@
 //!   through any other patch (the inlet) only the first;
 //! - a suspended or uninjected particle has no outcome and is left out.
 //!
-//! Our outcomes ([`Outcome`], from the generation observer) use the path: a particle that
+//! Our outcomes ([`TreeFate`], from the generation observer) use the path: a particle that
 //! crossed into generation g + 1 and then deposited upstream, in g, entered g + 1 by ours and
 //! not by the peer's rule. [`PeerComparison::returned`] counts such particles of ours, so the
 //! difference the two rules can make is measured, not assumed.
@@ -30,7 +30,7 @@
 //! ([`PeerComparison::ours`], [`PeerComparison::peer`]) show what that leaves out.
 
 use super::AirwayTreeError;
-use super::study::{GenerationCounts, Outcome, count, outcome};
+use super::study::{GenerationCounts, TreeFate, count, tree_fate};
 use super::tree::Tree;
 use crate::material::NeoHooke;
 use crate::output::{Csv, Figure, Panel, Series};
@@ -42,7 +42,7 @@ use std::collections::HashMap;
 
 /// Where the peer's particle `index` went (module docs); `None` if it has no outcome
 /// (suspended or never injected).
-pub fn peer_outcome(tree: &Tree, index: u64, fate: &PeerFate) -> Result<Option<Outcome>, AirwayTreeError> {
+pub fn peer_tree_fate(tree: &Tree, index: u64, fate: &PeerFate) -> Result<Option<TreeFate>, AirwayTreeError> {
     let bad = |reason: String| AirwayTreeError::Peer { index, reason };
     match fate.fate.as_str() {
         "deposited" => {
@@ -53,7 +53,7 @@ pub fn peer_outcome(tree: &Tree, index: u64, fate: &PeerFate) -> Result<Option<O
                     .map_err(|e| bad(format!("deposit point {:?}: {e}", fate.x)))?;
             }
             let generation = tree.classify(&x)?.generation;
-            Ok(Some(Outcome {
+            Ok(Some(TreeFate {
                 deepest: generation,
                 deposited: Some(generation),
             }))
@@ -64,7 +64,7 @@ pub fn peer_outcome(tree: &Tree, index: u64, fate: &PeerFate) -> Result<Option<O
                 .iter()
                 .find(|t| t.outlet.as_deref() == Some(fate.patch.as_str()))
                 .map_or(tree.first_generation(), |t| t.generation);
-            Ok(Some(Outcome {
+            Ok(Some(TreeFate {
                 deepest,
                 deposited: None,
             }))
@@ -149,7 +149,7 @@ pub fn against_peer(
             index: record.index,
             reason: "missing from the peer's fates".into(),
         })?;
-        let (a, b) = (outcome(tree, record)?, peer_outcome(tree, record.index, fate)?);
+        let (a, b) = (tree_fate(tree, record)?, peer_tree_fate(tree, record.index, fate)?);
         our_outcomes.extend(a);
         peer_outcomes.extend(b);
         let (Some(a), Some(b)) = (a, b) else {

@@ -25,7 +25,7 @@ use crate::material::NeoHooke;
 use crate::output::vtk::Values;
 use crate::output::{Csv, Figure, Panel, PolyData, Series, VtkError};
 use crate::particle::release::{ReleaseCriterion, ReleaseThresholds};
-use crate::population::release::{Crossing, Release, Released};
+use crate::population::release::{Crossing, ReleaseObserver, Released};
 use crate::population::{Fate, RunOptions, RunOutput, Shard};
 use crate::scenes::bifurcation::study::run_kind_observed;
 use crate::scenes::bifurcation::{Kind, figures};
@@ -44,7 +44,7 @@ pub fn stretch_thresholds() -> ReleaseThresholds {
 }
 
 /// The run of `n` particles of `kind` through `tree` (seed `seed`, or its shard) watched by
-/// [`Release`] at `thresholds`: the tree study's run ([`super::run_kind`]) with another
+/// [`ReleaseObserver`] at `thresholds`: the tree study's run ([`super::run_kind`]) with another
 /// observer, hence the same fates particle by particle. With `cache` a folder, a finished run is
 /// kept there and read back (keyed by the configuration hash, which covers the observer).
 #[allow(clippy::too_many_arguments)] // the tree study's arguments and the thresholds
@@ -58,7 +58,7 @@ pub fn run_release(
     options: &RunOptions,
     cache: Option<&Path>,
 ) -> Result<RunOutput<NeoHooke>, AirwayTreeError> {
-    let observer = Release::new(thresholds.clone());
+    let observer = ReleaseObserver::new(thresholds.clone());
     Ok(run_kind_observed(
         tree.airway(),
         kind,
@@ -112,7 +112,7 @@ pub struct ReleaseEvent {
 
 /// What the finished particles of a run did: their number and every release event.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Releases {
+pub struct ReleaseResults {
     /// The criterion and its levels.
     pub thresholds: ReleaseThresholds,
     /// Finished (not failed) particles, N.
@@ -123,8 +123,8 @@ pub struct Releases {
     pub peaks: Vec<f64>,
 }
 
-impl Releases {
-    /// The releases of `output`, run with [`Release`] at `thresholds`.
+impl ReleaseResults {
+    /// The releases of `output`, run with [`ReleaseObserver`] at `thresholds`.
     pub fn of(
         tree: &Tree,
         thresholds: &ReleaseThresholds,
@@ -286,7 +286,7 @@ pub fn release_table(rows: &[(Kind, Vec<ReleaseCounts>)]) -> Result<Csv, AirwayT
 /// zone_share`: the released fraction over the whole tree, the release times (s) per
 /// threshold, and the share of the releases that lie in a bifurcation zone (a carina region)
 /// rather than a tube proper.
-pub fn release_times_table(rows: &[(Kind, Releases)]) -> Result<Csv, AirwayTreeError> {
+pub fn release_times_table(rows: &[(Kind, ReleaseResults)]) -> Result<Csv, AirwayTreeError> {
     let mut csv = Csv::new(&[
         "shape",
         "mu_s",
@@ -331,7 +331,7 @@ pub fn release_times_table(rows: &[(Kind, Releases)]) -> Result<Csv, AirwayTreeE
 }
 
 /// The share of the releases at `threshold` located in a bifurcation zone; `None` if none.
-fn zone_share(releases: &Releases, threshold: f64) -> Option<f64> {
+fn zone_share(releases: &ReleaseResults, threshold: f64) -> Option<f64> {
     let at: Vec<&ReleaseEvent> = releases.events.iter().filter(|e| e.threshold == threshold).collect();
     let zones = at
         .iter()
@@ -342,9 +342,9 @@ fn zone_share(releases: &Releases, threshold: f64) -> Option<f64> {
 
 /// Released fraction against the threshold, one panel per generation of `tree`, one series
 /// per kind with f ± 2σ as lines; a last panel for the whole tree.
-pub fn release_figure(tree: &Tree, rows: &[(Kind, Releases)], title: &str) -> Figure {
+pub fn release_figure(tree: &Tree, rows: &[(Kind, ReleaseResults)], title: &str) -> Figure {
     let mut panels = Vec::new();
-    let whole = |releases: &Releases, threshold: f64| ReleaseCounts {
+    let whole = |releases: &ReleaseResults, threshold: f64| ReleaseCounts {
         threshold,
         generation: 0,
         released: releases.times(threshold).map_or(0, |t| t.count),
@@ -395,7 +395,7 @@ pub fn release_figure(tree: &Tree, rows: &[(Kind, Releases)], title: &str) -> Fi
 }
 
 /// Per kind: a number for the map's `kind` array, and its releases.
-type Map<'r> = [(Kind, &'r Releases)];
+type Map<'r> = [(Kind, &'r ReleaseResults)];
 
 /// The release map for ParaView: one vertex per release event of the particles with index
 /// below `particles` (the same particles in every kind; a map of every particle of a large

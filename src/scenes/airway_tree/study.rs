@@ -57,7 +57,7 @@ pub fn run_kind(
 /// Where one finished particle went: the deepest generation it entered and the generation it
 /// deposited in (`None`: escaped or suspended).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Outcome {
+pub struct TreeFate {
     /// Deepest generation entered.
     pub deepest: u8,
     /// Generation of the deposit.
@@ -67,14 +67,14 @@ pub struct Outcome {
 /// The outcome of a record; `None` for a failed particle. The deposit's generation is that of
 /// its barycentre at contact ([`Tree::classify`]); a particle entered every generation up to
 /// its deposit's (so `deepest` is at least that, whatever the observer saw).
-pub fn outcome(tree: &Tree, record: &ParticleRecord<NeoHooke>) -> Result<Option<Outcome>, AirwayTreeError> {
+pub fn tree_fate(tree: &Tree, record: &ParticleRecord<NeoHooke>) -> Result<Option<TreeFate>, AirwayTreeError> {
     let deposited = match &record.fate {
         Fate::Failed { .. } => return Ok(None),
         Fate::Deposited { position, .. } => Some(tree.classify(position)?.generation),
         Fate::Escaped { .. } | Fate::Suspended => None,
     };
     let reached = Reached::of(&record.observed).ok_or(AirwayTreeError::Unobserved { index: record.index })?;
-    Ok(Some(Outcome {
+    Ok(Some(TreeFate {
         deepest: reached.generation.max(deposited.unwrap_or(0)),
         deposited,
     }))
@@ -107,14 +107,14 @@ impl GenerationCounts {
 pub fn by_generation(tree: &Tree, output: &RunOutput<NeoHooke>) -> Result<Vec<GenerationCounts>, AirwayTreeError> {
     let mut outcomes = Vec::with_capacity(output.records.len());
     for record in &output.records {
-        outcomes.extend(outcome(tree, record)?);
+        outcomes.extend(tree_fate(tree, record)?);
     }
     Ok(count(tree, outcomes))
 }
 
 /// Counts of every generation of `tree` over some particles' outcomes: a particle entered
 /// every generation up to its deepest.
-pub fn count(tree: &Tree, outcomes: impl IntoIterator<Item = Outcome>) -> Vec<GenerationCounts> {
+pub fn count(tree: &Tree, outcomes: impl IntoIterator<Item = TreeFate>) -> Vec<GenerationCounts> {
     let mut rows: Vec<GenerationCounts> = tree
         .generations()
         .map(|generation| GenerationCounts {
@@ -192,7 +192,7 @@ pub fn paired(
         })
         .collect();
     for (a, b) in reference.records.iter().zip(&soft.records) {
-        let (Some(oa), Some(ob)) = (outcome(tree, a)?, outcome(tree, b)?) else {
+        let (Some(oa), Some(ob)) = (tree_fate(tree, a)?, tree_fate(tree, b)?) else {
             continue;
         };
         for row in &mut rows {

@@ -55,12 +55,12 @@ pub fn deposition_study(
             .collect();
         let group: Vec<&PipeScene> = mine.iter().map(|&j| &scenes[j]).collect();
         let first = group[0];
-        let injection = Releases { scenes: &group };
+        let injection = CaseInjector { scenes: &group };
         let observer = Observe {
             record_dt: jeffery_period(lambda1, 1.0) / per_orbit,
         };
         let integrator = first.integrator(tol)?;
-        // Each particle's time limit is its own ([`Releases::plan`]).
+        // Each particle's time limit is its own ([`CaseInjector::plan`]).
         let plan = Plan::new(1.0, DT0)?;
         let case = Case::new(&integrator, &first.flow, &first.wall, &injection, plan).with_observer(&observer);
         let config = RunConfig {
@@ -122,11 +122,11 @@ fn deposition(scene: &PipeScene, record: ParticleRecord<NeoHooke>) -> Result<Dep
 /// The released particles of cases that share their flow: particle k is the k-th scene's,
 /// released stress-free at x₀ with the fluid's velocity, until 50 settling times of the
 /// volume-equivalent sphere.
-struct Releases<'s> {
+struct CaseInjector<'s> {
     scenes: &'s [&'s PipeScene],
 }
 
-impl Injector for Releases<'_> {
+impl Injector for CaseInjector<'_> {
     type Law = NeoHooke;
     type Drag = Brenner;
 

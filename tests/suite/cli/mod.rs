@@ -10,10 +10,10 @@ mod scene;
 mod transient;
 
 use crate::common::build;
+use pseudorigid::material::NamedLaw;
 
 use pseudorigid::cli::CliError;
 use pseudorigid::cli::error::Source;
-use pseudorigid::cli::models::SceneLaw;
 use pseudorigid::cli::run::Job;
 use pseudorigid::cli::scene::{Scene, parse};
 use pseudorigid::contact::{ContactEvent, ContactModel};
@@ -56,7 +56,7 @@ fn scene(name: &str, edits: &[(&str, &str)]) -> Scene {
     .unwrap()
 }
 
-fn run(scene: &Scene, name: &str) -> RunOutput<SceneLaw> {
+fn run(scene: &Scene, name: &str) -> RunOutput<NamedLaw> {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
     let options = RunOptions::default().serial().quiet();

@@ -8,7 +8,6 @@ use super::command::{chunks, ok, pseudorigid, results};
 use super::{parse_named, run};
 use crate::common::build::{Shape, cube, write_levels};
 use pseudorigid::cli::CliError;
-use pseudorigid::cli::models::SceneLaw;
 use pseudorigid::cli::run::Job;
 use pseudorigid::cli::scene::{DEFAULT_MAX_STEPS, Scene};
 use pseudorigid::contact::MeshBoundary;
@@ -18,6 +17,7 @@ use pseudorigid::error::{ParamError, StepError};
 use pseudorigid::flow::openfoam::{BlendedFlow, Cycle, FoamCase, Precision, TransientFlow};
 use pseudorigid::hydro::drag::Brenner;
 use pseudorigid::integrator::Stokesian;
+use pseudorigid::material::NamedLaw;
 use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::particle::{Fluid, Particle};
 use pseudorigid::population::batch::{Batch, run_batch};
@@ -197,7 +197,7 @@ fn library_run(case: &Path, times: &[f64], cycle: Cycle, window: f64, t_end: f64
 }
 
 /// Fate, end state and every kept state of two runs, bit for bit.
-fn assert_same_records(cli: &RunOutput<SceneLaw>, library: &RunOutput<NeoHooke>) {
+fn assert_same_records(cli: &RunOutput<NamedLaw>, library: &RunOutput<NeoHooke>) {
     assert_eq!(cli.records.len(), library.records.len());
     for (a, b) in cli.records.iter().zip(&library.records) {
         assert_eq!(format!("{:?}", a.fate), format!("{:?}", b.fate), "particle {}", a.index);

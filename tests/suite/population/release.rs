@@ -15,7 +15,7 @@ use pseudorigid::integrator::{Dense, EndEvaluation, Step, StepInfo, Stokesian, T
 use pseudorigid::material::NeoHooke;
 use pseudorigid::particle::release::{ReleaseCriterion, ReleaseError, ReleaseThresholds, largest_stretch};
 use pseudorigid::particle::{Fluid, Particle, ShearScaling, State};
-use pseudorigid::population::release::{Release, Released};
+use pseudorigid::population::release::{ReleaseObserver, Released};
 use pseudorigid::population::{Fate, Observer};
 use pseudorigid::scenes::particles::Shape;
 use pseudorigid::scenes::shear_run::unit_shear;
@@ -42,7 +42,14 @@ type History = dyn Fn(f64) -> (Vec3, Vec3, Mat3, Mat3);
 /// Hermite interpolant of exact knots), watched by `release`, finished at `t_stop` (the end
 /// state's time; the last step may run past it, as the driver's last step runs past an
 /// event); `rigid` marks the interpolants as rotations, as the driver does for rigid particles.
-fn watch_history(release: &Release, history: &History, h: f64, t_end: f64, t_stop: f64, rigid: bool) -> Released {
+fn watch_history(
+    release: &ReleaseObserver,
+    history: &History,
+    h: f64,
+    t_end: f64,
+    t_stop: f64,
+    rigid: bool,
+) -> Released {
     let particle = sphere();
     let state = |t: f64| {
         let (x, v, f, a) = history(t);
@@ -135,7 +142,7 @@ fn crossing_matches_planar_extension_closed_form() {
     let bound = h.powi(4) * eps.powi(3) * (2.0 * eps * h).exp() / 384.0;
     let levels = vec![1.01, 1.3, 2.0, 3.0];
     for criterion in [ReleaseCriterion::PrincipalStretch, ReleaseCriterion::SemiAxisRatio] {
-        let release = Release::new(ReleaseThresholds::new(criterion, levels.clone()).unwrap());
+        let release = ReleaseObserver::new(ReleaseThresholds::new(criterion, levels.clone()).unwrap());
         let got = watch_history(&release, &history, h, 1.5, 1.5, false);
         for (s, c) in levels.iter().zip(&got.crossings) {
             let exact = s.ln() / eps;
@@ -154,7 +161,8 @@ fn crossing_matches_planar_extension_closed_form() {
         }
     }
     let energies = vec![0.05, 0.5, 2.0];
-    let release = Release::new(ReleaseThresholds::new(ReleaseCriterion::EnergyDensity, energies.clone()).unwrap());
+    let release =
+        ReleaseObserver::new(ReleaseThresholds::new(ReleaseCriterion::EnergyDensity, energies.clone()).unwrap());
     let got = watch_history(&release, &history, h, 1.5, 1.5, false);
     for (w, c) in energies.iter().zip(&got.crossings) {
         let exact = (w / (2.0 * MU)).sqrt().asinh() / eps;
@@ -163,7 +171,7 @@ fn crossing_matches_planar_extension_closed_form() {
         assert!((c.t - exact).abs() <= tol, "W = {w}: {} vs {exact} (±{tol:e})", c.t);
     }
     // λ₁ = 1.3 at t* = 0.2624, inside the third step: stopping at 0.25 records nothing.
-    let release = Release::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, vec![1.3]).unwrap());
+    let release = ReleaseObserver::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, vec![1.3]).unwrap());
     let got = watch_history(&release, &history, h, 0.3, 0.25, false);
     assert_eq!(got.crossings, vec![None]);
     assert!(got.peak.value < 1.3 && (got.peak.t - 0.25).abs() < 1e-15);
@@ -180,8 +188,9 @@ fn rigid_rotation_never_releases() {
         let f = *nalgebra::Rotation3::from_axis_angle(&Vec3::z_axis(), omega * t).matrix();
         (Vec3::zeros(), Vec3::zeros(), f, w * f)
     };
-    let release =
-        Release::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, vec![1.0 + 1e-12, 1.01]).unwrap());
+    let release = ReleaseObserver::new(
+        ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, vec![1.0 + 1e-12, 1.01]).unwrap(),
+    );
     let got = watch_history(&release, &history, 0.1, 2.0, 2.0, true);
     assert_eq!(got.crossings, vec![None, None]);
     assert!((got.peak.value - 1.0).abs() < 1e-14, "{}", got.peak.value);
@@ -223,7 +232,7 @@ proptest! {
         let mut levels = raw;
         levels.sort_by(f64::total_cmp);
         levels.dedup();
-        let release = Release::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, levels.clone()).unwrap());
+        let release = ReleaseObserver::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, levels.clone()).unwrap());
         let got = watch_history(&release, &oscillating(a, omega, phi, q), h, 3.0, 3.0, false);
         let mut last_t = f64::NEG_INFINITY;
         for (s, c) in levels.iter().zip(&got.crossings) {
@@ -260,7 +269,7 @@ fn tank_treading_sphere_releases_just_below_roscoe_stretch() {
     let particle = ShearShape::new(Shape::Sphere).particle(&scaling).unwrap();
     let flow = unit_shear();
     let levels = vec![1.0 + 0.995 * excess, 1.0 + 1.005 * excess];
-    let release = Release::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, levels).unwrap());
+    let release = ReleaseObserver::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, levels).unwrap());
     let start = State::at_rest(Vec3::zeros());
     let mut watch = Observer::<Particle<NeoHooke>, _, ()>::watch(&release, &particle, &flow, &(), &start);
     let integ = Stokesian::overdamped(1e-8).unwrap();
@@ -432,7 +441,8 @@ fn release_in_uniaxial_extension_matches_quadrature() {
     let flow = pseudorigid::flow::analytic::LinearFlow::uniaxial_extension(1.0).unwrap();
     // 1.71 lies above λ∞ = 1.703: approached, never reached.
     let levels = vec![1.05, 1.3, 1.5, 1.71];
-    let release = Release::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, levels.clone()).unwrap());
+    let release =
+        ReleaseObserver::new(ReleaseThresholds::new(ReleaseCriterion::PrincipalStretch, levels.clone()).unwrap());
     let start = State::at_rest(Vec3::zeros());
     let mut watch = Observer::<Particle<NeoHooke>, _, ()>::watch(&release, &particle, &flow, &(), &start);
     let integ = Stokesian::overdamped(tol).unwrap();

@@ -305,8 +305,8 @@ fn spheres_at_stokes_0_4_snapshot() {
 #[test]
 fn release_of_soft_spheres_snapshot() {
     use pseudorigid::population::{RunOptions, Shard};
-    use pseudorigid::scenes::airway_tree::release::{Releases, release_table, run_release, stretch_thresholds};
-    use pseudorigid::scenes::airway_tree::study::outcome;
+    use pseudorigid::scenes::airway_tree::release::{ReleaseResults, release_table, run_release, stretch_thresholds};
+    use pseudorigid::scenes::airway_tree::study::tree_fate;
     use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
     use pseudorigid::scenes::particles::Shape;
     let a = shipped();
@@ -329,11 +329,11 @@ fn release_of_soft_spheres_snapshot() {
             w.index
         );
     }
-    let releases = Releases::of(a.tree(), &thresholds, &watched).unwrap();
+    let releases = ReleaseResults::of(a.tree(), &thresholds, &watched).unwrap();
     assert_eq!(releases.n, n);
     for e in &releases.events {
         let k = e.index as usize;
-        let deepest = outcome(a.tree(), &reference.records[k]).unwrap().unwrap().deepest;
+        let deepest = tree_fate(a.tree(), &reference.records[k]).unwrap().unwrap().deepest;
         assert!(e.location.generation <= deepest, "{e:?}: deepest G{deepest}");
         assert!(e.crossing.t <= watched.records[k].end.unwrap().t);
     }
@@ -440,8 +440,8 @@ fn a_prolate_touching_a_wall_over_a_face_edge_deposits() {
 #[test]
 fn peer_fates_are_placed_by_the_tree_classifier() {
     use pseudorigid::population::peer::PeerFate;
-    use pseudorigid::scenes::airway_tree::peer::peer_outcome;
-    use pseudorigid::scenes::airway_tree::study::Outcome;
+    use pseudorigid::scenes::airway_tree::peer::peer_tree_fate;
+    use pseudorigid::scenes::airway_tree::study::TreeFate;
     let tree = shipped().tree();
     let fate = |fate: &str, patch: &str, x: Vec3| PeerFate {
         fate: fate.into(),
@@ -452,40 +452,40 @@ fn peer_fates_are_placed_by_the_tree_classifier() {
     for tube in tree.tubes() {
         let x = tube.point(tube.entry + 0.5 * (tube.length() - tube.entry))
             + 0.9 * tube.radius * normal_to(&tube.direction());
-        let want = Outcome {
+        let want = TreeFate {
             deepest: tube.generation,
             deposited: Some(tube.generation),
         };
         assert_eq!(
-            peer_outcome(tree, 7, &fate("deposited", "wall", x)).unwrap(),
+            peer_tree_fate(tree, 7, &fate("deposited", "wall", x)).unwrap(),
             Some(want)
         );
         if let Some(outlet) = &tube.outlet {
-            let escaped = peer_outcome(tree, 7, &fate("escaped", outlet, Vec3::from(tube.end))).unwrap();
+            let escaped = peer_tree_fate(tree, 7, &fate("escaped", outlet, Vec3::from(tube.end))).unwrap();
             assert_eq!(
                 escaped,
-                Some(Outcome {
+                Some(TreeFate {
                     deepest: tree.last_generation(),
                     deposited: None
                 })
             );
         }
     }
-    let inlet = peer_outcome(tree, 7, &fate("escaped", "inlet", Vec3::zeros())).unwrap();
+    let inlet = peer_tree_fate(tree, 7, &fate("escaped", "inlet", Vec3::zeros())).unwrap();
     assert_eq!(
         inlet,
-        Some(Outcome {
+        Some(TreeFate {
             deepest: tree.first_generation(),
             deposited: None
         })
     );
     for none in ["suspended", "not_injected"] {
-        assert_eq!(peer_outcome(tree, 7, &fate(none, "", Vec3::zeros())).unwrap(), None);
+        assert_eq!(peer_tree_fate(tree, 7, &fate(none, "", Vec3::zeros())).unwrap(), None);
     }
     let mut bad = fate("deposited", "wall", Vec3::zeros());
     bad.x[1] = "nan?".into();
     for f in [fate("stuck", "wall", Vec3::zeros()), bad] {
-        let err = peer_outcome(tree, 7, &f).unwrap_err();
+        let err = peer_tree_fate(tree, 7, &f).unwrap_err();
         assert!(matches!(err, AirwayTreeError::Peer { index: 7, .. }), "{err}");
     }
 }
