@@ -176,19 +176,10 @@ fn rest<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Rest {
 /// ([`Size::Constant`]: added mass from its rest shape and densities, gas slip from its size
 /// and fluid); zero for the terms it carries and for those estimated state by state.
 pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Omitted {
-    let rest = rest(particle);
-    Omitted(
-        omission::estimated()
-            .into_iter()
-            .map(|(term, o)| {
-                let size = match o.size {
-                    Size::Constant(size) if !term.carried(particle.forces()) => size(&rest),
-                    _ => 0.0,
-                };
-                (term.name.to_string(), size)
-            })
-            .collect(),
-    )
+    omitted_from_rest(particle, |size| match size {
+        Size::Constant(size) => Some(*size),
+        _ => None,
+    })
 }
 
 /// What a scene can say of the terms a particle leaves out before any run: the constant sizes
@@ -197,12 +188,21 @@ pub fn omitted_constants<M: Response, D: DragModel>(particle: &Particle<M, D>) -
 /// force's density ratio ρ_f/ρ_p); zero for the terms the particle carries and for those with
 /// neither. The validity monitor does not take these bounds: it observes the run.
 pub fn omitted_before_run<M: Response, D: DragModel>(particle: &Particle<M, D>) -> Omitted {
+    omitted_from_rest(particle, Size::before_run)
+}
+
+/// Each registered estimate's size from the particle alone, by the estimate `pick` takes of
+/// it; zero for the terms the particle carries and where `pick` takes none.
+fn omitted_from_rest<M: Response, D: DragModel>(
+    particle: &Particle<M, D>,
+    pick: impl Fn(&Size) -> Option<fn(&Rest) -> f64>,
+) -> Omitted {
     let rest = rest(particle);
     Omitted(
         omission::estimated()
             .into_iter()
             .map(|(term, o)| {
-                let size = match o.size.before_run() {
+                let size = match pick(&o.size) {
                     Some(size) if !term.carried(particle.forces()) => size(&rest),
                     _ => 0.0,
                 };
