@@ -24,12 +24,12 @@
 use pseudorigid::flow::openfoam::FoamCase;
 use pseudorigid::output::{Csv, paper_figure_path};
 use pseudorigid::population::RunOptions;
-use pseudorigid::scenes::bifurcation::breathing::{
+use pseudorigid::studies::bifurcation::breathing::{
     self, Breath, Paired, Waveform, de_table, field_difference, flow_rate_table, map_table, paired_table, phase_table,
 };
-use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures};
-use pseudorigid::scenes::count_and_case;
-use pseudorigid::scenes::particles::Shape;
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures};
+use pseudorigid::studies::count_and_case;
+use pseudorigid::studies::particles::Shape;
 use std::path::PathBuf;
 use std::time::Instant;
 

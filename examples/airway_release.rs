@@ -9,7 +9,7 @@
 //! the case `CASE_DIR` (default: the shipped rotated tree). Points: the tree study's soft ones,
 //! spheres and prolates λ₁ = 5, Neo-Hookean μ_s = 1 and 0.5 Pa, Stk 0.1 and 0.4, the same
 //! particles as `airway_tree` (its seed); λ₁ thresholds
-//! [`STRETCH_LEVELS`](pseudorigid::scenes::airway_tree::release::STRETCH_LEVELS). Writes
+//! [`STRETCH_LEVELS`](pseudorigid::studies::airway_tree::release::STRETCH_LEVELS). Writes
 //! `paper-figures/airway-tree/`: `release.csv`
 //! (`shape,mu_s,stk,threshold,generation,n_released,fraction,fraction_stderr`),
 //! `release_times.csv` (whole tree and release times per threshold), `release.svg`,
@@ -19,15 +19,15 @@
 //! (`target/airway-tree-runs` or `PSEUDORIGID_TREE_CACHE`) and read back.
 
 use pseudorigid::output::{Csv, paper_figure_path};
-use pseudorigid::scenes::airway_tree::AirwayTree;
-use pseudorigid::scenes::airway_tree::release::{
+use pseudorigid::studies::airway_tree::AirwayTree;
+use pseudorigid::studies::airway_tree::release::{
     ReleaseResults, release_figure, release_map, release_table, release_times_table, run_release_cached,
     stretch_thresholds, write_release_parquet,
 };
-use pseudorigid::scenes::airway_tree::study::mu_s_label;
-use pseudorigid::scenes::bifurcation::{Kind, Material};
-use pseudorigid::scenes::count_and_case;
-use pseudorigid::scenes::particles::Shape;
+use pseudorigid::studies::airway_tree::study::mu_s_label;
+use pseudorigid::studies::bifurcation::{Kind, Material};
+use pseudorigid::studies::count_and_case;
+use pseudorigid::studies::particles::Shape;
 
 /// Particles per point when neither the command line nor `PSEUDORIGID_RELEASE_N` says.
 const DEFAULT_N: u64 = 1000;

@@ -15,11 +15,11 @@
 //! `target/airway-tree-runs` (or `PSEUDORIGID_TREE_CACHE`) and read back.
 
 use pseudorigid::output::{Csv, paper_figure_path};
-use pseudorigid::scenes::airway_tree::study::{self, de_figure, de_table, paired, paired_table};
-use pseudorigid::scenes::airway_tree::{AirwayTree, by_generation};
-use pseudorigid::scenes::bifurcation::{Kind, Material};
-use pseudorigid::scenes::count_and_case;
-use pseudorigid::scenes::particles::Shape;
+use pseudorigid::studies::airway_tree::study::{self, de_figure, de_table, paired, paired_table};
+use pseudorigid::studies::airway_tree::{AirwayTree, by_generation};
+use pseudorigid::studies::bifurcation::{Kind, Material};
+use pseudorigid::studies::count_and_case;
+use pseudorigid::studies::particles::Shape;
 
 /// Particles per point when neither the command line nor `PSEUDORIGID_TREE_N` says.
 const DEFAULT_N: u64 = 10_000;

@@ -18,8 +18,8 @@ use pseudorigid::integrator::BarycentreModel;
 use pseudorigid::output::Csv;
 use pseudorigid::population::progress::process_cpu_seconds;
 use pseudorigid::population::{RunOptions, Shard};
-use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures, study};
-use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures, study};
+use pseudorigid::studies::cavity::Shape;
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -1,5 +1,5 @@
 //! Inertial deposition in a 90° bend with plug flow against its closed form (Yeh 1974; the
-//! module `scenes::bend_plug`): rigid spheres at Pui et al.'s (1987) curvature ratio R_b/a = 5.7,
+//! module `studies::bend_plug`): rigid spheres at Pui et al.'s (1987) curvature ratio R_b/a = 5.7,
 //! written to `paper-figures/bend/analytic.csv` (`limit,stk,n,de,de_stderr,exact`) and
 //! plotted in `analytic.svg`.
 //!
@@ -9,8 +9,8 @@
 
 use pseudorigid::output::atomic::write_atomic;
 use pseudorigid::output::plot::{Figure, Panel, Series};
-use pseudorigid::scenes::bend_plug::PlugBend;
-use pseudorigid::scenes::bend_plug::plug_deposition;
+use pseudorigid::studies::bend_plug::PlugBend;
+use pseudorigid::studies::bend_plug::plug_deposition;
 use std::fmt::Write;
 
 /// Tube radius in sphere diameters and Pui et al.'s curvature ratio.

@@ -20,13 +20,13 @@
 //! N spheres per Stokes number (default 2 000), tracked through the solved case `CASE_DIR`
 //! (default `target/bend/case`, made by `cases/bend/Allrun` with its default mesh if it has no
 //! `bend.summary`) at the Stokes numbers [`STOKES`] (or those given). Set-up and definitions:
-//! `pseudorigid::scenes::bend`. Writes `deposition.csv` (`stk,n_injected,n_deposited,de,
+//! `pseudorigid::studies::bend`. Writes `deposition.csv` (`stk,n_injected,n_deposited,de,
 //! de_stderr,reference_de`), `fates.csv` (every fate per Stk) and `deposition.svg` to
 //! `paper-figures/bend/`, or to the folder `$BEND_OUT` if set (the CI check's reduced study).
 
 use pseudorigid::population::peer::Pairing;
 use pseudorigid::population::{Fate, RunOptions};
-use pseudorigid::scenes::bend::{
+use pseudorigid::studies::bend::{
     BendCase, SEED, Settings, deposition_figure, deposition_table, on_bend_wall, peer_on_bend_wall,
 };
 use std::fmt::Write as _;

@@ -12,7 +12,7 @@
 
 use pseudorigid::hydro::ForceTerms;
 use pseudorigid::hydro::forces::{Cunningham, SchillerNaumann};
-use pseudorigid::scenes::bifurcation::{Efficiency, figures};
+use pseudorigid::studies::bifurcation::{Efficiency, figures};
 use std::sync::Arc;
 
 /// Mean free path of air at 20 °C and 1 atm (Hinds, Aerosol Technology, eq. 2.25).

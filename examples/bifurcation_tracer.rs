@@ -7,8 +7,8 @@
 //! Fails (exit status 1) if a particle fails or if none leaves through an outlet.
 
 use pseudorigid::population::{RunOptions, Shard};
-use pseudorigid::scenes::bifurcation::{Airway, Efficiency, Kind, Material, run_kind};
-use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::studies::bifurcation::{Airway, Efficiency, Kind, Material, run_kind};
+use pseudorigid::studies::cavity::Shape;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -20,10 +20,10 @@
 
 use pseudorigid::flow::FlowField;
 use pseudorigid::output::{Csv, paper_figure_path};
-use pseudorigid::scenes::cavity::{
+use pseudorigid::studies::cavity::{
     Cavity, Contact, D_EQ, EDGE, NU, RHO_PARTICLE, Release, Shape, fluid_inertia, rho_fluid, shipped_flow,
 };
-use pseudorigid::scenes::particles::Deformability;
+use pseudorigid::studies::particles::Deformability;
 use pseudorigid::tensor::Vec3;
 use rayon::prelude::*;
 

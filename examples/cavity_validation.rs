@@ -9,8 +9,8 @@
 //! Writes `centrelines.csv`, `extrema.csv` and `centrelines.svg` there.
 
 use pseudorigid::flow::openfoam::{FoamCase, FoamFlow};
-use pseudorigid::scenes::cavity_benchmark::report::{plot_centrelines_svg, write_centrelines_csv, write_extrema_csv};
-use pseudorigid::scenes::cavity_benchmark::{RE1000, ReferenceTable, compare_extrema};
+use pseudorigid::studies::cavity_benchmark::report::{plot_centrelines_svg, write_centrelines_csv, write_extrema_csv};
+use pseudorigid::studies::cavity_benchmark::{RE1000, ReferenceTable, compare_extrema};
 use std::path::PathBuf;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -1,6 +1,6 @@
 //! The integrator's error norm on the airway bifurcation: the componentwise norm (the studies'
 //! until this comparison) against the frame-independent tensor norm, each paired particle by particle with Radau IIA at
-//! rtol 10⁻⁵ (`scenes::bifurcation::error_norm`).
+//! rtol 10⁻⁵ (`studies::bifurcation::error_norm`).
 //!
 //! ```text
 //! cargo run --release --example error_norm -- [N] [CASE_DIR]
@@ -11,10 +11,10 @@
 //! and `error_norm.svg`.
 
 use pseudorigid::output::paper_figure_path;
-use pseudorigid::scenes::bifurcation::error_norm::{SETTINGS, compare, figure, table};
-use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures};
-use pseudorigid::scenes::cavity::Shape;
-use pseudorigid::scenes::count_and_case;
+use pseudorigid::studies::bifurcation::error_norm::{SETTINGS, compare, figure, table};
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures};
+use pseudorigid::studies::cavity::Shape;
+use pseudorigid::studies::count_and_case;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (n, dir) = count_and_case("PSEUDORIGID_BIF_N", 1000)?;

@@ -6,9 +6,9 @@
 //! Writes `paper-figures/fig10/direction_cosines.csv` and `paper-figures/fig10/direction_cosines.svg`.
 
 use pseudorigid::output::{Figure, paper_figure_path};
-use pseudorigid::scenes::pipe::datasets::{Run, direction_cosine_panel, direction_cosine_table};
-use pseudorigid::scenes::pipe::orbit::{jeffery_period, orbit_periods};
-use pseudorigid::scenes::pipe::{PipeCase, orientation_study};
+use pseudorigid::studies::pipe::datasets::{Run, direction_cosine_panel, direction_cosine_table};
+use pseudorigid::studies::pipe::orbit::{jeffery_period, orbit_periods};
+use pseudorigid::studies::pipe::{PipeCase, orientation_study};
 use std::error::Error;
 use std::time::Instant;
 

@@ -9,11 +9,11 @@
 //! `paper-figures/fig12/{direction_cosines.csv, direction_cosines.svg}`.
 
 use pseudorigid::output::{Figure, Panel, paper_figure_path};
-use pseudorigid::scenes::pipe::datasets::{
+use pseudorigid::studies::pipe::datasets::{
     DepositionRow, Run, deposition_rows, deposition_table, direction_cosine_panel, direction_cosine_table,
     trajectory_panel, trajectory_table,
 };
-use pseudorigid::scenes::pipe::{PipeCase, deposition_study};
+use pseudorigid::studies::pipe::{PipeCase, deposition_study};
 use std::error::Error;
 use std::time::Instant;
 

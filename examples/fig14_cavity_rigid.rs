@@ -1,21 +1,21 @@
 //! Paper Fig. 14: quasi-rigid prolate ellipsoids (λ = 2 and 5, Ca → 0) in the Re = 470
 //! lid-driven cavity, tracked for 5 s. Writes `paper-figures/fig14/`. `fluid-inertia` adds the
-//! undisturbed-flow force and added mass (`scenes::cavity::fluid_inertia`), which the paper's
+//! undisturbed-flow force and added mass (`studies::cavity::fluid_inertia`), which the paper's
 //! model leaves out, and writes the same files with `_fluid_inertia` in their names.
 //!
 //! Run: `cargo run --release --example fig14_cavity_rigid [-- fluid-inertia]`
 
 use pseudorigid::output::{Figure, paper_figure_path};
-use pseudorigid::scenes::cavity::{
+use pseudorigid::studies::cavity::{
     Cavity, Contact, Release, Shape, fluid_inertia, outcome_table, trajectory_panel, trajectory_table,
 };
-use pseudorigid::scenes::particles::Deformability;
+use pseudorigid::studies::particles::Deformability;
 use rayon::prelude::*;
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
-    let flow = pseudorigid::scenes::cavity::shipped_flow()?;
+    let flow = pseudorigid::studies::cavity::shipped_flow()?;
     let with_fluid_inertia = std::env::args().skip(1).any(|a| a == "fluid-inertia");
     let mut cavity = Cavity::new(&flow)?;
     if with_fluid_inertia {

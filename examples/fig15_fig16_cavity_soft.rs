@@ -1,16 +1,16 @@
 //! Paper Figs 15 and 16: soft prolate (λ₁ = 1, 2, 5, 8) and oblate (λ₁ = λ₂ = 2, 5, 8)
 //! ellipsoids at Ca = 0.001, 0.25, 0.5, 0.75 in the Re = 470 cavity, tracked for 100 s with
-//! solid inertia (ρ* ≈ 5.5 at release; `scenes::cavity` docs). `inertialess` as an argument
+//! solid inertia (ρ* ≈ 5.5 at release; `studies::cavity` docs). `inertialess` as an argument
 //! runs the inertialess shape model instead and writes `outcomes_inertialess.csv` only, for
 //! comparison. `fluid-inertia` adds the undisturbed-flow force and added mass
-//! (`scenes::cavity::fluid_inertia`), which the paper's model leaves out, and writes the same
+//! (`studies::cavity::fluid_inertia`), which the paper's model leaves out, and writes the same
 //! files with `_fluid_inertia` in their names beside the paper-faithful ones. Writes
 //! `paper-figures/fig15_fig16/`.
 //!
 //! Run: `cargo run --release --example fig15_fig16_cavity_soft [-- inertialess] [fluid-inertia]`
 
 use pseudorigid::output::Figure;
-use pseudorigid::scenes::cavity::{
+use pseudorigid::studies::cavity::{
     Cavity, Contact, Shape, ShapeModel, fig15_fig16_releases, fluid_inertia, outcome_table, trajectory_panel,
     trajectory_table,
 };
@@ -19,7 +19,7 @@ use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
-    let flow = pseudorigid::scenes::cavity::shipped_flow()?;
+    let flow = pseudorigid::studies::cavity::shipped_flow()?;
     let args: Vec<String> = std::env::args().skip(1).collect();
     let inertialess = args.iter().any(|a| a == "inertialess");
     let with_fluid_inertia = args.iter().any(|a| a == "fluid-inertia");

@@ -8,10 +8,10 @@
 //! [fluid-inertia] [orientations] [scales…]` (defaults: inertial shapes, 9 orientations, scales
 //! 0.98 1.02); `inertialess` writes `outcome_fractions_inertialess.csv` and
 //! `ensemble_runs_inertialess.csv` instead, and `fluid-inertia` adds the undisturbed-flow force
-//! and added mass (`scenes::cavity::fluid_inertia`) and `_fluid_inertia` to the file names.
+//! and added mass (`studies::cavity::fluid_inertia`) and `_fluid_inertia` to the file names.
 
 use pseudorigid::output::paper_figure_path;
-use pseudorigid::scenes::cavity::{
+use pseudorigid::studies::cavity::{
     ShapeModel, Variant, ensemble, fig15_fig16_releases, fluid_inertia, member_table, outcome_fraction_table,
 };
 use std::time::Instant;
@@ -35,7 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let count: usize = args.next().map_or(Ok(9), |a| a.parse())?;
     let scales: Vec<f64> = args.map(|a| a.parse()).collect::<Result<_, _>>()?;
     let scales = if scales.is_empty() { vec![0.98, 1.02] } else { scales };
-    let flow = pseudorigid::scenes::cavity::shipped_flow()?;
+    let flow = pseudorigid::studies::cavity::shipped_flow()?;
     let releases = fig15_fig16_releases();
     let variants: Vec<Variant> = [false, true]
         .into_iter()

@@ -15,8 +15,8 @@
 //! Stokes number, cases labelled by the cell size in their `log.summary`.
 
 use pseudorigid::output::paper_figure_path;
-use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures};
-use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures};
+use pseudorigid::studies::cavity::Shape;
 use std::path::{Path, PathBuf};
 
 /// "h=0.3mm layers=2" from the `cell_size=0.3e-3` and `layers=2` lines that `Allrun` writes to

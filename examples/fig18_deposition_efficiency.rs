@@ -10,8 +10,8 @@
 //! implies) and `validity.csv` (the diagnostics of the first 50 particles of each Stk).
 
 use pseudorigid::output::paper_figure_path;
-use pseudorigid::scenes::bifurcation::{Kind, Material, figures, study};
-use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::studies::bifurcation::{Kind, Material, figures, study};
+use pseudorigid::studies::cavity::Shape;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (n, airway) = figures::arguments()?;

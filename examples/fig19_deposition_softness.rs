@@ -12,7 +12,7 @@
 //! validity: the diagnostics of the first 50 particles of each kind).
 
 use pseudorigid::output::paper_figure_path;
-use pseudorigid::scenes::bifurcation::{Kind, Material, figures};
+use pseudorigid::studies::bifurcation::{Kind, Material, figures};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (n, airway) = figures::arguments()?;

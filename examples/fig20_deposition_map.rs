@@ -10,7 +10,7 @@
 //! `figures::MAP_PARTICLES` particles per kind, and over every deposit the largest r₁ and
 //! where it occurs.
 
-use pseudorigid::scenes::bifurcation::figures;
+use pseudorigid::studies::bifurcation::figures;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (n, airway) = figures::arguments()?;

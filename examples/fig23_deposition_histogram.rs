@@ -8,7 +8,7 @@
 //! N particles per kind (default 100 000; also `PSEUDORIGID_BIF_N`). Writes
 //! `paper-figures/fig23/{histogram.csv, histogram.svg, summary.csv}`.
 
-use pseudorigid::scenes::bifurcation::figures;
+use pseudorigid::studies::bifurcation::figures;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (n, airway) = figures::arguments()?;

@@ -10,7 +10,7 @@
 //! validity diagnostics (shared with Figs 5, 6) to `paper-figures/fig4/validity.csv`.
 
 use pseudorigid::output::{Csv, Figure, Panel, Series, paper_figure_path};
-use pseudorigid::scenes::shear_run::{oblate_fig4_run, validity_table};
+use pseudorigid::studies::shear_run::{oblate_fig4_run, validity_table};
 use std::error::Error;
 use std::time::Instant;
 
@@ -53,7 +53,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             .map(|s| (s.t, s.section.omega1()))
             .fold((0.0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
         println!("Ca = {ca}: first maximum ω₁ = {peak:.3} at t̂ = {peak_t:.2}");
-        let series = |f: &dyn Fn(&pseudorigid::scenes::shear_run::ShearSample) -> f64| {
+        let series = |f: &dyn Fn(&pseudorigid::studies::shear_run::ShearSample) -> f64| {
             run.iter().map(|s| (s.t, f(s))).collect::<Vec<_>>()
         };
         let regime = if ca < 0.45 { "TU" } else { "TR" };

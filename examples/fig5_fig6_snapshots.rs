@@ -7,7 +7,7 @@
 //! from the flow direction) and `fig5.svg`, `fig6.svg`.
 
 use pseudorigid::output::{Csv, Figure, Panel, Series, paper_figure_path};
-use pseudorigid::scenes::shear_run::{ShearSample, oblate_fig4_run};
+use pseudorigid::studies::shear_run::{ShearSample, oblate_fig4_run};
 use std::error::Error;
 use std::time::Instant;
 

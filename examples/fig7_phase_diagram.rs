@@ -4,9 +4,9 @@
 //! Writes `paper-figures/fig7/boundary.csv` and `paper-figures/fig7/boundary.svg`.
 
 use pseudorigid::output::{Figure, paper_figure_path};
-use pseudorigid::scenes::particles::Shape;
-use pseudorigid::scenes::phase_map::{self, MapShape, boundary_panel, boundary_table, validity_table};
-use pseudorigid::scenes::shear_shape::ShearShape;
+use pseudorigid::studies::particles::Shape;
+use pseudorigid::studies::phase_map::{self, MapShape, boundary_panel, boundary_table, validity_table};
+use pseudorigid::studies::shear_shape::ShearShape;
 use std::error::Error;
 use std::time::Instant;
 

@@ -7,7 +7,7 @@
 //! (`rho_p,rho_f,d,mu,g,t,v_numeric,v_exact`) and a picture of each.
 
 use pseudorigid::output::paper_figure_path;
-use pseudorigid::scenes::forces::{
+use pseudorigid::studies::forces::{
     SettlingCase, added_mass_csv, added_mass_figure, added_mass_table, settle, settling_csv, settling_figure,
 };
 use std::error::Error;

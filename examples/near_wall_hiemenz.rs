@@ -15,16 +15,16 @@
 //! next term may move the observed order by a few tenths; the lower bound 1.7 is that of the
 //! other convergence tests (`tests/suite/flow/openfoam/mod.rs`). The step-to-step orders are printed
 //! and written, not asserted: the snapped meshes are similar under refinement only nearly
-//! (`scenes::stagnation::fitted_order`), and they move by ±0.2. It also writes
+//! (`studies::stagnation::fitted_order`), and they move by ±0.2. It also writes
 //! `gradient_order.csv` (u and ∇u at half the first cell's height, relative to the exact
 //! field's maxima) and fails unless the fitted order of that ∇u error is at least 1.8 on every
 //! layering (issue 37: the wall fit's shear is second order, `flow::openfoam::wall_layer`).
 //! With COUETTE_MESHES (`cases/taylor-couette/Allmesh` meshes under
 //! `COUETTE_MESHES/layers{0,2,5}/level{0,1,...}`) it adds the Taylor–Couette rows at the rotating
-//! cylinder (`scenes::couette`) and fails unless their u error's fitted order is at least 1.8.
+//! cylinder (`studies::couette`) and fails unless their u error's fitted order is at least 1.8.
 
-use pseudorigid::scenes::couette::{self, CouetteAnnulus};
-use pseudorigid::scenes::stagnation::{
+use pseudorigid::studies::couette::{self, CouetteAnnulus};
+use pseudorigid::studies::stagnation::{
     Measure, OrderRow, StagnationBox, WallLayerRow, fitted_order, gradient_order_table, observed_order,
     order_row_slope, wall_layer_figure, wall_layer_table,
 };

@@ -16,8 +16,8 @@ use pseudorigid::flow::openfoam::OctreeFlow;
 use pseudorigid::flow::openfoam::octree::Options;
 use pseudorigid::population::peer::Pairing;
 use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, Shard, run};
-use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, study};
-use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, figures, study};
+use pseudorigid::studies::cavity::Shape;
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -10,7 +10,7 @@
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::octree::Options;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow, OctreeFlow};
-use pseudorigid::scenes::bifurcation::Airway;
+use pseudorigid::studies::bifurcation::Airway;
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -12,7 +12,7 @@
 //! particles `run_kind` tracks), written as `PARTICLES.csv` (`index,x,y,z,u,v,w,d,rho`, SI) to
 //! `target/openfoam-peer/<label>_stk<STK>/`, tracked by the script there (OUT_DIR, with
 //! `END_TIME` = [`Airway::tracking_time`], gravity, fluid density and viscosity of
-//! `scenes::bifurcation::setup`, the values our tracker uses) and by [`run_kind`] (rigid
+//! `studies::bifurcation::setup`, the values our tracker uses) and by [`run_kind`] (rigid
 //! spheres, the studies' integrator and contact), then compared.
 //! `<label>` is `h<cell size in mm>-L<layers>` from the case's `log.summary` (else the
 //! directory's name); the tree's is prefixed `tree-<variant>-`.
@@ -61,11 +61,11 @@ use pseudorigid::material::NeoHooke;
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, RunOutput, Shard, run};
-use pseudorigid::scenes::airway_tree::{self, AirwayTree, Generations};
-use pseudorigid::scenes::bifurcation::setup::{GRAVITY, NU, RHO_FLUID, rho_particle};
-use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, run_kind, study};
-use pseudorigid::scenes::cavity::Shape;
-use pseudorigid::scenes::peer::{OpenFoamTracker, PeerParticle};
+use pseudorigid::studies::airway_tree::{self, AirwayTree, Generations};
+use pseudorigid::studies::bifurcation::setup::{GRAVITY, NU, RHO_FLUID, rho_particle};
+use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, figures, run_kind, study};
+use pseudorigid::studies::cavity::Shape;
+use pseudorigid::studies::peer::{OpenFoamTracker, PeerParticle};
 use pseudorigid::tensor::Vec3;
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -125,12 +125,12 @@ enum Geometry {
 }
 
 /// The geometry and our contact rule: by extent (the studies') or by barycentre.
-struct Scene {
+struct Setup {
     geometry: Geometry,
     point_contact: bool,
 }
 
-impl Scene {
+impl Setup {
     fn airway(&self) -> &Airway {
         match &self.geometry {
             Geometry::Bifurcation(airway) => airway,
@@ -449,17 +449,17 @@ fn main() -> Result<(), Error> {
         Geometry::Tree(t) => format!("tree-{}-{}", t.tree().variant(), label(Path::new(dir))),
         Geometry::Bifurcation(_) => label(Path::new(dir)),
     } + if point_contact { "-point" } else { "" };
-    let scene = Scene {
+    let setup = Setup {
         geometry,
         point_contact,
     };
-    let airway = scene.airway();
+    let airway = setup.airway();
     // OpenFOAM gets the viscosity our tracker uses (the shipped tree keeps no transportProperties).
     let tracker = OpenFoamTracker::new(root, airway.tracking_time(), Vec3::new(GRAVITY, 0.0, 0.0), RHO_FLUID)?
         .with_viscosity(NU)?;
     let mut failures = Vec::new();
     for stk in stks {
-        let kind = scene.kind(stk.parse()?);
+        let kind = setup.kind(stk.parse()?);
         let name = format!("{case_label}_stk{stk}");
         let work = root.join("target/openfoam-peer").join(&name);
 
@@ -469,7 +469,7 @@ fn main() -> Result<(), Error> {
 
         let openfoam = tracker.run(Path::new(dir), &particles, &work)?;
         let start = Instant::now();
-        let ours = scene.run(kind, &injection, n)?;
+        let ours = setup.run(kind, &injection, n)?;
         let wall_ours = start.elapsed().as_secs_f64();
         std::fs::write(work.join("pairs.csv"), pairs_csv(&ours, &openfoam.fates)?)?;
 
@@ -496,7 +496,7 @@ fn main() -> Result<(), Error> {
             }
             failures.extend(compared.unfinished());
         }
-        failures.extend(match &scene.geometry {
+        failures.extend(match &setup.geometry {
             Geometry::Tree(t) => tree_table(t, &compared, check)?,
             Geometry::Bifurcation(_) => bifurcation_row(&compared, check)?,
         });

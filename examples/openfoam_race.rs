@@ -7,7 +7,7 @@
 //!     [--threads 1,2] [--shear-modulus MU_S | --no-soft] [--stk STK] N CASE_DIR
 //! ```
 //! `benches/peers/openfoam_race.sh` is the entry point (it meshes and solves the bend first).
-//! On the solved 90° bend `CASE_DIR` (`cases/bend/Allrun`; set-up in `pseudorigid::scenes::bend`)
+//! On the solved 90° bend `CASE_DIR` (`cases/bend/Allrun`; set-up in `pseudorigid::studies::bend`)
 //! N spheres of Stokes number STK (default 0.3), particle k drawn from stream k of the dataset's
 //! seed, are tracked by
 //! 1. OpenFOAM's `icoUncoupledKinematicParcelFoam` (serial; `benches/peers/openfoam_tracker`);
@@ -18,8 +18,8 @@
 //!    the bifurcation studies' soft particle; λ_s = 10³ μ_s), on the first thread count.
 //!
 //! Each runs alone (the CPU time is the process's). What is measured, and how each tracker's
-//! particle-steps are counted: `pseudorigid::scenes::peer`. Output in `$RACE_OUT` (default
-//! `paper-figures/peer-race/`): `race.csv` (`scenes::peer::RACE_COLUMNS`) and `race.md` (the
+//! particle-steps are counted: `pseudorigid::studies::peer`. Output in `$RACE_OUT` (default
+//! `paper-figures/peer-race/`): `race.csv` (`studies::peer::RACE_COLUMNS`) and `race.md` (the
 //! command, the machine, the load before and after, and the table); per particle, OpenFOAM's
 //! case and logs in `target/peer-race/<cells>_stk<STK>/`.
 //!
@@ -33,8 +33,8 @@
 
 use pseudorigid::population::peer::Pairing;
 use pseudorigid::population::{Fate, RunOptions};
-use pseudorigid::scenes::bend::{BendCase, SEED, Settings, integrator_name, on_bend_wall, peer_on_bend_wall};
-use pseudorigid::scenes::peer::{RaceRow, race_csv, race_markdown, timed};
+use pseudorigid::studies::bend::{BendCase, SEED, Settings, integrator_name, on_bend_wall, peer_on_bend_wall};
+use pseudorigid::studies::peer::{RaceRow, race_csv, race_markdown, timed};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 

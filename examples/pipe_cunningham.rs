@@ -1,4 +1,4 @@
-//! Cunningham slip on the paper's fibres in air (Figs 11/12 set-up, `scenes::pipe`): the
+//! Cunningham slip on the paper's fibres in air (Figs 11/12 set-up, `studies::pipe`): the
 //! deposition distance and time of prolates λ₁ = 3.5 and 7, rigid and Ca = 0.25, without and
 //! with the `cunningham` force term (λ = 66.5 nm, air at 20 °C and 1 atm), at tol 10⁻⁷.
 //! Prints one line per case; the numbers are in `paper-figures/fig11/NOTES.md`.
@@ -6,8 +6,8 @@
 //! Run: `cargo run --release --example pipe_cunningham`
 
 use pseudorigid::hydro::forces::{Cunningham, ForceTerms};
-use pseudorigid::scenes::pipe::PipeScene;
-use pseudorigid::scenes::pipe::tracking::track_to_deposition;
+use pseudorigid::studies::pipe::PipeSetup;
+use pseudorigid::studies::pipe::tracking::track_to_deposition;
 use std::sync::Arc;
 /// Mean free path of air at 20 °C and 1 atm (Hinds, Aerosol Technology, eq. 2.25).
 const MEAN_FREE_PATH: f64 = 66.5e-9;
@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for ca in [0.0, 0.25] {
             let mut out = vec![];
             for slip in [false, true] {
-                let mut scene = PipeScene::tian_cui(lambda1, ca)?;
+                let mut scene = PipeSetup::tian_cui(lambda1, ca)?;
                 let d_eq = scene.length_unit;
                 if slip {
                     let c = Cunningham::new(MEAN_FREE_PATH / d_eq)?;

@@ -24,8 +24,8 @@ use pseudorigid::material::NeoHooke;
 use pseudorigid::population::progress::{process_cpu_seconds, process_resident_bytes};
 use pseudorigid::population::settling_pipe::SettlingPipe;
 use pseudorigid::population::{Case, RunConfig, RunOptions, RunOutput, Shard, run};
-use pseudorigid::scenes::bifurcation::{Airway, Kind, Material, figures, study};
-use pseudorigid::scenes::cavity::Shape;
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures, study};
+use pseudorigid::studies::cavity::Shape;
 use std::time::Instant;
 
 /// One timed run of N particles; its records are dropped before the next.

@@ -18,9 +18,9 @@
 
 use pseudorigid::integrator::{Scheme, Stokesian, Tolerances};
 use pseudorigid::population::{Case, RunConfig, RunOptions, Shard, run};
-use pseudorigid::scenes::bifurcation::{Airway, Injection, Kind, Material, figures, study};
-use pseudorigid::scenes::cavity::{Cavity, Contact, Release, Shape};
-use pseudorigid::scenes::pipe::{Deformability, PipeCase, sample_orientation, track_to_deposition};
+use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, figures, study};
+use pseudorigid::studies::cavity::{Cavity, Contact, Release, Shape};
+use pseudorigid::studies::pipe::{Deformability, PipeCase, sample_orientation, track_to_deposition};
 use std::error::Error;
 use std::time::Instant;
 
@@ -51,7 +51,7 @@ fn distance(a: &[f64], b: &[f64]) -> f64 {
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let cavity_flow = pseudorigid::scenes::cavity::shipped_flow()?;
+    let cavity_flow = pseudorigid::studies::cavity::shipped_flow()?;
     let airway = Airway::open(Airway::shipped_dir())?;
     let rosenbrock = Cavity::new(&cavity_flow)?.with_scheme(Scheme::Rosenbrock23);
     let radau = Cavity::new(&cavity_flow)?.with_scheme(Scheme::Radau5);
@@ -63,7 +63,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         1e-7,
         Box::new(|scheme, tol| {
             let case = PipeCase { lambda1: 3.5, ca: 0.25 };
-            let scene = case.scene()?;
+            let scene = case.setup()?;
             let t_max = 50.0 * scene.sphere_settling_time();
             let run = track_to_deposition(&scene, &scene.integrator(tol)?.with_scheme(scheme), 1e-3, t_max, t_max)?;
             Ok(Outcome {
@@ -80,7 +80,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                 lambda1: 14.0,
                 ca: 0.05,
             };
-            let scene = case.scene()?;
+            let scene = case.setup()?;
             let t_end = 0.5 / scene.time_unit;
             let samples = sample_orientation(&scene, &scene.integrator(tol)?.with_scheme(scheme), &[t_end], 1e-3)?;
             let c = samples.last().ok_or("no sample")?.xi_a.normalize();

@@ -9,8 +9,8 @@
 //! diagnostics `validity.csv`.
 
 use pseudorigid::output::{Csv, Figure, Panel, Series, paper_figure_path};
-use pseudorigid::scenes::shear_run::validity_table;
-use pseudorigid::scenes::tank_treading::{TankTreading, integrate, roscoe};
+use pseudorigid::studies::shear_run::validity_table;
+use pseudorigid::studies::tank_treading::{TankTreading, integrate, roscoe};
 use std::error::Error;
 use std::time::Instant;
 

@@ -1,5 +1,5 @@
 //! Work-precision diagrams of every integrator on the three reference problems of
-//! `scenes::work_precision`. Writes `paper-figures/work-precision/work_precision.csv` and
+//! `studies::work_precision`. Writes `paper-figures/work-precision/work_precision.csv` and
 //! `work_precision.svg`, beside the SciPy peer (`benches/peers/inertialess.py`, rows
 //! `scipy_radau` / `scipy_lsoda`), and the peer's wall time over the fastest library
 //! integrator's at equal error in `peer_ratios.csv`.
@@ -9,8 +9,8 @@
 //! skipped with a message.)
 
 use pseudorigid::output::{Csv, Figure, Panel, Series};
-use pseudorigid::scenes::scipy_peer::Peer;
-use pseudorigid::scenes::work_precision::{
+use pseudorigid::studies::scipy_peer::Peer;
+use pseudorigid::studies::work_precision::{
     Problem, RATIO_ERRORS, Record, error_floor, has_peer, measure, oblate_reference, peer_ratios, sweep, work_at_error,
 };
 use std::time::Instant;

@@ -39,7 +39,7 @@
 //! | eqs. 21, 22, §5 | the IMEX shape step | [`integrator::ImexPaper`], stability: [`theory::stability`], [`integrator::imex::stability`] |
 //! | §5 | r_a, Q from eig(F̄F̄ᵀ) (r_a = √λ_a) | [`ellipsoid::PrincipalFrame`], [`theory::paper_errata`] |
 //! | eqs. 23, 24 | capillary and shear Reynolds numbers | [`particle::ShearScaling`], [`diagnostics`] |
-//! | eqs. 25, 26 | Stokes number, particle time | `scenes::cavity` (feature `mesh`; the paper's values rechecked there) |
+//! | eqs. 25, 26 | Stokes number, particle time | `studies::cavity` (feature `mesh`; the paper's values rechecked there) |
 //! | eqs. A.1, A.2 | rotation Q, principal components X′ = QXQᵀ | [`ellipsoid::PrincipalFrame::to_principal`] |
 //!
 //! Jeffery's ellipsoid integrals behind eqs. 12 and 14: [`ellipsoid::integrals`],
@@ -75,7 +75,9 @@ pub mod particle;
 pub mod population;
 pub mod reference;
 pub mod registry;
-pub mod scenes;
+#[cfg(feature = "cli")]
+pub mod scene;
+pub mod studies;
 pub mod tensor;
 
 #[doc = include_str!("../docs/guide.md")]

@@ -143,9 +143,9 @@ fn a_term_carried_or_covered_by_its_group_is_not_estimated() {
 #[cfg(feature = "cli")]
 #[test]
 fn a_term_registered_in_its_own_file_is_selectable_from_a_scene() {
-    use pseudorigid::cli::CliError;
-    use pseudorigid::cli::error::Source;
-    use pseudorigid::cli::scene::parse;
+    use pseudorigid::scene::SceneError;
+    use pseudorigid::scene::error::Source;
+    use pseudorigid::scene::parse;
     let text = |forces: &str| {
         format!(
             "[flow]\ntype = \"quiescent\"\n[fluid]\nviscosity = 1e-3\ndensity = 1e3\n[particles]\ndensity = 2e3\n\
@@ -165,7 +165,7 @@ fn a_term_registered_in_its_own_file_is_selectable_from_a_scene() {
     };
     assert!(parse(&text("[\"oseen\"]")).is_ok());
     match parse(&text("[{ term = \"oseen\", c = 0.1875 }]")) {
-        Err(CliError::Scene { key, message, .. }) => {
+        Err(SceneError::Invalid { key, message, .. }) => {
             assert_eq!(key, "particles.forces[0].c", "{message}");
             assert!(message.contains("`oseen` does not take `c`"), "{message}");
         }

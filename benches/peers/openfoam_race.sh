@@ -3,7 +3,7 @@
 # v1912, serial) and pseudorigid (rigid spheres on 1 and 2 threads, then soft neo-Hookean ones
 # of mu_s = 1 Pa on 1 thread) on the same spheres in the same field, the 90-degree bend
 # (cases/bend), in one run: particle-steps, wall and CPU time, DE and the paired fates
-# (examples/openfoam_race.rs; what is measured: src/scenes/peer.rs).
+# (examples/openfoam_race.rs; what is measured: src/studies/peer.rs).
 #
 # Usage: benches/peers/openfoam_race.sh [--ci] [OPTION...]
 #   (default) the dataset: the bend's dataset mesh (cases/bend/Allrun's default, 47 000 cells,

@@ -30,7 +30,7 @@ The surface is extracted by marching cubes on a grid of spacing `--spacing` and 
 ASCII STL with the solids `wall` and `outlet1`..`outlet8` (the flat caps); the G3 tube runs past
 x = 0, where snappyHexMesh cuts it with the background box (the inlet patch). The centrelines,
 radii, carina apexes and the generation zones (`centrelines.json`, next to the STL) are what
-the Rust scene's generation classifier reads (`scenes::airway_tree`).
+the Rust scene's generation classifier reads (`studies::airway_tree`).
 
 Usage: geometry.py OUT.stl --variant planar|rotated [--spacing M] [--scale S]
 (prints the derived dimensions and the box of the mesh as key=value lines)

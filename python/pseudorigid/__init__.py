@@ -28,7 +28,7 @@ from .errors import (
     ParameterError,
     PopulationError,
     PseudorigidError,
-    SceneError,
+    StudyError,
     StepError,
 )
 
@@ -48,7 +48,7 @@ __all__ = [
     "integrate",
     "PseudorigidError",
     "ParameterError",
-    "SceneError",
+    "StudyError",
     "StepError",
     "FlowError",
     "MeshError",

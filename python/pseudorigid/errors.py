@@ -12,7 +12,7 @@ from typing import Optional
 __all__ = [
     "PseudorigidError",
     "ParameterError",
-    "SceneError",
+    "StudyError",
     "StepError",
     "FlowError",
     "MeshError",
@@ -28,7 +28,7 @@ class ParameterError(PseudorigidError, ValueError):
     """A parameter outside its domain (the library's ``ParamError``), or a bad argument."""
 
 
-class SceneError(PseudorigidError, ValueError):
+class StudyError(PseudorigidError, ValueError):
     """A scene that does not validate.
 
     ``file``, ``line`` and ``column`` locate the value in the TOML text (for a scene given as a

@@ -4,9 +4,6 @@
 //! library's typed errors onto the Python exceptions of `pseudorigid.errors`.
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
-use pseudorigid::cli::error::Source;
-use pseudorigid::cli::run::{Job, run_on, run_options};
-use pseudorigid::cli::{CliError, Scene};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
@@ -17,6 +14,9 @@ use pseudorigid::population::columns::{
 use pseudorigid::population::{
     Fate, PopulationError, Progress, RunControl, RunOptions, RunOutput, Shard, checkpoint_dir,
 };
+use pseudorigid::scene::error::Source;
+use pseudorigid::scene::run::{Job, run_on, run_options};
+use pseudorigid::scene::{Scene, SceneError};
 use pseudorigid::tensor::Vec3;
 use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError};
 use pyo3::prelude::*;
@@ -74,11 +74,11 @@ fn population_error(py: Python<'_>, e: &PopulationError) -> PyErr {
     }
 }
 
-fn cli_error(py: Python<'_>, e: &CliError) -> PyErr {
+fn cli_error(py: Python<'_>, e: &SceneError) -> PyErr {
     let message = e.to_string();
     match e {
-        CliError::Read { path, source } => io_error(&path.display().to_string(), source, &message),
-        CliError::Scene {
+        SceneError::Read { path, source } => io_error(&path.display().to_string(), source, &message),
+        SceneError::Invalid {
             file,
             line,
             column,
@@ -95,14 +95,14 @@ fn cli_error(py: Python<'_>, e: &CliError) -> PyErr {
                 ])
             };
             match attrs() {
-                Ok(a) => typed(py, "SceneError", &message, &a),
+                Ok(a) => typed(py, "StudyError", &message, &a),
                 Err(e) => e,
             }
         }
-        CliError::Foam(f) => foam_error(py, f),
-        CliError::Population(p) => population_error(py, p),
-        CliError::Output(_) => typed(py, "PseudorigidError", &message, &[]),
-        CliError::Input(_) => typed(py, "ParameterError", &message, &[]),
+        SceneError::Foam(f) => foam_error(py, f),
+        SceneError::Population(p) => population_error(py, p),
+        SceneError::Output(_) => typed(py, "PseudorigidError", &message, &[]),
+        SceneError::Input(_) => typed(py, "ParameterError", &message, &[]),
     }
 }
 
@@ -116,7 +116,7 @@ fn scene_error(py: Python<'_>, key: &str, message: &str) -> PyErr {
         ])
     };
     match attrs() {
-        Ok(a) => typed(py, "SceneError", &text, &a),
+        Ok(a) => typed(py, "StudyError", &text, &a),
         Err(e) => e,
     }
 }
@@ -225,7 +225,7 @@ struct PyScene {
 }
 
 fn parse_text(py: Python<'_>, text: &str, file: &str, base: &Path) -> PyResult<Scene> {
-    py.detach(|| pseudorigid::cli::scene::parse(&Source { file, text }, base))
+    py.detach(|| pseudorigid::scene::parse(&Source { file, text }, base))
         .map_err(|e| cli_error(py, &e))
 }
 
@@ -235,7 +235,7 @@ impl PyScene {
     #[staticmethod]
     fn from_toml(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let inner = py
-            .detach(|| pseudorigid::cli::load(&path))
+            .detach(|| pseudorigid::scene::load(&path))
             .map_err(|e| cli_error(py, &e))?;
         Ok(Self { inner })
     }
@@ -448,13 +448,13 @@ fn run_in_memory(
     let options = RunOptions::default().quiet().with_control(control.clone());
     let scene = &scene.get().inner;
     let job = Job::Memory { shard, options };
-    let work = || -> Result<RunOutput<NamedLaw>, CliError> {
+    let work = || -> Result<RunOutput<NamedLaw>, SceneError> {
         match threads {
             None => scene.population(&job),
             Some(n) => rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
                 .build()
-                .map_err(|e| CliError::Input(format!("threads = {n}: {e}")))?
+                .map_err(|e| SceneError::Input(format!("threads = {n}: {e}")))?
                 .install(|| scene.population(&job)),
         }
     };

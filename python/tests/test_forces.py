@@ -35,7 +35,7 @@ def fall(tau: float, t: float = 1e-2) -> float:
 
 def test_fluid_inertia_terms_give_maxey_riley_settling():
     # With added mass τ = (ρ_p + ½ρ_f)d²/(18μ); the paper's model has ρ_p alone, which falls
-    # 4 % further in 10 ms, far outside the tolerance's 1e-4 (argued in tests/suite/cli/mod.rs).
+    # 4 % further in 10 ms, far outside the tolerance's 1e-4 (argued in tests/suite/scene/mod.rs).
     records = pr.run_in_memory(pr.Scene.from_dict(falling_sphere(["added_mass", "undisturbed_flow"]))).records()
     z = -float(records["x3"][0])
     with_terms = fall(2500.0 * 1e-8 / 18e-3)
@@ -46,6 +46,6 @@ def test_fluid_inertia_terms_give_maxey_riley_settling():
 
 def test_a_term_with_parameters_is_a_table_and_bad_names_name_their_key():
     pr.Scene.from_dict(falling_sphere([{"term": "cunningham", "mean_free_path": 6.65e-8}]))
-    with pytest.raises(pr.SceneError) as info:
+    with pytest.raises(pr.StudyError) as info:
         pr.Scene.from_dict(falling_sphere(["added_mass", "basset"]))
     assert info.value.key == "particles.forces[1]", str(info.value)

@@ -8,10 +8,10 @@
 //! point is outside the mesh. Each query walks from the previous point's cell, so points along
 //! a line are fast.
 
-use super::error::CliError;
 use crate::flow::FlowField;
 use crate::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow};
 use crate::output::Csv;
+use crate::scene::SceneError;
 use crate::tensor::Vec3;
 use std::path::Path;
 
@@ -19,9 +19,9 @@ use std::path::Path;
 pub const MAX_POINTS: usize = 10_000_000;
 
 /// Read `x,y,z` points.
-pub fn read_points(path: &Path) -> Result<Vec<Vec3>, CliError> {
+pub fn read_points(path: &Path) -> Result<Vec<Vec3>, SceneError> {
     let name = path.display();
-    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
         path: path.to_path_buf(),
         source,
     })?;
@@ -30,7 +30,7 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, CliError> {
         .next()
         .map_or(Vec::new(), |(_, l)| l.split(',').map(str::trim).collect());
     if header != ["x", "y", "z"] {
-        return Err(CliError::Input(format!(
+        return Err(SceneError::Input(format!(
             "{name}: header must be `x,y,z`, found {header:?}"
         )));
     }
@@ -41,10 +41,10 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, CliError> {
                 .split(',')
                 .map(|s| s.trim().parse::<f64>())
                 .collect::<Result<_, _>>()
-                .map_err(|e| CliError::Input(format!("{name}:{}: {e}", i + 1)))?;
+                .map_err(|e| SceneError::Input(format!("{name}:{}: {e}", i + 1)))?;
             match v.as_slice() {
                 [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
-                _ => Err(CliError::Input(format!(
+                _ => Err(SceneError::Input(format!(
                     "{name}:{}: expected three finite numbers",
                     i + 1
                 ))),
@@ -53,7 +53,7 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, CliError> {
         .enumerate()
         .map(|(n, p)| {
             if n == MAX_POINTS {
-                Err(CliError::Input(format!("{name}: more than {MAX_POINTS} points")))
+                Err(SceneError::Input(format!("{name}: more than {MAX_POINTS} points")))
             } else {
                 p
             }
@@ -63,18 +63,18 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, CliError> {
 
 /// Sample the case in `case_dir` at time `time` (`latest` or a number) at the points of
 /// `points`, blended or `cellwise`, write the table to `out`, and return a one-line summary.
-pub fn probe(case_dir: &Path, time: &str, points: &Path, out: &Path, cellwise: bool) -> Result<String, CliError> {
+pub fn probe(case_dir: &Path, time: &str, points: &Path, out: &Path, cellwise: bool) -> Result<String, SceneError> {
     let case = FoamCase::open(case_dir)?;
     let time = match time {
         "latest" => *case
             .times()
             .last()
-            .ok_or_else(|| CliError::Input(format!("{}: the case has no time directories", case_dir.display())))?,
+            .ok_or_else(|| SceneError::Input(format!("{}: the case has no time directories", case_dir.display())))?,
         t => t
             .parse()
             .ok()
             .filter(|t: &f64| t.is_finite())
-            .ok_or_else(|| CliError::Input(format!("TIME `{t}` is neither `latest` nor a finite number")))?,
+            .ok_or_else(|| SceneError::Input(format!("TIME `{t}` is neither `latest` nor a finite number")))?,
     };
     let flow = FoamFlow::read(&case, &[time])?;
     let blend = if cellwise {
@@ -93,7 +93,7 @@ pub fn probe(case_dir: &Path, time: &str, points: &Path, out: &Path, cellwise: b
             Ok((cells, cell)) => {
                 hint = Some(cell);
                 let s = match &blend {
-                    Some(b) => b.sample(x, time).map_err(|e| CliError::Input(e.to_string()))?,
+                    Some(b) => b.sample(x, time).map_err(|e| SceneError::Input(e.to_string()))?,
                     None => cells,
                 };
                 inside += 1;

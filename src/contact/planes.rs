@@ -1,5 +1,5 @@
 //! A convex domain bounded by planar walls (e.g. the lid-driven cavity of paper §6.3,
-//! [`crate::scenes::cavity::walls`]).
+//! [`crate::studies::cavity::walls`]).
 //!
 //! # Physics
 //! The domain is the intersection of half-spaces $\\{x : (x − p_w)·n_w ≤ 0\\}$, one per wall w

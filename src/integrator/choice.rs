@@ -35,7 +35,7 @@ use serde::{Deserialize, Serialize};
 /// `examples/barycentre_choice.rs`, `paper-figures/fig18/barycentre_choice.csv`; for these
 /// particles St = τ γ̇ = 2.71 Stk, with Stk of paper eq. 25): at Stk ≤ 0.02 (St ≤ 0.054) at most
 /// 1 fate in 4 000 changes (the integration tolerance itself moves about 1 in 10³,
-/// `scenes::bifurcation::study::RTOL`) with 2.4–4.3× fewer steps; at Stk = 0.04 (St = 0.11) the
+/// `studies::bifurcation::study::RTOL`) with 2.4–4.3× fewer steps; at Stk = 0.04 (St = 0.11) the
 /// equilibrium model loses 3 of 23 deposits, at 0.06 4 of 30 and at 0.1 20 of 53: the O(St²)
 /// terms it drops decide impaction at the carina, where the flow's local time scale is much
 /// shorter than the volume mean 1/γ̇. 0.06 lies between the last passing and the first failing

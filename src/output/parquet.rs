@@ -1,5 +1,5 @@
 //! Columns written as one Parquet file (feature `parquet`; arrow-rs, Snappy only): the
-//! command's `records.parquet` and `frames.parquet` (`cli::parquet`) and the scenes' tables.
+//! command's `records.parquet` and `frames.parquet` (`scene::parquet`) and the scenes' tables.
 //! Every f64 is stored as written, so a reader gets the values bit for bit; measured columns
 //! (few repeated values) are written BYTE_STREAM_SPLIT without a dictionary
 //! ([`Table::f64_measured`]), which groups the slowly varying sign, exponent and leading

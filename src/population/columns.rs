@@ -1,6 +1,6 @@
 //! The columns of a run's tables, defined once. A record's columns ([`record_columns`]: name,
 //! description, type and how each value is read from a [`ParticleRecord`]) make `results.csv`
-//! ([`super::RunOutput::table`]), `records.parquet` (the command's `cli::parquet`) and the
+//! ([`super::RunOutput::table`]), `records.parquet` (the command's `scene::parquet`) and the
 //! Python package's `Results.records()`; a frame's columns ([`FRAME_COLUMNS`], the particles
 //! of a run at one time by [`at_time`], flagged by [`fate_code`]) make `frames.parquet` and
 //! `Results.frames()`.

@@ -52,7 +52,7 @@ fn support_distance_of_sphere_and_spheroid() {
 #[test]
 fn cavity_walls_exit_through_the_lid_and_stick_elsewhere() {
     let l = 0.1;
-    let b = pseudorigid::scenes::cavity::walls(l).unwrap();
+    let b = pseudorigid::studies::cavity::walls(l).unwrap();
     let axes = Vec3::new(0.005, 0.001, 0.001);
     let id = Mat3::identity();
     assert!(b.nearest(&Vec3::repeat(0.05), &ellipsoid(axes, id)).gap > 0.0);
@@ -163,7 +163,7 @@ fn step_cap_at_a_corner_keeps_the_particle_off_the_other_wall() {
     let (floor_gap, slack) = (0.5e-3, 0.5 * a);
     // Along one smooth wall only the normal velocity closes the gap: no cap from the floor
     // (|v·n| = 0 and no flow to sweep the tip), so the particle could cross the side wall.
-    let planes = pseudorigid::scenes::cavity::walls(0.1).unwrap();
+    let planes = pseudorigid::studies::cavity::walls(0.1).unwrap();
     use pseudorigid::contact::{ContactEvent, ContactModel};
     let normal = ContactEvent::new(&planes, &p, &Quiescent, ContactModel::Extent);
     assert!(normal.max_step(&s) > 1e300);

@@ -1,16 +1,16 @@
 //! The integration tests of `pseudorigid`, as one crate (one binary, one link of the library).
 //!
 //! The module tree mirrors `src/`: the tests of `src/x/y.rs` are in `tests/suite/x/y.rs` (or
-//! `tests/suite/x/y/mod.rs`), e.g. `src/flow/openfoam/` → `flow::openfoam`, `src/scenes/cavity/`
-//! → `scenes::cavity`, `src/integrator/radau5.rs` → `integrator::radau5`. Run one module with
-//! `cargo test --test suite scenes::cavity`, one test with its full path and `--exact`.
+//! `tests/suite/x/y/mod.rs`), e.g. `src/flow/openfoam/` → `flow::openfoam`, `src/studies/cavity/`
+//! → `studies::cavity`, `src/integrator/radau5.rs` → `integrator::radau5`. Run one module with
+//! `cargo test --test suite studies::cavity`, one test with its full path and `--exact`.
 //!
 //! - `common`: shared helpers (proptest strategies, independent reference computations,
 //!   generated OpenFOAM cases in `common::build`); `population::common` is the population tests'
 //!   settling-pipe set-up.
 //! - `integrator::every_scheme`: the one harness run over every integrator; the tests of the
 //!   integrator module itself are in `integrator` (`mod.rs`).
-//! - `cli::run`: the `pseudorigid` command as a user runs it (killed, resumed, sharded).
+//! - `scene::run`: the `pseudorigid` command as a user runs it (killed, resumed, sharded).
 //! - `cross`: tests that cut across the modules: whole-run physical properties
 //!   (`cross::properties`), hard cases (`cross::hard_cases`), observed convergence orders of every
 //!   integrator (`cross::convergence`), the seeded fuzzing of the public API (`cross::fuzz_api`),
@@ -27,12 +27,10 @@
 //! folder is named after its test (under `CARGO_TARGET_TMPDIR`, or the system's temporary folder
 //! with the process id), so no two tests share one. A test that needs a process of its own
 //! spawns one: `population::checkpoint` re-runs this binary on its ignored `child_run`,
-//! `cli::run` runs the `pseudorigid` command.
+//! `scene::run` runs the `pseudorigid` command.
 
 mod common;
 
-#[cfg(feature = "cli")]
-mod cli;
 mod contact;
 mod cross;
 mod diagnostics;
@@ -48,4 +46,6 @@ mod particle;
 #[cfg(feature = "parallel")]
 mod population;
 mod reference;
-mod scenes;
+#[cfg(feature = "cli")]
+mod scene;
+mod studies;

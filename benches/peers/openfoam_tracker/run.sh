@@ -14,7 +14,7 @@
 #   FLUID_RHO  fluid density in kg/m^3 (default 1.208, the bifurcation's air; a kinematic case
 #              has none)
 #   GRAVITY    gravity vector "(gx gy gz)" in m/s^2 (default "(9.81 0 0)", the bifurcation's
-#              +e1, src/scenes/bifurcation/setup.rs GRAVITY)
+#              +e1, src/studies/bifurcation/setup.rs GRAVITY)
 #   DELTA_T    outer time step in s (default 1e-4; parcels sub-step within it at maxCo 0.3)
 #   INLET      name of the inlet patch for the flow rate (default inlet)
 #   NU         kinematic viscosity in m^2/s (default: nu of CASE_DIR/constant/transportProperties;

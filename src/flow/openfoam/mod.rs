@@ -39,7 +39,7 @@
 //! # The cube cavity
 //! The shipped cavity fields of paper §6.3 are simpleFoam's `U` alone; [`block::cavity_block`]
 //! rebuilds their uniform blockMesh cube in blockMesh's order, and
-//! `scenes::cavity_benchmark::ShippedField` reads a field onto it.
+//! `studies::cavity_benchmark::ShippedField` reads a field onto it.
 
 pub mod blend;
 pub mod block;

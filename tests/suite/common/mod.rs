@@ -26,7 +26,7 @@ pub fn sig(x: f64, digits: i32) -> String {
 /// decimals for a snapshot.
 #[cfg(feature = "mesh")]
 pub fn cavity_re1000_extrema(flow: &impl pseudorigid::flow::FlowField) -> String {
-    use pseudorigid::scenes::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
+    use pseudorigid::studies::cavity_benchmark::{CavityCase, ReferenceTable, compare_extrema};
     let case = CavityCase {
         edge: 0.1,
         lid_speed: 0.173,

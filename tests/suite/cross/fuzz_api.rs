@@ -22,7 +22,7 @@ use pseudorigid::integrator::newton::NewtonOptions;
 use pseudorigid::integrator::{ImexAdaptive, Scheme, Stokesian, Tolerances};
 use pseudorigid::output::{Csv, write_atomic};
 use pseudorigid::prelude::*;
-use pseudorigid::scenes::cavity_benchmark::CI;
+use pseudorigid::studies::cavity_benchmark::CI;
 use serde_json::Value;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;

@@ -12,7 +12,7 @@ use pseudorigid::hydro::forces::{
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::Rigid;
 use pseudorigid::prelude::*;
-use pseudorigid::scenes::forces::{SettlingCase, added_mass_shapes, settle};
+use pseudorigid::studies::forces::{SettlingCase, added_mass_shapes, settle};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -830,7 +830,7 @@ fn force_terms_by_name() {
 /// A regression guard (this code's own output), not a check.
 #[test]
 fn snapshot_forces_datasets() {
-    use pseudorigid::scenes::forces::{added_mass_table, settling_csv};
+    use pseudorigid::studies::forces::{added_mass_table, settling_csv};
     let mut text = String::from("a1,a2,a3,axis,k\n");
     for r in added_mass_table().unwrap() {
         text += &format!(

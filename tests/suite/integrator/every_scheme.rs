@@ -4,7 +4,7 @@
 //! Reference problems:
 //! - the exact Jeffery (1922) orbit of a quasi-rigid prolate in simple shear;
 //! - the steady tank-treading of an initially spherical particle (Roscoe 1967, solved
-//!   independently of any time integrator by `scenes::tank_treading::roscoe`);
+//!   independently of any time integrator by `studies::tank_treading::roscoe`);
 //! - a sphere settling from rest to the Stokes velocity v_s = (2/9)(ρ_s − ρ_f) g a²/μ_f;
 //! - a wall-contact event located against its analytic crossing time;
 //! - the end state's frame and flow sample shown to `on_step` ([`AcceptedStep`]) against the
@@ -18,10 +18,10 @@ use pseudorigid::integrator::{ErrorNorm, ImexAdaptive, ImexPaper, Scheme, Stokes
 use pseudorigid::material::Response;
 use pseudorigid::prelude::*;
 use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
-use pseudorigid::scenes::particles::Shape;
-use pseudorigid::scenes::section::ShearPlaneSection;
-use pseudorigid::scenes::shear_shape::ShearShape;
-use pseudorigid::scenes::tank_treading::roscoe;
+use pseudorigid::studies::particles::Shape;
+use pseudorigid::studies::section::ShearPlaneSection;
+use pseudorigid::studies::shear_shape::ShearShape;
+use pseudorigid::studies::tank_treading::roscoe;
 use pseudorigid::tensor::nearest_rotation;
 
 /// How an integrator is driven through the reference problems.

@@ -7,11 +7,11 @@ use pseudorigid::integrator::manifold::{Manifold, ManifoldMemory};
 use pseudorigid::integrator::{Stokesian, TimeIntegrator};
 use pseudorigid::particle::manifold::SlowManifold;
 use pseudorigid::prelude::*;
-use pseudorigid::scenes::particles::Shape;
-use pseudorigid::scenes::section::ShearPlaneSection;
-use pseudorigid::scenes::shear_run::unit_shear;
-use pseudorigid::scenes::shear_shape::ShearShape;
-use pseudorigid::scenes::tank_treading::roscoe;
+use pseudorigid::studies::particles::Shape;
+use pseudorigid::studies::section::ShearPlaneSection;
+use pseudorigid::studies::shear_run::unit_shear;
+use pseudorigid::studies::shear_shape::ShearShape;
+use pseudorigid::studies::tank_treading::roscoe;
 
 fn sphere(ca: f64) -> Particle<NeoHooke> {
     ShearShape::new(Shape::Sphere)

@@ -50,7 +50,7 @@ fn results_csv_read_back_holds_the_records_parquet_columns_and_values() {
     let dir = std::env::temp_dir().join(format!("pseudorigid-columns-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("records.parquet");
-    pseudorigid::cli::parquet::write_records(&out, &path).unwrap();
+    pseudorigid::scene::parquet::write_records(&out, &path).unwrap();
     let reader = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&path).unwrap())
         .unwrap()
         .build()

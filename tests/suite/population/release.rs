@@ -17,10 +17,10 @@ use pseudorigid::particle::release::{ReleaseCriterion, ReleaseError, ReleaseThre
 use pseudorigid::particle::{Fluid, Particle, ShearScaling, State};
 use pseudorigid::population::release::{ReleaseObserver, Released};
 use pseudorigid::population::{Fate, Observer};
-use pseudorigid::scenes::particles::Shape;
-use pseudorigid::scenes::shear_run::unit_shear;
-use pseudorigid::scenes::shear_shape::ShearShape;
-use pseudorigid::scenes::tank_treading::roscoe;
+use pseudorigid::studies::particles::Shape;
+use pseudorigid::studies::shear_run::unit_shear;
+use pseudorigid::studies::shear_shape::ShearShape;
+use pseudorigid::studies::tank_treading::roscoe;
 use pseudorigid::tensor::{Mat3, Vec3};
 
 const MU: f64 = 2.0;
@@ -254,7 +254,7 @@ proptest! {
 
 /// A soft sphere in unit shear at Ca = 0.1 from rest approaches Roscoe's steady
 /// tank-treading shape, λ₁ = r₁/R₀ from the algebraic equations of
-/// `scenes::tank_treading::roscoe` (no time integration, no traction code of the model): a
+/// `studies::tank_treading::roscoe` (no time integration, no traction code of the model): a
 /// threshold 0.5 % of λ₁ − 1 below the steady λ₁ fires, and the run's peak lies within 0.5 %
 /// of λ₁ − 1 of it. At t = 70 (the tank-treading test's 60 + 100 Ca, where the drift is below
 /// 10⁻⁷) the end state is Roscoe's to 10⁻⁶ (that test's bound, a factor 100 over the

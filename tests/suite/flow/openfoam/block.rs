@@ -7,7 +7,7 @@ use crate::common;
 
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamError, PolyMesh, cavity_block};
-use pseudorigid::scenes::cavity_benchmark::{CI, Centreline, RE470, RE1000, ShippedField};
+use pseudorigid::studies::cavity_benchmark::{CI, Centreline, RE470, RE1000, ShippedField};
 use pseudorigid::tensor::Vec3;
 
 /// The builder is blockMesh's mesh: `tests/data/cavity-ci-blockmesh` is what blockMesh made of

@@ -17,7 +17,7 @@ use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::locate::{Probe, probe};
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamError, FoamFlow, Layout, PatchRole, PatchSet, PolyMesh};
-use pseudorigid::scenes::stagnation::{
+use pseudorigid::studies::stagnation::{
     FRACTIONS, NU, OrderRow, STRAIN, StagnationBox, WallLayerRow, coefficient_ratio, gradient_order_table, hiemenz,
     normal_velocity_error, velocity_errors, wall_layer_points, wall_layer_table,
 };
@@ -658,7 +658,7 @@ fn blended_field_converges_at_second_order_with_walls() {
 
 // ---------------------------------------------------------------------------------------
 // Near-wall flows: Hiemenz stagnation flow, exact, on the layerings users make
-// (pseudorigid::scenes::stagnation: the box, the field written into it, the measures)
+// (pseudorigid::studies::stagnation: the box, the field written into it, the measures)
 
 /// Core cell height in y and box height (4ℓ: f' = 0.9997 at the top).
 const CORE: f64 = 0.05;
@@ -868,8 +868,8 @@ fn hiemenz_snapped_dataset_snapshot() {
     let mut orders: Vec<OrderRow> = rows.iter().map(OrderRow::from).collect();
     for n in [0, 2, 5] {
         let case = format!("{}/tests/data/couette-snappy/layers{n}", env!("CARGO_MANIFEST_DIR"));
-        let annulus = pseudorigid::scenes::couette::CouetteAnnulus::read(case.as_ref()).unwrap();
-        orders.push(pseudorigid::scenes::couette::order_row(n, 0, &annulus).unwrap());
+        let annulus = pseudorigid::studies::couette::CouetteAnnulus::read(case.as_ref()).unwrap();
+        orders.push(pseudorigid::studies::couette::order_row(n, 0, &annulus).unwrap());
     }
     insta::assert_snapshot!("gradient_order", gradient_order_table(&orders, 3).unwrap().to_text());
 }

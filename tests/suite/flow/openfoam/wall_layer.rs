@@ -5,8 +5,8 @@ use super::{Layering, points, stagnation_box};
 use crate::common::build;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamFlow, PolyMesh};
-use pseudorigid::scenes::couette::exact as couette;
-use pseudorigid::scenes::stagnation::half_cell_errors;
+use pseudorigid::studies::couette::exact as couette;
+use pseudorigid::studies::stagnation::half_cell_errors;
 use pseudorigid::tensor::{Mat3, Vec3};
 
 /// Least-squares slope of ln e against ln h.
@@ -153,7 +153,7 @@ fn quarter_annulus(level: u32, layers: usize) -> (PolyMesh, f64) {
 
 /// Largest |u| and |∇u| errors of `flow` at half the first cell's height over the inner
 /// cylinder (r = 1 + δ₁/2, θ ∈ [0.1, 0.9] π/2, in the lower cells), relative to the exact field's
-/// largest |u| (1) and |∇u| (5/3 on the inner wall, `scenes::couette::GRAD_MAX`).
+/// largest |u| (1) and |∇u| (5/3 on the inner wall, `studies::couette::GRAD_MAX`).
 fn couette_half_cell(flow: &dyn FlowField, first: f64) -> (f64, f64) {
     let r = 1.0 + 0.5 * first;
     (0..60)

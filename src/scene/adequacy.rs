@@ -1,0 +1,538 @@
+//! Whether a run on an OpenFOAM field can be trusted near the walls: the mesh-adequacy
+//! diagnostic of every such run (issue 39).
+//!
+//! # What decides a deposit, and where
+//! Next to a no-slip wall the field a particle sees is the wall layer's near-wall expansion
+//! (`flow::openfoam::wall_layer`) inside the wall cells, fitted through the solver's values
+//! at the wall cell's centre (height ρ over the face) and the cell above: a model of the flow
+//! there, not resolved data. The first cell is 2ρ high. A particle of largest semi-axis a
+//! touches when its barycentre comes within about a of the wall; a particle of response time
+//! τ_p ([`ParticleNumbers::response_time`]) carried at speed U coasts a stopping distance
+//! τ_p U. So
+//! - **a < 2ρ and τ_p U < 2ρ**: the particle must enter the first cell to touch, and it follows
+//!   the modelled flow there: where and whether it deposits is decided inside the wall layer,
+//!   and the answer depends on it;
+//! - **τ_p U ≥ 2ρ**: its inertia carries it across the first cell: impaction is decided by
+//!   the resolved flow above it;
+//! - **a ≥ 2ρ** (and τ_p U < 2ρ): it touches with its barycentre above the first cell
+//!   (interception by resolved cells), but it spans a cell or more, so the flow is not linear
+//!   across it.
+//!
+//! The threshold 1 of both ratios is where the touch or the coasting crosses the first cell's
+//! top. The heights are the wall faces' ([`WallResolution`]: median and largest 2ρ over every
+//! no-slip wall face of the case; a wall the particles never reach counts too, so the median is
+//! the case's, not the particles' path's). U is the largest cell-centre speed of the field at
+//! t = 0, so τ_p U is the largest stopping distance any particle can have: if even that is
+//! below the first cell, the inertia does not reach through it.
+//!
+//! # How much the answer moves: the re-track
+//! The ratios say whether the wall layer decides; the re-track measures by how much. The first
+//! min(N, `output.adequacy_sample`) particles by index (default [`DEFAULT_SAMPLE`](crate::scene::DEFAULT_SAMPLE); the same
+//! particles every time) are run again from the same injection on the other reconstruction of
+//! the same solution: the cellwise field (each cell's linear fit, no wall layer) for a run on
+//! the blended field, the blended field for a run with `flow.blend = false`. Their fates are
+//! paired with the run's ([`Pairing`]: deposited by the run only b, by the re-track only c);
+//! the paired (McNemar) difference of the deposition fractions is (b − c)/n with standard error
+//! √(b + c − (b − c)²/n)/n, and a **warning** is printed when |b − c|/n exceeds
+//! [`WARN_SIGMAS`] of them. Two fields that interpolate the same solution and differ only
+//! below the second cell then give different answers: the near-wall resolution, not the
+//! particles, sets the deposition. A re-track may take [`RETRACK_STEP_FACTOR`] times the
+//! particle's steps in the run (plus [`RETRACK_STEP_FLOOR`]); one that needs more is sliding
+//! along a face of the cellwise field and is left out of the pairing as *undecided*, counted
+//! in the log.
+//!
+//! Measured on OpenFOAM's own cases and the repository's T-junction at three resolutions
+//! (300 spheres of a = 0.4 mm, 2 500 kg/m³, τ_p U/D ≈ 0.09; 200 re-tracked):
+//!
+//! | case | 2ρ | a/2ρ, τ_p U/2ρ | deposited, blended : cellwise | paired difference | warning |
+//! |---|---|---|---|---|---|
+//! | `cases/tjunction`, 4 cells across | 2.5 mm | 0.16, 0.55 | 115 : 151 | −0.180 ± 0.027 | yes (6.6 se) |
+//! | `cases/tjunction`, 8 across | 1.25 mm | 0.32, 1.30 | 150 : 139 | +0.055 ± 0.023 | yes (2.4 se) |
+//! | `cases/tjunction`, 16 across | 0.625 mm | 0.64, 2.72 | 119 : 122 | −0.015 ± 0.009 | no (1.7 se) |
+//!
+//! Its 1 000 point tracers (`cases/tjunction/scene.toml`), the same way: the cellwise field
+//! deposits 61, 18 and 1 of the first 200 (undecided 61, 9, 0) where the blended field deposits
+//! none, a warning at 10.4 and 4.5 paired standard errors on the coarse and shipped meshes and
+//! none on the fine one.
+//!
+//! On the pimpleFoam `TJunction` tutorial (5 cells across a 20 mm duct), 1 000 flux-weighted
+//! point tracers: none deposits on the blended field; of the first 200 re-tracked on the
+//! cellwise field 66 deposit and 133 slide along faces (undecided): a warning, rightly, since
+//! on that mesh the answer is the near-wall reconstruction's. Run and re-track took 84 s of CPU
+//! together; with the re-track unbounded, the re-track alone ran past 63 min.
+//!
+//! The re-track runs after the run, in memory, from the run's records: the run's records,
+//! tables, checkpoints and `--resume` are those of a run without it, bit for bit. A shard
+//! (`--shard k/N`) prints the ratios only; `merge` re-tracks the first particles of the whole
+//! run, so the sample is the same however the run was split. A transient field gets the ratios
+//! only (the re-track would need a second sliding field: not implemented). The results go to
+//! the run log and to `adequacy.json` in the output folder ([`Adequacy`]).
+
+use crate::driver::Budget;
+use crate::flow::FlowField;
+use crate::flow::openfoam::{BlendedFlow, FoamFlow};
+use crate::integrator::choice::ParticleNumbers;
+use crate::material::NamedLaw;
+use crate::population::peer::Pairing;
+use crate::population::{Case, Fate, ParticleRecord, binomial};
+use crate::scene::Scene;
+use crate::scene::error::SceneError;
+use crate::scene::models::SceneFlow;
+use crate::tensor::Vec3;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::Path;
+
+/// Paired standard errors beyond which the re-track warns: two, a two-sided 95 % test in the
+/// normal approximation. At a handful of discordant pairs that approximation is liberal (4
+/// particles deposited by one field only and none by the other warn; McNemar's exact p is
+/// 0.125 there): it errs towards warning, which is the side to err on for a diagnostic.
+pub const WARN_SIGMAS: f64 = 2.0;
+
+/// A re-tracked particle may take this many times its accepted steps in the run, plus
+/// [`RETRACK_STEP_FLOOR`], before it is left out as undecided. Both fields interpolate the
+/// same solution along the same path, so a particle's steps differ between them by the
+/// rejections the cellwise field's jumps across faces cost, a small factor; far beyond it, a
+/// particle is sliding along a face where the fits on both sides push towards it, every step
+/// rejected (the Filippov sliding mode `flow::openfoam::BlendedFlow`'s docs describe): on
+/// OpenFOAM's `TJunction` tutorial, unbounded, 200 point tracers took 63 min of CPU on the
+/// cellwise field against 1 min for the run's 1 000 on the blended one.
+pub const RETRACK_STEP_FACTOR: u64 = 10;
+
+/// Steps a re-tracked particle may take on top of [`RETRACK_STEP_FACTOR`] times its own: room
+/// for a particle that failed or stopped early in the run.
+pub const RETRACK_STEP_FLOOR: u64 = 1_000;
+
+/// The file of the diagnostic in a run's output folder.
+pub const FILE: &str = "adequacy.json";
+
+/// The first-cell heights 2ρ of the no-slip wall faces (ρ: the wall cell's centre over the
+/// face's plane, `flow::openfoam::WallGeometry::depth`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct WallResolution {
+    /// No-slip wall faces.
+    pub faces: usize,
+    /// Median 2ρ (the upper median for an even count).
+    pub median: f64,
+    /// Largest 2ρ.
+    pub max: f64,
+}
+
+impl WallResolution {
+    /// The heights of `flow`'s wall faces; `None` if the case has no no-slip wall.
+    pub fn of(flow: &FoamFlow) -> Option<Self> {
+        let layer = flow.wall_layer();
+        let mut heights: Vec<f64> = (0..layer.len()).map(|k| 2.0 * layer.depth(k)).collect();
+        heights.sort_by(f64::total_cmp);
+        Some(Self {
+            faces: heights.len(),
+            median: *heights.get(heights.len() / 2)?,
+            max: *heights.last()?,
+        })
+    }
+}
+
+/// One list entry's or injection group's sizes against the first cell.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ParticleScales {
+    /// Its scene key (`particles.inject[0]`, `particles.list[3]`).
+    pub key: String,
+    /// Largest semi-axis a of the rest shape.
+    pub largest_semi_axis: f64,
+    /// Response time τ_p ([`ParticleNumbers::response_time`]).
+    pub response_time: f64,
+    /// τ_p U with U [`Resolution::speed`].
+    pub stopping_distance: f64,
+    /// a over the median first-cell height.
+    pub size_ratio: f64,
+    /// τ_p U over the median first-cell height.
+    pub stopping_ratio: f64,
+}
+
+impl ParticleScales {
+    /// What the ratios mean (module docs), in words.
+    pub fn verdict(&self) -> &'static str {
+        if self.stopping_ratio >= 1.0 {
+            "its inertia carries it across the first cell: impaction is decided by the resolved flow above it"
+        } else if self.size_ratio >= 1.0 {
+            "it touches with its barycentre above the first cell (interception by resolved cells), but it spans a \
+             cell or more, so the flow is not linear across it"
+        } else {
+            "both below 1: a particle must enter the first cell to touch and follows the modelled flow there, so \
+             its deposition is decided inside the wall layer and depends on it"
+        }
+    }
+}
+
+/// The wall layer's depth against the particles (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Resolution {
+    /// First-cell heights over the wall faces.
+    pub walls: WallResolution,
+    /// U: the largest cell-centre speed of the field at t = 0.
+    pub speed: f64,
+    /// Each list entry and injection group.
+    pub particles: Vec<ParticleScales>,
+}
+
+/// One re-tracked particle: its fate in the run and on the other field.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Paired {
+    /// Particle index.
+    pub index: u64,
+    /// Fate in the run (`Fate::label`).
+    pub run: &'static str,
+    /// Fate on the other field.
+    pub other: &'static str,
+}
+
+/// The re-track of the first particles on the other field (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Sensitivity {
+    /// The field of the run: `blended` or `cellwise`.
+    pub run_field: &'static str,
+    /// The field of the re-track: the other one.
+    pub other_field: &'static str,
+    /// Deposited by both, by the run only (b), by the re-track only (c), by neither; the
+    /// undecided particles left out.
+    pub pairing: Pairing,
+    /// Re-tracked particles whose re-track did not finish (beyond [`RETRACK_STEP_FACTOR`]
+    /// times their steps in the run, or failed): left out of the pairing.
+    pub undecided: u64,
+    /// Deposition fraction of the sample in the run.
+    pub run_fraction: f64,
+    /// Deposition fraction of the sample on the other field.
+    pub other_fraction: f64,
+    /// Its binomial standard error over the whole run (`population::binomial::stderr`).
+    pub run_stderr: f64,
+    /// Paired difference (b − c)/n, run minus re-track.
+    pub difference: f64,
+    /// Its paired (McNemar) standard error.
+    pub stderr: f64,
+    /// |difference| > [`WARN_SIGMAS`] · stderr, with at least one discordant pair.
+    pub warning: bool,
+    /// The particles, by index.
+    pub particles: Vec<Paired>,
+}
+
+/// Why a run has no re-track.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Skipped {
+    /// `output.adequacy_sample = 0`.
+    Off,
+    /// A shard of a run: `merge` re-tracks.
+    Shard,
+    /// A transient field (not implemented).
+    Transient,
+}
+
+/// The diagnostic of one run on an OpenFOAM field: written as [`FILE`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Adequacy {
+    /// The wall layer's depth against the particles; `None` if the case has no no-slip wall.
+    pub resolution: Option<Resolution>,
+    /// The re-track, if one was run.
+    pub sensitivity: Option<Sensitivity>,
+    /// Why not, if not.
+    pub skipped: Option<Skipped>,
+}
+
+impl Adequacy {
+    /// The run log's lines: `note: adequacy: …` lines and a `warning: adequacy: …` line when
+    /// the re-track moves the deposition (each ends with a newline).
+    pub fn log(&self) -> String {
+        let mut lines = Vec::new();
+        match &self.resolution {
+            None => lines.push("note: adequacy: the case has no no-slip wall: nothing deposits".to_string()),
+            Some(r) => {
+                lines.push(format!(
+                    "note: adequacy: first-cell height at the walls 2ρ = {:.3e} (median), {:.3e} (max) over {} wall \
+                     faces; field speed U = {:.3e} (largest cell value)",
+                    r.walls.median, r.walls.max, r.walls.faces, r.speed
+                ));
+                let groups = r
+                    .particles
+                    .iter()
+                    .map(|p| {
+                        (
+                            p.key.clone(),
+                            format!(
+                                "largest semi-axis a = {:.3e} = {} × 2ρ, stopping distance τ_p·U = {:.3e} × {:.3e} = \
+                                 {:.3e} = {} × 2ρ (median): {}",
+                                p.largest_semi_axis,
+                                ratio(p.size_ratio),
+                                p.response_time,
+                                r.speed,
+                                p.stopping_distance,
+                                ratio(p.stopping_ratio),
+                                p.verdict()
+                            ),
+                        )
+                    })
+                    .collect();
+                lines.extend(
+                    crate::scene::grouped(groups)
+                        .into_iter()
+                        .map(|l| format!("note: adequacy: {l}")),
+                );
+            }
+        }
+        match (&self.sensitivity, self.skipped) {
+            (Some(s), _) => {
+                let p = &s.pairing;
+                let undecided = if s.undecided > 0 {
+                    format!(
+                        " ({} of them left out, undecided: their re-track took over {RETRACK_STEP_FACTOR}× their \
+                         steps in the run, sliding along cell faces, or failed)",
+                        s.undecided
+                    )
+                } else {
+                    String::new()
+                };
+                lines.push(format!(
+                    "note: adequacy: the first {} particles re-tracked on the {} field{undecided}: deposited {} ({}) \
+                     against {} ({}); {} by the {} field only, {} by the {} field only: difference {:+.4} ± {:.4} \
+                     (paired standard error; the run's own binomial error {:.4})",
+                    p.n() + s.undecided,
+                    s.other_field,
+                    p.both + p.only_ours,
+                    s.run_field,
+                    p.both + p.only_peer,
+                    s.other_field,
+                    p.only_ours,
+                    s.run_field,
+                    p.only_peer,
+                    s.other_field,
+                    s.difference,
+                    s.stderr,
+                    s.run_stderr
+                ));
+                if s.warning {
+                    // The paired standard error vanishes when every pair is discordant one way.
+                    let sigmas = if s.stderr > 0.0 {
+                        format!(
+                            "{:.1} paired standard errors, more than {WARN_SIGMAS}",
+                            s.difference.abs() / s.stderr
+                        )
+                    } else {
+                        format!("all {} pairs that differ, one way", p.only_ours + p.only_peer)
+                    };
+                    lines.push(format!(
+                        "warning: adequacy: the deposition fraction moves by {:.4} ({sigmas}) between the {} and the \
+                         {} field: the mesh is too coarse at the walls for these particles, and the near-wall \
+                         resolution, not the particles, sets the answer; refine the first cells (below the \
+                         particles' size or stopping distance) and compare again",
+                        s.difference.abs(),
+                        s.run_field,
+                        s.other_field
+                    ));
+                }
+            }
+            (None, Some(Skipped::Off)) => {
+                lines.push("note: adequacy: no re-track (`output.adequacy_sample = 0`)".to_string());
+            }
+            (None, Some(Skipped::Shard)) => {
+                lines.push("note: adequacy: the re-track on the other field is done by `merge`".to_string());
+            }
+            (None, Some(Skipped::Transient)) => lines.push(
+                "note: adequacy: no re-track on a transient field (not implemented): compare with `flow.blend = \
+                 false` by hand"
+                    .to_string(),
+            ),
+            (None, None) => {}
+        }
+        lines.into_iter().map(|l| l + "\n").collect()
+    }
+
+    /// Write it as JSON to `dir`/[`FILE`] (atomically), with the run log's lines ([`Self::log`])
+    /// under `log`, so a reader of the file (Python's `Results.adequacy`) shows the same words.
+    pub fn write(&self, dir: &Path) -> Result<(), SceneError> {
+        let mut value = serde_json::to_value(self).map_err(|e| SceneError::Input(format!("{FILE}: {e}")))?;
+        if let serde_json::Value::Object(map) = &mut value {
+            let lines = self.log().lines().map(serde_json::Value::from).collect();
+            map.insert("log".into(), serde_json::Value::Array(lines));
+        }
+        let json = serde_json::to_vec_pretty(&value).map_err(|e| SceneError::Input(format!("{FILE}: {e}")))?;
+        crate::output::atomic::write_atomic(dir.join(FILE), &json)?;
+        Ok(())
+    }
+}
+
+/// Remove `dir`/[`FILE`] if it exists (a run without a diagnostic into a folder that holds an
+/// earlier run's).
+pub fn remove(dir: &Path) -> Result<(), SceneError> {
+    match std::fs::remove_file(dir.join(FILE)) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(SceneError::Input(format!(
+            "cannot remove the earlier run's {}: {e}",
+            dir.join(FILE).display()
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// The diagnostic of `scene`'s run whose records are `records` (a shard's if `shard`, which
+/// then gets no re-track): `None` on an analytic flow. The re-track samples
+/// `scene.adequacy_sample` particles (module docs).
+pub fn adequacy(
+    scene: &Scene,
+    records: &[ParticleRecord<NamedLaw>],
+    shard: bool,
+) -> Result<Option<Adequacy>, SceneError> {
+    let Some(resolution) = resolution(scene) else {
+        return Ok(None);
+    };
+    let (sensitivity, skipped) = if scene.adequacy_sample == 0 {
+        (None, Some(Skipped::Off))
+    } else if shard {
+        (None, Some(Skipped::Shard))
+    } else if matches!(scene.flow, SceneFlow::Transient(_)) {
+        (None, Some(Skipped::Transient))
+    } else {
+        (sensitivity(scene, records, scene.adequacy_sample)?, None)
+    };
+    Ok(Some(Adequacy {
+        resolution,
+        sensitivity,
+        skipped,
+    }))
+}
+
+/// The wall layer's depth against each list entry and injection group of `scene`: `None` on
+/// an analytic flow, `Some(None)` on a case without no-slip walls.
+pub fn resolution(scene: &Scene) -> Option<Option<Resolution>> {
+    scene.flow.with_cellwise(|cells| {
+        let cells = cells?;
+        let Some(walls) = WallResolution::of(cells) else {
+            return Some(None);
+        };
+        let centres = cells.mesh().cell_centres();
+        let speed = centres
+            .iter()
+            .enumerate()
+            .map(|(c, x)| cells.sample_cell(c, x, 0.0).u.norm())
+            .fold(0.0, f64::max);
+        let particles = scene
+            .placements()
+            .into_iter()
+            .filter_map(|(key, placement)| {
+                // An entry the template refuses fails in the run itself, with its error.
+                let particle = scene.template.build(&placement.spec(Vec3::zeros())).ok()?;
+                let tau = ParticleNumbers::response_time(&particle).ok()?;
+                let a = placement.shape.semi_axes().max();
+                Some(ParticleScales {
+                    key,
+                    largest_semi_axis: a,
+                    response_time: tau,
+                    stopping_distance: tau * speed,
+                    size_ratio: a / walls.median,
+                    stopping_ratio: tau * speed / walls.median,
+                })
+            })
+            .collect();
+        Some(Some(Resolution {
+            walls,
+            speed,
+            particles,
+        }))
+    })
+}
+
+/// The first min(N, `sample`) particles of `records` (by index) re-tracked on the other
+/// reconstruction of `scene`'s steady OpenFOAM field and paired with their fates in `records`
+/// (module docs); `None` on an analytic or transient flow.
+pub fn sensitivity(
+    scene: &Scene,
+    records: &[ParticleRecord<NamedLaw>],
+    sample: u64,
+) -> Result<Option<Sensitivity>, SceneError> {
+    let mut chosen: Vec<&ParticleRecord<NamedLaw>> = records.iter().collect();
+    chosen.sort_by_key(|r| r.index);
+    chosen.truncate(usize::try_from(sample).unwrap_or(usize::MAX));
+    let deposited_in_run = records.iter().filter(|r| deposited(&r.fate)).count() as u64;
+    let run_stderr = binomial::stderr(deposited_in_run, records.len() as u64);
+    let pair = |run_field, other_field, other: Vec<Fate>| {
+        let mut pairing = Pairing::default();
+        let mut undecided = 0;
+        let particles = chosen
+            .iter()
+            .zip(&other)
+            .map(|(r, o)| {
+                if matches!(o, Fate::Failed { .. }) {
+                    undecided += 1;
+                } else {
+                    pairing.add(deposited(&r.fate), deposited(o));
+                }
+                Paired {
+                    index: r.index,
+                    run: r.fate.label(),
+                    other: o.label(),
+                }
+            })
+            .collect();
+        let (difference, stderr) = pairing.difference();
+        Sensitivity {
+            run_field,
+            other_field,
+            pairing,
+            undecided,
+            run_fraction: binomial::fraction(pairing.both + pairing.only_ours, pairing.n()),
+            other_fraction: binomial::fraction(pairing.both + pairing.only_peer, pairing.n()),
+            run_stderr,
+            difference,
+            stderr,
+            warning: pairing.only_ours + pairing.only_peer > 0 && difference.abs() > WARN_SIGMAS * stderr,
+            particles,
+        }
+    };
+    Ok(match &scene.flow {
+        SceneFlow::Blended(blended) => Some(pair("blended", "cellwise", retrack(scene, blended.cellwise(), &chosen))),
+        SceneFlow::Foam(cells) => {
+            let blended = BlendedFlow::new((**cells).clone())?;
+            Some(pair("cellwise", "blended", retrack(scene, &blended, &chosen)))
+        }
+        SceneFlow::Transient(_) | SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => None,
+    })
+}
+
+/// A ratio to the first cell for the log: three decimals, or three digits below 0.01 (a
+/// tracer's are ~10⁻⁴).
+fn ratio(x: f64) -> String {
+    if x >= 0.01 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+/// Whether `fate` is a deposit.
+fn deposited(fate: &Fate) -> bool {
+    matches!(fate, Fate::Deposited { .. })
+}
+
+/// The fates of the particles of `runs` on `flow` instead of the scene's: the same injection
+/// (drawn and started on the scene's field, so each starts where it started in the run),
+/// integrator, boundary, contact and plan, with at most [`RETRACK_STEP_FACTOR`] times the
+/// particle's steps in the run plus [`RETRACK_STEP_FLOOR`] (beyond: `Failed`, undecided), in
+/// parallel on the current rayon pool.
+fn retrack<F: FlowField + Sync + ?Sized>(scene: &Scene, flow: &F, runs: &[&ParticleRecord<NamedLaw>]) -> Vec<Fate> {
+    let injector = scene.injector();
+    let budget = scene.plan.budget();
+    runs.par_iter()
+        .map(|r| {
+            let steps = r
+                .stats
+                .steps
+                .saturating_mul(RETRACK_STEP_FACTOR)
+                .saturating_add(RETRACK_STEP_FLOOR);
+            let plan = scene.plan.clone().with_budget(Budget {
+                max_steps: steps.min(budget.max_steps),
+                ..budget
+            });
+            Case::new(&scene.integrator, flow, &scene.boundary, &injector, plan)
+                .with_contact(scene.contact)
+                .run_particle(scene.seed, r.index)
+                .fate
+        })
+        .collect()
+}
