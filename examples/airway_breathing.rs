@@ -27,7 +27,7 @@ use pseudorigid::population::RunOptions;
 use pseudorigid::studies::bifurcation::breathing::{
     self, Breath, Paired, Waveform, de_table, field_difference, flow_rate_table, map_table, paired_table, phase_table,
 };
-use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures};
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, StudyRun, figures};
 use pseudorigid::studies::count_and_case;
 use pseudorigid::studies::particles::Shape;
 use std::path::PathBuf;
@@ -58,7 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     flow_rate_table(&dir, &airway, waveform)?.write(out("flow_rates.csv"))?;
     field_check(&dir, peak_case, waveform)?.write(out("field_check.csv"))?;
 
-    let cache = figures::cache_dir();
+    let cache = figures::cache_dir()?;
     std::fs::create_dir_all(&cache)?;
     let mut pairs = Vec::new();
     let mut timing = Csv::new(&["shape", "mu_s", "stk", "flow", "n", "seconds", "steps"]);
@@ -70,7 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 stokes,
             };
             let clock = Instant::now();
-            let steady = figures::run_cached(&airway, kind, n)?;
+            let steady = figures::run_cached(StudyRun::new(&airway, kind, n))?;
             let steady_s = clock.elapsed().as_secs_f64();
             let clock = Instant::now();
             let cyclic = breathing::run_inhaled(
@@ -147,7 +147,7 @@ fn quasi_steady(airway: &Airway, pairs: &[Paired], m: u64) -> Result<Csv, Box<dy
             m,
             figures::SEED,
             &RunOptions::default().quiet(),
-            Some(&figures::cache_dir()),
+            Some(&figures::cache_dir()?),
         )?;
         let count = |records: &[pseudorigid::population::ParticleRecord<_>]| {
             records

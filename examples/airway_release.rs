@@ -21,10 +21,10 @@
 use pseudorigid::output::{Csv, paper_figure_path};
 use pseudorigid::studies::airway_tree::AirwayTree;
 use pseudorigid::studies::airway_tree::release::{
-    ReleaseResults, release_figure, release_map, release_table, release_times_table, run_release_cached,
-    stretch_thresholds, write_release_parquet,
+    ReleaseResults, release_figure, release_map, release_table, release_times_table, stretch_thresholds, track,
+    write_release_parquet,
 };
-use pseudorigid::studies::airway_tree::study::mu_s_label;
+use pseudorigid::studies::airway_tree::study::{cache_dir, mu_s_label};
 use pseudorigid::studies::bifurcation::{Kind, Material};
 use pseudorigid::studies::count_and_case;
 use pseudorigid::studies::particles::Shape;
@@ -50,7 +50,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     stokes,
                 };
                 let started = std::time::Instant::now();
-                let out = run_release_cached(&tree, kind, &thresholds, n)?;
+                let out = track(
+                    &tree,
+                    tree.study(kind, n).cache(&cache_dir()?),
+                    &thresholds,
+                    &pseudorigid::population::RunOptions::default(),
+                )?;
                 let seconds = started.elapsed().as_secs_f64();
                 let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
                 let releases = ReleaseResults::of(tree.tree(), &thresholds, &out)?;

@@ -51,7 +51,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     stokes,
                 };
                 let started = std::time::Instant::now();
-                let out = study::run_cached(&tree, kind, n)?;
+                let out = study::track(
+                    &tree,
+                    tree.study(kind, n).cache(&study::cache_dir()?),
+                    &pseudorigid::population::RunOptions::default(),
+                )?;
                 let seconds = started.elapsed().as_secs_f64();
                 let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
                 let counts = by_generation(tree.tree(), &out)?;

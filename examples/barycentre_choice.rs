@@ -13,11 +13,10 @@
 //! equilibrium run deposits (`gained`), the accepted steps of each run, and the CPU time of the
 //! inertial run over the equilibrium run's (both measured in this process, one after the other).
 
-use pseudorigid::hydro::ForceTerms;
 use pseudorigid::integrator::BarycentreModel;
 use pseudorigid::output::Csv;
+use pseudorigid::population::RunOptions;
 use pseudorigid::population::progress::process_cpu_seconds;
-use pseudorigid::population::{RunOptions, Shard};
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures, study};
 use pseudorigid::studies::cavity::Shape;
 use std::path::Path;
@@ -55,18 +54,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for barycentre in [BarycentreModel::Inertial, BarycentreModel::Equilibrium] {
             let integ = pseudorigid::integrator::Stokesian { barycentre, ..chosen };
             let cpu = process_cpu_seconds();
-            let out = study::run_kind_using(
-                &airway,
-                kind,
-                &ForceTerms::default(),
-                &integ,
-                None,
-                n,
-                figures::SEED,
-                Shard::ALL,
-                &RunOptions::default().quiet(),
-                None,
-            )?;
+            let out = study::StudyRun::new(&airway, kind, n)
+                .integrator(&integ)
+                .run(&RunOptions::default().quiet())?;
             let cpu = process_cpu_seconds().zip(cpu).map(|(b, a)| b - a);
             let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
             runs.push((out, steps, cpu));

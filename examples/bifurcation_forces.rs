@@ -12,7 +12,7 @@
 
 use pseudorigid::hydro::ForceTerms;
 use pseudorigid::hydro::forces::{Cunningham, SchillerNaumann};
-use pseudorigid::studies::bifurcation::{Efficiency, figures};
+use pseudorigid::studies::bifurcation::{Efficiency, StudyRun, figures};
 use std::sync::Arc;
 
 /// Mean free path of air at 20 °C and 1 atm (Hinds, Aerosol Technology, eq. 2.25).
@@ -25,8 +25,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Arc::new(SchillerNaumann),
     ])?;
     for kind in figures::softness_kinds(&[1.0], &[1e5], &[0.1, 0.4]) {
-        let paper = figures::run_cached(&airway, kind, n)?;
-        let with = figures::run_cached_with(&airway, kind, &forces, n)?;
+        let paper = figures::run_cached(StudyRun::new(&airway, kind, n))?;
+        let with = figures::run_cached(StudyRun::new(&airway, kind, n).forces(&forces))?;
         let (lost, gained) = figures::deposit_changes(&paper, &with);
         let count = paper.records.len() as f64;
         let (a, b) = (Efficiency::of(kind, &paper), Efficiency::of(kind, &with));

@@ -6,8 +6,8 @@
 //! ```
 //! Fails (exit status 1) if a particle fails or if none leaves through an outlet.
 
-use pseudorigid::population::{RunOptions, Shard};
-use pseudorigid::studies::bifurcation::{Airway, Efficiency, Kind, Material, run_kind};
+use pseudorigid::population::RunOptions;
+use pseudorigid::studies::bifurcation::{Airway, Efficiency, Kind, Material, StudyRun};
 use pseudorigid::studies::cavity::Shape;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -21,15 +21,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         material: Material::Rigid,
         stokes: stk.parse()?,
     };
-    let out = run_kind(
-        &airway,
-        kind,
-        n.parse()?,
-        1,
-        Shard::ALL,
-        &RunOptions::default().quiet(),
-        None,
-    )?;
+    let out = StudyRun::new(&airway, kind, n.parse()?)
+        .seed(1)
+        .run(&RunOptions::default().quiet())?;
     let row = Efficiency::of(kind, &out);
     println!(
         "{dir}: {} cells, mean residence time {:.4} s, max speed {:.3} m/s; Stk {stk}: {:?}, DE = {:.3} ± {:.3}",

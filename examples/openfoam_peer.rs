@@ -9,10 +9,10 @@
 //! ```
 //! For each Stokes number: particles 0..N of the datasets' run ([`figures::SEED`]), drawn by the
 //! bifurcation's injector ([`Injection::particle_spec`]: particle k from stream k, the same
-//! particles `run_kind` tracks), written as `PARTICLES.csv` (`index,x,y,z,u,v,w,d,rho`, SI) to
+//! particles `StudyRun` tracks), written as `PARTICLES.csv` (`index,x,y,z,u,v,w,d,rho`, SI) to
 //! `target/openfoam-peer/<label>_stk<STK>/`, tracked by the script there (OUT_DIR, with
 //! `END_TIME` = [`Airway::tracking_time`], gravity, fluid density and viscosity of
-//! `studies::bifurcation::setup`, the values our tracker uses) and by [`run_kind`] (rigid
+//! `studies::bifurcation::setup`, the values our tracker uses) and by [`StudyRun`] (rigid
 //! spheres, the studies' integrator and contact), then compared.
 //! `<label>` is `h<cell size in mm>-L<layers>` from the case's `log.summary` (else the
 //! directory's name); the tree's is prefixed `tree-<variant>-`.
@@ -38,7 +38,7 @@
 //!
 //! `--tree`: CASE_DIR is an airway tree (`cases/airway-tree`; the shipped
 //! `reference-data/airway-tree/rotated` serves, OpenFOAM reading its gzipped mesh and U), one
-//! STK; pseudorigid runs the tree study ([`airway_tree::run_kind`], the generation observer)
+//! STK; pseudorigid runs the tree study ([`airway_tree::track`], the generation observer)
 //! and both trackers' fates are compared generation by generation
 //! ([`airway_tree::peer`]: OpenFOAM's deposits placed by the same classifier). Output:
 //! `paper-figures/airway-tree/openfoam_peer.csv` (or in `$OPENFOAM_PEER_OUT`),
@@ -63,7 +63,7 @@ use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, RunOutput, Shard, run};
 use pseudorigid::studies::airway_tree::{self, AirwayTree, Generations};
 use pseudorigid::studies::bifurcation::setup::{GRAVITY, NU, RHO_FLUID, rho_particle};
-use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, figures, run_kind, study};
+use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, StudyRun, figures, study};
 use pseudorigid::studies::cavity::Shape;
 use pseudorigid::studies::peer::{OpenFoamTracker, PeerParticle};
 use pseudorigid::tensor::Vec3;
@@ -159,10 +159,8 @@ impl Setup {
         let airway = self.airway();
         if !self.point_contact {
             return Ok(match &self.geometry {
-                Geometry::Bifurcation(airway) => run_kind(airway, kind, n, figures::SEED, Shard::ALL, &options, None)?,
-                Geometry::Tree(tree) => {
-                    airway_tree::run_kind(tree, kind, n, figures::SEED, Shard::ALL, &options, None)?
-                }
+                Geometry::Bifurcation(airway) => StudyRun::new(airway, kind, n).run(&options)?,
+                Geometry::Tree(tree) => airway_tree::track(tree, tree.study(kind, n), &options)?,
             });
         }
         let observer = match &self.geometry {

@@ -24,7 +24,7 @@ use pseudorigid::material::NeoHooke;
 use pseudorigid::population::progress::{process_cpu_seconds, process_resident_bytes};
 use pseudorigid::population::settling_pipe::SettlingPipe;
 use pseudorigid::population::{Case, RunConfig, RunOptions, RunOutput, Shard, run};
-use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures, study};
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, study};
 use pseudorigid::studies::cavity::Shape;
 use std::time::Instant;
 
@@ -80,7 +80,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             let quiet = RunOptions::default().quiet();
             Box::new(move |n| {
-                study::run_kind(airway, kind, n, figures::SEED, Shard::ALL, &quiet, None).map_err(|e| e.to_string())
+                study::StudyRun::new(airway, kind, n)
+                    .run(&quiet)
+                    .map_err(|e| e.to_string())
             })
         }
         _ => Box::new(|n| {

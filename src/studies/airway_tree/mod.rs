@@ -33,11 +33,11 @@ pub mod study;
 pub mod tree;
 
 pub use observe::{Generations, Reached};
-pub use study::{GenerationCounts, by_generation, run_kind};
+pub use study::{GenerationCounts, by_generation, track};
 pub use tree::{Location, Part, Tree, TreeError};
 
 use crate::flow::openfoam::FoamError;
-use crate::studies::bifurcation::{Airway, BifurcationError};
+use crate::studies::bifurcation::{Airway, BifurcationError, Kind, StudyRun};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -72,6 +72,10 @@ pub enum AirwayTreeError {
         /// What is wrong.
         reason: String,
     },
+    /// A run given to the tree's tracking goes through another airway than the tree's (build
+    /// it with [`AirwayTree::study`]).
+    #[error("the run is not through this tree's airway (build it with AirwayTree::study)")]
+    OtherAirway,
     /// A finished particle's record holds no generation summary (a run without the
     /// [`Generations`] observer).
     #[error("particle {index}: its record has no generation summary (a run without the observer?)")]
@@ -127,5 +131,11 @@ impl AirwayTree {
     /// The centrelines and the classifier.
     pub fn tree(&self) -> &Tree {
         &self.tree
+    }
+
+    /// A run of `n` particles of `kind` through the tree's airway, to be set up further and
+    /// tracked by [`study::track`] (the generations) or [`release::track`] (drug release).
+    pub fn study(&self, kind: Kind, n: u64) -> StudyRun<'_, '_> {
+        StudyRun::new(&self.airway, kind, n)
     }
 }

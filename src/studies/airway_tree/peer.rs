@@ -1,5 +1,5 @@
 //! The tree against another tracker on the same particles (issue 37, item 4): the fates
-//! OpenFOAM's kinematic cloud gives the particles of a [`super::run_kind`] run
+//! OpenFOAM's kinematic cloud gives the particles of a [`super::track`] run
 //! ([`crate::studies::peer`], `benches/peers/openfoam_tracker`), compared generation by
 //! generation and particle by particle (`examples/openfoam_peer.rs --tree`).
 //!

@@ -17,18 +17,17 @@
 //! the binomial one. A crossing after the particle's deposit is not a release (the watch stops
 //! at the run's end); a particle that escapes through an outlet may have released before.
 
-use super::study::{cache_dir, mu_s_label};
+use super::study::mu_s_label;
 use super::tree::{Location, Tree};
 use super::{AirwayTree, AirwayTreeError};
-use crate::hydro::ForceTerms;
 use crate::material::NeoHooke;
 use crate::output::vtk::Values;
 use crate::output::{Csv, Figure, Panel, PolyData, Series, VtkError};
 use crate::particle::release::{ReleaseCriterion, ReleaseThresholds};
 use crate::population::release::{Crossing, ReleaseObserver, Released};
-use crate::population::{Fate, RunOptions, RunOutput, Shard};
-use crate::studies::bifurcation::study::run_kind_observed;
-use crate::studies::bifurcation::{Kind, figures};
+use crate::population::{Fate, RunOptions, RunOutput};
+use crate::studies::bifurcation::Kind;
+use crate::studies::bifurcation::StudyRun;
 use crate::tensor::Vec3;
 use std::path::Path;
 
@@ -43,58 +42,21 @@ pub fn stretch_thresholds() -> ReleaseThresholds {
         .expect("the study's levels are increasing and above 1")
 }
 
-/// The run of `n` particles of `kind` through `tree` (seed `seed`, or its shard) watched by
-/// [`ReleaseObserver`] at `thresholds`: the tree study's run ([`super::run_kind`]) with another
-/// observer, hence the same fates particle by particle. With `cache` a folder, a finished run is
-/// kept there and read back (keyed by the configuration hash, which covers the observer).
-#[allow(clippy::too_many_arguments)] // the tree study's arguments and the thresholds
-pub fn run_release(
-    tree: &AirwayTree,
-    kind: Kind,
+/// `run` (through the tree's airway: [`AirwayTree::study`]) watched by [`ReleaseObserver`] at
+/// `thresholds`: the tree study's run ([`super::track`]) with another observer, hence the
+/// same fates particle by particle. A cached run is keyed by the configuration hash, which
+/// covers the observer.
+pub fn track<'a>(
+    tree: &'a AirwayTree,
+    run: StudyRun<'a, '_>,
     thresholds: &ReleaseThresholds,
-    n: u64,
-    seed: u64,
-    shard: Shard,
     options: &RunOptions,
-    cache: Option<&Path>,
 ) -> Result<RunOutput<NeoHooke>, AirwayTreeError> {
+    if !std::ptr::eq(run.airway(), tree.airway()) {
+        return Err(AirwayTreeError::OtherAirway);
+    }
     let observer = ReleaseObserver::new(thresholds.clone());
-    Ok(run_kind_observed(
-        tree.airway(),
-        kind,
-        &ForceTerms::default(),
-        Some(&observer),
-        n,
-        seed,
-        shard,
-        options,
-        cache,
-    )?)
-}
-
-/// [`run_release`] of `n` particles with the bifurcation datasets' seed (parallel, progress on
-/// stderr), kept in the tree study's cache folder ([`super::study::cache_dir`]).
-pub fn run_release_cached(
-    tree: &AirwayTree,
-    kind: Kind,
-    thresholds: &ReleaseThresholds,
-    n: u64,
-) -> Result<RunOutput<NeoHooke>, AirwayTreeError> {
-    let dir = cache_dir();
-    std::fs::create_dir_all(&dir).map_err(|source| crate::output::OutputError::Io {
-        path: dir.clone(),
-        source,
-    })?;
-    run_release(
-        tree,
-        kind,
-        thresholds,
-        n,
-        figures::SEED,
-        Shard::ALL,
-        &RunOptions::default(),
-        Some(&dir),
-    )
+    Ok(run.observer(&observer).run(options)?)
 }
 
 /// One particle's first crossing of one threshold, placed in the tree.

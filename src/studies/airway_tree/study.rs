@@ -18,40 +18,28 @@
 use super::observe::{Generations, Reached};
 use super::tree::Tree;
 use super::{AirwayTree, AirwayTreeError};
-use crate::hydro::ForceTerms;
 use crate::material::NeoHooke;
 use crate::output::{Csv, Figure, Panel, Series};
-use crate::population::{Fate, ParticleRecord, RunOptions, RunOutput, Shard};
+use crate::population::{Fate, ParticleRecord, RunOptions, RunOutput};
+use crate::studies::bifurcation::Kind;
+use crate::studies::bifurcation::StudyRun;
 use crate::studies::bifurcation::injection::Material;
-use crate::studies::bifurcation::study::run_kind_observed;
-use crate::studies::bifurcation::{Kind, figures};
 use std::path::{Path, PathBuf};
 
-/// The run of `n` particles of `kind` through `tree` with run seed `seed` (or its shard), each
-/// watched by [`Generations`]: the bifurcation's study ([`crate::studies::bifurcation::study`]:
-/// integrator, tolerances, plan) in the tree's flow. With `cache` a folder, a finished run is
-/// kept there and read back (keyed by the configuration hash, which covers the tree).
-pub fn run_kind(
-    tree: &AirwayTree,
-    kind: Kind,
-    n: u64,
-    seed: u64,
-    shard: Shard,
+/// `run` (through the tree's airway: [`AirwayTree::study`]) with each particle watched by
+/// [`Generations`]: the bifurcation's study ([`crate::studies::bifurcation::study`]:
+/// integrator, tolerances, plan) in the tree's flow. A cached run is keyed by the
+/// configuration hash, which covers the tree and the observer.
+pub fn track<'a>(
+    tree: &'a AirwayTree,
+    run: StudyRun<'a, '_>,
     options: &RunOptions,
-    cache: Option<&Path>,
 ) -> Result<RunOutput<NeoHooke>, AirwayTreeError> {
+    if !std::ptr::eq(run.airway(), tree.airway()) {
+        return Err(AirwayTreeError::OtherAirway);
+    }
     let observer = Generations::new(tree.tree());
-    Ok(run_kind_observed(
-        tree.airway(),
-        kind,
-        &ForceTerms::default(),
-        Some(&observer),
-        n,
-        seed,
-        shard,
-        options,
-        cache,
-    )?)
+    Ok(run.observer(&observer).run(options)?)
 }
 
 /// Where one finished particle went: the deepest generation it entered and the generation it
@@ -335,30 +323,16 @@ pub fn de_figure(rows: &[(Kind, Vec<GenerationCounts>)], title: &str) -> Figure 
     Figure::grid(panels, columns, (640, 480))
 }
 
-/// The folder where finished tree runs are kept between examples: `PSEUDORIGID_TREE_CACHE`,
-/// else `target/airway-tree-runs` in the crate.
-pub fn cache_dir() -> PathBuf {
-    std::env::var_os("PSEUDORIGID_TREE_CACHE").map_or_else(
+/// The folder where finished tree runs are kept between examples (created if missing):
+/// `PSEUDORIGID_TREE_CACHE`, else `target/airway-tree-runs` in the crate.
+pub fn cache_dir() -> Result<PathBuf, crate::output::OutputError> {
+    let dir = std::env::var_os("PSEUDORIGID_TREE_CACHE").map_or_else(
         || Path::new(env!("CARGO_MANIFEST_DIR")).join("target/airway-tree-runs"),
         PathBuf::from,
-    )
-}
-
-/// The run of `n` particles of `kind` with the bifurcation datasets' seed
-/// ([`figures::SEED`]; parallel, progress on stderr), from [`cache_dir`] if run before.
-pub fn run_cached(tree: &AirwayTree, kind: Kind, n: u64) -> Result<RunOutput<NeoHooke>, AirwayTreeError> {
-    let dir = cache_dir();
+    );
     std::fs::create_dir_all(&dir).map_err(|source| crate::output::OutputError::Io {
         path: dir.clone(),
         source,
     })?;
-    run_kind(
-        tree,
-        kind,
-        n,
-        figures::SEED,
-        Shard::ALL,
-        &RunOptions::default(),
-        Some(&dir),
-    )
+    Ok(dir)
 }

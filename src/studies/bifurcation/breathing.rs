@@ -288,7 +288,7 @@ pub fn run_inhaled(
 pub struct Paired {
     /// The particle kind.
     pub kind: Kind,
-    /// The steady study's run ([`super::study::run_kind`]).
+    /// The steady study's run ([`super::study::StudyRun`]).
     pub steady: RunOutput<NeoHooke>,
     /// The inhaled run ([`run_inhaled`]).
     pub cyclic: RunOutput<NeoHooke>,

@@ -16,15 +16,14 @@
 //! (median and 90th percentile). A fate that flips with the integrator is what the
 //! studies' tolerance argument bounds ([`super::study::RTOL`]: about 1 in 10³).
 
-use super::study::{ATOL, integrator, run_kind_using};
+use super::study::{ATOL, StudyRun, integrator};
 use super::{Airway, BifurcationError, Kind};
-use crate::hydro::ForceTerms;
 use crate::integrator::{ErrorNorm, Scheme, Stokesian, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
 use crate::output::plot::{Figure, Panel, Series};
 use crate::population::progress::process_cpu_seconds;
-use crate::population::{Fate, RunOptions, RunOutput, Shard};
+use crate::population::{Fate, RunOptions, RunOutput};
 
 /// One integrator setting: the error norm and rtol (atol stays the studies' [`ATOL`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -92,18 +91,10 @@ fn timed(
 ) -> Result<(RunOutput<NeoHooke>, Option<f64>), BifurcationError> {
     let quiet = RunOptions::default().quiet();
     let before = process_cpu_seconds();
-    let out = run_kind_using(
-        airway,
-        kind,
-        &ForceTerms::default(),
-        integ,
-        None,
-        n,
-        seed,
-        Shard::ALL,
-        &quiet,
-        None,
-    )?;
+    let out = StudyRun::new(airway, kind, n)
+        .seed(seed)
+        .integrator(integ)
+        .run(&quiet)?;
     let cpu = before.zip(process_cpu_seconds()).map(|(a, b)| b - a);
     Ok((out, cpu))
 }

@@ -7,14 +7,13 @@ use super::deposition::{Deposit, deposits};
 use super::deposition::{histogram, histogram_table, map_table, summary_table};
 use super::injection::Kind;
 use super::setup::{Airway, zhang_reference};
-use super::study::{Efficiency, efficiency_table, run_kind, run_kind_with};
-use crate::hydro::ForceTerms;
+use super::study::{Efficiency, StudyRun, efficiency_table};
 use crate::material::NeoHooke;
 use crate::output::paper_figure_path;
 use crate::output::vtk::{PolyData, Values};
 use crate::output::{Figure, Panel, Series};
+use crate::population::RunOptions;
 use crate::population::RunOutput;
-use crate::population::{RunOptions, Shard};
 use std::path::{Path, PathBuf};
 
 /// Stokes numbers of Fig. 18 (the paper's range 0.005–0.5).
@@ -33,43 +32,23 @@ pub fn arguments() -> Result<(u64, Airway), Box<dyn std::error::Error>> {
     Ok((n, Airway::open(dir.unwrap_or_else(Airway::shipped_dir))?))
 }
 
-/// The folder where finished runs are kept between examples: `PSEUDORIGID_BIF_CACHE`, else
-/// `target/bifurcation-runs` in the crate.
-pub fn cache_dir() -> PathBuf {
-    std::env::var_os("PSEUDORIGID_BIF_CACHE").map_or_else(
+/// The folder where finished runs are kept between examples (created if missing):
+/// `PSEUDORIGID_BIF_CACHE`, else `target/bifurcation-runs` in the crate.
+pub fn cache_dir() -> Result<PathBuf, crate::output::OutputError> {
+    let dir = std::env::var_os("PSEUDORIGID_BIF_CACHE").map_or_else(
         || Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bifurcation-runs"),
         PathBuf::from,
-    )
-}
-
-/// The run of `n` particles of `kind` with [`SEED`] (parallel, progress on stderr), from
-/// [`cache_dir`] if an example ran it before.
-pub fn run_cached(airway: &Airway, kind: Kind, n: u64) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    run_cached_with(airway, kind, &ForceTerms::default(), n)
-}
-
-/// [`run_cached`] with force terms beyond the paper's.
-pub fn run_cached_with(
-    airway: &Airway,
-    kind: Kind,
-    forces: &ForceTerms,
-    n: u64,
-) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    let dir = cache_dir();
+    );
     std::fs::create_dir_all(&dir).map_err(|source| crate::output::OutputError::Io {
         path: dir.clone(),
         source,
     })?;
-    run_kind_with(
-        airway,
-        kind,
-        forces,
-        n,
-        SEED,
-        Shard::ALL,
-        &RunOptions::default(),
-        Some(&dir),
-    )
+    Ok(dir)
+}
+
+/// `run` (parallel, progress on stderr) from [`cache_dir`] if an example ran it before.
+pub fn run_cached(run: StudyRun<'_, '_>) -> Result<RunOutput<NeoHooke>, BifurcationError> {
+    run.cache(&cache_dir()?).run(&RunOptions::default())
 }
 
 /// The same particles in two runs: how many only the first deposits (lost) and only the
@@ -92,7 +71,7 @@ pub fn efficiencies(airway: &Airway, kinds: &[Kind], n: u64) -> Result<Vec<Effic
     let mut rows = Vec::with_capacity(kinds.len());
     for &kind in kinds {
         let started = std::time::Instant::now();
-        let out = run_cached(airway, kind, n)?;
+        let out = run_cached(StudyRun::new(airway, kind, n))?;
         let row = Efficiency::of(kind, &out);
         let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
         eprintln!(
@@ -174,7 +153,7 @@ pub fn deposits_of(
     kinds
         .iter()
         .map(|&kind| {
-            let out = run_cached(airway, kind, n)?;
+            let out = run_cached(StudyRun::new(airway, kind, n))?;
             Ok((kind, out.counts().total(), deposits(airway, kind, &out)?))
         })
         .collect()
@@ -306,7 +285,7 @@ pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate
     ]);
     let mut first: Option<RunOutput<NeoHooke>> = None;
     for (name, airway) in cases {
-        let out = run_kind(airway, kind, n, SEED, Shard::ALL, &RunOptions::default(), None)?;
+        let out = StudyRun::new(airway, kind, n).run(&RunOptions::default())?;
         let row = Efficiency::of(kind, &out);
         let pairs = |keep: &dyn Fn(&str, &str) -> bool| {
             first.as_ref().map_or(0, |f| {
@@ -378,7 +357,10 @@ pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<c
         "delta_de_stderr",
     ]);
     for (reference, soft) in pairs {
-        let (a, b) = (run_cached(airway, *reference, n)?, run_cached(airway, *soft, n)?);
+        let (a, b) = (
+            run_cached(StudyRun::new(airway, *reference, n))?,
+            run_cached(StudyRun::new(airway, *soft, n))?,
+        );
         let (lost, gained) = deposit_changes(&a, &b);
         let count = a.records.len().max(1) as f64;
         csv.push(vec![

@@ -23,7 +23,7 @@ pub mod validity;
 
 pub use injection::{Injection, Kind, Material};
 pub use setup::{Airway, d_eq_for_stokes, stokes_number, zhang_reference};
-pub use study::{Efficiency, efficiency_table, run_kind, run_kind_with};
+pub use study::{Efficiency, StudyRun, efficiency_table};
 
 use thiserror::Error;
 

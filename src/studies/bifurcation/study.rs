@@ -89,100 +89,155 @@ pub fn plan(airway: &Airway) -> Result<Plan, ParamError> {
     }))
 }
 
-/// The run of `n` particles of `kind` with run seed `seed` (or its shard `shard`). With
-/// `cache` a folder, a finished run is kept there as `<config hash>.json` and read back instead
-/// of rerun (the hash covers everything that determines the results).
-pub fn run_kind(
-    airway: &Airway,
-    kind: Kind,
-    n: u64,
-    seed: u64,
-    shard: Shard,
-    options: &RunOptions,
-    cache: Option<&Path>,
-) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    run_kind_with(airway, kind, &ForceTerms::default(), n, seed, shard, options, cache)
-}
-
-/// [`run_kind`] with force terms beyond the paper's on every particle (they enter the
-/// configuration hash, so a cached run of the paper's model is never read for them).
-#[allow(clippy::too_many_arguments)]
-pub fn run_kind_with(
-    airway: &Airway,
-    kind: Kind,
-    forces: &ForceTerms,
-    n: u64,
-    seed: u64,
-    shard: Shard,
-    options: &RunOptions,
-    cache: Option<&Path>,
-) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    run_kind_observed(airway, kind, forces, None, n, seed, shard, options, cache)
-}
-
-/// The observer of a study's particles ([`run_kind_observed`]).
+/// The observer of a study's particles ([`StudyRun::observer`]).
 pub type StudyObserver<'a> = CaseObserver<'a, Injection<'a>, BlendedFlow, MeshBoundary>;
 
-/// [`run_kind_with`] with each particle's run watched by `observer` (its summary in the
-/// records' `observed`; its fingerprint enters the configuration hash, so a cached run without
-/// it, or with another observer, is never read for it). The fates are those of the unobserved
-/// run: an observer only reads what it is shown.
-#[allow(clippy::too_many_arguments)]
-pub fn run_kind_observed<'a>(
+/// One run of the study: `n` particles of one [`Kind`] through an [`Airway`], built up from
+/// the paper's model and the study's choices and then run ([`Self::run`]), the one way every
+/// bifurcation and airway-tree dataset is made:
+///
+/// ```no_run
+/// # use pseudorigid::studies::bifurcation::{Airway, Kind, Material, StudyRun};
+/// # use pseudorigid::studies::particles::Shape;
+/// # use pseudorigid::population::RunOptions;
+/// # fn go(airway: &Airway) -> Result<(), Box<dyn std::error::Error>> {
+/// let kind = Kind { shape: Shape::Prolate(20.0), material: Material::Rigid, stokes: 0.1 };
+/// let out = StudyRun::new(airway, kind, 1000).seed(7).run(&RunOptions::default())?;
+/// # Ok(()) }
+/// ```
+///
+/// Defaults: run seed [`super::figures::SEED`] (the datasets'), the whole run
+/// ([`Shard::ALL`]), no force term beyond the paper's drag and gravity, the study's integrator
+/// ([`integrator`]), no observer, no cache. Everything set here enters the configuration hash
+/// of a cached run, so a run is never read back for other settings.
+#[derive(Clone)]
+pub struct StudyRun<'a, 'o> {
     airway: &'a Airway,
     kind: Kind,
-    forces: &ForceTerms,
-    observer: Option<&'a StudyObserver<'a>>,
     n: u64,
     seed: u64,
     shard: Shard,
-    options: &RunOptions,
-    cache: Option<&Path>,
-) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    let integ = integrator(airway, kind)?.integrator;
-    run_kind_using(airway, kind, forces, &integ, observer, n, seed, shard, options, cache)
+    forces: ForceTerms,
+    integrator: Option<Stokesian>,
+    observer: Option<&'o StudyObserver<'a>>,
+    cache: Option<&'o Path>,
 }
 
-/// [`run_kind_observed`] with the integrator `integ` instead of the studies' choice (paired
-/// comparisons of integrators and models; the integrator enters the configuration hash).
-#[allow(clippy::too_many_arguments)]
-pub fn run_kind_using<'a>(
-    airway: &'a Airway,
-    kind: Kind,
-    forces: &ForceTerms,
-    integ: &Stokesian,
-    observer: Option<&'a StudyObserver<'a>>,
-    n: u64,
-    seed: u64,
-    shard: Shard,
-    options: &RunOptions,
-    cache: Option<&Path>,
-) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    let injection = Injection::new(airway, kind)?.with_forces(forces.clone());
-    let plan = plan(airway)?;
-    let case = Case::new(integ, airway.flow(), airway.boundary(), &injection, plan);
-    let case = match observer {
-        Some(observer) => case.with_observer(observer),
-        None => case,
-    };
-    let config = RunConfig {
-        seed,
-        particles: n,
-        fingerprint: format!(
-            "bifurcation {kind:?}; residence time {:e}; cells {}; blend radius {:e}; {}; {}",
-            airway.mean_residence_time(),
-            airway.flow().cellwise().mesh().n_cells(),
-            airway.flow().radius(),
-            airway.flow().fingerprint(),
-            airway.boundary().fingerprint()
-        ) + &if forces.is_empty() {
-            String::new()
-        } else {
-            format!("; forces {forces:?}")
-        },
-    };
-    let file = cache.map(|dir| dir.join(format!("{}-{shard}.json", case.config_hash(&config)).replace('/', "of")));
-    RunOutput::read_or_run(file.as_deref(), || Ok(run(&case, &config, shard, options)?))
+impl<'a, 'o> StudyRun<'a, 'o> {
+    /// `n` particles of `kind` through `airway`, with the defaults above.
+    pub fn new(airway: &'a Airway, kind: Kind, n: u64) -> Self {
+        Self {
+            airway,
+            kind,
+            n,
+            seed: super::figures::SEED,
+            shard: Shard::ALL,
+            forces: ForceTerms::default(),
+            integrator: None,
+            observer: None,
+            cache: None,
+        }
+    }
+
+    /// Run seed: particle k draws from stream k of it.
+    pub fn seed(self, seed: u64) -> Self {
+        Self { seed, ..self }
+    }
+
+    /// Only shard `shard` of the run (a cluster's job array; `population::merge` joins them).
+    pub fn shard(self, shard: Shard) -> Self {
+        Self { shard, ..self }
+    }
+
+    /// Force terms beyond the paper's on every particle.
+    pub fn forces(self, forces: &ForceTerms) -> Self {
+        Self {
+            forces: forces.clone(),
+            ..self
+        }
+    }
+
+    /// The integrator `integ` instead of the study's choice (paired comparisons of
+    /// integrators and models).
+    pub fn integrator(self, integ: &Stokesian) -> Self {
+        Self {
+            integrator: Some(integ.clone()),
+            ..self
+        }
+    }
+
+    /// Each particle's run watched by `observer` (its summary in the records' `observed`; its
+    /// fingerprint enters the configuration hash). The fates are those of the unobserved run:
+    /// an observer only reads what it is shown.
+    pub fn observer<'p>(self, observer: &'p StudyObserver<'a>) -> StudyRun<'a, 'p>
+    where
+        'o: 'p,
+    {
+        StudyRun {
+            observer: Some(observer),
+            ..self
+        }
+    }
+
+    /// Keep the finished run in the folder `dir` as `<config hash>-<shard>.json` and read it
+    /// back instead of running it again (the hash covers everything that determines the
+    /// results).
+    pub fn cache<'p>(self, dir: &'p Path) -> StudyRun<'a, 'p>
+    where
+        'o: 'p,
+    {
+        StudyRun {
+            cache: Some(dir),
+            ..self
+        }
+    }
+
+    /// The airway it runs through.
+    pub fn airway(&self) -> &'a Airway {
+        self.airway
+    }
+
+    /// The particle kind.
+    pub fn kind(&self) -> Kind {
+        self.kind
+    }
+
+    /// Run it (or read it from the cache) as `options` say.
+    pub fn run(&self, options: &RunOptions) -> Result<RunOutput<NeoHooke>, BifurcationError> {
+        let (airway, kind, forces) = (self.airway, self.kind, &self.forces);
+        let integ = match &self.integrator {
+            Some(integ) => integ.clone(),
+            None => integrator(airway, kind)?.integrator,
+        };
+        let injection = Injection::new(airway, kind)?.with_forces(forces.clone());
+        let plan = plan(airway)?;
+        let case = Case::new(&integ, airway.flow(), airway.boundary(), &injection, plan);
+        let case = match self.observer {
+            Some(observer) => case.with_observer(observer),
+            None => case,
+        };
+        let config = RunConfig {
+            seed: self.seed,
+            particles: self.n,
+            fingerprint: format!(
+                "bifurcation {kind:?}; residence time {:e}; cells {}; blend radius {:e}; {}; {}",
+                airway.mean_residence_time(),
+                airway.flow().cellwise().mesh().n_cells(),
+                airway.flow().radius(),
+                airway.flow().fingerprint(),
+                airway.boundary().fingerprint()
+            ) + &if forces.is_empty() {
+                String::new()
+            } else {
+                format!("; forces {forces:?}")
+            },
+        };
+        let shard = self.shard;
+        let file = self
+            .cache
+            .map(|dir| dir.join(format!("{}-{shard}.json", case.config_hash(&config)).replace('/', "of")));
+        RunOutput::read_or_run(file.as_deref(), || Ok(run(&case, &config, shard, options)?))
+    }
 }
 
 /// Deposition efficiency of one particle kind.

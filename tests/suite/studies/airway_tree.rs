@@ -6,7 +6,7 @@
 use pseudorigid::flow::FlowField;
 use pseudorigid::studies::airway_tree::study::{de_table, paired};
 use pseudorigid::studies::airway_tree::tree::{Bifurcation, Tube};
-use pseudorigid::studies::airway_tree::{AirwayTree, AirwayTreeError, Location, Part, Tree, by_generation, run_kind};
+use pseudorigid::studies::airway_tree::{AirwayTree, AirwayTreeError, Location, Part, Tree, by_generation, track};
 use pseudorigid::studies::bifurcation::setup;
 use pseudorigid::tensor::Vec3;
 use std::sync::OnceLock;
@@ -22,18 +22,9 @@ fn run_quietly(
     kind: pseudorigid::studies::bifurcation::Kind,
     n: u64,
 ) -> pseudorigid::population::RunOutput<pseudorigid::material::NeoHooke> {
-    use pseudorigid::population::{RunOptions, Shard};
-    use pseudorigid::studies::bifurcation::figures;
-    run_kind(
-        shipped(),
-        kind,
-        n,
-        figures::SEED,
-        Shard::ALL,
-        &RunOptions::default().quiet(),
-        None,
-    )
-    .unwrap()
+    use pseudorigid::population::RunOptions;
+
+    track(shipped(), shipped().study(kind, n), &RunOptions::default().quiet()).unwrap()
 }
 
 /// A unit vector normal to `d`.
@@ -304,10 +295,10 @@ fn spheres_at_stokes_0_4_snapshot() {
 /// against a closed form is `population::release::release_in_uniaxial_extension_matches_quadrature`.
 #[test]
 fn release_of_soft_spheres_snapshot() {
-    use pseudorigid::population::{RunOptions, Shard};
-    use pseudorigid::studies::airway_tree::release::{ReleaseResults, release_table, run_release, stretch_thresholds};
+    use pseudorigid::population::RunOptions;
+    use pseudorigid::studies::airway_tree::release::{ReleaseResults, release_table, stretch_thresholds};
     use pseudorigid::studies::airway_tree::study::tree_fate;
-    use pseudorigid::studies::bifurcation::{Kind, Material, figures};
+    use pseudorigid::studies::bifurcation::{Kind, Material};
     use pseudorigid::studies::particles::Shape;
     let a = shipped();
     let n = 200;
@@ -318,8 +309,9 @@ fn release_of_soft_spheres_snapshot() {
     };
     let options = RunOptions::default().quiet();
     let thresholds = stretch_thresholds();
-    let watched = run_release(a, kind, &thresholds, n, figures::SEED, Shard::ALL, &options, None).unwrap();
-    let reference = run_kind(a, kind, n, figures::SEED, Shard::ALL, &options, None).unwrap();
+    let watched =
+        pseudorigid::studies::airway_tree::release::track(a, a.study(kind, n), &thresholds, &options).unwrap();
+    let reference = track(a, a.study(kind, n), &options).unwrap();
     assert_eq!(watched.counts().failed, 0);
     for (w, r) in watched.records.iter().zip(&reference.records) {
         assert_eq!(
@@ -357,11 +349,10 @@ fn release_of_soft_spheres_snapshot() {
 /// deposited or escaped.
 #[test]
 fn particles_leaving_through_a_snapped_outlet_cap_escape() {
-    use pseudorigid::hydro::forces::ForceTerms;
     use pseudorigid::integrator::{ErrorNorm, Stokesian, Tolerances};
     use pseudorigid::population::{RunOptions, Shard};
-    use pseudorigid::studies::bifurcation::study::{ATOL, integrator, run_kind_using};
-    use pseudorigid::studies::bifurcation::{Kind, Material, figures};
+    use pseudorigid::studies::bifurcation::study::{ATOL, integrator};
+    use pseudorigid::studies::bifurcation::{Kind, Material};
     use pseudorigid::studies::particles::Shape;
     let a = shipped();
     for (material, stokes, index) in [(Material::Rigid, 0.4, 6883), (Material::ShearModulus(0.5), 0.1, 5960)] {
@@ -375,19 +366,12 @@ fn particles_leaving_through_a_snapped_outlet_cap_escape() {
             norm: ErrorNorm::Componentwise,
             ..integrator(a.airway(), kind).unwrap().integrator
         };
-        let out = run_kind_using(
-            a.airway(),
-            kind,
-            &ForceTerms::default(),
-            &integ,
-            None,
-            10_000,
-            figures::SEED,
-            Shard::new(index, 10_000).unwrap(),
-            &RunOptions::default().quiet(),
-            None,
-        )
-        .unwrap();
+        let out = a
+            .study(kind, 10_000)
+            .integrator(&integ)
+            .shard(Shard::new(index, 10_000).unwrap())
+            .run(&RunOptions::default().quiet())
+            .unwrap();
         crate::common::assert_single_run_ends(&out, &format!("{kind:?} particle {index}"));
     }
 }
@@ -402,21 +386,19 @@ fn particles_leaving_through_a_snapped_outlet_cap_escape() {
 #[test]
 fn a_prolate_touching_a_wall_over_a_face_edge_deposits() {
     use pseudorigid::population::{Fate, RunOptions, Shard};
-    use pseudorigid::studies::bifurcation::{Kind, Material, figures};
+    use pseudorigid::studies::bifurcation::{Kind, Material};
     use pseudorigid::studies::particles::Shape;
     let kind = Kind {
         shape: Shape::Prolate(5.0),
         material: Material::ShearModulus(1.0),
         stokes: 0.1,
     };
-    let out = run_kind(
+    let out = track(
         shipped(),
-        kind,
-        100_000,
-        figures::SEED,
-        Shard::new(18_337, 100_000).unwrap(),
+        shipped()
+            .study(kind, 100_000)
+            .shard(Shard::new(18_337, 100_000).unwrap()),
         &RunOptions::default().quiet(),
-        None,
     )
     .unwrap();
     crate::common::assert_single_run_ends(&out, "soft prolate 18337");

@@ -224,8 +224,8 @@ fn injection_is_uniform_on_the_disc_with_the_fluid_velocity() {
 /// that either is right.
 #[test]
 fn soft_spheres_at_stokes_0_4_snapshot() {
-    use pseudorigid::population::{Injector, RunOptions, Shard};
-    use pseudorigid::studies::bifurcation::{Efficiency, Injection, Kind, Material, deposition, figures, run_kind};
+    use pseudorigid::population::{Injector, RunOptions};
+    use pseudorigid::studies::bifurcation::{Efficiency, Injection, Kind, Material, StudyRun, deposition, figures};
     use pseudorigid::studies::cavity::Shape;
     let a = airway();
     let kind = Kind {
@@ -234,16 +234,7 @@ fn soft_spheres_at_stokes_0_4_snapshot() {
         stokes: 0.4,
     };
     let n = 200;
-    let out = run_kind(
-        a,
-        kind,
-        n,
-        figures::SEED,
-        Shard::ALL,
-        &RunOptions::default().quiet(),
-        None,
-    )
-    .unwrap();
+    let out = StudyRun::new(a, kind, n).run(&RunOptions::default().quiet()).unwrap();
     let row = Efficiency::of(kind, &out);
     assert_eq!(row.counts.failed, 0);
     insta::assert_snapshot!(format!(
@@ -446,8 +437,8 @@ fn error_norm_study_snapshot() {
 #[test]
 fn particles_sliding_past_a_wall_kink_stay_inside() {
     use pseudorigid::population::{RunOptions, Shard};
-    use pseudorigid::studies::bifurcation::study::run_kind;
-    use pseudorigid::studies::bifurcation::{Kind, Material, figures};
+    use pseudorigid::studies::bifurcation::StudyRun;
+    use pseudorigid::studies::bifurcation::{Kind, Material};
     use pseudorigid::studies::particles::Shape;
     let kind = Kind {
         shape: Shape::Prolate(5.0),
@@ -455,16 +446,10 @@ fn particles_sliding_past_a_wall_kink_stay_inside() {
         stokes: 0.1,
     };
     for index in [8553, 85238] {
-        let out = run_kind(
-            airway(),
-            kind,
-            100_000,
-            figures::SEED,
-            Shard::new(index, 100_000).unwrap(),
-            &RunOptions::default().quiet(),
-            None,
-        )
-        .unwrap();
+        let out = StudyRun::new(airway(), kind, 100_000)
+            .shard(Shard::new(index, 100_000).unwrap())
+            .run(&RunOptions::default().quiet())
+            .unwrap();
         crate::common::assert_single_run_ends(&out, &format!("particle {index}"));
     }
 }

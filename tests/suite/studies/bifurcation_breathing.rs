@@ -4,9 +4,9 @@
 //! quasi-steady limit), and a reduced snapshot of the sinusoidal breath through the
 //! quasi-steady field.
 
-use pseudorigid::population::{Fate, RunOptions, Shard};
+use pseudorigid::population::{Fate, RunOptions};
 use pseudorigid::studies::bifurcation::breathing::{self, Breath, Paired, Waveform, de_table, paired_table};
-use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures, run_kind};
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, StudyRun, figures};
 use pseudorigid::studies::particles::Shape;
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -74,7 +74,7 @@ fn constant_breath_is_the_steady_study_shifted_in_time() {
     };
     let n = 120;
     let quiet = RunOptions::default().quiet();
-    let steady = run_kind(airway(), kind, n, figures::SEED, Shard::ALL, &quiet, None).unwrap();
+    let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
     let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
     let pair = Paired::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap();
     let (mut changed, mut compared, mut worst) = (0, 0, 0.0f64);
@@ -126,7 +126,7 @@ fn sinusoidal_breath_snapshot() {
             stokes: 0.4,
         };
         let n = 100;
-        let steady = run_kind(airway(), kind, n, figures::SEED, Shard::ALL, &quiet, None).unwrap();
+        let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
         let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
         assert_eq!(cyclic.counts().failed, 0);
         pairs.push(Paired::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap());
@@ -172,7 +172,7 @@ fn slow_breath_is_quasi_steady_particle_by_particle() {
     // Each compared particle costs a steady case of its own (0.8 s to write and open).
     let n = 6;
     let quiet = RunOptions::default().quiet();
-    let steady = run_kind(airway(), kind, n, figures::SEED, Shard::ALL, &quiet, None).unwrap();
+    let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
     let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
     let pair = Paired::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap();
     // ŝ(t): the levels' scales, linearly interpolated.
@@ -192,16 +192,9 @@ fn slow_breath_is_quasi_steady_particle_by_particle() {
         let scaled = scratch(&format!("breathing-slow-steady-{k}"));
         let at = (2.0 * s / std::f64::consts::PI).asin() / (2.0 * std::f64::consts::PI);
         breathing::write_quasi_steady(&Airway::shipped_dir(), &scaled, Waveform::Sine { period: 1.0 }, &[at]).unwrap();
-        let reference = run_kind(
-            &Airway::open(&scaled).unwrap(),
-            kind,
-            k as u64 + 1,
-            figures::SEED,
-            Shard::ALL,
-            &quiet,
-            None,
-        )
-        .unwrap();
+        let reference = StudyRun::new(&Airway::open(&scaled).unwrap(), kind, k as u64 + 1)
+            .run(&quiet)
+            .unwrap();
         let a = &reference.records[k];
         assert_eq!(a.index, b.index);
         let t_s = match a.fate {
