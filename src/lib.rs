@@ -48,7 +48,7 @@
 //! # Further reading
 //! - [`theory`]: the derivations the code relies on, in closed form with their sources, and
 //!   the paper's misprints and inconsistencies ([`theory::paper_errata`]).
-//! - [`guide`]: add your own material law, drag model, flow reader, boundary or integrator.
+//! - [`guide`]: add your own material law, drag model, force term, flow reader, boundary, integrator or study.
 //! - Every model module opens with a *Physics* section: the equations, the paper's equation
 //!   numbers, and the limits they are tested in.
 //!
