@@ -69,7 +69,7 @@ pub use case::{Case, CaseObserver, RunConfig};
 pub use observe::{Observer, Watch};
 pub use output::{RunOutput, checkpoint_dir};
 pub use progress::Progress;
-pub use record::{Fate, FateCounts, ParticleRecord};
+pub use record::{Fate, FateCounts, ParticleRecord, SummaryError};
 pub use runner::{CHECKPOINT_INTERVAL, RunControl, RunOptions, run, run_in_dir};
 pub use shard::Shard;
 pub use spec::{Injector, ParticleRng, ParticleSpec, ParticleTemplate, particle_rng};

@@ -1,6 +1,9 @@
 //! What a case keeps of a particle beyond its fate: an [`Observer`] watches each particle's
 //! run (the start, output and event states the driver shows, and every accepted step) and
-//! leaves a summary in its record ([`super::ParticleRecord::observed`]).
+//! leaves a summary in its record ([`super::ParticleRecord::observed`]), plain data kept as
+//! JSON (checkpoints, shards) and read back as its own type by
+//! [`super::ParticleRecord::summary`] (a record without it, or with another kind, is a
+//! [`super::SummaryError`] naming the particle).
 //!
 //! A scene's per-run columns (validity maxima, slip against the fluid, a trajectory sampled at
 //! its own cadence) are observations: they come from the same run that decides the fate, so a

@@ -5,7 +5,9 @@ use crate::driver::RunStats;
 use crate::ellipsoid::PrincipalFrame;
 use crate::particle::State;
 use crate::tensor::Vec3;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
+use thiserror::Error;
 
 /// The terminal event of one particle.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -80,7 +82,37 @@ pub struct ParticleRecord<L> {
     pub observed: serde_json::Value,
 }
 
+/// A record's observer summary could not be read as the type asked for.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("particle {index}: its record holds no {summary} summary ({reason})")]
+pub struct SummaryError {
+    /// Particle index.
+    pub index: u64,
+    /// The summary's type as asked for.
+    pub summary: &'static str,
+    /// Why: none kept (a run without the observer), or one of another shape.
+    pub reason: String,
+}
+
 impl<L> ParticleRecord<L> {
+    /// What the case's observer kept of this particle's run ([`Self::observed`]), read as `S`,
+    /// the type its watch summarised into ([`super::Watch::finish`]).
+    ///
+    /// # Errors
+    /// [`SummaryError`] naming the particle: the record holds no summary (a run without the
+    /// observer, or a particle that could not be drawn) or one of another shape.
+    pub fn summary<S: DeserializeOwned>(&self) -> Result<S, SummaryError> {
+        let error = |reason: String| SummaryError {
+            index: self.index,
+            summary: std::any::type_name::<S>(),
+            reason,
+        };
+        if self.observed.is_null() {
+            return Err(error("none kept".into()));
+        }
+        S::deserialize(&self.observed).map_err(|e| error(e.to_string()))
+    }
+
     /// The current ellipsoid at the end (semi-axes r₁ ≥ r₂ ≥ r₃ and axes of F̄ = F·S; its
     /// tensor V = √(F̄F̄ᵀ) = Qᵀ diag(r) Q is what ParaView's tensor glyphs draw).
     pub fn end_frame(&self) -> Option<PrincipalFrame> {

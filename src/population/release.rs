@@ -68,13 +68,6 @@ pub struct Released {
     pub crossings: Vec<Option<Crossing>>,
 }
 
-impl Released {
-    /// The summary held by a record's `observed` value; `None` if it holds none.
-    pub fn of(observed: &serde_json::Value) -> Option<Self> {
-        Self::deserialize(observed).ok()
-    }
-}
-
 /// Watches each particle's release criterion against `thresholds`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReleaseObserver {

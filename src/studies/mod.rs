@@ -138,6 +138,10 @@ pub enum StudyError {
     /// read), as displayed.
     #[error("population run: {0}")]
     Population(String),
+    /// A particle's record holds no summary of the study's observer.
+    #[cfg(feature = "parallel")]
+    #[error(transparent)]
+    Summary(#[from] crate::population::SummaryError),
     /// A particle of a study failed; the error as the population runner recorded it.
     #[error("particle failed: {error}")]
     ParticleFailed {

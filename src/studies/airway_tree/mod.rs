@@ -76,13 +76,10 @@ pub enum AirwayTreeError {
     /// it with [`AirwayTree::study`]).
     #[error("the run is not through this tree's airway (build it with AirwayTree::study)")]
     OtherAirway,
-    /// A finished particle's record holds no generation summary (a run without the
-    /// [`Generations`] observer).
-    #[error("particle {index}: its record has no generation summary (a run without the observer?)")]
-    Unobserved {
-        /// Particle index.
-        index: u64,
-    },
+    /// A finished particle's record holds no summary of the observer the study reads (a run
+    /// without the [`Generations`] or the release observer, or with other thresholds).
+    #[error(transparent)]
+    Summary(#[from] crate::population::SummaryError),
 }
 
 /// The meshed tree: the flow, boundaries and tracking rule of an [`Airway`] and the tree's

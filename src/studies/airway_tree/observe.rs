@@ -28,13 +28,6 @@ pub struct Reached {
     pub zone: bool,
 }
 
-impl Reached {
-    /// The summary of a record's `observed` value; `None` if it holds none.
-    pub fn of(observed: &serde_json::Value) -> Option<Self> {
-        Self::deserialize(observed).ok()
-    }
-}
-
 /// Watches each particle's generations in `tree`.
 pub struct Generations<'t> {
     tree: &'t Tree,

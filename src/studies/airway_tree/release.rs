@@ -25,7 +25,7 @@ use crate::output::vtk::Values;
 use crate::output::{Csv, Figure, Panel, PolyData, Series, VtkError};
 use crate::particle::release::{ReleaseCriterion, ReleaseThresholds};
 use crate::population::release::{Crossing, ReleaseObserver, Released};
-use crate::population::{Fate, RunOptions, RunOutput};
+use crate::population::{Fate, RunOptions, RunOutput, SummaryError};
 use crate::studies::bifurcation::Kind;
 use crate::studies::bifurcation::StudyRun;
 use crate::tensor::Vec3;
@@ -98,9 +98,19 @@ impl ReleaseResults {
             if matches!(record.fate, Fate::Failed { .. }) {
                 continue;
             }
-            let released = Released::of(&record.observed)
-                .filter(|r| r.crossings.len() == thresholds.levels().len())
-                .ok_or(AirwayTreeError::Unobserved { index: record.index })?;
+            let released: Released = record.summary()?;
+            if released.crossings.len() != thresholds.levels().len() {
+                return Err(SummaryError {
+                    index: record.index,
+                    summary: "release",
+                    reason: format!(
+                        "{} crossings kept, {} thresholds asked",
+                        released.crossings.len(),
+                        thresholds.levels().len()
+                    ),
+                }
+                .into());
+            }
             peaks.push(released.peak.value);
             for (&threshold, crossing) in thresholds.levels().iter().zip(released.crossings) {
                 if let Some(crossing) = crossing {

@@ -61,7 +61,7 @@ pub fn tree_fate(tree: &Tree, record: &ParticleRecord<NeoHooke>) -> Result<Optio
         Fate::Deposited { position, .. } => Some(tree.classify(position)?.generation),
         Fate::Escaped { .. } | Fate::Suspended => None,
     };
-    let reached = Reached::of(&record.observed).ok_or(AirwayTreeError::Unobserved { index: record.index })?;
+    let reached: Reached = record.summary()?;
     Ok(Some(TreeFate {
         deepest: reached.generation.max(deposited.unwrap_or(0)),
         deposited,

@@ -103,7 +103,7 @@ fn deposition(setup: &PipeSetup, record: ParticleRecord<NeoHooke>) -> Result<Dep
             )));
         }
     };
-    let log: Log = serde_json::from_value(record.observed).map_err(|e| StudyError::Population(e.to_string()))?;
+    let log: Log = record.summary()?;
     let start = setup.initial_state().map_err(crate::error::StepError::from)?;
     let samples = std::iter::once(&start)
         .chain(&log.states)

@@ -22,6 +22,7 @@ use pseudorigid::studies::shear_run::unit_shear;
 use pseudorigid::studies::shear_shape::ShearShape;
 use pseudorigid::studies::tank_treading::roscoe;
 use pseudorigid::tensor::{Mat3, Vec3};
+use serde::Deserialize;
 
 const MU: f64 = 2.0;
 
@@ -73,7 +74,7 @@ fn watch_history(
         };
         watch.step(&AcceptedStep::new(&step, &context));
     }
-    Released::of(&watch.finish(&Fate::Suspended, &state(t_stop))).unwrap()
+    Released::deserialize(&watch.finish(&Fate::Suspended, &state(t_stop))).unwrap()
 }
 
 /// F = diag(e^{εt}, e^{−εt}, 1) (planar extension at rate ε), x = (t, 0, 0).
@@ -287,7 +288,7 @@ fn tank_treading_sphere_releases_just_below_roscoe_stretch() {
         |s| watch.step(s),
     )
     .unwrap();
-    let got = Released::of(&watch.finish(&Fate::Suspended, &out.state)).unwrap();
+    let got = Released::deserialize(&watch.finish(&Fate::Suspended, &out.state)).unwrap();
     assert!(got.crossings[0].is_some(), "peak {} vs steady {lambda}", got.peak.value);
     assert!(
         (got.peak.value - lambda).abs() <= 0.005 * excess,
@@ -466,7 +467,7 @@ fn release_in_uniaxial_extension_matches_quadrature() {
         },
     )
     .unwrap();
-    let got = Released::of(&watch.finish(&Fate::Suspended, &out.state)).unwrap();
+    let got = Released::deserialize(&watch.finish(&Fate::Suspended, &out.state)).unwrap();
 
     let top = ends.last().unwrap().1;
     // min λ̇ over the stretches of the run, sampled every 10⁻³ of the range.

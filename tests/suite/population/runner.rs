@@ -573,3 +573,45 @@ proptest::proptest! {
         proptest::prop_assert_eq!(got, want);
     }
 }
+
+/// A record's observer summary reads back as the type its watch kept it in, through a
+/// checkpoint's JSON; a record without one, or with a summary of another shape, is a
+/// `SummaryError` naming the particle, never a default value.
+#[test]
+fn an_observer_summary_reads_back_typed_or_names_the_particle() {
+    use pseudorigid::driver::RunStats;
+    use pseudorigid::population::ParticleRecord;
+    use pseudorigid::population::release::{Peak, Released};
+    #[derive(Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+    struct Deepest {
+        generation: u8,
+    }
+    let record = |observed: serde_json::Value| {
+        let record = ParticleRecord::<NeoHooke> {
+            index: 17,
+            spec: None,
+            fate: Fate::Suspended,
+            end: None,
+            stats: RunStats::default(),
+            samples: vec![],
+            observed,
+        };
+        serde_json::from_slice::<ParticleRecord<NeoHooke>>(&serde_json::to_vec(&record).unwrap()).unwrap()
+    };
+    let kept = record(serde_json::to_value(Deepest { generation: 5 }).unwrap());
+    assert_eq!(kept.summary::<Deepest>().unwrap(), Deepest { generation: 5 });
+    let other = kept.summary::<Released>().unwrap_err();
+    assert_eq!(other.index, 17);
+    assert!(other.summary.ends_with("Released"), "{other}");
+    let none = record(serde_json::Value::Null).summary::<Deepest>().unwrap_err();
+    assert_eq!((none.index, none.reason.as_str()), (17, "none kept"));
+    // The release observer's own summary, as it keeps it.
+    let released = Released {
+        peak: Peak { t: 0.25, value: 1.5 },
+        crossings: vec![None],
+    };
+    let back = record(serde_json::to_value(&released).unwrap())
+        .summary::<Released>()
+        .unwrap();
+    assert_eq!(back, released);
+}
