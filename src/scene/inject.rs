@@ -84,19 +84,19 @@ pub struct Group {
 
 /// The particles of a scene.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Source {
+pub enum ParticleSource {
     /// Particle k is entry k.
     List(Vec<Placement>),
     /// Groups in order: group g holds the particles after those of groups 0..g.
     Inject(Vec<Group>),
 }
 
-impl Source {
+impl ParticleSource {
     /// Number of particles (saturating: a sum beyond u64 is refused by the scene's cap).
     pub fn count(&self) -> u64 {
         match self {
-            Source::List(l) => l.len() as u64,
-            Source::Inject(groups) => groups.iter().fold(0, |n, g| n.saturating_add(g.count)),
+            ParticleSource::List(l) => l.len() as u64,
+            ParticleSource::Inject(groups) => groups.iter().fold(0, |n, g| n.saturating_add(g.count)),
         }
     }
 }
@@ -114,13 +114,13 @@ fn group_of(groups: &[Group], index: u64) -> Option<&Group> {
 #[derive(Debug, Clone, Copy)]
 pub struct SceneInjector<'a> {
     template: &'a ParticleTemplate<NamedDrag>,
-    source: &'a Source,
+    source: &'a ParticleSource,
     flow: &'a SceneFlow,
 }
 
 impl<'a> SceneInjector<'a> {
     /// Particles of `source` built with `template`, starting in `flow`.
-    pub fn new(template: &'a ParticleTemplate<NamedDrag>, source: &'a Source, flow: &'a SceneFlow) -> Self {
+    pub fn new(template: &'a ParticleTemplate<NamedDrag>, source: &'a ParticleSource, flow: &'a SceneFlow) -> Self {
         Self { template, source, flow }
     }
 
@@ -142,7 +142,7 @@ impl Injector for SceneInjector<'_> {
 
     fn draw(&self, index: u64, rng: &mut ParticleRng) -> Result<ParticleSpec<NamedLaw>, StepError> {
         match self.source {
-            Source::List(list) => {
+            ParticleSource::List(list) => {
                 let placement =
                     usize::try_from(index)
                         .ok()
@@ -155,7 +155,7 @@ impl Injector for SceneInjector<'_> {
                         })?;
                 self.start(placement, placement.position)
             }
-            Source::Inject(groups) => {
+            ParticleSource::Inject(groups) => {
                 let Group {
                     region,
                     random_orientation,

@@ -140,7 +140,7 @@ use crate::material::{self, Softness};
 use crate::particle::Fluid;
 use crate::population::ParticleTemplate;
 use crate::registry::{Value, Values};
-use crate::scene::inject::{Group, Placement, SceneInjector, Source as ParticleSource, Velocity};
+use crate::scene::inject::{Group, ParticleSource, Placement, SceneInjector, Velocity};
 use crate::scene::models::{SceneBoundary, SceneFlow, SceneTransient, TransientField};
 use crate::scene::schema::*;
 use crate::tensor::{Mat3, Vec3};

@@ -101,7 +101,7 @@ pub enum StudyError {
     Param(#[from] ParamError),
     /// The SciPy peer of the work-precision study failed or is unavailable.
     #[error(transparent)]
-    Peer(#[from] scipy_peer::PeerError),
+    Peer(#[from] scipy_peer::ScipyPeerError),
     /// No Ca in the allowed range gives both regimes.
     #[error(
         "no TU/TR bracket in Ca ∈ [{ca_min}, {ca_max}]: {regime_at_min:?} at Ca = {ca_min}, {regime_at_max:?} at Ca = {ca_max}"

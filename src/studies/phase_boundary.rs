@@ -36,7 +36,7 @@ pub struct BoundarySearch<I, L = NeoHookeFactory> {
 
 /// A located phase boundary.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Boundary {
+pub struct RegimeBoundary {
     /// Shape searched.
     pub shape: ShearShape,
     /// Largest Ca found tumbling.
@@ -53,7 +53,7 @@ pub struct Boundary {
     pub validity: Validity,
 }
 
-impl Boundary {
+impl RegimeBoundary {
     /// Bracket midpoint, the boundary estimate (error ≤ half the bracket width).
     pub fn ca_critical(&self) -> f64 {
         0.5 * (self.ca_tu + self.ca_tr)
@@ -78,7 +78,7 @@ impl<I: TimeIntegrator, L: LawFactory> BoundarySearch<I, L> {
     }
 
     /// Locate the boundary for one shape.
-    pub fn find(&self, shape: &ShearShape) -> Result<Boundary, StudyError> {
+    pub fn find(&self, shape: &ShearShape) -> Result<RegimeBoundary, StudyError> {
         let mut evaluations = 0;
         let mut eval = |ca: f64| {
             evaluations += 1;
@@ -114,7 +114,7 @@ impl<I: TimeIntegrator, L: LawFactory> BoundarySearch<I, L> {
                 Regime::Trembling => hi = mid,
             }
         }
-        Ok(Boundary {
+        Ok(RegimeBoundary {
             shape: *shape,
             ca_tu: lo.0,
             ca_tr: hi.0,
@@ -126,7 +126,7 @@ impl<I: TimeIntegrator, L: LawFactory> BoundarySearch<I, L> {
     }
 
     /// Locate the boundaries of many shapes in parallel (order preserved).
-    pub fn find_all(&self, shapes: &[ShearShape]) -> Vec<Result<Boundary, StudyError>>
+    pub fn find_all(&self, shapes: &[ShearShape]) -> Vec<Result<RegimeBoundary, StudyError>>
     where
         I: Sync,
     {

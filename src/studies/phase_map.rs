@@ -7,7 +7,7 @@
 //! vorticity relative to each other (ratios, not d_eq units).
 
 use super::StudyError;
-use super::phase_boundary::{Boundary, BoundarySearch};
+use super::phase_boundary::{BoundarySearch, RegimeBoundary};
 use super::shear_regimes::RegimeClassifier;
 use super::shear_shape::ShearShape;
 use crate::diagnostics::Validity;
@@ -34,7 +34,7 @@ pub struct MapPoint {
     /// Abscissa (aspect ratio, ω₁ or ω₂).
     pub x: f64,
     /// The boundary of that shape.
-    pub boundary: Boundary,
+    pub boundary: RegimeBoundary,
 }
 
 /// The search used for the paper maps: inertialess Radau IIA classifier at rtol = atol = 1e-7
@@ -116,7 +116,7 @@ pub fn boundary_panel(points: &[MapPoint], title: &str, x_label: &str) -> Panel 
     series.dedup();
     let mut panel = Panel::new(title, x_label, "Ca (TU below, TR above)");
     for (i, name) in series.iter().enumerate() {
-        let of = |f: fn(&Boundary) -> f64| -> Vec<(f64, f64)> {
+        let of = |f: fn(&RegimeBoundary) -> f64| -> Vec<(f64, f64)> {
             points
                 .iter()
                 .filter(|p| p.series == *name)
@@ -124,7 +124,7 @@ pub fn boundary_panel(points: &[MapPoint], title: &str, x_label: &str) -> Panel 
                 .collect()
         };
         panel = panel
-            .with(Series::line(*name, of(Boundary::ca_critical), i + 1))
+            .with(Series::line(*name, of(RegimeBoundary::ca_critical), i + 1))
             .with(Series::points("", of(|b| b.ca_tu), i + 1))
             .with(Series::points("", of(|b| b.ca_tr), i + 1));
     }

@@ -9,7 +9,7 @@
 //!
 //! The interpreter is `python3`, or the program named by the environment variable
 //! `PSEUDORIGID_PYTHON`; its packages are pinned in `benches/peers/requirements.txt`. A missing
-//! interpreter or missing SciPy is [`PeerError::Unavailable`], so callers can skip the peer.
+//! interpreter or missing SciPy is [`ScipyPeerError::Unavailable`], so callers can skip the peer.
 
 use crate::tensor::Mat3;
 use serde::Deserialize;
@@ -83,7 +83,7 @@ pub struct PeerRun {
 
 /// Failures of a peer run.
 #[derive(Debug, Clone, PartialEq, Error)]
-pub enum PeerError {
+pub enum ScipyPeerError {
     /// The interpreter cannot be started or lacks NumPy/SciPy.
     #[error(
         "SciPy peer unavailable: `{python}` {reason} (install with `pip install -r benches/peers/requirements.txt`, or set {PYTHON_ENV})"
@@ -131,7 +131,7 @@ pub struct Peer {
     pub python: String,
     /// Path of `inertialess.py`.
     pub script: PathBuf,
-    /// A run still going after this long is killed ([`PeerError::TimedOut`]).
+    /// A run still going after this long is killed ([`ScipyPeerError::TimedOut`]).
     pub time_limit: Duration,
 }
 
@@ -151,8 +151,8 @@ impl Peer {
     }
 
     /// Check that the interpreter starts and imports NumPy and SciPy, and that the script exists.
-    pub fn check(&self) -> Result<(), PeerError> {
-        let unavailable = |reason: String| PeerError::Unavailable {
+    pub fn check(&self) -> Result<(), ScipyPeerError> {
+        let unavailable = |reason: String| ScipyPeerError::Unavailable {
             python: self.python.clone(),
             reason,
         };
@@ -174,17 +174,23 @@ impl Peer {
     }
 
     /// Run `case` with `method` at rtol = atol = `tol`.
-    pub fn run(&self, case: &PeerCase, method: PeerMethod, tol: f64) -> Result<PeerRun, PeerError> {
+    pub fn run(&self, case: &PeerCase, method: PeerMethod, tol: f64) -> Result<PeerRun, ScipyPeerError> {
         let tol_s = format!("{tol:e}");
         self.invoke(case, method, tol, &["--rtol", &tol_s, "--atol", &tol_s])
     }
 
     /// The peer's high-accuracy run: `method` at rtol = atol = 1e-13.
-    pub fn reference(&self, case: &PeerCase, method: PeerMethod) -> Result<PeerRun, PeerError> {
+    pub fn reference(&self, case: &PeerCase, method: PeerMethod) -> Result<PeerRun, ScipyPeerError> {
         self.invoke(case, method, 1e-13, &["--reference"])
     }
 
-    fn invoke(&self, case: &PeerCase, method: PeerMethod, rtol: f64, extra: &[&str]) -> Result<PeerRun, PeerError> {
+    fn invoke(
+        &self,
+        case: &PeerCase,
+        method: PeerMethod,
+        rtol: f64,
+        extra: &[&str],
+    ) -> Result<PeerRun, ScipyPeerError> {
         let [a, b, c] = case.semi_axes;
         let mut child = Command::new(&self.python)
             .arg(&self.script)
@@ -197,7 +203,7 @@ impl Peer {
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
-            .map_err(|e| PeerError::Unavailable {
+            .map_err(|e| ScipyPeerError::Unavailable {
                 python: self.python.clone(),
                 reason: format!("cannot be started: {e}"),
             })?;
@@ -213,14 +219,14 @@ impl Peer {
                     // Already exited or unkillable: either way the run is abandoned.
                     let _ = child.kill();
                     let _ = child.wait();
-                    return Err(PeerError::TimedOut {
+                    return Err(ScipyPeerError::TimedOut {
                         method: method.scipy_name(),
                         rtol,
                         limit_s: self.time_limit.as_secs(),
                     });
                 }
                 Err(e) => {
-                    return Err(PeerError::Failed {
+                    return Err(ScipyPeerError::Failed {
                         method: method.scipy_name(),
                         rtol,
                         status: "wait failed".into(),
@@ -232,7 +238,7 @@ impl Peer {
         let stdout = stdout.join().unwrap_or_default();
         let stderr = stderr.join().unwrap_or_default();
         if !status.success() {
-            return Err(PeerError::Failed {
+            return Err(ScipyPeerError::Failed {
                 method: method.scipy_name(),
                 rtol,
                 status: status.to_string(),
@@ -265,8 +271,8 @@ struct Output {
     f_samples: Vec<[f64; 9]>,
 }
 
-fn parse(stdout: &str) -> Result<PeerRun, PeerError> {
-    let bad = |reason: String| PeerError::BadOutput { reason };
+fn parse(stdout: &str) -> Result<PeerRun, ScipyPeerError> {
+    let bad = |reason: String| ScipyPeerError::BadOutput { reason };
     let line = stdout.lines().last().unwrap_or("");
     let out: Output = serde_json::from_str(line).map_err(|e| bad(format!("{e} in {line:.200}")))?;
     if out.t_samples.len() != out.f_samples.len() || out.t_samples.is_empty() {
@@ -319,10 +325,10 @@ mod tests {
     #[test]
     fn rejects_inconsistent_or_non_finite_output() {
         let short = r#"{"steps": 1, "rhs_evals": 1, "jac_evals": 0, "wall_s": 0.1, "t_samples": [1.0, 2.0], "f_samples": [[1,0,0,0,1,0,0,0,1]]}"#;
-        assert!(matches!(parse(short), Err(PeerError::BadOutput { .. })));
+        assert!(matches!(parse(short), Err(ScipyPeerError::BadOutput { .. })));
         let nan = r#"{"steps": 1, "rhs_evals": 1, "jac_evals": 0, "wall_s": 0.1, "t_samples": [1.0], "f_samples": [[1,0,0,0,1,0,0,0,NaN]]}"#;
-        assert!(matches!(parse(nan), Err(PeerError::BadOutput { .. })));
-        assert!(matches!(parse("Traceback ..."), Err(PeerError::BadOutput { .. })));
+        assert!(matches!(parse(nan), Err(ScipyPeerError::BadOutput { .. })));
+        assert!(matches!(parse("Traceback ..."), Err(ScipyPeerError::BadOutput { .. })));
     }
 
     #[test]
@@ -331,6 +337,6 @@ mod tests {
             python: "/nonexistent/python-for-pseudorigid-test".into(),
             ..Peer::from_env()
         };
-        assert!(matches!(peer.check(), Err(PeerError::Unavailable { .. })));
+        assert!(matches!(peer.check(), Err(ScipyPeerError::Unavailable { .. })));
     }
 }
