@@ -19,8 +19,7 @@ use std::path::{Path, PathBuf};
 /// Stokes numbers of Fig. 18 (the paper's range 0.005–0.5).
 pub const FIG18_STOKES: [f64; 10] = [0.005, 0.01, 0.02, 0.04, 0.06, 0.08, 0.1, 0.2, 0.3, 0.5];
 
-/// Run seed of every dataset (particle k of every kind is drawn from stream k of it).
-pub const SEED: u64 = 2024;
+pub use super::study::SEED;
 
 /// Particles per kind when neither the command line nor `PSEUDORIGID_BIF_N` says (paper: 10⁵).
 pub const DEFAULT_N: u64 = 100_000;

@@ -54,6 +54,8 @@ pub const NORM: ErrorNorm = ErrorNorm::Tensor;
 /// (10⁻⁵ of the inlet speed), 10⁻⁵ on F. 10⁻⁴ changed 1 of 200 rigid λ = 20 fates at Stk = 0.5
 /// and moved deposits by up to 5 mm; see [`RTOL`].
 pub const ATOL: f64 = 1e-5;
+/// Run seed of every dataset (particle k of every kind is drawn from stream k of it).
+pub const SEED: u64 = 2024;
 /// First step (s) (the integrator adapts it at once).
 pub const DT0: f64 = 1e-6;
 /// Accepted steps allowed per particle (10⁶: a particle that needs more is stuck, not slow).
@@ -106,7 +108,7 @@ pub type StudyObserver<'a> = CaseObserver<'a, Injection<'a>, BlendedFlow, MeshBo
 /// # Ok(()) }
 /// ```
 ///
-/// Defaults: run seed [`super::figures::SEED`] (the datasets'), the whole run
+/// Defaults: run seed [`SEED`] (the datasets'), the whole run
 /// ([`Shard::ALL`]), no force term beyond the paper's drag and gravity, the study's integrator
 /// ([`integrator`]), no observer, no cache. Everything set here enters the configuration hash
 /// of a cached run, so a run is never read back for other settings.
@@ -130,7 +132,7 @@ impl<'a, 'o> StudyRun<'a, 'o> {
             airway,
             kind,
             n,
-            seed: super::figures::SEED,
+            seed: SEED,
             shard: Shard::ALL,
             forces: ForceTerms::default(),
             integrator: None,
