@@ -3,6 +3,12 @@
 //! times, locates terminal events on each step's dense output, enforces a step and wall-time
 //! budget, and accumulates the work statistics used in work-precision studies.
 //!
+//! # Arguments
+//! Every entry point takes the [`Problem`] (integrator, particle, flow) and the start state
+//! first, then what to integrate to (a [`Plan`] and events, or a first step and output times),
+//! and the [`Observers`] last: [`integrate`], [`resume`] (from a [`RunEnd`]), [`run`],
+//! [`advance`], [`until_event`].
+//!
 //! # Events
 //! An [`Event`] is a signed gap g(state), positive while nothing happens (a wall gap, the
 //! distance to an outlet plane). When an accepted step ends with g ≤ 0 the driver solves
