@@ -280,8 +280,9 @@ impl<I, M, D, F: ?Sized> Clone for Problem<'_, I, M, D, F> {
 impl<I, M, D, F: ?Sized> Copy for Problem<'_, I, M, D, F> {}
 
 /// What a run shows its caller: `observe` sees the state x_c, F, … at the start, at every
-/// output time and at a located event; `on_step` every accepted step, with its end state's
-/// principal frame (r_a, Q) and flow sample (u, ∇u) ([`AcceptedStep`]).
+/// output time and at a located event ([`run`] shows the start only if it is an output time,
+/// [`resume`] not again); `on_step` every accepted step, with its end state's principal frame
+/// (r_a, Q) and flow sample (u, ∇u) ([`AcceptedStep`]).
 ///
 /// [`Observers::none`] (the [`Default`]) shows nothing; `with_observe` and `with_on_step` add
 /// one observer each.
