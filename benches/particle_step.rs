@@ -22,10 +22,8 @@ fn particle_and_state_of(semi_axes: [f64; 3]) -> (Particle<NeoHooke>, State) {
     // A deformed, moving state so that no step is trivially at rest.
     let flow = LinearFlow::simple_shear(1.0).unwrap();
     let (s, _) = pseudorigid::driver::advance(
-        &ImexPaper::default(),
-        &p,
+        pseudorigid::driver::Problem::new(&ImexPaper::default(), &p, &flow),
         State::at_rest(Vec3::zeros()),
-        &flow,
         5e-4,
         1.0,
     )

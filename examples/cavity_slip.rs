@@ -21,10 +21,10 @@
 use pseudorigid::flow::FlowField;
 use pseudorigid::output::{Csv, paper_figure_path};
 use pseudorigid::studies::cavity::{
-    Cavity, Contact, D_EQ, EDGE, NU, RHO_PARTICLE, Release, Shape, fluid_inertia, rho_fluid, shipped_flow,
+    Cavity, Contact, D_EQ, EDGE, NU, RHO_PARTICLE, Release, Shape, Tracking, fluid_inertia, rho_fluid, shipped_flow,
 };
 use pseudorigid::studies::particles::Deformability;
-use pseudorigid::tensor::Vec3;
+use pseudorigid::tensor::{Mat3, Vec3};
 use rayon::prelude::*;
 
 /// Half-width of the central difference along the streamline [m].
@@ -95,7 +95,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 shape,
                 softness: Deformability::Rigid,
             };
-            cavities[c].1.track(release, Contact::Barycentre, seconds, 1e-7, 0.01)
+            cavities[c].1.track(
+                release,
+                &Mat3::identity(),
+                &Tracking {
+                    contact: Contact::Barycentre,
+                    t_max: seconds,
+                    tol: 1e-7,
+                    dt_out: 0.01,
+                },
+            )
         })
         .collect::<Result<Vec<_>, _>>()?;
     let mut csv = Csv::new(&[

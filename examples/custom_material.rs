@@ -7,7 +7,7 @@
 //!
 //! Run: `cargo run --release --example custom_material`
 
-use pseudorigid::driver::advance;
+use pseudorigid::driver::{Problem, advance};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::prelude::*;
 use pseudorigid::tensor::{Scalar, det3};
@@ -44,10 +44,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let particle = Particle::new(shape, law, Fluid::new(1.0, 1.0)?, 1.0)?;
     let flow = LinearFlow::simple_shear(1.0)?;
     let (end, stats) = advance(
-        &Stokesian::overdamped(1e-8)?,
-        &particle,
+        Problem::new(&Stokesian::overdamped(1e-8)?, &particle, &flow),
         State::at_rest(Vec3::zeros()),
-        &flow,
         1e-3,
         40.0,
     )?;

@@ -7,9 +7,10 @@
 
 use pseudorigid::output::{Figure, paper_figure_path};
 use pseudorigid::studies::cavity::{
-    Cavity, Contact, Release, Shape, fluid_inertia, outcome_table, trajectory_panel, trajectory_table,
+    Cavity, Contact, Release, Shape, Tracking, fluid_inertia, outcome_table, trajectory_panel, trajectory_table,
 };
 use pseudorigid::studies::particles::Deformability;
+use pseudorigid::tensor::Mat3;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -35,7 +36,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let runs = jobs
         .par_iter()
-        .map(|(r, c)| cavity.track(*r, *c, 5.0, 1e-7, 0.02))
+        .map(|(r, c)| {
+            cavity.track(
+                *r,
+                &Mat3::identity(),
+                &Tracking {
+                    contact: *c,
+                    t_max: 5.0,
+                    tol: 1e-7,
+                    dt_out: 0.02,
+                },
+            )
+        })
         .collect::<Result<Vec<_>, _>>()?;
     for run in &runs {
         println!(

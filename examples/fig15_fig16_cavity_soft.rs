@@ -11,9 +11,10 @@
 
 use pseudorigid::output::Figure;
 use pseudorigid::studies::cavity::{
-    Cavity, Contact, Shape, ShapeModel, fig15_fig16_releases, fluid_inertia, outcome_table, trajectory_panel,
+    Cavity, Contact, Shape, ShapeModel, Tracking, fig15_fig16_releases, fluid_inertia, outcome_table, trajectory_panel,
     trajectory_table,
 };
+use pseudorigid::tensor::Mat3;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -38,7 +39,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let releases = fig15_fig16_releases();
     let runs = releases
         .par_iter()
-        .map(|r| cavity.track(*r, Contact::Barycentre, 100.0, 1e-6, 0.1))
+        .map(|r| {
+            cavity.track(
+                *r,
+                &Mat3::identity(),
+                &Tracking {
+                    contact: Contact::Barycentre,
+                    t_max: 100.0,
+                    tol: 1e-6,
+                    dt_out: 0.1,
+                },
+            )
+        })
         .collect::<Result<Vec<_>, _>>()?;
     for run in &runs {
         println!(

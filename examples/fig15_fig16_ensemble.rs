@@ -12,7 +12,7 @@
 
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::studies::cavity::{
-    ShapeModel, Variant, ensemble, fig15_fig16_releases, fluid_inertia, member_table, outcome_fraction_table,
+    Cavity, Ensemble, ShapeModel, Variant, fig15_fig16_releases, fluid_inertia, member_table, outcome_fraction_table,
 };
 use std::time::Instant;
 
@@ -41,7 +41,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .into_iter()
         .flat_map(|mirrored| scales.iter().map(move |&scale| Variant { mirrored, scale }))
         .collect();
-    let members = ensemble(&flow, model, &forces, &releases, &variants, count, 100.0, 1e-6)?;
+    let cavity = Cavity::new(&flow)?.with_shape_model(model).with_forces(forces);
+    let ensemble = Ensemble {
+        releases,
+        variants,
+        orientations: count,
+        t_max: 100.0,
+        tol: 1e-6,
+        checkpoints: None,
+    };
+    let members = ensemble.run(&cavity)?;
     let table = outcome_fraction_table(&members)?;
     print!("{}", table.to_text());
     table.write(paper_figure_path(

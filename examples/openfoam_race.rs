@@ -34,7 +34,7 @@
 use pseudorigid::population::peer::Pairing;
 use pseudorigid::population::{Fate, RunOptions};
 use pseudorigid::studies::bend::{BendCase, SEED, Settings, integrator_name, on_bend_wall, peer_on_bend_wall};
-use pseudorigid::studies::peer::{RaceRow, race_csv, race_markdown, timed};
+use pseudorigid::studies::peer::{Entrant, RaceRow, race_csv, race_markdown, timed};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -186,16 +186,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             timed(|| pool.install(|| case.run_output(stk, n, SEED, settings, RunOptions::default().quiet())));
         let ours = ours?;
         let particle = soft.map_or("rigid".into(), |mu| format!("neo_hooke mu_s={mu} Pa"));
-        let row = RaceRow::pseudorigid(
-            &particle,
-            &integrator,
-            t,
-            &ours,
+        let entrant = Entrant {
+            particle: &particle,
+            integrator: &integrator,
+            threads: t,
             cost,
-            on_bend_wall,
-            &peer.fates,
-            peer_on_bend_wall,
-        )?;
+        };
+        let row = RaceRow::pseudorigid(entrant, &ours, on_bend_wall, &peer.fates, peer_on_bend_wall)?;
         println!(
             "race: pseudorigid {particle} on {t} threads done ({:.1} s)",
             cost.wall_seconds

@@ -19,8 +19,9 @@
 use pseudorigid::integrator::{Scheme, Stokesian, Tolerances};
 use pseudorigid::population::{Case, RunConfig, RunOptions, Shard, run};
 use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, figures, study};
-use pseudorigid::studies::cavity::{Cavity, Contact, Release, Shape};
+use pseudorigid::studies::cavity::{Cavity, Contact, Release, Shape, Tracking};
 use pseudorigid::studies::pipe::{Deformability, PipeCase, sample_orientation, track_to_deposition};
+use pseudorigid::tensor::Mat3;
 use std::error::Error;
 use std::time::Instant;
 
@@ -98,7 +99,16 @@ fn main() -> Result<(), Box<dyn Error>> {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Rigid,
             };
-            let run = cavity(scheme).track(release, Contact::Extent, 5.0, tol, 5.0)?;
+            let run = cavity(scheme).track(
+                release,
+                &Mat3::identity(),
+                &Tracking {
+                    contact: Contact::Extent,
+                    t_max: 5.0,
+                    tol,
+                    dt_out: 5.0,
+                },
+            )?;
             let x = run.path.last().ok_or("no path")?.1;
             Ok(Outcome {
                 quantity: vec![x[0], x[1], x[2]],
@@ -114,7 +124,16 @@ fn main() -> Result<(), Box<dyn Error>> {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Elastic { ca: 0.25 },
             };
-            let run = cavity(scheme).track(release, Contact::Barycentre, 100.0, tol, 100.0)?;
+            let run = cavity(scheme).track(
+                release,
+                &Mat3::identity(),
+                &Tracking {
+                    contact: Contact::Barycentre,
+                    t_max: 100.0,
+                    tol,
+                    dt_out: 100.0,
+                },
+            )?;
             let x = run.path.last().ok_or("no path")?.1;
             Ok(Outcome {
                 quantity: vec![x[0], x[1], x[2]],

@@ -3,6 +3,12 @@
 //! times, locates terminal events on each step's dense output, enforces a step and wall-time
 //! budget, and accumulates the work statistics used in work-precision studies.
 //!
+//! # Arguments
+//! Every entry point takes the [`Problem`] (integrator, particle, flow) and the start state
+//! first, then what to integrate to (a [`Plan`] and events, or a first step and output times),
+//! and the [`Observers`] last: [`integrate`], [`resume`] (from a [`RunEnd`]), [`run`],
+//! [`advance`], [`until_event`].
+//!
 //! # Events
 //! An [`Event`] is a signed gap g(state), positive while nothing happens (a wall gap, the
 //! distance to an outlet plane). When an accepted step ends with g ≤ 0 the driver solves
@@ -238,43 +244,131 @@ pub const OUTSIDE_SHRINK: f64 = 0.25;
 /// Times closer than this (relative to max(|t|, 1)) count as equal when landing on an output.
 const LANDING_TOL: f64 = 1e-12;
 
+/// The problem a run solves: the time integrator that takes its steps (the paper's IMEX
+/// scheme, §5, or any other [`Stepper`]), the pseudo-rigid particle it moves (material law
+/// W(F), drag K̂: [`Particle`]) and the carrier flow that supplies u and l_f = ∇u at the
+/// barycentre x_c (Fig. 1, [`FlowField`]).
+///
+/// Every entry point of the driver takes it first, then the start state: [`integrate`],
+/// [`resume`], [`run`], [`advance`], [`until_event`]. It only borrows, so it is `Copy`.
+pub struct Problem<'a, I, M, D, F: ?Sized> {
+    /// The time integrator.
+    pub integrator: &'a I,
+    /// The particle.
+    pub particle: &'a Particle<M, D>,
+    /// The carrier flow.
+    pub flow: &'a F,
+}
+
+impl<'a, I, M, D, F: ?Sized> Problem<'a, I, M, D, F> {
+    /// `particle` in `flow`, stepped by `integrator`.
+    pub fn new(integrator: &'a I, particle: &'a Particle<M, D>, flow: &'a F) -> Self {
+        Self {
+            integrator,
+            particle,
+            flow,
+        }
+    }
+}
+
+impl<I, M, D, F: ?Sized> Clone for Problem<'_, I, M, D, F> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<I, M, D, F: ?Sized> Copy for Problem<'_, I, M, D, F> {}
+
+/// What a run shows its caller: `observe` sees the state x_c, F, … at the start, at every
+/// output time and at a located event ([`run`] shows the start only if it is an output time,
+/// [`resume`] not again); `on_step` every accepted step, with its end state's principal frame
+/// (r_a, Q) and flow sample (u, ∇u) ([`AcceptedStep`]).
+///
+/// [`Observers::none`] (the [`Default`]) shows nothing; `with_observe` and `with_on_step` add
+/// one observer each.
+pub struct Observers<O, S> {
+    /// Called with the state at the start, at output times and at the event.
+    pub observe: O,
+    /// Called after every accepted step.
+    pub on_step: S,
+}
+
+/// The observers that observe nothing ([`Observers::none`]).
+pub type NoObservers = Observers<fn(&State), fn(&AcceptedStep<'_>)>;
+
+impl NoObservers {
+    /// No observer.
+    pub fn none() -> Self {
+        Self {
+            observe: |_| {},
+            on_step: |_| {},
+        }
+    }
+}
+
+impl Default for NoObservers {
+    fn default() -> Self {
+        Self::none()
+    }
+}
+
+impl<O: FnMut(&State), S: FnMut(&AcceptedStep<'_>)> Observers<O, S> {
+    /// `observe` at the start, the output times and the event, `on_step` after every step.
+    pub fn new(observe: O, on_step: S) -> Self {
+        Self { observe, on_step }
+    }
+
+    /// These observers with `observe` in place of theirs.
+    pub fn with_observe<O2: FnMut(&State)>(self, observe: O2) -> Observers<O2, S> {
+        Observers {
+            observe,
+            on_step: self.on_step,
+        }
+    }
+
+    /// These observers with `on_step` in place of theirs.
+    pub fn with_on_step<S2: FnMut(&AcceptedStep<'_>)>(self, on_step: S2) -> Observers<O, S2> {
+        Observers {
+            observe: self.observe,
+            on_step,
+        }
+    }
+}
+
 /// Advance `state` with `memory` as `plan` says, stopping at the first event that fires.
-/// `observe` sees the start, every output time and the event state; `on_step` every accepted
-/// step, with its end state's frame and flow sample ([`AcceptedStep`]). Refuses a start state already past t_end.
+/// `observers.observe` sees the start, every output time and the event state;
+/// `observers.on_step` every accepted step, with its end state's frame and flow sample
+/// ([`AcceptedStep`]). Refuses a start state already past t_end.
 ///
 /// # Errors
 /// A [`RunFailure`]: the [`StepError`] that stopped the run, with the state and the
 /// [`RunStats`] of the accepted steps before it.
-#[allow(clippy::too_many_arguments)]
-// the problem (4), its memory, the plan, events, two observers
 // A failure carries a State like the RunEnd does: the Err variant is no larger than Ok's.
 #[allow(clippy::result_large_err)]
-pub fn integrate<I, M, D, F>(
-    integrator: &I,
-    particle: &Particle<M, D>,
-    flow: &F,
+pub fn integrate<I, M, D, F, O, S>(
+    problem: Problem<'_, I, M, D, F>,
     state: State,
     memory: &mut I::Memory,
     plan: &Plan,
     events: &[&dyn Event],
-    observe: impl FnMut(&State),
-    on_step: impl FnMut(&AcceptedStep),
+    observers: Observers<O, S>,
 ) -> Result<RunEnd, RunFailure>
 where
     I: Stepper<M, D>,
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
+    O: FnMut(&State),
+    S: FnMut(&AcceptedStep<'_>),
 {
-    let mut stats = RunStats::default();
-    let mut last = state;
-    integrate_recorded(
-        integrator, particle, flow, state, memory, plan, events, observe, on_step, &mut stats, &mut last, None,
-    )
-    .map_err(|error| RunFailure {
+    let mut progress = Progress {
+        stats: RunStats::default(),
+        last: state,
+    };
+    integrate_recorded(problem, memory, plan, events, observers, &mut progress, None).map_err(|error| RunFailure {
         error,
-        state: last,
-        stats,
+        state: progress.last,
+        stats: progress.stats,
     })
 }
 
@@ -287,64 +381,60 @@ where
 ///
 /// # Errors
 /// As [`integrate`].
-#[allow(clippy::too_many_arguments)]
 #[allow(clippy::result_large_err)]
-pub fn resume<I, M, D, F>(
-    integrator: &I,
-    particle: &Particle<M, D>,
-    flow: &F,
+pub fn resume<I, M, D, F, O, S>(
+    problem: Problem<'_, I, M, D, F>,
     from: &RunEnd,
     memory: &mut I::Memory,
     plan: &Plan,
     events: &[&dyn Event],
-    observe: impl FnMut(&State),
-    on_step: impl FnMut(&AcceptedStep),
+    observers: Observers<O, S>,
 ) -> Result<RunEnd, RunFailure>
 where
     I: Stepper<M, D>,
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
+    O: FnMut(&State),
+    S: FnMut(&AcceptedStep<'_>),
 {
-    let mut stats = from.stats;
-    let mut last = from.state;
+    let mut progress = Progress {
+        stats: from.stats,
+        last: from.state,
+    };
     integrate_recorded(
-        integrator,
-        particle,
-        flow,
-        from.state,
+        problem,
         memory,
         plan,
         events,
-        observe,
-        on_step,
-        &mut stats,
-        &mut last,
+        observers,
+        &mut progress,
         Some(from.dt_next),
     )
     .map_err(|error| RunFailure {
         error,
-        state: last,
-        stats,
+        state: progress.last,
+        stats: progress.stats,
     })
 }
 
-/// [`integrate`], accumulating into `stats` and keeping the last accepted state in `last`, so
-/// that a failure still reports both; `resumed`: the first step of a [`resume`]d run, whose
-/// start was the last run's end (and observed then).
-#[allow(clippy::too_many_arguments)] // integrate's arguments and its two records
-fn integrate_recorded<I, M, D, F>(
-    integrator: &I,
-    particle: &Particle<M, D>,
-    flow: &F,
-    state: State,
+/// What a run has done so far, kept outside it so that a failure still reports it: the
+/// statistics of its accepted steps and the state after the last of them (the start state
+/// before the first).
+struct Progress {
+    stats: RunStats,
+    last: State,
+}
+
+/// [`integrate`] from `progress.last`, accumulating into `progress`; `resumed`: the first step
+/// of a [`resume`]d run, whose start was the last run's end (and observed then).
+fn integrate_recorded<I, M, D, F, O, S>(
+    problem: Problem<'_, I, M, D, F>,
     memory: &mut I::Memory,
     plan: &Plan,
     events: &[&dyn Event],
-    mut observe: impl FnMut(&State),
-    mut on_step: impl FnMut(&AcceptedStep),
-    stats: &mut RunStats,
-    last: &mut State,
+    observers: Observers<O, S>,
+    progress: &mut Progress,
     resumed: Option<f64>,
 ) -> Result<RunEnd, StepError>
 where
@@ -352,7 +442,20 @@ where
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
+    O: FnMut(&State),
+    S: FnMut(&AcceptedStep<'_>),
 {
+    let Problem {
+        integrator,
+        particle,
+        flow,
+    } = problem;
+    let Observers {
+        mut observe,
+        mut on_step,
+    } = observers;
+    let Progress { stats, last } = progress;
+    let state = *last;
     state.validate()?;
     if state.t > plan.t_end {
         return Err(ParamError::OutOfRange {
@@ -543,28 +646,25 @@ pub fn locate_root(
 }
 
 /// Advance from `state` to the last of `outputs` (ascending), starting with step `dt`,
-/// calling `observe` at every output time and `on_step` after every accepted step.
+/// calling `observers.observe` at every output time and `observers.on_step` after every
+/// accepted step.
 ///
 /// A failure is the bare [`StepError`]; [`integrate`] reports the statistics and the last
 /// state of a failed run too ([`RunFailure`]).
-// The eight arguments are the problem (integrator, particle, state, flow), the step and the
-// output schedule, and two observers; bundling them would only rename them.
-#[allow(clippy::too_many_arguments)]
-pub fn run<I, M, D, F>(
-    integrator: &I,
-    particle: &Particle<M, D>,
+pub fn run<I, M, D, F, O, S>(
+    problem: Problem<'_, I, M, D, F>,
     state: State,
-    flow: &F,
     dt: f64,
     outputs: &[f64],
-    mut observe: impl FnMut(&State),
-    mut on_step: impl FnMut(&State, &StepInfo),
+    observers: Observers<O, S>,
 ) -> Result<(State, RunStats), StepError>
 where
     I: Stepper<M, D>,
     M: Response,
     D: DragModel,
     F: FlowField + ?Sized,
+    O: FnMut(&State),
+    S: FnMut(&AcceptedStep<'_>),
 {
     let t_end = outputs.last().copied().unwrap_or(state.t);
     let plan = Plan::new(t_end, dt)?.with_outputs(outputs)?;
@@ -572,31 +672,24 @@ where
     let mut show_start = outputs.first().is_some_and(|&t| t <= state.t);
     let mut started = false;
     let mut memory = I::Memory::default();
-    let out = integrate(
-        integrator,
-        particle,
-        flow,
-        state,
-        &mut memory,
-        &plan,
-        &[],
-        |s| {
+    let Observers { mut observe, on_step } = observers;
+    let observers = Observers::new(
+        |s: &State| {
             if started || std::mem::take(&mut show_start) {
                 observe(s);
             }
             started = true;
         },
-        |step| on_step(step.state(), step.info()),
-    )?;
+        on_step,
+    );
+    let out = integrate(problem, state, &mut memory, &plan, &[], observers)?;
     Ok((out.state, out.stats))
 }
 
 /// Convenience: advance to `t_end` without observers.
 pub fn advance<I, M, D, F>(
-    integrator: &I,
-    particle: &Particle<M, D>,
+    problem: Problem<'_, I, M, D, F>,
     state: State,
-    flow: &F,
     dt: f64,
     t_end: f64,
 ) -> Result<(State, RunStats), StepError>
@@ -606,16 +699,14 @@ where
     D: DragModel,
     F: FlowField + ?Sized,
 {
-    run(integrator, particle, state, flow, dt, &[t_end], |_| {}, |_, _| {})
+    run(problem, state, dt, &[t_end], Observers::none())
 }
 
 /// Convenience: [`integrate`] with fresh step memory and no observers, to the end of `plan` or
 /// the first of `events` that fires.
 #[allow(clippy::result_large_err)] // as `integrate`
 pub fn until_event<I, M, D, F>(
-    integrator: &I,
-    particle: &Particle<M, D>,
-    flow: &F,
+    problem: Problem<'_, I, M, D, F>,
     state: State,
     plan: &Plan,
     events: &[&dyn Event],
@@ -627,17 +718,7 @@ where
     F: FlowField + ?Sized,
 {
     let mut memory = I::Memory::default();
-    integrate(
-        integrator,
-        particle,
-        flow,
-        state,
-        &mut memory,
-        plan,
-        events,
-        |_| {},
-        |_| {},
-    )
+    integrate(problem, state, &mut memory, plan, events, Observers::none())
 }
 
 /// Evenly spaced output times n·Δ for n = 1..=N with NΔ = t_end.

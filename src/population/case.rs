@@ -4,7 +4,7 @@ use super::observe::{Observer, Watch};
 use super::record::{Fate, ParticleRecord};
 use super::spec::{Injector, particle_rng};
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
-use crate::driver::{Plan, RunEnd, RunFailure, RunStats, Stop, integrate, resume};
+use crate::driver::{Observers, Plan, Problem, RunEnd, RunFailure, RunStats, Stop, integrate, resume};
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::integrator::Stepper;
@@ -129,26 +129,26 @@ where
                 .map(|o| o.watch(&particle, self.flow, self.boundary, &start)),
         );
         let result = integrate(
-            self.integrator,
-            &particle,
-            self.flow,
+            Problem::new(self.integrator, &particle, self.flow),
             start,
             &mut memory,
             &plan,
             &[&contact],
-            |s| {
-                if self.samples {
-                    samples.push(*s);
-                }
-                if let Some(w) = watch.borrow_mut().as_mut() {
-                    w.output(s);
-                }
-            },
-            |step| {
-                if let Some(w) = watch.borrow_mut().as_mut() {
-                    w.step(step);
-                }
-            },
+            Observers::new(
+                |s| {
+                    if self.samples {
+                        samples.push(*s);
+                    }
+                    if let Some(w) = watch.borrow_mut().as_mut() {
+                        w.output(s);
+                    }
+                },
+                |step| {
+                    if let Some(w) = watch.borrow_mut().as_mut() {
+                        w.step(step);
+                    }
+                },
+            ),
         );
         let (fate, end, stats) = self.fate(&contact, result);
         let observed = watch
@@ -258,26 +258,20 @@ where
         };
         let result = match &particle.last {
             None => integrate(
-                self.integrator,
-                &particle.particle,
-                self.flow,
+                Problem::new(self.integrator, &particle.particle, self.flow),
                 particle.start,
                 &mut particle.memory,
                 &plan,
                 &[&contact],
-                observe,
-                |_| {},
+                Observers::none().with_observe(observe),
             ),
             Some(last) => resume(
-                self.integrator,
-                &particle.particle,
-                self.flow,
+                Problem::new(self.integrator, &particle.particle, self.flow),
                 last,
                 &mut particle.memory,
                 &plan,
                 &[&contact],
-                observe,
-                |_| {},
+                Observers::none().with_observe(observe),
             ),
         };
         match result {

@@ -1,7 +1,7 @@
 //! The models a scene file can name, each one type over the library's choices, so that one
 //! scene mixes laws and picks its flow and boundary at run time. Laws and drag models are the
 //! registries' types (any model registered by name); flows and boundaries stay enums here
-//! because what builds them is not a table of parameters (module docs of [`super::scene`]).
+//! because what builds them is not a table of parameters (module docs of [`crate::scene`]).
 
 use crate::contact::MeshBoundary;
 use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Planes, Unbounded};

@@ -1,6 +1,6 @@
 //! The TOML form of a scene, as written: every table refuses unknown keys, and every number
 //! keeps its place in the file so that a bad value is reported at its line and column.
-//! [`super::scene`] turns it into library objects through their validated constructors.
+//! [`crate::scene`] turns it into library objects through their validated constructors.
 
 use serde::Deserialize;
 use toml::Spanned;

@@ -17,7 +17,7 @@
 //!   At ρ_p/ρ_f = 1.0005 the added mass makes τ 1.5× longer, at 0.1 (a light sphere that
 //!   rises) 6× longer.
 
-use crate::driver::advance;
+use crate::driver::{Problem, advance};
 use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals};
 use crate::error::{ParamError, StepError};
 use crate::flow::analytic::Quiescent;
@@ -204,7 +204,7 @@ pub fn settle(case: &SettlingCase, samples: usize, tol: f64) -> Result<Vec<Settl
     for k in 0..=samples {
         let t = dt * k as f64;
         if k > 0 {
-            state = advance(&integrator, &particle, state, &Quiescent, 0.01 * dt, t)?.0;
+            state = advance(Problem::new(&integrator, &particle, &Quiescent), state, 0.01 * dt, t)?.0;
         }
         rows.push(SettlingRow {
             case: *case,

@@ -257,6 +257,20 @@ pub struct Cost {
     pub cpu_seconds: Option<f64>,
 }
 
+/// How a race row of ours was run: the particle model, the integrator and its settings, the
+/// threads, and what the run cost ([`RaceRow::pseudorigid`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Entrant<'a> {
+    /// The particle model (`rigid`, `neo_hooke mu_s=… Pa`).
+    pub particle: &'a str,
+    /// The integrator and its settings.
+    pub integrator: &'a str,
+    /// Threads the run used.
+    pub threads: usize,
+    /// Its wall and CPU time.
+    pub cost: Cost,
+}
+
 /// Run `work` and measure its [`Cost`]. The CPU time is the whole process's: run nothing else
 /// meanwhile.
 pub fn timed<T>(work: impl FnOnce() -> T) -> (T, Cost) {
@@ -330,16 +344,12 @@ impl RaceRow {
         }
     }
 
-    /// Our row from a run's records: `deposited` says which records count (given the run's
-    /// patch names); paired particle by particle with `peer`'s fates (every particle of ours
-    /// must have one) under `peer_deposited`.
-    #[allow(clippy::too_many_arguments)]
+    /// Our row from the records of `entrant`'s run `out`: `deposited` says which records count
+    /// (given the run's patch names); paired particle by particle with `peer`'s fates (every
+    /// particle of ours must have one) under `peer_deposited`.
     pub fn pseudorigid<L>(
-        particle: &str,
-        integrator: &str,
-        threads: usize,
+        entrant: Entrant<'_>,
         out: &RunOutput<L>,
-        cost: Cost,
         deposited: impl Fn(&ParticleRecord<L>, &[String]) -> bool,
         peer: &HashMap<u64, PeerFate>,
         peer_deposited: impl Fn(&PeerFate) -> bool,
@@ -356,6 +366,12 @@ impl RaceRow {
             steps += r.stats.steps;
             rejected += r.stats.rejected;
         }
+        let Entrant {
+            particle,
+            integrator,
+            threads,
+            cost,
+        } = entrant;
         Ok(Self {
             tracker: "pseudorigid".into(),
             particle: particle.into(),

@@ -32,7 +32,7 @@ use super::StudyError;
 use super::shear_run::unit_shear;
 use super::shear_shape::ShearShape;
 use crate::diagnostics::{Monitor, Validity};
-use crate::driver::{Plan, RunStats, integrate};
+use crate::driver::{Observers, Plan, Problem, RunStats, integrate};
 use crate::integrator::Dense;
 use crate::integrator::{Scheme, Stokesian, TimeIntegrator};
 use crate::material::{LawFactory, NeoHookeFactory};
@@ -139,18 +139,15 @@ impl<I: TimeIntegrator, L: LawFactory> RegimeClassifier<I, L> {
         let mut monitor = Monitor::in_linear_flow(&particle, &flow);
         monitor.observe(&start);
         let stats = integrate(
-            &self.integrator,
-            &particle,
-            &flow,
+            Problem::new(&self.integrator, &particle, &flow),
             start,
             &mut memory,
             &Plan::new(horizon, self.dt0)?,
             &[],
-            |_| {},
-            |step| {
+            Observers::none().with_on_step(|step| {
                 track.step(step.dense(), self.substeps);
                 monitor.observe_step(step);
-            },
+            }),
         )?
         .stats;
         Ok(Classification {

@@ -10,7 +10,7 @@ use super::particles::Shape;
 use super::section::ShearPlaneSection;
 use super::shear_shape::ShearShape;
 use crate::diagnostics::{Monitor, Validity};
-use crate::driver::run;
+use crate::driver::{Observers, Problem, run};
 use crate::flow::analytic::LinearFlow;
 use crate::integrator::{Stokesian, TimeIntegrator};
 use crate::particle::lines::material_line;
@@ -71,21 +71,21 @@ pub fn sample<I: TimeIntegrator>(
     let mut monitor = Monitor::in_linear_flow(&particle, &flow);
     monitor.observe(&start);
     run(
-        integrator,
-        &particle,
+        Problem::new(integrator, &particle, &flow),
         start,
-        &flow,
         dt0,
         times,
-        |s| {
-            out.push(ShearSample {
-                t: s.t,
-                section: ShearPlaneSection::of(&particle.total_distortion(&s.f)),
-                xi_a: material_line(particle.shape(), &s.f, a),
-                xi_c: material_line(particle.shape(), &s.f, c),
-            })
-        },
-        |s, _| monitor.observe(s),
+        Observers::new(
+            |s| {
+                out.push(ShearSample {
+                    t: s.t,
+                    section: ShearPlaneSection::of(&particle.total_distortion(&s.f)),
+                    xi_a: material_line(particle.shape(), &s.f, a),
+                    xi_c: material_line(particle.shape(), &s.f, c),
+                })
+            },
+            |step| monitor.observe(step.state()),
+        ),
     )?;
     Ok((out, monitor.validity()))
 }

@@ -37,7 +37,7 @@ use super::section::ShearPlaneSection;
 use super::shear_run::unit_shear;
 use super::shear_shape::ShearShape;
 use crate::diagnostics::{Monitor, Validity};
-use crate::driver::run;
+use crate::driver::{Observers, Problem, run};
 use crate::ellipsoid::EllipsoidIntegrals;
 use crate::integrator::Stokesian;
 use crate::particle::{ShearScaling, State};
@@ -223,23 +223,23 @@ pub fn integrate(ca: f64, tol: f64, t_end: f64) -> Result<IntegratedSteady, Stud
     let mut monitor = Monitor::in_linear_flow(&particle, &flow);
     monitor.observe(&start);
     run(
-        &Stokesian::overdamped(tol)?,
-        &particle,
+        Problem::new(&Stokesian::overdamped(tol)?, &particle, &flow),
         start,
-        &flow,
         1e-3,
         &[t_end - 1.0, t_end],
-        |s| {
-            let sec = ShearPlaneSection::of(&particle.total_distortion(&s.f));
-            read.push(TankTreading {
-                ca,
-                r_long: sec.r_long,
-                r_vorticity: sec.r_out_of_plane,
-                r_short: sec.r_short,
-                theta: sec.angle,
-            });
-        },
-        |s, _| monitor.observe(s),
+        Observers::new(
+            |s| {
+                let sec = ShearPlaneSection::of(&particle.total_distortion(&s.f));
+                read.push(TankTreading {
+                    ca,
+                    r_long: sec.r_long,
+                    r_vorticity: sec.r_out_of_plane,
+                    r_short: sec.r_short,
+                    theta: sec.angle,
+                });
+            },
+            |step| monitor.observe(step.state()),
+        ),
     )?;
     let (before, end) = (read[0], read[1]);
     Ok(IntegratedSteady {

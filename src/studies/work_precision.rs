@@ -28,7 +28,7 @@ use super::particles::Shape;
 use super::scipy_peer::{Peer, PeerCase, PeerMethod, PeerRun};
 use super::shear_shape::ShearShape;
 use super::tank_treading::roscoe;
-use crate::driver::{RunStats, run};
+use crate::driver::{self, Observers, RunStats, run};
 use crate::flow::analytic::LinearFlow;
 use crate::integrator::{ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator};
 use crate::material::{NeoHooke, Response, Rigid};
@@ -212,14 +212,11 @@ fn trajectory(case: Problem, setting: Setting) -> Result<(Vec<State>, RunStats, 
         // the study is below the explicit limit (ρ*/62 for the r = 5 prolate).
         Setting::ImexPaper(dt) => {
             run(
-                &ImexPaper::unguarded(),
-                &p,
+                driver::Problem::new(&ImexPaper::unguarded(), &p, &shear()),
                 s0,
-                &shear(),
                 dt,
                 &times,
-                observe,
-                |_, _| {},
+                Observers::none().with_observe(observe),
             )?
             .1
         }
@@ -287,7 +284,14 @@ fn drive<I: TimeIntegrator, M: Response>(
     times: &[f64],
     observe: impl FnMut(&State),
 ) -> Result<RunStats, StudyError> {
-    Ok(run(integ, p, s0, &shear(), 1e-3, times, observe, |_, _| {})?.1)
+    Ok(run(
+        driver::Problem::new(integ, p, &shear()),
+        s0,
+        1e-3,
+        times,
+        Observers::none().with_observe(observe),
+    )?
+    .1)
 }
 
 /// In-plane angle of the long material line, measured from the gradient axis towards the flow.

@@ -4,7 +4,7 @@ use approx::assert_relative_eq;
 #[cfg(all(feature = "mesh", feature = "parallel"))] // the cavity's walls
 use pseudorigid::contact::{Approach, PatchRule, Planes};
 use pseudorigid::contact::{Boundary, Extent, PipeWall};
-use pseudorigid::driver::{Event, Plan, Stop, integrate};
+use pseudorigid::driver::{Event, Observers, Plan, Problem, Stop, integrate};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::ellipsoid::frame::support_distance;
 use pseudorigid::integrator::ImexPaper;
@@ -116,15 +116,12 @@ fn time_event_is_located_within_one_large_step() {
     let p = sphere(0.5);
     let mut memory = Default::default();
     let out = integrate(
-        &ImexPaper::default(),
-        &p,
-        &Quiescent,
+        Problem::new(&ImexPaper::default(), &p, &Quiescent),
         State::at_rest(Vec3::zeros()),
         &mut memory,
         &Plan::new(10.0, 0.01).unwrap(),
         &[&At(0.123456789)],
-        |_| {},
-        |_| {},
+        Observers::none(),
     )
     .unwrap();
     assert_eq!(out.stop, Stop::Event { index: 0 });

@@ -1,6 +1,6 @@
 //! The driver and integrator settings on the reliability audit's reproducers (defects 6, 7, 9):
 //! bad times and settings are typed errors, never a silent NaN, a rewound clock or a hang.
-use pseudorigid::driver::{Budget, Plan, RunStats, advance, run};
+use pseudorigid::driver::{Budget, Observers, Plan, Problem, RunStats, advance, run};
 use pseudorigid::integrator::newton::NewtonOptions;
 use pseudorigid::integrator::{ImexAdaptive, Stokesian, Tolerances};
 use pseudorigid::prelude::*;
@@ -23,19 +23,16 @@ fn bad_times_are_typed_errors() {
     let p = particle();
     let s0 = State::at_rest(Vec3::zeros());
     let r = run(
-        &ImexPaper::default(),
-        &p,
+        Problem::new(&ImexPaper::default(), &p, &shear()),
         s0,
-        &shear(),
         1e-3,
         &[f64::NAN],
-        |_| {},
-        |_, _| {},
+        Observers::none(),
     );
     assert!(matches!(r, Err(StepError::Param(_))), "{r:?}");
     let mut late = s0;
     late.t = 5.0;
-    let r = advance(&ImexPaper::default(), &p, late, &shear(), 1e-3, 1.0);
+    let r = advance(Problem::new(&ImexPaper::default(), &p, &shear()), late, 1e-3, 1.0);
     assert!(matches!(r, Err(StepError::Param(_))), "{r:?}");
     for t_end in [f64::NAN, f64::INFINITY] {
         assert!(Plan::new(t_end, 1e-3).is_err());
@@ -50,7 +47,7 @@ fn steps_that_do_not_advance_time_are_refused() {
     for (t0, dt) in [(1.0, 1e-17), (1e5, 1e-12)] {
         let mut s = State::at_rest(Vec3::zeros());
         s.t = t0;
-        let r = advance(&ImexPaper::default(), &p, s, &shear(), dt, t0 + 1.0);
+        let r = advance(Problem::new(&ImexPaper::default(), &p, &shear()), s, dt, t0 + 1.0);
         assert!(matches!(r, Err(StepError::NoProgress { .. })), "{r:?}");
     }
 }
@@ -65,15 +62,12 @@ fn budget_is_enforced() {
     });
     let mut memory = Default::default();
     let r = pseudorigid::driver::integrate(
-        &ImexPaper::default(),
-        &p,
-        &shear(),
+        Problem::new(&ImexPaper::default(), &p, &shear()),
         State::at_rest(Vec3::zeros()),
         &mut memory,
         &plan,
         &[],
-        |_| {},
-        |_| {},
+        Observers::none(),
     );
     let failure = r.unwrap_err();
     assert!(
@@ -112,18 +106,15 @@ fn a_failed_run_reports_its_statistics_and_last_state() {
     let mut seen = RunStats::default();
     let mut last = None;
     let failure = pseudorigid::driver::integrate(
-        &ImexPaper::default(),
-        &p,
-        &FailsAfter { t_fail: 0.0105 },
+        Problem::new(&ImexPaper::default(), &p, &FailsAfter { t_fail: 0.0105 }),
         State::at_rest(Vec3::zeros()),
         &mut memory,
         &Plan::new(1.0, 1e-3).unwrap(),
         &[],
-        |_| {},
-        |step| {
+        Observers::none().with_on_step(|step| {
             seen.record(step.info());
             last = Some(*step.state());
-        },
+        }),
     )
     .unwrap_err();
     assert!(matches!(failure.error, StepError::Flow(_)), "{failure:?}");
@@ -160,7 +151,7 @@ fn integrator_settings_validate_themselves() {
 #[test]
 fn a_step_past_an_exit_is_retried_and_the_particle_escapes() {
     use pseudorigid::contact::{ContactEvent, ContactModel, PatchRule, Plane, Planes};
-    use pseudorigid::driver::{Stop, until_event};
+    use pseudorigid::driver::{Problem, Stop, until_event};
     use pseudorigid::material::Rigid;
     struct Channel;
     impl FlowField for Channel {
@@ -188,7 +179,7 @@ fn a_step_past_an_exit_is_retried_and_the_particle_escapes() {
     let contact = ContactEvent::new(&exit, &p, &Channel, ContactModel::Barycentre { radius: 0.0 });
     let plan = Plan::new(10.0, 0.5).unwrap().with_dt_max(0.5).unwrap();
     let start = State::at_rest(Vec3::new(0.1, 0.0, 0.0));
-    let out = until_event(&integrator, &p, &Channel, start, &plan, &[&contact]).unwrap();
+    let out = until_event(Problem::new(&integrator, &p, &Channel), start, &plan, &[&contact]).unwrap();
     assert_eq!(out.stop, Stop::Event { index: 0 });
     assert!((out.state.t - 0.9).abs() < 1e-6, "escaped at {}", out.state.t);
 }

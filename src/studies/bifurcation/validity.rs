@@ -11,7 +11,7 @@ use super::setup::Airway;
 use super::study::{integrator, plan};
 use crate::contact::{ContactEvent, ContactModel};
 use crate::diagnostics::{Monitor, Thresholds, Validity};
-use crate::driver::integrate;
+use crate::driver::{Observers, Problem, integrate};
 use crate::output::Csv;
 use crate::population::{Injector, particle_rng};
 
@@ -34,15 +34,12 @@ pub fn sample(airway: &Airway, kind: Kind, seed: u64, count: u64) -> Result<Vec<
         let mut memory = Default::default();
         // A failed run keeps what was observed up to the failure.
         let _ = integrate(
-            &integ,
-            &particle,
-            airway.flow(),
+            Problem::new(&integ, &particle, airway.flow()),
             start,
             &mut memory,
             &plan,
             &[&contact],
-            |_| {},
-            |step| monitor.observe_step(step),
+            Observers::none().with_on_step(|step| monitor.observe_step(step)),
         );
         out.push(monitor.validity());
     }

@@ -39,8 +39,8 @@ pub struct Member {
     pub variant: Variant,
     /// Index into [`orientations`] (0: nominal).
     pub orientation: usize,
-    /// The run, or why it failed.
-    pub run: Result<CavityRun, String>,
+    /// The run, or why there is none.
+    pub run: Result<CavityRun, MemberError>,
 }
 
 /// Events (exit or deposition) after this time (s) are flagged as sensitive to the paper's
@@ -157,7 +157,7 @@ pub fn member_table(members: &[Member]) -> Result<crate::output::Csv, crate::out
                 cells.extend(outcome_cells(run, &limits));
             }
             Err(e) => {
-                cells.push(e.replace([',', '"', '\n'], " "));
+                cells.push(e.to_string().replace([',', '"', '\n'], " "));
                 cells.extend(inner.iter().map(|_| String::new()));
             }
         }
@@ -182,111 +182,92 @@ fn event_time(outcome: &CavityFate) -> Option<f64> {
     }
 }
 
-/// Run every release in every variant and in `count` orientations ([`orientations`]) for
-/// `t_max` seconds at tolerance `tol` with barycentre contact. Each variant's releases are
-/// one population of the runner per shape model ([`crate::population`]; particle k is the
-/// k-th (release, orientation) pair of that model, in the order given, and its fate is read as
-/// an [`CavityFate`]), so they run in parallel and a failed particle is kept as its outcome. A
-/// member whose release could not be built is kept as its error message, so one failure does
-/// not hide the rest of the ensemble.
-#[allow(clippy::too_many_arguments)]
-pub fn ensemble(
-    flow: &BlendedFlow,
-    shape_model: ShapeModel,
-    forces: &ForceTerms,
-    releases: &[Release],
-    variants: &[Variant],
-    count: usize,
-    t_max: f64,
-    tol: f64,
-) -> Result<Vec<Member>, StudyError> {
-    ensemble_in(flow, shape_model, forces, releases, variants, count, (t_max, tol), None)
+/// An ensemble over the set-up's uncertainties (paper §6.3): every release in every field
+/// variant and in `orientations` initial orientations ([`orientations`]), tracked for `t_max`
+/// seconds at tolerance `tol` with barycentre contact, the path kept at the end only.
+///
+/// [`Ensemble::run`] runs it in a [`Cavity`] (its particle model, shape model, scheme and force
+/// terms; its own variant is replaced by each of `variants`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ensemble {
+    /// The releases (shape, softness).
+    pub releases: Vec<Release>,
+    /// The field variants, each one run of every release.
+    pub variants: Vec<Variant>,
+    /// Initial orientations per release (1: the nominal release only).
+    pub orientations: usize,
+    /// Tracking horizon t_max (s).
+    pub t_max: f64,
+    /// Tolerance of the integrator.
+    pub tol: f64,
+    /// Where to checkpoint: each population (variant `i`, shape model `m`) runs in
+    /// `checkpoints/variant-<i>-<m>` ([`crate::population::run_in_dir`]) and resumes from what
+    /// is there, so a killed ensemble continues where it stopped and gives the same members.
+    /// `None`: in memory.
+    pub checkpoints: Option<std::path::PathBuf>,
 }
 
-/// [`ensemble`] with checkpoints: each population (variant `i`, shape model `m`) is run in
-/// `dir/variant-<i>-<m>` ([`crate::population::run_in_dir`]) and resumed from what is there, so
-/// a killed ensemble continues where it stopped and gives the same members.
-#[allow(clippy::too_many_arguments)]
-pub fn ensemble_checkpointed(
-    flow: &BlendedFlow,
-    shape_model: ShapeModel,
-    forces: &ForceTerms,
-    releases: &[Release],
-    variants: &[Variant],
-    count: usize,
-    t_max: f64,
-    tol: f64,
-    dir: &std::path::Path,
-) -> Result<Vec<Member>, StudyError> {
-    ensemble_in(
-        flow,
-        shape_model,
-        forces,
-        releases,
-        variants,
-        count,
-        (t_max, tol),
-        Some(dir),
-    )
-}
-
-#[allow(clippy::too_many_arguments)]
-fn ensemble_in(
-    flow: &BlendedFlow,
-    shape_model: ShapeModel,
-    forces: &ForceTerms,
-    releases: &[Release],
-    variants: &[Variant],
-    count: usize,
-    (t_max, tol): (f64, f64),
-    dir: Option<&std::path::Path>,
-) -> Result<Vec<Member>, StudyError> {
-    let options = crate::population::RunOptions::default().quiet();
-    let mut members = Vec::new();
-    for (i, variant) in variants.iter().enumerate() {
-        let cavity = Cavity::new(flow)?
-            .with_shape_model(shape_model)
-            .with_forces(forces.clone())
-            .with_variant(*variant)?;
-        // (release, orientation index, turn) in the ensemble's order.
-        let jobs: Vec<(Release, usize, Mat3)> = releases
-            .iter()
-            .flat_map(|r| {
-                orientations(r.shape, count)
-                    .into_iter()
-                    .enumerate()
-                    .map(move |(k, turn)| (*r, k, turn))
-            })
-            .collect();
-        let mut runs: Vec<Option<Result<CavityRun, String>>> = vec![None; jobs.len()];
-        for model in [ShapeModel::Inertialess, ShapeModel::Inertial] {
-            let mine: Vec<usize> = (0..jobs.len())
-                .filter(|&j| cavity.model_of(&jobs[j].0) == model)
+impl Ensemble {
+    /// Run the ensemble in `cavity`. Each variant's releases are one population of the runner
+    /// per shape model ([`crate::population`]; particle k is the k-th (release, orientation)
+    /// pair of that model, in the order given, and its fate is read as a [`CavityFate`]), so
+    /// they run in parallel and a failed particle is kept as its outcome. A member whose
+    /// release could not be built is kept as its [`MemberError`], so one failure does not hide
+    /// the rest of the ensemble.
+    ///
+    /// # Errors
+    /// A variant the field cannot take, a failed population run or its checkpoints.
+    pub fn run<L, D>(&self, cavity: &Cavity<'_, L, D>) -> Result<Vec<Member>, StudyError>
+    where
+        L: LawFactory + Clone,
+        L::Law: Releasable,
+        D: DragModel + Clone,
+    {
+        let options = crate::population::RunOptions::default().quiet();
+        let tracking = Tracking {
+            contact: Contact::Barycentre,
+            t_max: self.t_max,
+            tol: self.tol,
+            dt_out: self.t_max,
+        };
+        let mut members = Vec::new();
+        for (i, variant) in self.variants.iter().enumerate() {
+            let cavity = cavity.clone().with_variant(*variant)?;
+            // (release, orientation index, turn) in the ensemble's order.
+            let jobs: Vec<(Release, usize, Mat3)> = self
+                .releases
+                .iter()
+                .flat_map(|r| {
+                    orientations(r.shape, self.orientations)
+                        .into_iter()
+                        .enumerate()
+                        .map(move |(k, turn)| (*r, k, turn))
+                })
                 .collect();
-            if mine.is_empty() {
-                continue;
+            let mut runs: Vec<Option<Result<CavityRun, MemberError>>> = vec![None; jobs.len()];
+            for model in [ShapeModel::Inertialess, ShapeModel::Inertial] {
+                let mine: Vec<usize> = (0..jobs.len())
+                    .filter(|&j| cavity.model_of(&jobs[j].0) == model)
+                    .collect();
+                if mine.is_empty() {
+                    continue;
+                }
+                let pairs: Vec<(Release, Mat3)> = mine.iter().map(|&j| (jobs[j].0, jobs[j].2)).collect();
+                let folder = self
+                    .checkpoints
+                    .as_ref()
+                    .map(|d| d.join(format!("variant-{i}-{}", model.label())));
+                let out = cavity.run_with(model, &pairs, &tracking, &options, folder.as_deref())?;
+                for (j, run) in mine.into_iter().zip(out) {
+                    runs[j] = Some(run);
+                }
             }
-            let pairs: Vec<(Release, Mat3)> = mine.iter().map(|&j| (jobs[j].0, jobs[j].2)).collect();
-            let folder = dir.map(|d| d.join(format!("variant-{i}-{}", model.label())));
-            let out = cavity.run_with(
-                model,
-                &pairs,
-                Contact::Barycentre,
-                t_max,
-                tol,
-                t_max,
-                &options,
-                folder.as_deref(),
-            )?;
-            for (j, run) in mine.into_iter().zip(out) {
-                runs[j] = Some(run);
-            }
+            members.extend(jobs.iter().zip(runs).map(|((_, k, _), run)| Member {
+                variant: *variant,
+                orientation: *k,
+                run: run.expect("every member belongs to one shape model"),
+            }));
         }
-        members.extend(jobs.iter().zip(runs).map(|((_, k, _), run)| Member {
-            variant: *variant,
-            orientation: *k,
-            run: run.expect("every member belongs to one shape model"),
-        }));
+        Ok(members)
     }
-    Ok(members)
 }

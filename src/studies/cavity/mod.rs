@@ -36,7 +36,7 @@
 //! Set-up uncertainties ([`Variant`]): the lid direction is given only in a figure, the field
 //! carries the grid error of its solver (≈ 4 %), and outcomes depend on the initial
 //! orientation; [`Variant`] mirrors the lid motion and scales the field, and
-//! [`Cavity::track_oriented`] turns the release.
+//! [`Cavity::track`] turns the release.
 //!
 //! Wall rules (paper §6.3): a particle touching the lid leaves the cavity; one touching any
 //! other wall sticks. In the top corners a particle can be equally near the lid and a side wall;
@@ -50,11 +50,12 @@
 //! # Layout
 //! This module holds the set-up's numbers, walls ([`walls`]) and releases; `setup` the choices
 //! a run is made of ([`Contact`], [`Release`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]);
-//! `tracking` particles through the cavity ([`Cavity`], [`CavityRun`], [`CavityFate`], [`Slip`]):
-//! releases are a population of [`crate::population`] (an injector, the cavity's observer of
-//! path, validity and slip), and the outcome is read from the record's fate; `datasets` the
+//! `tracking` particles through the cavity ([`Cavity`], [`Tracking`], [`CavityRun`],
+//! [`CavityFate`], [`MemberError`], [`Slip`]): releases are a population of
+//! [`crate::population`] (an injector, the cavity's observer of path, validity and slip), and
+//! the outcome is read from the record's fate; `datasets` the
 //! tables and panels of single runs; `ensemble` the outcome fractions over orientations and
-//! field variants ([`ensemble`], [`ensemble_checkpointed`], [`Member`]).
+//! field variants ([`Ensemble`], [`Member`]).
 
 use super::StudyError;
 use crate::contact::{Boundary, ContactModel, PatchRule, Plane, Planes};

@@ -94,6 +94,7 @@ impl Default for Variant {
 
 /// The shipped field seen through a [`Variant`]: with J = diag(−1, 1, 1) and the mirror
 /// x ↦ Jx + L e_x, u′(x) = s J u(Jx + L e_x) and ∇u′(x) = s J ∇u(Jx + L e_x) J.
+#[derive(Clone, Copy)]
 pub(super) struct VariantFlow<'a> {
     pub(super) mesh: &'a BlendedFlow,
     pub(super) variant: Variant,

@@ -99,8 +99,46 @@ pub struct QuasiSteady {
     pub acceleration_gap: f64,
 }
 
+/// How one particle is tracked through the cavity (paper §6.3): what must touch a wall, for how
+/// long, at which tolerance, and how densely its path is kept.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tracking {
+    /// What touches a wall: the particle's extent or its barycentre.
+    pub contact: Contact,
+    /// Tracking horizon t_max (s; the paper's 100 s).
+    pub t_max: f64,
+    /// Tolerance of the integrator ([`ShapeModel`] says which).
+    pub tol: f64,
+    /// Spacing of the kept path (s): the start, the first accepted step at or after each
+    /// multiple of it, and the event or the end.
+    pub dt_out: f64,
+}
+
+/// Why a release has no [`CavityRun`]: what the population's record says of it. A particle
+/// that started and then failed has a run, whose outcome is [`CavityFate::Failed`].
+///
+/// The population keeps an error as displayed (its records are checkpointed as text), so the
+/// variant says what happened and the message is the record's.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MemberError {
+    /// Its particle never started: drawing, building or planning the release failed.
+    #[error("{error}")]
+    NotStarted {
+        /// The error, as displayed.
+        error: String,
+    },
+    /// Its record's log (path, validity, slip) could not be read back: a checkpoint written by
+    /// another version of the cavity's observer.
+    #[error("{error}")]
+    Log {
+        /// The error, as displayed.
+        error: String,
+    },
+}
+
 /// The cavity experiment: flow field, walls, fluid and the particle model (law family and drag;
 /// the paper's Neo-Hooke and Brenner by default).
+#[derive(Clone)]
 pub struct Cavity<'a, L = NeoHookeFactory, D = Brenner> {
     flow: VariantFlow<'a>,
     boundary: Planes,
@@ -257,33 +295,15 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             .with_forces(self.forces.clone())?)
     }
 
-    /// Track `release` for `t_max` seconds with tolerance `tol`, sampling every `dt_out`;
-    /// `contact` decides what must touch a wall.
-    pub fn track(
-        &self,
-        release: Release,
-        contact_model: Contact,
-        t_max: f64,
-        tol: f64,
-        dt_out: f64,
-    ) -> Result<CavityRun, StudyError>
-    where
-        L::Law: Releasable,
-    {
-        self.track_oriented(release, contact_model, &Mat3::identity(), t_max, tol, dt_out)
-    }
-
-    /// [`Self::track`] with the release turned by the rotation `turn` (its axes become
-    /// turn·(e_x, e_y, e_z)); F = turn, so the stress-free shape is turned as a rigid body.
-    pub fn track_oriented(
-        &self,
-        release: Release,
-        contact_model: Contact,
-        turn: &Mat3,
-        t_max: f64,
-        tol: f64,
-        dt_out: f64,
-    ) -> Result<CavityRun, StudyError>
+    /// Track `release` turned by the rotation `turn` as `tracking` says. The release's axes
+    /// become turn·(e_x, e_y, e_z) and F = turn, so the stress-free shape is turned as a rigid
+    /// body; `&Mat3::identity()` is the nominal release.
+    ///
+    /// # Errors
+    /// A release that cannot be built, a turn that is not a rotation and a failed population
+    /// run are errors of the call; a particle that fails on its way is a run with the outcome
+    /// [`CavityFate::Failed`].
+    pub fn track(&self, release: Release, turn: &Mat3, tracking: &Tracking) -> Result<CavityRun, StudyError>
     where
         L::Law: Releasable,
     {
@@ -293,11 +313,11 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         let model = self.model_of(&release);
         let jobs = [(release, *turn)];
         let options = RunOptions::default().serial().quiet();
-        let run = self.run_with(model, &jobs, contact_model, t_max, tol, dt_out, &options, None)?;
+        let run = self.run_with(model, &jobs, tracking, &options, None)?;
         run.into_iter()
             .next()
             .expect("one release gives one run")
-            .map_err(StudyError::Population)
+            .map_err(|e| StudyError::Population(e.to_string()))
     }
 
     /// The shape model `release` is tracked with: the rigid limit has no shape dynamics and
@@ -310,20 +330,16 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     }
 
     /// `jobs` (all tracked with `model`) through [`Self::run_population`] with the model's
-    /// integrator at tolerance `tol`, checkpointed in `dir` if given (and resumed from it). A
-    /// turn that is not a rotation is an error of the call.
-    #[allow(clippy::too_many_arguments)] // the releases, their integrator and the run's limits
+    /// integrator at the tolerance of `tracking`, checkpointed in `dir` if given (and resumed
+    /// from it). A turn that is not a rotation is an error of the call.
     pub(super) fn run_with(
         &self,
         model: ShapeModel,
         jobs: &[(Release, Mat3)],
-        contact: Contact,
-        t_max: f64,
-        tol: f64,
-        dt_out: f64,
+        tracking: &Tracking,
         options: &RunOptions,
         dir: Option<&std::path::Path>,
-    ) -> Result<Vec<Result<CavityRun, String>>, StudyError>
+    ) -> Result<Vec<Result<CavityRun, MemberError>>, StudyError>
     where
         L::Law: Releasable,
     {
@@ -339,37 +355,37 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         }
         match model {
             ShapeModel::Inertial => {
-                let integ = ImexAdaptive::new(tol)?;
-                self.run_population(&integ, model, jobs, contact, t_max, dt_out, options, dir)
+                let integ = ImexAdaptive::new(tracking.tol)?;
+                self.run_population(&integ, model, jobs, tracking, options, dir)
             }
             ShapeModel::Inertialess => {
                 // Rigid releases are rigid particles (see `particle`); the integrator is the same.
-                let mut integ = Stokesian::new(tol)?.with_scheme(self.scheme);
+                let mut integ = Stokesian::new(tracking.tol)?.with_scheme(self.scheme);
                 integ.barycentre = BarycentreModel::Inertial;
-                self.run_population(&integ, model, jobs, contact, t_max, dt_out, options, dir)
+                self.run_population(&integ, model, jobs, tracking, options, dir)
             }
         }
     }
 
     /// The cavity's releases `jobs` (release, initial rotation) as one population of the
-    /// runner ([`crate::population`]): particle k is `jobs[k]`, tracked by `integ` for `t_max`
-    /// seconds with `contact`, its path sampled about every `dt_out`, and its fate read as an
-    /// [`CavityFate`]. A release that could not be drawn or built is its error's text.
-    #[allow(clippy::too_many_arguments)] // the releases, their integrator and the run's limits
+    /// runner ([`crate::population`]): particle k is `jobs[k]`, tracked by `integ` as
+    /// `tracking` says (its horizon, contact and path spacing), and its fate read as an
+    /// [`CavityFate`]. A release that could not be drawn or built is a [`MemberError`].
     fn run_population<I: TimeIntegrator + std::fmt::Debug>(
         &self,
         integ: &I,
         shape_model: ShapeModel,
         jobs: &[(Release, Mat3)],
-        contact: Contact,
-        t_max: f64,
-        dt_out: f64,
+        tracking: &Tracking,
         options: &RunOptions,
         dir: Option<&std::path::Path>,
-    ) -> Result<Vec<Result<CavityRun, String>>, StudyError>
+    ) -> Result<Vec<Result<CavityRun, MemberError>>, StudyError>
     where
         L::Law: Releasable,
     {
+        let Tracking {
+            contact, t_max, dt_out, ..
+        } = *tracking;
         let injection = Injection { cavity: self, jobs };
         let observer = Observe { dt_out };
         // Each particle's plan is its own ([`Injection::plan`]); this one gives the time limit.
@@ -401,7 +417,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         jobs: &[(Release, Mat3)],
         contact: Contact,
         shape_model: ShapeModel,
-    ) -> Result<CavityRun, String>
+    ) -> Result<CavityRun, MemberError>
     where
         L::Law: Releasable,
     {
@@ -409,9 +425,10 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         if let Fate::Failed { error } = &record.fate
             && record.observed.is_null()
         {
-            return Err(error.clone());
+            return Err(MemberError::NotStarted { error: error.clone() });
         }
-        let log: Log = serde_json::from_value(record.observed).map_err(|e| e.to_string())?;
+        let log: Log =
+            serde_json::from_value(record.observed).map_err(|e| MemberError::Log { error: e.to_string() })?;
         let end_t = record.end.map_or(0.0, |s| s.t);
         let outcome = match record.fate {
             Fate::Escaped { time, .. } => CavityFate::Exited { t: time },

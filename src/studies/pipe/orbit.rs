@@ -9,7 +9,7 @@
 
 use super::setup::PipeSetup;
 use super::tracking::PipeSample;
-use crate::driver::{Plan, integrate};
+use crate::driver::{Observers, Plan, Problem, integrate};
 use crate::error::positive;
 use crate::flow::analytic::LinearFlow;
 use crate::hydro::DragModel;
@@ -86,15 +86,12 @@ pub fn shear_averaged_mobility<I: TimeIntegrator>(
     let mut count = 0usize;
     let mut failure = None;
     integrate(
-        integrator,
-        p,
-        &flow,
+        Problem::new(integrator, p, &flow),
         start,
         &mut memory,
         &plan,
         &[],
-        |_| {},
-        |step| {
+        Observers::none().with_on_step(|step| {
             let s = step.state();
             let m = match mobility(s) {
                 Ok(m) => m,
@@ -119,7 +116,7 @@ pub fn shear_averaged_mobility<I: TimeIntegrator>(
                 integral += 0.5 * (s.t - t0) * (m0 + m);
             }
             last = (s.t, m, c);
-        },
+        }),
     )?;
     if let Some(e) = failure {
         return Err(e);

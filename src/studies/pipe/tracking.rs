@@ -10,7 +10,7 @@
 use super::setup::PipeSetup;
 use crate::contact::{ContactEvent, ContactModel, PipeWall};
 use crate::diagnostics::{Monitor, Validity};
-use crate::driver::{Event, Plan, Stop, integrate, run};
+use crate::driver::{Event, Observers, Plan, Problem, Stop, integrate, run};
 use crate::ellipsoid::PrincipalFrame;
 use crate::hydro::DragModel;
 use crate::integrator::TimeIntegrator;
@@ -68,14 +68,11 @@ pub fn sample_orientation<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
     let start = setup.initial_state().map_err(crate::error::StepError::from)?;
     let mut out = vec![setup.observe(&start)];
     run(
-        integrator,
-        &setup.particle,
+        Problem::new(integrator, &setup.particle, &setup.flow),
         start,
-        &setup.flow,
         dt0,
         times,
-        |s| out.push(setup.observe(s)),
-        |_, _| {},
+        Observers::none().with_observe(|s| out.push(setup.observe(s))),
     )?;
     Ok(out)
 }
@@ -182,15 +179,12 @@ pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
     let mut memory = I::Memory::default();
     let plan = Plan::new(t_max, dt0)?;
     let end = integrate(
-        integrator,
-        &setup.particle,
-        &setup.flow,
+        Problem::new(integrator, &setup.particle, &setup.flow),
         state,
         &mut memory,
         &plan,
         &[&contact],
-        |_| {},
-        |step| {
+        Observers::none().with_on_step(|step| {
             let state = step.state();
             shape.add(step.frame(), state.t);
             monitor.observe_step(step);
@@ -198,7 +192,7 @@ pub fn track_to_deposition<I: TimeIntegrator, M: Hyperelastic, D: DragModel>(
                 samples.push(setup.observe(state));
                 next_record = state.t + record_dt;
             }
-        },
+        }),
     )?;
     match end.stop {
         Stop::Event { .. } => {

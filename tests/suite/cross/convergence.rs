@@ -145,7 +145,7 @@ fn imex_paper_is_first_order() {
 /// F(1e-4) differ by 5.6 at t = 1. That is an integrator matter; the reference avoids it.)
 #[test]
 fn imex_adaptive_error_follows_tolerance() {
-    use pseudorigid::driver::advance;
+    use pseudorigid::driver::{Problem, advance};
     use pseudorigid::integrator::ImexAdaptive;
     let p = ShearScaling::new(0.3, 1.0, 1e3)
         .unwrap()
@@ -160,10 +160,8 @@ fn imex_adaptive_error_follows_tolerance() {
         .iter()
         .map(|&tol| {
             let (s, _) = advance(
-                &ImexAdaptive::new(tol).unwrap(),
-                &p,
+                Problem::new(&ImexAdaptive::new(tol).unwrap(), &p, &flow),
                 State::at_rest(Vec3::zeros()),
-                &flow,
                 1e-3,
                 1.0,
             )

@@ -14,7 +14,7 @@
 //! To add a class (a driver or integrator family, say), write one `fn(u64) -> Outcome` and add
 //! a line to [`CLASSES`].
 
-use pseudorigid::driver::{Budget, Plan, integrate};
+use pseudorigid::driver::{Budget, Observers, Plan, Problem, integrate};
 use pseudorigid::ellipsoid::integrals::{carlson_rd, carlson_rf};
 use pseudorigid::flow::openfoam::{FoamCase, FoamFlow, Layout, cavity_block, read_vol_field};
 use pseudorigid::integrator::imex::StabilityGuard;
@@ -582,9 +582,16 @@ fn run_plan<I: TimeIntegrator>(
     plan: &Plan,
 ) -> Result<State, StepError> {
     let mut memory = I::Memory::default();
-    integrate(integ, p, flow, start, &mut memory, plan, &[], |_| {}, |_| {})
-        .map(|o| o.state)
-        .map_err(|failure| failure.error)
+    integrate(
+        Problem::new(integ, p, flow),
+        start,
+        &mut memory,
+        plan,
+        &[],
+        Observers::none(),
+    )
+    .map(|o| o.state)
+    .map_err(|failure| failure.error)
 }
 
 /// Single steps of every integrator from fuzzed states and step sizes: `Ok` must be a finite,

@@ -1,7 +1,7 @@
 //! Numerical stability on hard cases: every run either stays finite and physical or stops
 //! with a typed error — never NaN, never a panic. Where a run is expected to succeed, success
 //! is asserted too.
-use pseudorigid::driver::advance;
+use pseudorigid::driver::{Problem, advance};
 use pseudorigid::integrator::{ImexAdaptive, Stokesian};
 use pseudorigid::material::{Response, Rigid};
 use pseudorigid::prelude::*;
@@ -56,18 +56,26 @@ fn extreme_aspect_ratios() {
     for ratios in [[20.0, 1.0, 1.0], [20.0, 20.0, 1.0], [1.0, 1.0, 20.0]] {
         let p = particle(ratios, 0.1, 1.0, 1e3);
         let integ = Stokesian::overdamped(1e-6).unwrap();
-        let (s, _) = advance(&integ, &p, State::at_rest(Vec3::zeros()), &shear(), 1e-3, 5.0)
-            .unwrap_or_else(|e| panic!("{ratios:?} elastic: {e}"));
+        let (s, _) = advance(
+            Problem::new(&integ, &p, &shear()),
+            State::at_rest(Vec3::zeros()),
+            1e-3,
+            5.0,
+        )
+        .unwrap_or_else(|e| panic!("{ratios:?} elastic: {e}"));
         assert_sane(&p, &s, "aspect 20");
         let rigid = rigid_particle(ratios);
-        let (s, _) = advance(&integ, &rigid, State::at_rest(Vec3::zeros()), &shear(), 1e-3, 5.0)
-            .unwrap_or_else(|e| panic!("{ratios:?} rigid: {e}"));
+        let (s, _) = advance(
+            Problem::new(&integ, &rigid, &shear()),
+            State::at_rest(Vec3::zeros()),
+            1e-3,
+            5.0,
+        )
+        .unwrap_or_else(|e| panic!("{ratios:?} rigid: {e}"));
         assert_sane(&p, &s, "aspect 20 rigid");
         let (s, _) = advance(
-            &ImexAdaptive::new(1e-4).unwrap(),
-            &p,
+            Problem::new(&ImexAdaptive::new(1e-4).unwrap(), &p, &shear()),
             State::at_rest(Vec3::zeros()),
-            &shear(),
             1e-3,
             1.0,
         )
@@ -86,20 +94,16 @@ fn capillary_numbers_from_1e_minus_6_to_3() {
     for ca in [1e-6, 1e-3, 0.1, 1.0, 3.0] {
         let p = particle([2.0, 1.0, 1.0], ca, 1.0, 1e3);
         let (s, _) = advance(
-            &Stokesian::overdamped(1e-6).unwrap(),
-            &p,
+            Problem::new(&Stokesian::overdamped(1e-6).unwrap(), &p, &shear()),
             State::at_rest(Vec3::zeros()),
-            &shear(),
             1e-3,
             3.0,
         )
         .unwrap_or_else(|e| panic!("Ca {ca}: {e}"));
         assert_sane(&p, &s, "stokesian");
         let (s, _) = advance(
-            &ImexPaper::default(),
-            &p,
+            Problem::new(&ImexPaper::default(), &p, &shear()),
             State::at_rest(Vec3::zeros()),
-            &shear(),
             5e-3,
             0.5,
         )
@@ -119,10 +123,8 @@ fn bulk_ratios_from_10_to_1e6() {
     for bulk in [10.0, 1e2, 1e4, 1e6] {
         let p = particle([2.5, 2.5, 1.0], 0.4, 0.1, bulk);
         match advance(
-            &ImexPaper::default(),
-            &p,
+            Problem::new(&ImexPaper::default(), &p, &shear()),
             State::at_rest(Vec3::zeros()),
-            &shear(),
             5e-4,
             1.0,
         ) {
@@ -131,10 +133,8 @@ fn bulk_ratios_from_10_to_1e6() {
             Err(e) => panic!("imex_paper at λ_s/μ_s = {bulk} meets both stability conditions: {e}"),
         }
         let (s, _) = advance(
-            &Stokesian::overdamped(1e-6).unwrap(),
-            &p,
+            Problem::new(&Stokesian::overdamped(1e-6).unwrap(), &p, &shear()),
             State::at_rest(Vec3::zeros()),
-            &shear(),
             1e-3,
             3.0,
         )
@@ -156,10 +156,8 @@ fn densities_from_1e_minus_4_to_10() {
         let t_end = (2000.0 * rho_star / 37.0).min(1.0);
         let source = particle([2.5, 2.5, 1.0], 0.4, rho_star, 1e4).with_volumetric(VolumetricTraction::Source);
         let (s, _) = advance(
-            &ImexAdaptive::new(1e-4).unwrap(),
-            &source,
+            Problem::new(&ImexAdaptive::new(1e-4).unwrap(), &source, &shear()),
             State::at_rest(Vec3::zeros()),
-            &shear(),
             1e-3,
             t_end,
         )
@@ -167,10 +165,8 @@ fn densities_from_1e_minus_4_to_10() {
         assert_sane(&source, &s, "imex_adaptive (source)");
         let p = particle([2.5, 2.5, 1.0], 0.4, rho_star, 1e4);
         match advance(
-            &ImexAdaptive::new(1e-4).unwrap(),
-            &p,
+            Problem::new(&ImexAdaptive::new(1e-4).unwrap(), &p, &shear()),
             State::at_rest(Vec3::zeros()),
-            &shear(),
             1e-3,
             t_end,
         ) {
@@ -181,10 +177,8 @@ fn densities_from_1e_minus_4_to_10() {
             }
         }
         match advance(
-            &ImexPaper::default(),
-            &p,
+            Problem::new(&ImexPaper::default(), &p, &shear()),
             State::at_rest(Vec3::zeros()),
-            &shear(),
             1e-3,
             t_end,
         ) {
@@ -202,16 +196,34 @@ fn densities_from_1e_minus_4_to_10() {
 fn exact_sphere_at_start() {
     let p = particle([1.0, 1.0, 1.0], 0.2, 0.1, 1e3);
     let s0 = State::at_rest(Vec3::zeros());
-    let (s, _) = advance(&ImexPaper::default(), &p, s0, &shear(), 5e-4, 0.5).unwrap();
+    let (s, _) = advance(Problem::new(&ImexPaper::default(), &p, &shear()), s0, 5e-4, 0.5).unwrap();
     assert_sane(&p, &s, "imex_paper");
-    let (s, _) = advance(&ImexAdaptive::new(1e-5).unwrap(), &p, s0, &shear(), 1e-3, 0.5).unwrap();
+    let (s, _) = advance(
+        Problem::new(&ImexAdaptive::new(1e-5).unwrap(), &p, &shear()),
+        s0,
+        1e-3,
+        0.5,
+    )
+    .unwrap();
     assert_sane(&p, &s, "imex_adaptive");
-    let (s, _) = advance(&Stokesian::new(1e-8).unwrap(), &p, s0, &shear(), 1e-3, 0.5).unwrap();
+    let (s, _) = advance(
+        Problem::new(&Stokesian::new(1e-8).unwrap(), &p, &shear()),
+        s0,
+        1e-3,
+        0.5,
+    )
+    .unwrap();
     assert_sane(&p, &s, "stokesian");
     let rigid = rigid_particle([1.0, 1.0, 1.0]);
-    let (s, _) = advance(&Stokesian::new(1e-8).unwrap(), &rigid, s0, &shear(), 1e-3, 0.5).unwrap();
+    let (s, _) = advance(
+        Problem::new(&Stokesian::new(1e-8).unwrap(), &rigid, &shear()),
+        s0,
+        1e-3,
+        0.5,
+    )
+    .unwrap();
     assert_sane(&p, &s, "rigid");
     // The paper's scheme integrates the elastic eq. 18: a rigid particle is a typed refusal.
-    let r = advance(&ImexPaper::default(), &rigid, s0, &shear(), 5e-4, 0.5);
+    let r = advance(Problem::new(&ImexPaper::default(), &rigid, &shear()), s0, 5e-4, 0.5);
     assert!(matches!(r, Err(StepError::RigidParticle { .. })), "{r:?}");
 }

@@ -4,7 +4,7 @@ use crate::common;
 
 use common::strategies;
 use proptest::prelude::*;
-use pseudorigid::driver::{advance, run};
+use pseudorigid::driver::{Observers, Problem, advance, run};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::prelude::*;
 use pseudorigid::tensor::Mat3 as M3;
@@ -36,8 +36,8 @@ proptest! {
         let p = soft(shape, axes, 0.3, 0.1, 1e3);
         let p_rot = soft(shape, r * axes, 0.3, 0.1, 1e3);
         let x0 = Vec3::new(0.3, -0.1, 0.2);
-        let (a, _) = advance(&ImexPaper::default(), &p, State::at_rest(x0), &flow, 5e-4, 0.1).unwrap();
-        let (b, _) = advance(&ImexPaper::default(), &p_rot, State::at_rest(r * x0), &flow.rotated(&r), 5e-4, 0.1).unwrap();
+        let (a, _) = advance(Problem::new(&ImexPaper::default(), &p, &flow), State::at_rest(x0), 5e-4, 0.1).unwrap();
+        let (b, _) = advance(Problem::new(&ImexPaper::default(), &p_rot, &flow.rotated(&r)), State::at_rest(r * x0), 5e-4, 0.1).unwrap();
         prop_assert!((r * a.f * r.transpose() - b.f).abs().max() <= 1e-9);
         prop_assert!((r * a.x - b.x).abs().max() <= 1e-9);
     }
@@ -59,7 +59,8 @@ proptest! {
         s.f = f0;
         let mut energy = p.elastic_energy(&f0);
         let tol = 1e-8;
-        let (end, _) = run(&Stokesian::overdamped(tol).unwrap(), &p, s, &Quiescent, 1e-2, &[40.0], |_| {}, |st, _| {
+        let (end, _) = run(Problem::new(&Stokesian::overdamped(tol).unwrap(), &p, &Quiescent), s, 1e-2, &[40.0], Observers::none().with_on_step(|step| {
+            let st = step.state();
             let e = p.elastic_energy(&st.f);
             let (mu, lambda, ln_j) = (p.material().shear_modulus(), p.material().lame_lambda(), st.det_f().ln());
             let local = 2.0 * tol * (1.0 + st.f.amax()) * p.material().piola(&st.f).abs().sum() * p.volume0();
@@ -67,7 +68,7 @@ proptest! {
             let round_off = 64.0 * f64::EPSILON * terms * p.volume0();
             assert!(e <= energy + local + round_off, "energy rose from {energy} to {e} at t = {}", st.t);
             energy = e;
-        }).unwrap();
+        })).unwrap();
         let c = end.f.transpose() * end.f;
         prop_assert!((c - M3::identity()).abs().max() <= 1e-3, "FᵀF = {c}");
     }
@@ -83,11 +84,12 @@ proptest! {
         let mut s = State::at_rest(Vec3::zeros());
         s.f = f0;
         let mut total = p.elastic_energy(&f0);
-        run(&ImexPaper::default(), &p, s, &Quiescent, 5e-4, &[2.0], |_| {}, |st, _| {
+        run(Problem::new(&ImexPaper::default(), &p, &Quiescent), s, 5e-4, &[2.0], Observers::none().with_on_step(|step| {
+            let st = step.state();
             let e = p.elastic_energy(&st.f) + shape_kinetic_energy(&p, &st.a);
             assert!(e <= total + 1e-9 * total.max(1.0), "energy rose from {total} to {e} at t = {}", st.t);
             total = e;
-        }).unwrap();
+        })).unwrap();
     }
 }
 
@@ -138,14 +140,11 @@ fn volume_is_preserved_in_proportion_to_inverse_bulk_modulus() {
         let p = soft([2.5, 2.5, 1.0], axes, ca, 0.1, bulk);
         let mut max_dev = 0.0f64;
         run(
-            &ImexPaper::default(),
-            &p,
+            Problem::new(&ImexPaper::default(), &p, &flow),
             State::at_rest(Vec3::zeros()),
-            &flow,
             5e-4,
             &[6.0],
-            |_| {},
-            |s, _| max_dev = max_dev.max((s.det_f() - 1.0).abs()),
+            Observers::none().with_on_step(|step| max_dev = max_dev.max((step.state().det_f() - 1.0).abs())),
         )
         .unwrap();
         worst.push(max_dev);

@@ -3,7 +3,7 @@
 //! transient with added mass (Maxey & Riley), a neutrally buoyant sphere in solid-body rotation
 //! and in a stagnation flow, Cunningham and Schiller–Naumann terminal velocities, and
 //! Saffman's lift with McLaughlin's reduction.
-use pseudorigid::driver::advance;
+use pseudorigid::driver::{Problem, advance};
 use pseudorigid::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use pseudorigid::hydro::forces::{
     AddedMass, Cunningham, ForceContext, ForceTerm, ForceTerms, SaffmanMei, SchillerNaumann, UndisturbedFlow,
@@ -171,8 +171,8 @@ fn follow(p: &Particle<Rigid>, flow: &LinearFlow, x0: Vec3, t_end: f64) -> (Stat
     let integ = Stokesian::new(1e-10).unwrap();
     let mut s0 = State::at_rest(x0);
     s0.v = flow.sample(&x0, 0.0).unwrap().u;
-    let (half, _) = advance(&integ, p, s0, flow, 1e-6, 0.5 * t_end).unwrap();
-    let (end, _) = advance(&integ, p, half, flow, 1e-6, t_end).unwrap();
+    let (half, _) = advance(Problem::new(&integ, p, flow), s0, 1e-6, 0.5 * t_end).unwrap();
+    let (end, _) = advance(Problem::new(&integ, p, flow), half, 1e-6, t_end).unwrap();
     (half, end)
 }
 
@@ -250,10 +250,8 @@ fn overdamped_barycentre_refuses_the_fluid_inertia_terms() {
         ),
     ] {
         match advance(
-            &integ,
-            &sphere_in_water(1000.0, 1e-4, forces),
+            Problem::new(&integ, &sphere_in_water(1000.0, 1e-4, forces), &flow),
             start,
-            &flow,
             1e-6,
             t_end,
         ) {
@@ -273,10 +271,8 @@ fn overdamped_barycentre_refuses_the_fluid_inertia_terms() {
         }
     }
     let (end, _) = advance(
-        &integ,
-        &sphere_in_water(1000.0, 1e-4, vec![]),
+        Problem::new(&integ, &sphere_in_water(1000.0, 1e-4, vec![]), &flow),
         start,
-        &flow,
         1e-6,
         t_end,
     )
@@ -311,10 +307,8 @@ fn neutrally_buoyant_sphere_in_a_stagnation_flow() {
 fn terminal(p: &Particle<Rigid>, tau: f64) -> f64 {
     let integ = Stokesian::new(1e-12).unwrap();
     let (end, _) = advance(
-        &integ,
-        p,
+        Problem::new(&integ, p, &Quiescent),
         State::at_rest(Vec3::zeros()),
-        &Quiescent,
         1e-3 * tau,
         40.0 * tau,
     )
@@ -365,7 +359,13 @@ fn overdamped_settling_in_newtons_regime_reaches_the_closed_form() {
         .with_gravity(Vec3::new(0.0, 0.0, -g))
         .unwrap();
     let integ = Stokesian::overdamped(1e-12).unwrap();
-    let (end, _) = advance(&integ, &p, State::at_rest(Vec3::zeros()), &Quiescent, 1e-4, 1e-3).unwrap();
+    let (end, _) = advance(
+        Problem::new(&integ, &p, &Quiescent),
+        State::at_rest(Vec3::zeros()),
+        1e-4,
+        1e-3,
+    )
+    .unwrap();
     assert!((-end.v[2] / exact - 1.0).abs() < 1e-10, "{} vs {exact}", -end.v[2]);
 }
 
@@ -400,10 +400,8 @@ fn schiller_naumann_terminal_velocity() {
         .unwrap();
     let integ = Stokesian::overdamped(1e-12).unwrap();
     let (end, _) = advance(
-        &integ,
-        &overdamped,
+        Problem::new(&integ, &overdamped, &Quiescent),
         State::at_rest(Vec3::zeros()),
-        &Quiescent,
         1e-3,
         1e-2,
     )
@@ -654,7 +652,13 @@ fn inertial_terms_in_a_fluid_without_density() {
     let flow = LinearFlow::simple_shear(100.0).unwrap();
     let integ = Stokesian::new(1e-8).unwrap();
     let run = |p: &Particle<Rigid>| {
-        advance(&integ, p, State::at_rest(Vec3::new(0.0, 1e-4, 0.0)), &flow, 1e-6, 1e-3).map(|(s, _)| s)
+        advance(
+            Problem::new(&integ, p, &flow),
+            State::at_rest(Vec3::new(0.0, 1e-4, 0.0)),
+            1e-6,
+            1e-3,
+        )
+        .map(|(s, _)| s)
     };
     let with = run(&sphere(vec![Arc::new(HolzerSommerfeld), Arc::new(SaffmanMei)])).unwrap();
     let without = run(&sphere(vec![])).unwrap();

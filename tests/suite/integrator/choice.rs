@@ -5,7 +5,7 @@
 
 use crate::common::strategies::{deformation, rotation};
 use proptest::prelude::*;
-use pseudorigid::driver::run;
+use pseudorigid::driver::{Observers, Problem, run};
 use pseudorigid::integrator::choice::{self, ParticleNumbers};
 use pseudorigid::integrator::rosenbrock::{Factor, Jacobian};
 use pseudorigid::integrator::{BarycentreModel, Scheme, Tolerances};
@@ -45,7 +45,14 @@ fn extension_error(tau: f64, barycentre: BarycentreModel) -> f64 {
         scheme: Scheme::Radau5,
         norm: Default::default(),
     };
-    let (end, _) = run(&integ, &particle, start, &flow, 1e-4, &[1.0 / a], |_| {}, |_, _| {}).unwrap();
+    let (end, _) = run(
+        Problem::new(&integ, &particle, &flow),
+        start,
+        1e-4,
+        &[1.0 / a],
+        Observers::none(),
+    )
+    .unwrap();
     (end.x[0] - (s / a).exp()).abs() / (s / a).exp()
 }
 

@@ -4,7 +4,7 @@
 use crate::common::strategies;
 use nalgebra::{Rotation3, SVector, Unit, Vector3};
 use proptest::prelude::*;
-use pseudorigid::driver::advance;
+use pseudorigid::driver::{Observers, Problem, advance};
 use pseudorigid::integrator::{ErrorNorm, Scheme, Stokesian, Tolerances};
 use pseudorigid::particle::inertialess::{STATE_BLOCKS, pack};
 use pseudorigid::prelude::*;
@@ -110,8 +110,8 @@ proptest! {
         let scheme = if radau { Scheme::Radau5 } else { Scheme::Rosenbrock23 };
         let integ = Stokesian::new(1e-5).unwrap().with_scheme(scheme).with_norm(ErrorNorm::Tensor);
         let x0 = Vec3::new(0.3, -0.1, 0.2);
-        let (a, sa) = advance(&integ, &soft(shape, axes), State::at_rest(x0), &flow, 1e-3, 2.0).unwrap();
-        let (b, sb) = advance(&integ, &soft(shape, r * axes), State::at_rest(r * x0), &flow.rotated(&r), 1e-3, 2.0).unwrap();
+        let (a, sa) = advance(Problem::new(&integ, &soft(shape, axes), &flow), State::at_rest(x0), 1e-3, 2.0).unwrap();
+        let (b, sb) = advance(Problem::new(&integ, &soft(shape, r * axes), &flow.rotated(&r)), State::at_rest(r * x0), 1e-3, 2.0).unwrap();
         prop_assert_eq!((sa.steps, sa.rejected), (sb.steps, sb.rejected));
         prop_assert!((r * a.f * r.transpose() - b.f).abs().max() <= 1e-9);
         prop_assert!((r * a.x - b.x).abs().max() <= 1e-9);
@@ -122,14 +122,11 @@ proptest! {
 fn step_sizes(integ: &Stokesian, p: &Particle<NeoHooke>, x0: Vec3, flow: &LinearFlow) -> (Vec<f64>, u64, State) {
     let mut h = Vec::new();
     let (end, stats) = pseudorigid::driver::run(
-        integ,
-        p,
+        Problem::new(integ, p, flow),
         State::at_rest(x0),
-        flow,
         1e-3,
         &[2.0],
-        |_| {},
-        |_, info| h.push(info.dt),
+        Observers::none().with_on_step(|step| h.push(step.info().dt)),
     )
     .unwrap();
     (h, stats.rejected, end)

@@ -10,7 +10,7 @@
 //! - the end state's frame and flow sample shown to `on_step` ([`AcceptedStep`]) against the
 //!   ones computed afresh at the step's state.
 use pseudorigid::contact::{Boundary, ContactEvent, ContactModel, Extent, Gap, PatchRule};
-use pseudorigid::driver::{AcceptedStep, Plan, Stop, advance, integrate};
+use pseudorigid::driver::{AcceptedStep, Observers, Plan, Problem, Stop, advance, integrate};
 use pseudorigid::ellipsoid::Ellipsoid;
 use pseudorigid::integrator::choice::Auto;
 use pseudorigid::integrator::manifold::Manifold;
@@ -48,7 +48,13 @@ fn jeffery_orbit<I: TimeIntegrator>(s: &Setup<I>) {
         .unwrap();
     let flow = LinearFlow::simple_shear(1.0).unwrap();
     let t_end = 0.5 * std::f64::consts::PI * (r + 1.0 / r);
-    let (end, _) = advance(&s.integ, &p, State::at_rest(Vec3::zeros()), &flow, s.dt, t_end).unwrap();
+    let (end, _) = advance(
+        Problem::new(&s.integ, &p, &flow),
+        State::at_rest(Vec3::zeros()),
+        s.dt,
+        t_end,
+    )
+    .unwrap();
     let sec = ShearPlaneSection::of(&p.total_distortion(&end.f));
     // ShearPlaneSection measures the long axis from the flow direction x; Jeffery's φ is from
     // the gradient direction y towards x, so the section angle is π/2 − φ (mod π).
@@ -68,7 +74,13 @@ fn steady_tank_treading<I: TimeIntegrator>(s: &Setup<I>) {
         .particle(&ShearScaling::new(ca, s.rho_star.max(1e-3), 1e5).unwrap())
         .unwrap();
     let flow = LinearFlow::simple_shear(1.0).unwrap();
-    let (end, _) = advance(&s.integ, &p, State::at_rest(Vec3::zeros()), &flow, s.dt, 40.0).unwrap();
+    let (end, _) = advance(
+        Problem::new(&s.integ, &p, &flow),
+        State::at_rest(Vec3::zeros()),
+        s.dt,
+        40.0,
+    )
+    .unwrap();
     let sec = ShearPlaneSection::of(&p.total_distortion(&end.f));
     let d = (sec.r_long - sec.r_short) / (sec.r_long + sec.r_short);
     let exact = roscoe(ca).unwrap().steady;
@@ -110,10 +122,8 @@ fn settling_particle() -> (Particle<NeoHooke>, f64) {
 fn settling_sphere<I: TimeIntegrator>(s: &Setup<I>) {
     let (p, v_s) = settling_particle();
     let (end, _) = advance(
-        &s.integ,
-        &p,
+        Problem::new(&s.integ, &p, &Quiescent),
         State::at_rest(Vec3::new(0.0, 0.0, 1e3)),
-        &Quiescent,
         s.dt,
         40.0,
     )
@@ -157,15 +167,12 @@ fn contact_event<I: TimeIntegrator>(s: &Setup<I>) {
     let mut memory = I::Memory::default();
     let plan = Plan::new(100.0, s.dt).unwrap();
     let out = integrate(
-        &s.integ,
-        &p,
-        &Quiescent,
+        Problem::new(&s.integ, &p, &Quiescent),
         s0,
         &mut memory,
         &plan,
         &[&contact],
-        |_| {},
-        |_| {},
+        Observers::none(),
     )
     .unwrap();
     assert_eq!(out.stop, Stop::Event { index: 0 });
@@ -192,15 +199,12 @@ fn end_evaluation<I: TimeIntegrator, M: Response, D: DragModel>(integ: &I, p: &P
     let plan = Plan::new(50.0 * dt, dt).unwrap();
     let (mut steps, mut carried) = (0, (0, 0));
     integrate(
-        integ,
-        p,
-        &flow,
+        Problem::new(integ, p, &flow),
         s0,
         &mut memory,
         &plan,
         &[],
-        |_| {},
-        |step: &AcceptedStep| {
+        Observers::none().with_on_step(|step: &AcceptedStep| {
             let state = step.state();
             carried.0 += u32::from(step.step().end.frame.is_some());
             carried.1 += u32::from(step.step().end.flow.is_some());
@@ -219,7 +223,7 @@ fn end_evaluation<I: TimeIntegrator, M: Response, D: DragModel>(integ: &I, p: &P
                 state.t
             );
             steps += 1;
-        },
+        }),
     )
     .unwrap();
     assert!(steps >= 3, "{}: {steps} steps", integ.name());
@@ -352,20 +356,17 @@ fn radau_is_l_stable_on_a_quasi_rigid_particle() {
     let t_end = 0.5 * std::f64::consts::PI * (r + 1.0 / r);
     let mut smallest_after_first = f64::INFINITY;
     let out = integrate(
-        &integ,
-        &p,
-        &flow,
+        Problem::new(&integ, &p, &flow),
         State::at_rest(Vec3::zeros()),
         &mut memory,
         &Plan::new(t_end, 1e-3).unwrap(),
         &[],
-        |_| {},
-        |step| {
+        Observers::none().with_on_step(|step| {
             // The last step is shortened to land on t_end.
             if step.dense().t_start() > 0.1 && step.state().t < t_end - 1e-9 {
                 smallest_after_first = smallest_after_first.min(step.info().dt);
             }
-        },
+        }),
     )
     .unwrap();
     assert!(out.stats.steps <= 300, "{:?}", out.stats);
@@ -392,10 +393,15 @@ fn radau_error_falls_faster_than_second_order_with_tolerance() {
     let flow = LinearFlow::simple_shear(1.0).unwrap();
     let run = |tol: f64| {
         let integ = Stokesian::overdamped(tol).unwrap().with_scheme(Scheme::Radau5);
-        advance(&integ, &p, State::at_rest(Vec3::zeros()), &flow, 1e-3, 5.0)
-            .unwrap()
-            .0
-            .f
+        advance(
+            Problem::new(&integ, &p, &flow),
+            State::at_rest(Vec3::zeros()),
+            1e-3,
+            5.0,
+        )
+        .unwrap()
+        .0
+        .f
     };
     let reference = run(1e-12);
     let e5 = (run(1e-5) - reference).amax();

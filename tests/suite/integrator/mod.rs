@@ -8,7 +8,7 @@ mod manifold;
 mod radau5;
 
 use proptest::prelude::*;
-use pseudorigid::driver::{advance, run};
+use pseudorigid::driver::{Observers, Problem, advance, run};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::particle::lines::material_line;
 use pseudorigid::prelude::*;
@@ -35,17 +35,15 @@ fn imex_newton_converges_in_at_most_four_iterations() {
     let mut worst = 0.0f64;
     let mut covered = 0.0f64;
     let (_, stats) = run(
-        &ImexPaper::default(),
-        &p,
+        Problem::new(&ImexPaper::default(), &p, &shear()),
         State::at_rest(Vec3::zeros()),
-        &shear(),
         5e-4,
         &[3.0],
-        |_| {},
-        |_, info| {
+        Observers::none().with_on_step(|step| {
+            let info = step.info();
             worst = worst.max(info.residual);
             covered += info.dt;
-        },
+        }),
     )
     .unwrap();
     assert!(
@@ -80,10 +78,8 @@ fn settling_sphere_reaches_stokes_velocity() {
     let tau_d = 2.0 / 9.0 * rho_s * a * a / mu;
     let t_end = 200.0 * tau_d;
     let (s, _) = advance(
-        &ImexPaper::default(),
-        &p,
+        Problem::new(&ImexPaper::default(), &p, &Quiescent),
         State::at_rest(Vec3::zeros()),
-        &Quiescent,
         tau_d / 10.0,
         t_end,
     )
@@ -96,10 +92,8 @@ fn settling_sphere_reaches_stokes_velocity() {
     );
     for integrator in [Stokesian::new(1e-8).unwrap(), Stokesian::overdamped(1e-8).unwrap()] {
         let (s, _) = advance(
-            &integrator,
-            &p,
+            Problem::new(&integrator, &p, &Quiescent),
             State::at_rest(Vec3::zeros()),
-            &Quiescent,
             tau_d / 10.0,
             t_end,
         )
@@ -129,13 +123,11 @@ fn spheroid_period(r: f64, ca: f64) -> f64 {
     let mut unwrapped = 0.0;
     let mut crossing = None;
     run(
-        &integ,
-        &p,
+        Problem::new(&integ, &p, &shear()),
         State::at_rest(Vec3::zeros()),
-        &shear(),
         1e-3,
         &times,
-        |s| {
+        Observers::none().with_observe(|s| {
             let l = material_line(p.shape(), &s.f, 0);
             let ang = l[1].atan2(l[0]);
             let mut d = ang - prev.1;
@@ -146,8 +138,7 @@ fn spheroid_period(r: f64, ca: f64) -> f64 {
             }
             unwrapped = next;
             prev = (s.t, ang);
-        },
-        |_, _| {},
+        }),
     )
     .unwrap();
     crossing.expect("a full turn within 1.2 Jeffery periods")

@@ -7,7 +7,7 @@
 
 use crate::common::strategies::rotation;
 use proptest::prelude::*;
-use pseudorigid::driver::{AcceptedStep, Plan, StepContext, integrate};
+use pseudorigid::driver::{AcceptedStep, Observers, Plan, Problem, StepContext, integrate};
 use pseudorigid::ellipsoid::Ellipsoid;
 use pseudorigid::flow::analytic::LinearFlow;
 use pseudorigid::integrator::dense::Knot;
@@ -277,15 +277,12 @@ fn tank_treading_sphere_releases_just_below_roscoe_stretch() {
     let mut memory = <Stokesian as TimeIntegrator>::Memory::default();
     let plan = Plan::new(70.0, 1e-3).unwrap();
     let out = integrate(
-        &integ,
-        &particle,
-        &flow,
+        Problem::new(&integ, &particle, &flow),
         start,
         &mut memory,
         &plan,
         &[],
-        |_| {},
-        |s| watch.step(s),
+        Observers::none().with_on_step(|s| watch.step(s)),
     )
     .unwrap();
     let got = Released::deserialize(&watch.finish(&Fate::Suspended, &out.state)).unwrap();
@@ -452,19 +449,16 @@ fn release_in_uniaxial_extension_matches_quadrature() {
     let mut ends: Vec<(f64, f64)> = Vec::new();
     let mut h_max: f64 = 0.0;
     let out = integrate(
-        &integ,
-        &particle,
-        &flow,
+        Problem::new(&integ, &particle, &flow),
         start,
         &mut memory,
         &plan,
         &[],
-        |_| {},
-        |s| {
+        Observers::none().with_on_step(|s| {
             h_max = h_max.max(s.dense().t_end() - s.dense().t_start());
             ends.push((s.state().t, largest_stretch(&s.state().f)));
             watch.step(s)
-        },
+        }),
     )
     .unwrap();
     let got = Released::deserialize(&watch.finish(&Fate::Suspended, &out.state)).unwrap();

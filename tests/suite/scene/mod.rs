@@ -13,7 +13,7 @@ use crate::common::build;
 use pseudorigid::material::NamedLaw;
 
 use pseudorigid::contact::{ContactEvent, ContactModel};
-use pseudorigid::driver::{Plan, integrate};
+use pseudorigid::driver::{Observers, Plan, Problem, integrate};
 use pseudorigid::integrator::{Stokesian, TimeIntegrator};
 use pseudorigid::particle::lines::material_line;
 use pseudorigid::population::{Fate, RunOptions, RunOutput, Shard};
@@ -220,15 +220,12 @@ fn pipe_fibre_scene_is_the_library_tian_cui_particle() {
     let contact = ContactEvent::new(&lib.wall, &lib.particle, &lib.flow, ContactModel::Extent);
     let mut memory = <pseudorigid::integrator::Stokesian as TimeIntegrator>::Memory::default();
     let end = integrate(
-        &integrator,
-        &lib.particle,
-        &lib.flow,
+        Problem::new(&integrator, &lib.particle, &lib.flow),
         lib.initial_state().unwrap(),
         &mut memory,
         &plan,
         &[&contact],
-        |_| {},
-        |_| {},
+        Observers::none(),
     )
     .unwrap();
     assert_eq!(record.end.unwrap(), end.state);

@@ -6,7 +6,8 @@ use pseudorigid::contact::{Boundary, Extent};
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::BlendedFlow;
 use pseudorigid::studies::cavity::{
-    Cavity, CavityFate, Contact, EDGE, Release, Shape, ShapeModel, Variant, orientations, outcome_table, release_point,
+    Cavity, CavityFate, Contact, EDGE, Release, Shape, ShapeModel, Tracking, Variant, orientations, outcome_table,
+    release_point,
 };
 use pseudorigid::studies::particles::Deformability;
 use pseudorigid::tensor::{Mat3, Vec3};
@@ -44,7 +45,20 @@ fn reduced_cavity_runs_snapshot() {
         ),
     ]
     .into_iter()
-    .map(|(r, c)| cavity.track(r, c, 1.0, 1e-7, 0.25).unwrap())
+    .map(|(r, c)| {
+        cavity
+            .track(
+                r,
+                &Mat3::identity(),
+                &Tracking {
+                    contact: c,
+                    t_max: 1.0,
+                    tol: 1e-7,
+                    dt_out: 0.25,
+                },
+            )
+            .unwrap()
+    })
     .collect();
     // Step counts are exact but tolerance-tuned, and the validity maxima and slip statistics
     // are taken over the accepted steps: keep them out of the snapshot (the flags stay).
@@ -87,10 +101,13 @@ fn extent_contact_with_the_lid_is_an_exit() {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Rigid,
             },
-            Contact::Extent,
-            2.0,
-            1e-7,
-            0.1,
+            &Mat3::identity(),
+            &Tracking {
+                contact: Contact::Extent,
+                t_max: 2.0,
+                tol: 1e-7,
+                dt_out: 0.1,
+            },
         )
         .unwrap();
     assert!(matches!(run.outcome, CavityFate::Exited { .. }), "{:?}", run.outcome);
@@ -134,7 +151,16 @@ fn soft_particles_that_crashed_in_the_corner_end_cleanly() {
                 softness: Deformability::Elastic { ca: 0.75 },
             };
             let run = cavity
-                .track_oriented(release, Contact::Barycentre, &turn, 100.0, 1e-6, 1.0)
+                .track(
+                    release,
+                    &turn,
+                    &Tracking {
+                        contact: Contact::Barycentre,
+                        t_max: 100.0,
+                        tol: 1e-6,
+                        dt_out: 1.0,
+                    },
+                )
                 .unwrap_or_else(|e| panic!("{model:?} {shape:?}: {e}"));
             eprintln!(
                 "{model:?} {}: {:?}, max r₁ = {:.2e} m",
@@ -237,32 +263,31 @@ fn ensemble_orientations_are_spread_rotations() {
 /// measured against a run at a 100× tighter tolerance.
 #[test]
 fn a_user_drag_model_runs_through_the_cavity() {
-    use pseudorigid::hydro::StokesSphere;
+    use pseudorigid::hydro::{DragModel, StokesSphere};
+    use pseudorigid::material::NeoHookeFactory;
     use pseudorigid::studies::particles::{DEFAULT_BULK_RATIO, ParticleModel};
     let flow = flow();
     let release = Release {
         shape: Shape::Prolate(1.0),
         softness: Deformability::Rigid,
     };
-    let end = |tol: f64, run: pseudorigid::studies::cavity::CavityRun| {
+    fn end<D: DragModel + Clone>(cavity: &Cavity<'_, NeoHookeFactory, D>, release: Release, tol: f64) -> Vec3 {
+        let tracking = Tracking {
+            contact: Contact::Barycentre,
+            t_max: 2.0,
+            tol,
+            dt_out: 0.5,
+        };
+        let run = cavity.track(release, &Mat3::identity(), &tracking).unwrap();
         assert_eq!(run.path.last().unwrap().0, 2.0, "tol {tol}: the run must reach t = 2 s");
         run.path.last().unwrap().1
-    };
+    }
     let cavity = Cavity::new(&flow).unwrap();
-    let brenner = end(
-        1e-7,
-        cavity.track(release, Contact::Barycentre, 2.0, 1e-7, 0.5).unwrap(),
-    );
-    let reference = end(
-        1e-9,
-        cavity.track(release, Contact::Barycentre, 2.0, 1e-9, 0.5).unwrap(),
-    );
-    let model = ParticleModel::new(pseudorigid::material::NeoHookeFactory, StokesSphere, DEFAULT_BULK_RATIO).unwrap();
+    let brenner = end(&cavity, release, 1e-7);
+    let reference = end(&cavity, release, 1e-9);
+    let model = ParticleModel::new(NeoHookeFactory, StokesSphere, DEFAULT_BULK_RATIO).unwrap();
     let stokes = Cavity::new(&flow).unwrap().with_model(model);
-    let user = end(
-        1e-7,
-        stokes.track(release, Contact::Barycentre, 2.0, 1e-7, 0.5).unwrap(),
-    );
+    let user = end(&stokes, release, 1e-7);
     let (gap, error) = ((brenner - user).norm(), (brenner - reference).norm());
     assert!(
         gap <= 2.0 * error,
@@ -280,30 +305,27 @@ fn a_user_drag_model_runs_through_the_cavity() {
 /// A regression guard (this code's own output), not a check.
 #[test]
 fn reduced_ensemble_fractions_snapshot() {
-    use pseudorigid::studies::cavity::{ShapeModel, Variant, ensemble, outcome_fraction_table};
+    use pseudorigid::studies::cavity::{Ensemble, ShapeModel, Variant, outcome_fraction_table};
     let flow = flow();
-    let releases = [
-        Release {
-            shape: Shape::Prolate(1.0),
-            softness: Deformability::Rigid,
-        },
-        Release {
-            shape: Shape::Prolate(2.0),
-            softness: Deformability::Elastic { ca: 0.25 },
-        },
-    ];
-    let variants = [false, true].map(|mirrored| Variant { mirrored, scale: 1.0 });
-    let members = ensemble(
-        &flow,
-        ShapeModel::Inertialess,
-        &Default::default(),
-        &releases,
-        &variants,
-        3,
-        100.0,
-        1e-6,
-    )
-    .unwrap();
+    let ensemble = Ensemble {
+        releases: vec![
+            Release {
+                shape: Shape::Prolate(1.0),
+                softness: Deformability::Rigid,
+            },
+            Release {
+                shape: Shape::Prolate(2.0),
+                softness: Deformability::Elastic { ca: 0.25 },
+            },
+        ],
+        variants: [false, true].map(|mirrored| Variant { mirrored, scale: 1.0 }).to_vec(),
+        orientations: 3,
+        t_max: 100.0,
+        tol: 1e-6,
+        checkpoints: None,
+    };
+    let cavity = Cavity::new(&flow).unwrap().with_shape_model(ShapeModel::Inertialess);
+    let members = ensemble.run(&cavity).unwrap();
     assert_eq!(members.len(), 2 * 2 * 3);
     assert!(members.iter().all(|m| m.run.is_ok()), "a member failed");
     insta::assert_snapshot!(outcome_fraction_table(&members).unwrap().to_text());
@@ -336,7 +358,18 @@ fn fluid_inertia_makes_a_neutrally_buoyant_sphere_follow_the_fluid() {
         if terms {
             cavity = cavity.with_forces(fluid_inertia().unwrap());
         }
-        let run = cavity.track(release, Contact::Barycentre, 2.0, 1e-7, 0.01).unwrap();
+        let run = cavity
+            .track(
+                release,
+                &Mat3::identity(),
+                &Tracking {
+                    contact: Contact::Barycentre,
+                    t_max: 2.0,
+                    tol: 1e-7,
+                    dt_out: 0.01,
+                },
+            )
+            .unwrap();
         assert!(matches!(run.outcome, CavityFate::Suspended), "{:?}", run.outcome);
         let mut predicted: Vec<f64> = cavity.quasi_steady_slip(&run).unwrap().iter().map(|q| q.slip).collect();
         predicted.sort_by(f64::total_cmp);

@@ -8,7 +8,7 @@ use pseudorigid::driver::RunStats;
 use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Fate, ParticleRecord, RunOutput, Shard};
 use pseudorigid::studies::peer::{
-    Cost, OpenFoamRun, OpenFoamTracker, PeerParticle, PeerRunError, RACE_COLUMNS, RaceRow, TrackerSummary,
+    Cost, Entrant, OpenFoamRun, OpenFoamTracker, PeerParticle, PeerRunError, RACE_COLUMNS, RaceRow, TrackerSummary,
     particles_csv, race_csv, race_markdown, timed,
 };
 use pseudorigid::tensor::Vec3;
@@ -158,7 +158,13 @@ fn race_rows_by_hand() {
         wall_seconds: 2.0,
         cpu_seconds: Some(1.0),
     };
-    let ours = RaceRow::pseudorigid("rigid", "radau_iia", 1, &out, cost, dep, &peer.fates, peer_dep).unwrap();
+    let entrant = Entrant {
+        particle: "rigid",
+        integrator: "radau_iia",
+        threads: 1,
+        cost,
+    };
+    let ours = RaceRow::pseudorigid(entrant, &out, dep, &peer.fates, peer_dep).unwrap();
     assert_eq!(
         (ours.steps, ours.rejected, ours.deposited, ours.finished, ours.suspended),
         (100, Some(4), 2, 3, 1)
@@ -178,7 +184,7 @@ fn race_rows_by_hand() {
     // A particle of ours the peer has no fate for is an error.
     let mut fewer = peer.fates.clone();
     fewer.remove(&2);
-    let err = RaceRow::pseudorigid("rigid", "radau_iia", 1, &out, cost, dep, &fewer, peer_dep).unwrap_err();
+    let err = RaceRow::pseudorigid(entrant, &out, dep, &fewer, peer_dep).unwrap_err();
     assert!(matches!(err, PeerRunError::Missing { index: 2 }), "{err}");
 }
 

@@ -2,7 +2,7 @@
 //! (integer work counts and errors rounded to 2 significant digits, stable across machines),
 //! the exactness of the rigid integrator on its Jeffery orbit, and the agreement of the library
 //! with the SciPy peer (benches/peers/inertialess.py).
-use pseudorigid::driver::run;
+use pseudorigid::driver::{self, Observers, run};
 use pseudorigid::flow::analytic::LinearFlow;
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::particle::{ShearScaling, State};
@@ -93,14 +93,11 @@ fn scipy_peer_agrees_with_library() {
     let flow = LinearFlow::simple_shear(1.0).unwrap();
     let integrator = Stokesian::overdamped(library_tol).unwrap();
     let (_, stats) = run(
-        &integrator,
-        &p,
+        driver::Problem::new(&integrator, &p, &flow),
         State::at_rest(Vec3::zeros()),
-        &flow,
         1e-3,
         &times,
-        |s| library.push(s.f),
-        |_, _| {},
+        Observers::none().with_observe(|s| library.push(s.f)),
     )
     .unwrap();
 

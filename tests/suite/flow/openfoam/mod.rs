@@ -882,7 +882,7 @@ fn hiemenz_snapped_dataset_snapshot() {
 #[test]
 fn hiemenz_sphere_reaches_the_wall_when_the_exact_flow_says() {
     use pseudorigid::contact::{ContactEvent, ContactModel};
-    use pseudorigid::driver::{Plan, Stop, until_event};
+    use pseudorigid::driver::{Plan, Problem, Stop, until_event};
     use pseudorigid::ellipsoid::Ellipsoid;
     use pseudorigid::integrator::Stokesian;
     use pseudorigid::material::Rigid;
@@ -908,7 +908,7 @@ fn hiemenz_sphere_reaches_the_wall_when_the_exact_flow_says() {
         let contact = ContactEvent::new(&boundary, &particle, &blend, ContactModel::Extent);
         let plan = Plan::new(10.0 * t_exact, 1e-3).unwrap();
         let start = State::at_rest(Vec3::new(0.0, y0, 0.125));
-        let out = until_event(&integrator, &particle, &blend, start, &plan, &[&contact]).unwrap();
+        let out = until_event(Problem::new(&integrator, &particle, &blend), start, &plan, &[&contact]).unwrap();
         assert_eq!(out.stop, Stop::Event { index: 0 });
         let error = out.state.t / t_exact - 1.0;
         eprintln!(
@@ -990,7 +990,7 @@ fn pich_pipes(radius: f64, length: f64) -> Vec<(String, PolyMesh, f64)> {
 #[test]
 fn pich_deposition_on_meshed_pipes() {
     use pseudorigid::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
-    use pseudorigid::driver::{Plan, Stop, until_event};
+    use pseudorigid::driver::{Plan, Problem, Stop, until_event};
     use pseudorigid::ellipsoid::Ellipsoid;
     use pseudorigid::integrator::Stokesian;
     use pseudorigid::material::Rigid;
@@ -1032,7 +1032,7 @@ fn pich_deposition_on_meshed_pipes() {
                 let theta = std::f64::consts::TAU * halton(k + 1, 3);
                 let start = State::at_rest(Vec3::new(r * theta.cos(), r * theta.sin(), 1e-3 * length));
                 let contact = ContactEvent::new(&boundary, &particle, &flow, ContactModel::Barycentre { radius: 0.0 });
-                let out = until_event(&integrator, &particle, &flow, start, &plan, &[&contact])
+                let out = until_event(Problem::new(&integrator, &particle, &flow), start, &plan, &[&contact])
                     .unwrap_or_else(|e| panic!("particle {k}: {e}"));
                 assert_eq!(out.stop, Stop::Event { index: 0 }, "particle {k} suspended");
                 boundary.rule(contact.nearest(&out.state).patch) == PatchRule::Stick

@@ -1,7 +1,7 @@
 //! The IMEX stability guard: it terminates on every input (the rotated-sphere hang of the
 //! reliability audit), and the default cached guard refuses every step the exact eigenvalue
 //! check refuses, on the hard-case set.
-use pseudorigid::driver::advance;
+use pseudorigid::driver::{Problem, advance};
 use pseudorigid::integrator::imex::{StabilityGuard, stability_limit, volume_mode_floor};
 use pseudorigid::integrator::{ImexAdaptive, ImexPaper, TimeIntegrator};
 use pseudorigid::prelude::*;
@@ -232,13 +232,24 @@ fn adaptive_imex_refuses_to_resolve_the_anti_damped_volume_mode() {
         .particle([2.0, 1.0, 1.0], Mat3::identity())
         .unwrap();
     let integ = ImexAdaptive::new(1e-9).unwrap();
-    let paper = advance(&integ, &p, State::at_rest(Vec3::zeros()), &flow, 1e-3, 5.0);
+    let paper = advance(
+        Problem::new(&integ, &p, &flow),
+        State::at_rest(Vec3::zeros()),
+        1e-3,
+        5.0,
+    );
     assert!(
         matches!(paper, Err(StepError::VolumeModeUnresolvable { .. })),
         "{paper:?}"
     );
     let source = p.with_volumetric(VolumetricTraction::Source);
-    let (end, _) = advance(&integ, &source, State::at_rest(Vec3::zeros()), &flow, 1e-3, 5.0).unwrap();
+    let (end, _) = advance(
+        Problem::new(&integ, &source, &flow),
+        State::at_rest(Vec3::zeros()),
+        1e-3,
+        5.0,
+    )
+    .unwrap();
     let j = end.f.determinant();
     assert!((j - 1.0).abs() < 5e-3, "J = {j}");
 }
