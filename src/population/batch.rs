@@ -49,8 +49,13 @@ use std::collections::BTreeMap;
 /// A flow whose time window can slide: a transient field held window by window, or a steady
 /// field ([`Steady`]).
 pub trait Sliding: FlowField {
+    /// Why a window cannot be held ([`std::convert::Infallible`] for a field that always can;
+    /// [`crate::flow::openfoam::FoamError`] for a transient OpenFOAM field). A batch run returns
+    /// it as the source of [`PopulationError::Slide`].
+    type Error: std::error::Error + Send + Sync + 'static;
+
     /// Hold the field for the times of [start, end].
-    fn slide(&mut self, start: f64, end: f64) -> Result<(), String>;
+    fn slide(&mut self, start: f64, end: f64) -> Result<(), Self::Error>;
 }
 
 /// A steady field: every window is the same.
@@ -68,15 +73,19 @@ impl<F: FlowField + ?Sized> FlowField for Steady<'_, F> {
 }
 
 impl<F: FlowField + ?Sized> Sliding for Steady<'_, F> {
-    fn slide(&mut self, _start: f64, _end: f64) -> Result<(), String> {
+    type Error = std::convert::Infallible;
+
+    fn slide(&mut self, _start: f64, _end: f64) -> Result<(), Self::Error> {
         Ok(())
     }
 }
 
 #[cfg(feature = "mesh")]
 impl<F: crate::flow::openfoam::Windowed> Sliding for crate::flow::openfoam::TransientFlow<F> {
-    fn slide(&mut self, start: f64, end: f64) -> Result<(), String> {
-        crate::flow::openfoam::TransientFlow::slide(self, start, end).map_err(|e| e.to_string())
+    type Error = crate::flow::openfoam::FoamError;
+
+    fn slide(&mut self, start: f64, end: f64) -> Result<(), Self::Error> {
+        crate::flow::openfoam::TransientFlow::slide(self, start, end)
     }
 }
 
@@ -236,7 +245,7 @@ where
     for w in windows.windows(2) {
         let (start, end) = (w[0], w[1]);
         flow.slide(start, end)
-            .map_err(|reason| PopulationError::Window { start, end, reason })?;
+            .map_err(|e| PopulationError::slide(start, end, e))?;
         let case = batch.case(&*flow);
         let advance = |p: &mut InFlight<J, I::Memory>| case.advance(p, end);
         let outcomes: Vec<Option<ParticleRecord<J::Law>>> = if options.parallel {

@@ -248,8 +248,7 @@ pub enum PopulationError {
         /// Particles of the shard.
         total: u64,
     },
-    /// The time windows of a batch run ([`batch`]) are not ascending and finite, or the flow
-    /// cannot hold one.
+    /// The time windows of a batch run ([`batch`]) are not ascending and finite.
     #[error("time window [{start}, {end}]: {reason}")]
     Window {
         /// Window start.
@@ -259,7 +258,29 @@ pub enum PopulationError {
         /// What is wrong.
         reason: String,
     },
+    /// The flow of a batch run cannot hold a time window ([`batch::Sliding::slide`]).
+    #[error("time window [{start}, {end}]: {source}")]
+    Slide {
+        /// Window start.
+        start: f64,
+        /// Window end.
+        end: f64,
+        /// The flow's own error ([`batch::Sliding::Error`]): for a transient OpenFOAM field a
+        /// [`crate::flow::openfoam::FoamError`], which `source.downcast_ref` recovers.
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// Writing a file failed.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
+}
+
+impl PopulationError {
+    /// [`PopulationError::Slide`]: the flow could not hold [start, end] because of `source`.
+    pub fn slide(start: f64, end: f64, source: impl std::error::Error + Send + Sync + 'static) -> Self {
+        Self::Slide {
+            start,
+            end,
+            source: Box::new(source),
+        }
+    }
 }

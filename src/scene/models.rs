@@ -179,8 +179,10 @@ impl FlowField for Windows<'_> {
 }
 
 impl Sliding for Windows<'_> {
-    fn slide(&mut self, start: f64, end: f64) -> Result<(), String> {
-        self.0.slide(start, end).map_err(|e| e.to_string())
+    type Error = FoamError;
+
+    fn slide(&mut self, start: f64, end: f64) -> Result<(), Self::Error> {
+        self.0.slide(start, end)
     }
 }
 

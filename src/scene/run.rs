@@ -140,11 +140,7 @@ impl Scene {
             // at t = 0); the runner's own first slide then keeps these levels. A run before
             // this one may have left the field at its last window.
             flow.slide(windows[0], windows[1])
-                .map_err(|reason| PopulationError::Window {
-                    start: windows[0],
-                    end: windows[1],
-                    reason,
-                })?;
+                .map_err(|e| PopulationError::slide(windows[0], windows[1], e))?;
             Ok(run_batch(&batch, &mut flow, &windows, &config, shard, options)?)
         };
         match job {

@@ -93,12 +93,12 @@ pub enum PeerRunError {
         status: String,
     },
     /// The script's `summary.txt` lacks a value or has a malformed one.
-    #[error("{path}: {reason}")]
+    #[error("{path}: {source}")]
     Summary {
         /// The file.
         path: PathBuf,
         /// What is wrong.
-        reason: String,
+        source: SummaryError,
     },
     /// The script's `fates.csv` could not be read.
     #[error(transparent)]
@@ -108,6 +108,28 @@ pub enum PeerRunError {
     Missing {
         /// Its index.
         index: u64,
+    },
+}
+
+/// A `key=value` line of the tracker's `summary.txt` that is missing or does not parse
+/// ([`TrackerSummary::parse`]).
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum SummaryError {
+    /// No line `key=...`.
+    #[error("no `{key}=`")]
+    Missing {
+        /// The key.
+        key: &'static str,
+    },
+    /// The value of `key` is not a number of the key's kind.
+    #[error("`{key}={value}`: {reason}")]
+    Malformed {
+        /// The key.
+        key: &'static str,
+        /// Its value, trimmed.
+        value: String,
+        /// The number parser's message.
+        reason: String,
     },
 }
 
@@ -154,19 +176,21 @@ pub struct TrackerSummary {
 
 impl TrackerSummary {
     /// Read the `key=value` lines of `summary.txt`.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        fn get<T: std::str::FromStr>(text: &str, key: &str) -> Result<T, String>
+    pub fn parse(text: &str) -> Result<Self, SummaryError> {
+        fn get<T: std::str::FromStr>(text: &str, key: &'static str) -> Result<T, SummaryError>
         where
             T::Err: std::fmt::Display,
         {
             let value = text
                 .lines()
                 .find_map(|l| l.strip_prefix(key).and_then(|v| v.strip_prefix('=')))
-                .ok_or_else(|| format!("no `{key}=`"))?;
-            value
-                .trim()
-                .parse()
-                .map_err(|e| format!("`{key}={}`: {e}", value.trim()))
+                .ok_or(SummaryError::Missing { key })?
+                .trim();
+            value.parse().map_err(|e: T::Err| SummaryError::Malformed {
+                key,
+                value: value.to_string(),
+                reason: e.to_string(),
+            })
         }
         Ok(Self {
             wall_seconds: get(text, "wall_seconds")?,
@@ -243,7 +267,7 @@ impl OpenFoamTracker {
         let fates = read_peer_fates(&out.join("fates.csv"))?;
         let path = out.join("summary.txt");
         let text = std::fs::read_to_string(&path).map_err(io(&path))?;
-        let summary = TrackerSummary::parse(&text).map_err(|reason| PeerRunError::Summary { path, reason })?;
+        let summary = TrackerSummary::parse(&text).map_err(|source| PeerRunError::Summary { path, source })?;
         Ok(OpenFoamRun { fates, summary })
     }
 }

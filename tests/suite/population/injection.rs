@@ -111,7 +111,9 @@ impl<F: FlowField> FlowField for Strict<'_, F> {
 }
 
 impl<F: FlowField> Sliding for Strict<'_, F> {
-    fn slide(&mut self, start: f64, end: f64) -> Result<(), String> {
+    type Error = std::convert::Infallible;
+
+    fn slide(&mut self, start: f64, end: f64) -> Result<(), Self::Error> {
         self.window = (start, end);
         Ok(())
     }

@@ -11,7 +11,7 @@ use pseudorigid::contact::MeshBoundary;
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::ellipsoid::Ellipsoid;
 use pseudorigid::error::{ParamError, StepError};
-use pseudorigid::flow::openfoam::{BlendedFlow, Cycle, FoamCase, Precision, TransientFlow};
+use pseudorigid::flow::openfoam::{BlendedFlow, Cycle, FoamCase, FoamError, Precision, TransientFlow};
 use pseudorigid::hydro::drag::Brenner;
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NamedLaw;
@@ -313,6 +313,36 @@ fn a_stopped_transient_run_resumes_to_the_same_records() {
     assert_eq!(progress.progress(), (STARTS.len() as u64, STARTS.len() as u64));
     assert_eq!(resumed.config_hash, whole.config_hash);
     assert_eq!(format!("{:?}", resumed.records), format!("{:?}", whole.records));
+}
+
+/// A time level that vanishes after the scene was validated (which reads the first window's
+/// levels) fails the run at the first window that needs it, with that window's ends and the
+/// reader's own error as the source (a typed [`FoamError`], not text).
+#[test]
+fn a_level_missing_at_its_window_is_the_readers_typed_error() {
+    let times = [0.0, 0.5, 1.0, 1.5, 2.0];
+    let case = transient_case("cli_transient_vanished", &times, |x, t| shape(x) * (1.0 + t));
+    let s = scene(&case, "time = [0, 0.5, 1, 1.5, 2]\nwindow = 0.25", 2.0);
+    std::fs::remove_dir_all(case.join("1.5")).unwrap();
+    let job = Job::Memory {
+        shard: Shard::ALL,
+        options: RunOptions::default().serial().quiet(),
+    };
+    match s.population(&job) {
+        Err(SceneError::Population(e @ PopulationError::Slide { start, end, .. })) => {
+            assert!(start < 1.5 && end > 1.0 && end <= 1.5, "[{start}, {end}]");
+            let PopulationError::Slide { source, .. } = &e else {
+                unreachable!()
+            };
+            let foam = source.downcast_ref::<FoamError>();
+            assert!(foam.is_some(), "{source:?}");
+            assert!(
+                e.to_string().starts_with(&format!("time window [{start}, {end}]: ")),
+                "{e}"
+            );
+        }
+        other => panic!("expected a window error, got {:?}", other.map(|o| o.records.len())),
+    }
 }
 
 /// Bad transient keys are refused at the key, with the numbers that explain why: start ≥ end,
