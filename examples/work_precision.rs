@@ -11,7 +11,8 @@
 use pseudorigid::output::{Csv, Figure, Panel, Series};
 use pseudorigid::studies::scipy_peer::Peer;
 use pseudorigid::studies::work_precision::{
-    Problem, RATIO_ERRORS, Record, error_floor, has_peer, measure, oblate_reference, peer_ratios, sweep, work_at_error,
+    RATIO_ERRORS, Record, ReferenceProblem, error_floor, has_peer, measure, oblate_reference, peer_ratios, sweep,
+    work_at_error,
 };
 use std::time::Instant;
 
@@ -21,12 +22,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let peer = Peer::from_env().check();
     // The error floor of each case the peer runs: its measure applied to the peer's
     // high-accuracy run.
-    let mut floors: Vec<(Problem, f64)> = Vec::new();
+    let mut floors: Vec<(ReferenceProblem, f64)> = Vec::new();
     match &peer {
         Ok(()) => {
-            for case in [Problem::Jeffery, Problem::TankTreading, Problem::Oblate]
-                .into_iter()
-                .filter(|&c| has_peer(c))
+            for case in [
+                ReferenceProblem::Jeffery,
+                ReferenceProblem::TankTreading,
+                ReferenceProblem::Oblate,
+            ]
+            .into_iter()
+            .filter(|&c| has_peer(c))
             {
                 let floor = error_floor(case, Some(&reference))?;
                 println!("{} error floor (SciPy DOP853 at 1e-13): {floor:.3e}", case.name());
@@ -36,7 +41,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Err(e) => println!("skipping the SciPy peer rows: {e}"),
     }
     let mut records: Vec<Record> = Vec::new();
-    for case in [Problem::Jeffery, Problem::TankTreading, Problem::Oblate] {
+    for case in [
+        ReferenceProblem::Jeffery,
+        ReferenceProblem::TankTreading,
+        ReferenceProblem::Oblate,
+    ] {
         for setting in sweep(case).into_iter().filter(|s| s.peer().is_none() || peer.is_ok()) {
             let rec = match measure(case, setting, Some(&reference)) {
                 Ok(rec) => rec,
@@ -98,7 +107,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     let mut panels = Vec::new();
-    for case in [Problem::Jeffery, Problem::TankTreading, Problem::Oblate] {
+    for case in [
+        ReferenceProblem::Jeffery,
+        ReferenceProblem::TankTreading,
+        ReferenceProblem::Oblate,
+    ] {
         for (x_label, wall) in [("log10 wall time [s]", true), ("log10 model evaluations", false)] {
             let mut panel = Panel::new(case.name(), x_label, "log10 error");
             for (color, name) in integrators.iter().enumerate() {
@@ -131,10 +144,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for name in ["imex_paper", "imex_adaptive"] {
         let best = records
             .iter()
-            .filter(|r| r.case == Problem::Oblate && r.setting.integrator() == name)
+            .filter(|r| r.case == ReferenceProblem::Oblate && r.setting.integrator() == name)
             .min_by(|a, b| a.error.total_cmp(&b.error));
         if let Some(best) = best
-            && let Some((evals, wall)) = work_at_error(&records, Problem::Oblate, "rosenbrock_w23", best.error)
+            && let Some((evals, wall)) = work_at_error(&records, ReferenceProblem::Oblate, "rosenbrock_w23", best.error)
         {
             println!(
                 "oblate, error {:.2e}: {name} {} evaluations / {:.3} s; rosenbrock_w23 {:.0} / {:.4} s → {:.0}x fewer evaluations, {:.0}x less time",

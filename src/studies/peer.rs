@@ -98,7 +98,7 @@ pub enum PeerRunError {
         /// The file.
         path: PathBuf,
         /// What is wrong.
-        source: SummaryError,
+        source: TrackerSummaryError,
     },
     /// The script's `fates.csv` could not be read.
     #[error(transparent)]
@@ -114,7 +114,7 @@ pub enum PeerRunError {
 /// A `key=value` line of the tracker's `summary.txt` that is missing or does not parse
 /// ([`TrackerSummary::parse`]).
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
-pub enum SummaryError {
+pub enum TrackerSummaryError {
     /// No line `key=...`.
     #[error("no `{key}=`")]
     Missing {
@@ -176,17 +176,17 @@ pub struct TrackerSummary {
 
 impl TrackerSummary {
     /// Read the `key=value` lines of `summary.txt`.
-    pub fn parse(text: &str) -> Result<Self, SummaryError> {
-        fn get<T: std::str::FromStr>(text: &str, key: &'static str) -> Result<T, SummaryError>
+    pub fn parse(text: &str) -> Result<Self, TrackerSummaryError> {
+        fn get<T: std::str::FromStr>(text: &str, key: &'static str) -> Result<T, TrackerSummaryError>
         where
             T::Err: std::fmt::Display,
         {
             let value = text
                 .lines()
                 .find_map(|l| l.strip_prefix(key).and_then(|v| v.strip_prefix('=')))
-                .ok_or(SummaryError::Missing { key })?
+                .ok_or(TrackerSummaryError::Missing { key })?
                 .trim();
-            value.parse().map_err(|e: T::Err| SummaryError::Malformed {
+            value.parse().map_err(|e: T::Err| TrackerSummaryError::Malformed {
                 key,
                 value: value.to_string(),
                 reason: e.to_string(),

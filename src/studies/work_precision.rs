@@ -41,7 +41,7 @@ use std::time::Instant;
 
 /// Reference problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum Problem {
+pub enum ReferenceProblem {
     /// Rigid prolate r = 5 on its Jeffery orbit.
     Jeffery,
     /// Tank-treading sphere at Ca = 0.2 against Roscoe.
@@ -50,13 +50,13 @@ pub enum Problem {
     Oblate,
 }
 
-impl Problem {
+impl ReferenceProblem {
     /// Name used in the dataset.
     pub fn name(self) -> &'static str {
         match self {
-            Problem::Jeffery => "jeffery",
-            Problem::TankTreading => "tank_treading",
-            Problem::Oblate => "oblate",
+            ReferenceProblem::Jeffery => "jeffery",
+            ReferenceProblem::TankTreading => "tank_treading",
+            ReferenceProblem::Oblate => "oblate",
         }
     }
 }
@@ -118,7 +118,7 @@ impl Setting {
 
 /// The settings of the study for `case`: every integrator with its sweep of Δt or tolerance.
 /// This table is the one place that lists the integrators; a new one is a line here.
-pub fn sweep(case: Problem) -> Vec<Setting> {
+pub fn sweep(case: ReferenceProblem) -> Vec<Setting> {
     const DECADES: [f64; 7] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
     let mut s: Vec<Setting> = [80.0, 160.0, 320.0, 640.0]
         .iter()
@@ -127,7 +127,7 @@ pub fn sweep(case: Problem) -> Vec<Setting> {
     s.extend([1e-3, 1e-4, 1e-5, 1e-6].map(Setting::ImexAdaptive));
     s.extend(DECADES.map(Setting::RosenbrockW23));
     s.extend(DECADES.map(Setting::RadauIia));
-    if case == Problem::Jeffery {
+    if case == ReferenceProblem::Jeffery {
         s.extend([1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10].map(Setting::Rigid));
     }
     if has_peer(case) {
@@ -145,8 +145,8 @@ pub fn sweep(case: Problem) -> Vec<Setting> {
 /// One point of the work-precision diagram.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Record {
-    /// Problem.
-    pub case: Problem,
+    /// ReferenceProblem.
+    pub case: ReferenceProblem,
     /// Integrator and setting.
     pub setting: Setting,
     /// Error against the reference.
@@ -167,22 +167,22 @@ fn shear() -> LinearFlow {
 }
 
 /// Initial shape and capillary number of `case`.
-fn definition(case: Problem) -> (ShearShape, f64) {
+fn definition(case: ReferenceProblem) -> (ShearShape, f64) {
     match case {
-        Problem::Jeffery => (ShearShape::new(Shape::Prolate(JEFFERY_R)), 1e-4),
-        Problem::TankTreading => (ShearShape::new(Shape::Sphere), 0.2),
+        ReferenceProblem::Jeffery => (ShearShape::new(Shape::Prolate(JEFFERY_R)), 1e-4),
+        ReferenceProblem::TankTreading => (ShearShape::new(Shape::Sphere), 0.2),
         // paper §6.1.1: ω₁ = ω₂ = 2.5, the short axis along the gradient
-        Problem::Oblate => (ShearShape::new(Shape::Oblate(2.5)), 0.4),
+        ReferenceProblem::Oblate => (ShearShape::new(Shape::Oblate(2.5)), 0.4),
     }
 }
 
-fn particle(case: Problem) -> Result<Particle<NeoHooke>, StudyError> {
+fn particle(case: ReferenceProblem) -> Result<Particle<NeoHooke>, StudyError> {
     let (shape, ca) = definition(case);
     Ok(shape.particle(&ShearScaling::new(ca, RHO_STAR, BULK)?)?)
 }
 
 /// The peer's version of `case` (it runs the inertialess model, so ρ* does not enter).
-fn peer_case(case: Problem) -> PeerCase {
+fn peer_case(case: ReferenceProblem) -> PeerCase {
     let (shape, ca) = definition(case);
     PeerCase {
         semi_axes: shape.ratios(),
@@ -192,15 +192,15 @@ fn peer_case(case: Problem) -> PeerCase {
     }
 }
 
-fn t_end(case: Problem) -> f64 {
+fn t_end(case: ReferenceProblem) -> f64 {
     match case {
-        Problem::Jeffery => JEFFERY_T,
-        Problem::TankTreading | Problem::Oblate => 30.0,
+        ReferenceProblem::Jeffery => JEFFERY_T,
+        ReferenceProblem::TankTreading | ReferenceProblem::Oblate => 30.0,
     }
 }
 
 /// Run `case` with `setting`, sampling F at t = 1, 2, …, t_end.
-fn trajectory(case: Problem, setting: Setting) -> Result<(Vec<State>, RunStats, f64), StudyError> {
+fn trajectory(case: ReferenceProblem, setting: Setting) -> Result<(Vec<State>, RunStats, f64), StudyError> {
     let p = particle(case)?;
     let times: Vec<f64> = (1..=t_end(case) as usize).map(|i| i as f64).collect();
     let mut samples = Vec::with_capacity(times.len());
@@ -253,7 +253,11 @@ fn trajectory(case: Problem, setting: Setting) -> Result<(Vec<State>, RunStats, 
     Ok((samples, stats, start.elapsed().as_secs_f64()))
 }
 
-fn peer_trajectory(case: Problem, method: PeerMethod, tol: f64) -> Result<(Vec<State>, RunStats, f64), StudyError> {
+fn peer_trajectory(
+    case: ReferenceProblem,
+    method: PeerMethod,
+    tol: f64,
+) -> Result<(Vec<State>, RunStats, f64), StudyError> {
     let run = Peer::from_env().run(&peer_case(case), method, tol)?;
     let stats = RunStats {
         steps: run.steps,
@@ -307,9 +311,9 @@ const SHORT_RUN_S: f64 = 0.1;
 /// Repetitions of a short run (library and peer alike).
 const REPEATS: usize = 5;
 
-/// Error of one run against the case's reference (`reference` only for [`Problem::Oblate`]).
+/// Error of one run against the case's reference (`reference` only for [`ReferenceProblem::Oblate`]).
 /// Runs shorter than 0.1 s are repeated five times and report their fastest wall time.
-pub fn measure(case: Problem, setting: Setting, reference: Option<&[State]>) -> Result<Record, StudyError> {
+pub fn measure(case: ReferenceProblem, setting: Setting, reference: Option<&[State]>) -> Result<Record, StudyError> {
     let (samples, stats, mut wall_s) = trajectory(case, setting)?;
     if wall_s < SHORT_RUN_S {
         for _ in 1..REPEATS {
@@ -326,23 +330,23 @@ pub fn measure(case: Problem, setting: Setting, reference: Option<&[State]>) -> 
 }
 
 /// The case's error measure of a run sampled at t = 1, 2, …, t_end.
-fn error_of(case: Problem, samples: &[State], reference: Option<&[State]>) -> Result<f64, StudyError> {
+fn error_of(case: ReferenceProblem, samples: &[State], reference: Option<&[State]>) -> Result<f64, StudyError> {
     let last = samples.last().expect("at least one output time");
     Ok(match case {
-        Problem::Jeffery => {
+        ReferenceProblem::Jeffery => {
             let p = particle(case)?;
             let mut d =
                 long_axis_angle(&p, last) - jeffery_phi(JEFFERY_R, jeffery_flow_aligned_time(JEFFERY_R) + JEFFERY_T);
             d -= (d / std::f64::consts::PI).round() * std::f64::consts::PI;
             d.abs()
         }
-        Problem::TankTreading => {
+        ReferenceProblem::TankTreading => {
             let exact = roscoe(definition(case).1)?.steady;
             let p = particle(case)?;
             let sec = super::section::ShearPlaneSection::of(&p.total_distortion(&last.f));
             (sec.deformation() - exact.deformation()).abs() + (sec.angle - exact.theta).abs()
         }
-        Problem::Oblate => {
+        ReferenceProblem::Oblate => {
             let reference = reference.expect("oblate case needs a reference run");
             crate::tensor::max_or_nan(samples.iter().zip(reference).map(|(a, b)| (a.f - b.f).amax()))
         }
@@ -352,20 +356,20 @@ fn error_of(case: Problem, samples: &[State], reference: Option<&[State]>) -> Re
 /// Whether the SciPy peer runs `case`. It does not run the Jeffery case: its error there is the
 /// elastic model's distance to the rigid orbit (≈ 0.2 Ca), the same for every inertialess
 /// solver, so equal-error comparisons cannot be read from it.
-pub fn has_peer(case: Problem) -> bool {
-    case != Problem::Jeffery
+pub fn has_peer(case: ReferenceProblem) -> bool {
+    case != ReferenceProblem::Jeffery
 }
 
 /// The error the case's measure gives to the SciPy peer's high-accuracy run (DOP853 at
 /// rtol = atol = 1e-13, within ≈ 1e-11 of the converged F here): the floor below which the
 /// case's errors measure its reference (the oblate reference run, or the residual transient
 /// against Roscoe's steady state), not an integrator.
-pub fn error_floor(case: Problem, reference: Option<&[State]>) -> Result<f64, StudyError> {
+pub fn error_floor(case: ReferenceProblem, reference: Option<&[State]>) -> Result<f64, StudyError> {
     let run = Peer::from_env().reference(&peer_case(case), PeerMethod::Dop853)?;
     error_of(case, &peer_states(&run), reference)
 }
 
-/// A tight inertialess run of the oblate case (the reference for [`Problem::Oblate`]).
+/// A tight inertialess run of the oblate case (the reference for [`ReferenceProblem::Oblate`]).
 ///
 /// `radau_iia` at 1e-13. The Rosenbrock 2(3) reference used before (1e-13,
 /// ≈ 2.4·10⁵ steps) sat ≈ 1.7e-8 from the converged F: every Radau run from 1e-7 down and the
@@ -374,12 +378,12 @@ pub fn error_floor(case: Problem, reference: Option<&[State]>) -> Result<f64, St
 /// the converged F; [`error_floor`] measures it against the SciPy peer (≈ 5e-12, the size of
 /// the peer's own dense-output error).
 pub fn oblate_reference() -> Result<Vec<State>, StudyError> {
-    Ok(trajectory(Problem::Oblate, Setting::RadauIia(1e-13))?.0)
+    Ok(trajectory(ReferenceProblem::Oblate, Setting::RadauIia(1e-13))?.0)
 }
 
 /// Work needed by `integrator` to reach `error` in `case`, by log-log interpolation between
 /// its two bracketing records: (model evaluations, wall seconds). `None` if not bracketed.
-pub fn work_at_error(records: &[Record], case: Problem, integrator: &str, error: f64) -> Option<(f64, f64)> {
+pub fn work_at_error(records: &[Record], case: ReferenceProblem, integrator: &str, error: f64) -> Option<(f64, f64)> {
     let mut pts: Vec<&Record> = records
         .iter()
         .filter(|r| r.case == case && r.setting.integrator() == integrator && r.error > 0.0)
@@ -403,8 +407,8 @@ pub const RATIO_ERRORS: [f64; 6] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
 /// Wall time of a SciPy peer against the fastest library integrator at one error level.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct PeerRatio {
-    /// Problem.
-    pub case: Problem,
+    /// ReferenceProblem.
+    pub case: ReferenceProblem,
     /// Error level.
     pub error: f64,
     /// The library integrator with the least interpolated wall time at `error`.
@@ -423,7 +427,7 @@ pub struct PeerRatio {
 /// and of the fastest library integrator at that error, both interpolated log-log along their
 /// work-precision curves ([`work_at_error`]). Levels that the peer or every library integrator
 /// does not bracket are left out.
-pub fn peer_ratios(records: &[Record], case: Problem, errors: &[f64]) -> Vec<PeerRatio> {
+pub fn peer_ratios(records: &[Record], case: ReferenceProblem, errors: &[f64]) -> Vec<PeerRatio> {
     let mut library: Vec<&'static str> = Vec::new();
     let mut peers: Vec<&'static str> = Vec::new();
     for r in records.iter().filter(|r| r.case == case) {
@@ -468,7 +472,7 @@ mod tests {
 
     fn record(setting: Setting, error: f64, wall_s: f64, rhs_evals: u64) -> Record {
         Record {
-            case: Problem::Oblate,
+            case: ReferenceProblem::Oblate,
             setting,
             error,
             wall_s,
@@ -488,11 +492,14 @@ mod tests {
             .iter()
             .map(|&e| record(Setting::RosenbrockW23(e), e, wall(e), (10.0 / e) as u64))
             .collect();
-        let (evals, w) = work_at_error(&records, Problem::Oblate, "rosenbrock_w23", 3e-5).unwrap();
+        let (evals, w) = work_at_error(&records, ReferenceProblem::Oblate, "rosenbrock_w23", 3e-5).unwrap();
         assert!((w / wall(3e-5) - 1.0).abs() < 1e-12, "{w} vs {}", wall(3e-5));
         assert!((evals / (10.0 / 3e-5) - 1.0).abs() < 1e-12, "{evals}");
-        assert_eq!(work_at_error(&records, Problem::Oblate, "rosenbrock_w23", 1e-7), None);
-        assert_eq!(work_at_error(&records, Problem::Oblate, "rigid", 1e-4), None);
+        assert_eq!(
+            work_at_error(&records, ReferenceProblem::Oblate, "rosenbrock_w23", 1e-7),
+            None
+        );
+        assert_eq!(work_at_error(&records, ReferenceProblem::Oblate, "rigid", 1e-4), None);
     }
 
     /// Two library integrators, the faster one changing with the error, against a peer that
@@ -508,7 +515,7 @@ mod tests {
             record(Setting::ScipyRadau(1e-3), 1e-3, 100.0, 1),
             record(Setting::ScipyRadau(1e-6), 1e-6, 100.0, 1),
         ];
-        let rows = peer_ratios(&records, Problem::Oblate, &[1e-4, 1e-8]);
+        let rows = peer_ratios(&records, ReferenceProblem::Oblate, &[1e-4, 1e-8]);
         assert_eq!(rows.len(), 1, "{rows:?}");
         // rigid at 1e-4: one sixth of the way from 0.1 s to 10 s in log-log, 10^(-1 + 2/6)
         let rigid = 10f64.powf(-2.0 / 3.0);

@@ -6,7 +6,7 @@
 //! # What is compared
 //! For each kind, the same N particles (the studies' seed) are tracked with the studies'
 //! scheme ([`super::study::integrator`]: inertialess shape, Rosenbrock-W 2(3), atol
-//! [`super::study::ATOL`]) under each [`Setting`] (the studies': tensor norm at rtol
+//! [`super::study::ATOL`]) under each [`NormSetting`] (the studies': tensor norm at rtol
 //! [`super::study::RTOL`] = 10⁻³), and once with
 //! the reference: Radau IIA(5) at rtol 10⁻⁵, atol 10⁻⁸, where both norms give the same
 //! solution to well below the studies' tolerance (its componentwise weights are 10³ times
@@ -27,7 +27,7 @@ use crate::population::{Fate, RunOptions, RunOutput};
 
 /// One integrator setting: the error norm and rtol (atol stays the studies' [`ATOL`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Setting {
+pub struct NormSetting {
     /// How the local error is measured.
     pub norm: ErrorNorm,
     /// Relative tolerance.
@@ -36,20 +36,20 @@ pub struct Setting {
 
 /// The settings compared: componentwise at 10⁻² (the studies' before) and the tensor norm at
 /// 10⁻², 3·10⁻³ and 10⁻³ (the studies' now).
-pub const SETTINGS: [Setting; 4] = [
-    Setting {
+pub const SETTINGS: [NormSetting; 4] = [
+    NormSetting {
         norm: ErrorNorm::Componentwise,
         rtol: 1e-2,
     },
-    Setting {
+    NormSetting {
         norm: ErrorNorm::Tensor,
         rtol: 1e-2,
     },
-    Setting {
+    NormSetting {
         norm: ErrorNorm::Tensor,
         rtol: 3e-3,
     },
-    Setting {
+    NormSetting {
         norm: ErrorNorm::Tensor,
         rtol: 1e-3,
     },
@@ -60,13 +60,13 @@ pub const REFERENCE: (f64, f64) = (1e-5, 1e-8);
 
 /// One kind under one setting, against the reference.
 #[derive(Debug, Clone)]
-pub struct Row {
+pub struct NormRow {
     /// The particles.
     pub kind: Kind,
     /// Particles tracked.
     pub n: u64,
     /// The integrator setting.
-    pub setting: Setting,
+    pub setting: NormSetting,
     /// CPU time of the run (s; the process's, over every thread). `None` where it cannot be read.
     pub cpu_s: Option<f64>,
     /// Accepted steps per particle.
@@ -107,10 +107,10 @@ fn deposited(fate: &Fate) -> bool {
 pub fn compare(
     airway: &Airway,
     kind: Kind,
-    settings: &[Setting],
+    settings: &[NormSetting],
     n: u64,
     seed: u64,
-) -> Result<Vec<Row>, BifurcationError> {
+) -> Result<Vec<NormRow>, BifurcationError> {
     let chosen = integrator(airway, kind)?.integrator;
     let reference = Stokesian {
         scheme: Scheme::Radau5,
@@ -142,7 +142,7 @@ pub fn compare(
             len => shifts[((len - 1) as f64 * p).round() as usize],
         };
         let per = |total: u64| total as f64 / n.max(1) as f64;
-        rows.push(Row {
+        rows.push(NormRow {
             kind,
             n,
             setting,
@@ -167,7 +167,7 @@ fn norm_name(norm: ErrorNorm) -> &'static str {
 /// `error_norm.csv`: `shape,material,stk,n,norm,rtol,cpu_s,steps_per_particle,
 /// rejected_per_particle,n_deposited,fates_changed,shift_median_m,shift_p90_m`; with
 /// `with_cpu` false the CPU column is left empty (a snapshot must not hold a time).
-pub fn table(rows: &[Row], with_cpu: bool) -> Result<Csv, BifurcationError> {
+pub fn table(rows: &[NormRow], with_cpu: bool) -> Result<Csv, BifurcationError> {
     let mut csv = Csv::new(&[
         "shape",
         "material",
@@ -208,13 +208,13 @@ pub fn table(rows: &[Row], with_cpu: bool) -> Result<Csv, BifurcationError> {
 
 /// One panel per kind: fates changed per 10³ particles against CPU time per particle, the
 /// componentwise setting as a point and the tensor norm's rtol sweep as a line.
-pub fn figure(rows: &[Row]) -> Figure {
+pub fn figure(rows: &[NormRow]) -> Figure {
     let mut panels = Vec::new();
     let mut start = 0;
     while start < rows.len() {
         let kind = rows[start].kind;
         let end = start + rows[start..].iter().take_while(|r| r.kind == kind).count();
-        let point = |r: &Row| {
+        let point = |r: &NormRow| {
             let cpu_ms = r.cpu_s.unwrap_or(f64::NAN) * 1e3 / r.n.max(1) as f64;
             (cpu_ms, 1e3 * r.fates_changed as f64 / r.n.max(1) as f64)
         };

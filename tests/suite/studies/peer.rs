@@ -8,8 +8,8 @@ use pseudorigid::driver::RunStats;
 use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Fate, ParticleRecord, RunOutput, Shard};
 use pseudorigid::studies::peer::{
-    Cost, Entrant, OpenFoamRun, OpenFoamTracker, PeerParticle, PeerRunError, RACE_COLUMNS, RaceRow, SummaryError,
-    TrackerSummary, particles_csv, race_csv, race_markdown, timed,
+    Cost, Entrant, OpenFoamRun, OpenFoamTracker, PeerParticle, PeerRunError, RACE_COLUMNS, RaceRow, TrackerSummary,
+    TrackerSummaryError, particles_csv, race_csv, race_markdown, timed,
 };
 use pseudorigid::tensor::Vec3;
 use std::collections::HashMap;
@@ -31,12 +31,12 @@ fn summary_is_read_back() {
     // A summary of the script before parcel counts were written names what is missing.
     let old = SUMMARY.replace("parcel_steps=57417\n", "");
     let missing = TrackerSummary::parse(&old).unwrap_err();
-    assert_eq!(missing, SummaryError::Missing { key: "parcel_steps" });
+    assert_eq!(missing, TrackerSummaryError::Missing { key: "parcel_steps" });
     assert!(missing.to_string().contains("parcel_steps"));
     let bad = SUMMARY.replace("time_steps=1553", "time_steps=many");
     let malformed = TrackerSummary::parse(&bad).unwrap_err();
     assert!(
-        matches!(&malformed, SummaryError::Malformed { key: "time_steps", value, .. } if value == "many"),
+        matches!(&malformed, TrackerSummaryError::Malformed { key: "time_steps", value, .. } if value == "many"),
         "{malformed:?}"
     );
     assert!(malformed.to_string().contains("time_steps=many"));

@@ -9,10 +9,10 @@ use pseudorigid::particle::{ShearScaling, State};
 use pseudorigid::studies::particles::Shape;
 use pseudorigid::studies::scipy_peer::{Peer, PeerCase, PeerMethod};
 use pseudorigid::studies::shear_shape::ShearShape;
-use pseudorigid::studies::work_precision::{Problem, Setting, measure};
+use pseudorigid::studies::work_precision::{ReferenceProblem, Setting, measure};
 use pseudorigid::tensor::Vec3;
 
-fn row(case: Problem, setting: Setting) -> String {
+fn row(case: ReferenceProblem, setting: Setting) -> String {
     let r = measure(case, setting, None).unwrap();
     format!(
         "{},{},{:e},{:.1e},{},{},{}",
@@ -30,10 +30,10 @@ fn row(case: Problem, setting: Setting) -> String {
 #[test]
 fn work_precision_reduced_dataset() {
     let rows = [
-        row(Problem::Jeffery, Setting::Rigid(1e-6)),
-        row(Problem::Jeffery, Setting::RosenbrockW23(1e-5)),
-        row(Problem::TankTreading, Setting::RosenbrockW23(1e-5)),
-        row(Problem::TankTreading, Setting::ImexAdaptive(1e-3)),
+        row(ReferenceProblem::Jeffery, Setting::Rigid(1e-6)),
+        row(ReferenceProblem::Jeffery, Setting::RosenbrockW23(1e-5)),
+        row(ReferenceProblem::TankTreading, Setting::RosenbrockW23(1e-5)),
+        row(ReferenceProblem::TankTreading, Setting::ImexAdaptive(1e-3)),
     ];
     insta::assert_snapshot!(format!(
         "case,integrator,setting,error,steps,rhs_evals,jac_evals\n{}",
@@ -46,8 +46,12 @@ fn work_precision_reduced_dataset() {
 /// control, global error ∝ tol^{2/3}. Three decades of tolerance must give 2 ± 0.5 decades.
 #[test]
 fn rigid_integrator_converges_to_jeffery_orbit() {
-    let coarse = measure(Problem::Jeffery, Setting::Rigid(1e-6), None).unwrap().error;
-    let fine = measure(Problem::Jeffery, Setting::Rigid(1e-9), None).unwrap().error;
+    let coarse = measure(ReferenceProblem::Jeffery, Setting::Rigid(1e-6), None)
+        .unwrap()
+        .error;
+    let fine = measure(ReferenceProblem::Jeffery, Setting::Rigid(1e-9), None)
+        .unwrap()
+        .error;
     let decades = (coarse / fine).log10();
     assert!(
         (1.5..=2.5).contains(&decades),
