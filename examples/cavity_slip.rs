@@ -21,7 +21,7 @@
 use pseudorigid::flow::FlowField;
 use pseudorigid::output::{Csv, paper_figure_path};
 use pseudorigid::studies::cavity::{
-    Cavity, Contact, D_EQ, EDGE, NU, RHO_PARTICLE, Release, Shape, Tracking, fluid_inertia, rho_fluid, shipped_flow,
+    Cavity, Contact, D_EQ, EDGE, Launch, NU, RHO_PARTICLE, Shape, Tracking, fluid_inertia, rho_fluid, shipped_flow,
 };
 use pseudorigid::studies::particles::Deformability;
 use pseudorigid::tensor::{Mat3, Vec3};
@@ -91,7 +91,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let runs = jobs
         .par_iter()
         .map(|&(shape, c)| {
-            let release = Release {
+            let release = Launch {
                 shape,
                 softness: Deformability::Rigid,
             };

@@ -7,7 +7,7 @@
 
 use pseudorigid::output::{Figure, paper_figure_path};
 use pseudorigid::studies::cavity::{
-    Cavity, Contact, Release, Shape, Tracking, fluid_inertia, outcome_table, trajectory_panel, trajectory_table,
+    Cavity, Contact, Launch, Shape, Tracking, fluid_inertia, outcome_table, trajectory_panel, trajectory_table,
 };
 use pseudorigid::studies::particles::Deformability;
 use pseudorigid::tensor::Mat3;
@@ -25,12 +25,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let terms = if with_fluid_inertia { "_fluid_inertia" } else { "" };
     let path = |stem: &str, ext: &str| paper_figure_path("fig14", &format!("{stem}{terms}.{ext}"));
     println!("release shear rate γ̇₀ = {:.4} 1/s", cavity.release_shear_rate());
-    let releases = [Shape::Prolate(2.0), Shape::Prolate(5.0)].map(|shape| Release {
+    let releases = [Shape::Prolate(2.0), Shape::Prolate(5.0)].map(|shape| Launch {
         shape,
         softness: Deformability::Rigid,
     });
     // Both contact models: the paper's point-particle reading and the particle's extent.
-    let jobs: Vec<(Release, Contact)> = [Contact::Barycentre, Contact::Extent]
+    let jobs: Vec<(Launch, Contact)> = [Contact::Barycentre, Contact::Extent]
         .iter()
         .flat_map(|&c| releases.map(|r| (r, c)))
         .collect();

@@ -19,7 +19,7 @@
 use pseudorigid::integrator::{Scheme, Stokesian, Tolerances};
 use pseudorigid::population::{Case, RunConfig, RunOptions, Shard, run};
 use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, figures, study};
-use pseudorigid::studies::cavity::{Cavity, Contact, Release, Shape, Tracking};
+use pseudorigid::studies::cavity::{Cavity, Contact, Launch, Shape, Tracking};
 use pseudorigid::studies::pipe::{Deformability, PipeCase, sample_orientation, track_to_deposition};
 use pseudorigid::tensor::Mat3;
 use std::error::Error;
@@ -95,7 +95,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         "cavity fig14 rigid λ2",
         1e-7,
         Box::new(|scheme, tol| {
-            let release = Release {
+            let release = Launch {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Rigid,
             };
@@ -120,7 +120,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         "cavity soft λ2 Ca0.25",
         1e-6,
         Box::new(|scheme, tol| {
-            let release = Release {
+            let release = Launch {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Elastic { ca: 0.25 },
             };

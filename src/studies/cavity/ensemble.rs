@@ -191,7 +191,7 @@ fn event_time(outcome: &CavityFate) -> Option<f64> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ensemble {
     /// The releases (shape, softness).
-    pub releases: Vec<Release>,
+    pub releases: Vec<Launch>,
     /// The field variants, each one run of every release.
     pub variants: Vec<Variant>,
     /// Initial orientations per release (1: the nominal release only).
@@ -234,7 +234,7 @@ impl Ensemble {
         for (i, variant) in self.variants.iter().enumerate() {
             let cavity = cavity.clone().with_variant(*variant)?;
             // (release, orientation index, turn) in the ensemble's order.
-            let jobs: Vec<(Release, usize, Mat3)> = self
+            let jobs: Vec<(Launch, usize, Mat3)> = self
                 .releases
                 .iter()
                 .flat_map(|r| {
@@ -252,7 +252,7 @@ impl Ensemble {
                 if mine.is_empty() {
                     continue;
                 }
-                let pairs: Vec<(Release, Mat3)> = mine.iter().map(|&j| (jobs[j].0, jobs[j].2)).collect();
+                let pairs: Vec<(Launch, Mat3)> = mine.iter().map(|&j| (jobs[j].0, jobs[j].2)).collect();
                 let folder = self
                     .checkpoints
                     .as_ref()

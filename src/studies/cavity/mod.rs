@@ -49,7 +49,7 @@
 //!
 //! # Layout
 //! This module holds the set-up's numbers, walls ([`walls`]) and releases; `setup` the choices
-//! a run is made of ([`Contact`], [`Release`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]);
+//! a run is made of ([`Contact`], [`Launch`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]);
 //! `tracking` particles through the cavity ([`Cavity`], [`Tracking`], [`CavityRun`],
 //! [`CavityFate`], [`MemberError`], [`Slip`]): releases are a population of
 //! [`crate::population`] (an injector, the cavity's observer of path, validity and slip), and
@@ -146,7 +146,7 @@ pub fn release_point() -> Vec3 {
 
 /// The 28 soft releases of Figs 15/16: prolates λ₁ = 1, 2, 5, 8 and oblates λ₁ = 2, 5, 8 at
 /// Ca = 0.001, 0.25, 0.5, 0.75.
-pub fn fig15_fig16_releases() -> Vec<Release> {
+pub fn fig15_fig16_releases() -> Vec<Launch> {
     let shapes = [
         Shape::Prolate(1.0),
         Shape::Prolate(2.0),
@@ -159,7 +159,7 @@ pub fn fig15_fig16_releases() -> Vec<Release> {
     shapes
         .iter()
         .flat_map(|&shape| {
-            [0.001, 0.25, 0.5, 0.75].map(|ca| Release {
+            [0.001, 0.25, 0.5, 0.75].map(|ca| Launch {
                 shape,
                 softness: Deformability::Elastic { ca },
             })

@@ -37,14 +37,14 @@ impl Contact {
 
 /// One release: shape and softness (Ca at the release shear rate γ̇₀).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Release {
+pub struct Launch {
     /// Initial shape.
     pub shape: Shape,
     /// Deformability.
     pub softness: Deformability,
 }
 
-impl Release {
+impl Launch {
     /// Capillary number, or `None` for the rigid limit.
     pub fn ca(&self) -> Option<f64> {
         match self.softness {

@@ -37,7 +37,7 @@ pub enum CavityFate {
 #[derive(Debug, Clone, Serialize)]
 pub struct CavityRun {
     /// The release.
-    pub release: Release,
+    pub release: Launch,
     /// Contact model used.
     pub contact: Contact,
     /// Shape model used (inertialess for the rigid limit whatever was asked).
@@ -274,7 +274,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         self.shear_rate
     }
 
-    fn particle(&self, release: &Release) -> Result<Particle<StudyResponse<L>, D>, StudyError> {
+    fn particle(&self, release: &Launch) -> Result<Particle<StudyResponse<L>, D>, StudyError> {
         let shape = release.shape.ellipsoid(D_EQ, Mat3::identity())?;
         // The inertial runs are error-controlled, so they resolve what the traction does to the
         // volume mode: the literal eq. 12 anti-damps dilation (see
@@ -303,7 +303,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     /// A release that cannot be built, a turn that is not a rotation and a failed population
     /// run are errors of the call; a particle that fails on its way is a run with the outcome
     /// [`CavityFate::Failed`].
-    pub fn track(&self, release: Release, turn: &Mat3, tracking: &Tracking) -> Result<CavityRun, StudyError>
+    pub fn track(&self, release: Launch, turn: &Mat3, tracking: &Tracking) -> Result<CavityRun, StudyError>
     where
         L::Law: Releasable,
     {
@@ -322,7 +322,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
 
     /// The shape model `release` is tracked with: the rigid limit has no shape dynamics and
     /// always takes the inertialess path.
-    pub(super) fn model_of(&self, release: &Release) -> ShapeModel {
+    pub(super) fn model_of(&self, release: &Launch) -> ShapeModel {
         match (self.shape_model, release.softness) {
             (ShapeModel::Inertial, Deformability::Elastic { .. }) => ShapeModel::Inertial,
             _ => ShapeModel::Inertialess,
@@ -335,7 +335,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     pub(super) fn run_with(
         &self,
         model: ShapeModel,
-        jobs: &[(Release, Mat3)],
+        jobs: &[(Launch, Mat3)],
         tracking: &Tracking,
         options: &RunOptions,
         dir: Option<&std::path::Path>,
@@ -375,7 +375,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         &self,
         integ: &I,
         shape_model: ShapeModel,
-        jobs: &[(Release, Mat3)],
+        jobs: &[(Launch, Mat3)],
         tracking: &Tracking,
         options: &RunOptions,
         dir: Option<&std::path::Path>,
@@ -414,7 +414,7 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
     fn cavity_run(
         &self,
         record: ParticleRecord<L::Law>,
-        jobs: &[(Release, Mat3)],
+        jobs: &[(Launch, Mat3)],
         contact: Contact,
         shape_model: ShapeModel,
     ) -> Result<CavityRun, MemberError>
@@ -470,7 +470,7 @@ impl<T> Releasable for T where
 /// point with the local fluid velocity, turned by its rotation (F = the rotation).
 struct Injection<'c, 'a, L, D> {
     cavity: &'c Cavity<'a, L, D>,
-    jobs: &'c [(Release, Mat3)],
+    jobs: &'c [(Launch, Mat3)],
 }
 
 impl<L: LawFactory, D: DragModel + Clone> Injector for Injection<'_, '_, L, D>

@@ -6,7 +6,7 @@ use pseudorigid::contact::{Boundary, Extent};
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::BlendedFlow;
 use pseudorigid::studies::cavity::{
-    Cavity, CavityFate, Contact, EDGE, Release, Shape, ShapeModel, Tracking, Variant, orientations, outcome_table,
+    Cavity, CavityFate, Contact, EDGE, Launch, Shape, ShapeModel, Tracking, Variant, orientations, outcome_table,
     release_point,
 };
 use pseudorigid::studies::particles::Deformability;
@@ -23,21 +23,21 @@ fn reduced_cavity_runs_snapshot() {
     let cavity = Cavity::new(&flow).unwrap();
     let runs: Vec<_> = [
         (
-            Release {
+            Launch {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Rigid,
             },
             Contact::Barycentre,
         ),
         (
-            Release {
+            Launch {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Rigid,
             },
             Contact::Extent,
         ),
         (
-            Release {
+            Launch {
                 shape: Shape::Prolate(5.0),
                 softness: Deformability::Elastic { ca: 0.5 },
             },
@@ -97,7 +97,7 @@ fn extent_contact_with_the_lid_is_an_exit() {
     let cavity = Cavity::new(&flow).unwrap();
     let run = cavity
         .track(
-            Release {
+            Launch {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Rigid,
             },
@@ -146,7 +146,7 @@ fn soft_particles_that_crashed_in_the_corner_end_cleanly() {
             (&cavity, Shape::Prolate(2.0), turn),
         ];
         for (cavity, shape, turn) in cases {
-            let release = Release {
+            let release = Launch {
                 shape,
                 softness: Deformability::Elastic { ca: 0.75 },
             };
@@ -267,11 +267,11 @@ fn a_user_drag_model_runs_through_the_cavity() {
     use pseudorigid::material::NeoHookeFactory;
     use pseudorigid::studies::particles::{DEFAULT_BULK_RATIO, ParticleModel};
     let flow = flow();
-    let release = Release {
+    let release = Launch {
         shape: Shape::Prolate(1.0),
         softness: Deformability::Rigid,
     };
-    fn end<D: DragModel + Clone>(cavity: &Cavity<'_, NeoHookeFactory, D>, release: Release, tol: f64) -> Vec3 {
+    fn end<D: DragModel + Clone>(cavity: &Cavity<'_, NeoHookeFactory, D>, release: Launch, tol: f64) -> Vec3 {
         let tracking = Tracking {
             contact: Contact::Barycentre,
             t_max: 2.0,
@@ -309,11 +309,11 @@ fn reduced_ensemble_fractions_snapshot() {
     let flow = flow();
     let ensemble = Ensemble {
         releases: vec![
-            Release {
+            Launch {
                 shape: Shape::Prolate(1.0),
                 softness: Deformability::Rigid,
             },
-            Release {
+            Launch {
                 shape: Shape::Prolate(2.0),
                 softness: Deformability::Elastic { ca: 0.25 },
             },
@@ -348,7 +348,7 @@ fn reduced_ensemble_fractions_snapshot() {
 fn fluid_inertia_makes_a_neutrally_buoyant_sphere_follow_the_fluid() {
     use pseudorigid::studies::cavity::fluid_inertia;
     let flow = flow();
-    let release = Release {
+    let release = Launch {
         shape: Shape::Prolate(1.0),
         softness: Deformability::Rigid,
     };
