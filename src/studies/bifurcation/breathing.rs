@@ -49,6 +49,7 @@ use crate::output::{Csv, Figure, Panel, Series};
 use crate::particle::Particle;
 use crate::particle::State;
 use crate::population::batch::{Batch, run_batch};
+use crate::population::binomial::PairedFates;
 use crate::population::{
     Fate, Injector, ParticleRng, ParticleSpec, RunConfig, RunOptions, RunOutput, Shard, particle_rng,
 };
@@ -348,6 +349,14 @@ impl Paired {
         }
         d
     }
+
+    /// The discordant pairs, b = deposited inhaled only and c = steady only, over the particles
+    /// (at least one: without any, 0 ± 0): ΔDE = DE_cyclic − DE_steady is its
+    /// [`PairedFates::difference`].
+    pub fn fates(&self) -> Result<PairedFates, ParamError> {
+        let (lost, gained) = self.discordant();
+        PairedFates::new(gained, lost, self.steady.records.len().max(1) as u64)
+    }
 }
 
 fn deposited(f: &Fate) -> bool {
@@ -400,7 +409,7 @@ pub fn de_table(pairs: &[Paired]) -> Result<Csv, BifurcationError> {
 
 /// `shape,mu_s,stk,n,steady_only,cyclic_only,delta_de,delta_de_stderr,paired_z`: the same
 /// particles steady and inhaled, ΔDE = (cyclic_only − steady_only)/n with McNemar's standard
-/// error √(steady_only + cyclic_only)/n and z = ΔDE over it.
+/// error √(steady_only + cyclic_only)/n and z = ΔDE over it ([`Paired::fates`]).
 pub fn paired_table(pairs: &[Paired]) -> Result<Csv, BifurcationError> {
     let mut csv = Csv::new(&[
         "shape",
@@ -415,9 +424,7 @@ pub fn paired_table(pairs: &[Paired]) -> Result<Csv, BifurcationError> {
     ]);
     for p in pairs {
         let (lost, gained) = p.discordant();
-        let n = p.steady.records.len().max(1) as f64;
-        let diff = gained as f64 - lost as f64;
-        let sd = ((lost + gained) as f64).sqrt();
+        let fates = p.fates()?;
         csv.push(vec![
             p.kind.shape.label(),
             mu_s(p.kind),
@@ -425,9 +432,9 @@ pub fn paired_table(pairs: &[Paired]) -> Result<Csv, BifurcationError> {
             p.steady.records.len().to_string(),
             lost.to_string(),
             gained.to_string(),
-            format!("{:.5}", diff / n),
-            format!("{:.5}", sd / n),
-            format!("{:.2}", if sd > 0.0 { diff / sd } else { 0.0 }),
+            format!("{:.5}", fates.difference()),
+            format!("{:.5}", fates.stderr_under_null()),
+            format!("{:.2}", fates.z()),
         ])?;
     }
     Ok(csv)
