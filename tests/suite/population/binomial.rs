@@ -110,3 +110,36 @@ fn refuses_bad_counts() {
     assert_eq!(Pairing::default().fates(), None);
     assert_eq!(Pairing::default().difference(), (0.0, 0.0));
 }
+
+/// The expressions the committed datasets were written with before `PairedFates` held them
+/// (peer tables: observed-fraction error and χ²; the bifurcation's and the tree's paired
+/// tables, breathing: null error and z over max(n, 1)), reproduced bit for bit.
+#[test]
+fn the_datasets_formulas_bit_for_bit() {
+    for n in [1u64, 2, 7, 100, 1000, 100_000] {
+        for b in (0..=n).step_by((n / 50).max(1) as usize) {
+            for c in (0..=n - b).step_by((n / 37).max(1) as usize) {
+                let f = PairedFates::new(b, c, n).unwrap();
+                let (bf, cf, nf) = (b as f64, c as f64, n as f64);
+                assert_eq!(f.difference().to_bits(), ((bf - cf) / nf).to_bits());
+                assert_eq!(
+                    f.stderr().to_bits(),
+                    ((bf + cf - (bf - cf).powi(2) / nf).max(0.0).sqrt() / nf).to_bits()
+                );
+                let chi2 = if bf + cf > 0.0 {
+                    (bf - cf).powi(2) / (bf + cf)
+                } else {
+                    0.0
+                };
+                assert_eq!(f.chi2().to_bits(), chi2.to_bits());
+                assert_eq!(
+                    f.stderr_under_null().to_bits(),
+                    (((c + b) as f64).sqrt() / nf).to_bits()
+                );
+                let sd = ((c + b) as f64).sqrt();
+                let z = if sd > 0.0 { (b as f64 - c as f64) / sd } else { 0.0 };
+                assert_eq!(f.z().to_bits(), z.to_bits());
+            }
+        }
+    }
+}
