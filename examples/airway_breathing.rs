@@ -25,7 +25,8 @@ use pseudorigid::flow::openfoam::FoamCase;
 use pseudorigid::output::{Csv, paper_figure_path};
 use pseudorigid::population::RunOptions;
 use pseudorigid::studies::bifurcation::breathing::{
-    self, Breath, Paired, Waveform, de_table, field_difference, flow_rate_table, map_table, paired_table, phase_table,
+    self, Breath, BreathingPair, Waveform, de_table, field_difference, flow_rate_table, map_table, paired_table,
+    phase_table,
 };
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, StudyRun, figures};
 use pseudorigid::studies::count_and_case;
@@ -96,7 +97,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     steps.to_string(),
                 ])?;
             }
-            pairs.push(Paired::new(&airway, kind, waveform, figures::SEED, steady, cyclic)?);
+            pairs.push(BreathingPair::new(
+                &airway,
+                kind,
+                waveform,
+                figures::SEED,
+                steady,
+                cyclic,
+            )?);
         }
     }
     de_table(&pairs)?.write(out("de.csv"))?;
@@ -116,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// shape never changes; α → 0 at fixed Re), beside the steady and pimpleFoam runs of the same
 /// particles. Columns `shape,mu_s,stk,n,de_steady,de_quasi_steady,de_cyclic` with their
 /// binomial standard errors.
-fn quasi_steady(airway: &Airway, pairs: &[Paired], m: u64) -> Result<Csv, Box<dyn std::error::Error>> {
+fn quasi_steady(airway: &Airway, pairs: &[BreathingPair], m: u64) -> Result<Csv, Box<dyn std::error::Error>> {
     use pseudorigid::population::Fate;
     use pseudorigid::population::binomial::{fraction, stderr};
     let waveform = Waveform::rest();

@@ -12,6 +12,7 @@
 
 use pseudorigid::hydro::ForceTerms;
 use pseudorigid::hydro::forces::{Cunningham, SchillerNaumann};
+use pseudorigid::population::binomial::PairedFates;
 use pseudorigid::studies::bifurcation::{Efficiency, StudyRun, figures};
 use std::sync::Arc;
 
@@ -28,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let paper = figures::run_cached(StudyRun::new(&airway, kind, n))?;
         let with = figures::run_cached(StudyRun::new(&airway, kind, n).forces(&forces))?;
         let (lost, gained) = figures::deposit_changes(&paper, &with);
-        let count = paper.records.len() as f64;
+        let fates = PairedFates::new(gained, lost, paper.records.len() as u64)?;
         let (a, b) = (Efficiency::of(kind, &paper), Efficiency::of(kind, &with));
         println!(
             "Stk {}: DE {:.4} ± {:.4} (paper's model) -> {:.4} ± {:.4} (slip + finite-Re drag); \
@@ -38,8 +39,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             a.stderr(),
             b.de(),
             b.stderr(),
-            (gained as f64 - lost as f64) / count,
-            ((lost + gained) as f64).sqrt() / count
+            fates.difference(),
+            fates.stderr_under_null()
         );
     }
     Ok(())

@@ -59,6 +59,7 @@
 use pseudorigid::contact::ContactModel;
 use pseudorigid::material::NeoHooke;
 use pseudorigid::output::paper_figure_path;
+use pseudorigid::population::binomial::PairedFates;
 use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, RunOutput, Shard, run};
 use pseudorigid::studies::airway_tree::{self, AirwayTree, Generations};
@@ -304,9 +305,8 @@ fn bifurcation_row(c: &Compared, check: bool) -> Result<Vec<String>, Error> {
     let de_of = (both + only_of) as f64 / n_of;
     let se = |p: f64, m: f64| (p * (1.0 - p) / m).sqrt();
     let (se_ours, se_of) = (se(de_ours, n_ours), se(de_of, n_of));
-    let (b, c, nn) = (only_ours as f64, only_of as f64, n as f64);
-    let se_paired = (b + c - (b - c).powi(2) / nn).max(0.0).sqrt() / nn;
-    let chi2 = if b + c > 0.0 { (b - c).powi(2) / (b + c) } else { 0.0 };
+    let fates = PairedFates::new(only_ours, only_of, n)?;
+    let (se_paired, chi2) = (fates.stderr(), fates.chi2());
     let threads = rayon::current_num_threads();
     let header = "case,stk,n,both_deposited,only_ours,only_openfoam,neither,ours_escaped,ours_suspended,ours_failed,openfoam_escaped,openfoam_suspended,openfoam_not_injected,de_ours,se_ours,de_openfoam,se_openfoam,de_difference,se_paired,mcnemar_chi2,wall_ours_s,threads_ours,wall_openfoam_s";
     let row = format!(
@@ -325,7 +325,7 @@ fn bifurcation_row(c: &Compared, check: bool) -> Result<Vec<String>, Error> {
     let mut failures = Vec::new();
     if check {
         let bound = DE_SIGMAS * (se_ours * se_ours + se_of * se_of).sqrt() + DE_SLACK;
-        let discordant = (b + c) / nn;
+        let discordant = (only_ours + only_of) as f64 / n as f64;
         // NaN (no finished particle) fails too.
         if (de_ours - de_of).is_nan() || (de_ours - de_of).abs() > bound {
             failures.push(format!(

@@ -5,8 +5,9 @@
 //! `not_injected`). Pairing particle by particle: b = deposited by us only, c = by the peer
 //! only; the paired (McNemar) standard error of DE_ours − DE_peer is √(b + c − (b − c)²/n)/n and
 //! the statistic (b − c)²/(b + c) is χ²₁ under "both deposit with the same probability"
-//! (McNemar 1947).
+//! (McNemar 1947; [`PairedFates`], the one place these are computed).
 
+use crate::population::binomial::PairedFates;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -109,20 +110,22 @@ impl Pairing {
         self.both + self.only_ours + self.only_peer + self.neither
     }
 
-    /// Paired difference DE_ours − DE_peer over the paired particles and its (McNemar) standard
-    /// error √(b + c − (b − c)²/n)/n (module docs); (0, 0) if none.
-    pub fn difference(&self) -> (f64, f64) {
-        let n = self.n() as f64;
-        if n == 0.0 {
-            return (0.0, 0.0);
-        }
-        let (b, c) = (self.only_ours as f64, self.only_peer as f64);
-        ((b - c) / n, (b + c - (b - c).powi(2) / n).max(0.0).sqrt() / n)
+    /// The discordant pairs, b = us only and c = the peer only over [`Self::n`]; `None` if no
+    /// particle is paired (b + c ≤ n holds by construction, so that is the only refusal).
+    pub fn fates(&self) -> Option<PairedFates> {
+        PairedFates::new(self.only_ours, self.only_peer, self.n()).ok()
     }
 
-    /// McNemar's χ² = (b − c)²/(b + c) without continuity correction (0 if b + c = 0).
+    /// Paired difference DE_ours − DE_peer over the paired particles and its (McNemar) standard
+    /// error √(b + c − (b − c)²/n)/n ([`PairedFates::difference`], [`PairedFates::stderr`]);
+    /// (0, 0) if none.
+    pub fn difference(&self) -> (f64, f64) {
+        self.fates().map_or((0.0, 0.0), |f| (f.difference(), f.stderr()))
+    }
+
+    /// McNemar's χ² = (b − c)²/(b + c) without continuity correction ([`PairedFates::chi2`]; 0 if
+    /// b + c = 0).
     pub fn mcnemar_chi2(&self) -> f64 {
-        let (b, c) = (self.only_ours as f64, self.only_peer as f64);
-        if b + c > 0.0 { (b - c).powi(2) / (b + c) } else { 0.0 }
+        self.fates().map_or(0.0, |f| f.chi2())
     }
 }

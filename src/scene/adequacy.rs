@@ -177,7 +177,7 @@ pub struct Resolution {
 
 /// One re-tracked particle: its fate in the run and on the other field.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Paired {
+pub struct Retracked {
     /// Particle index.
     pub index: u64,
     /// Fate in the run (`Fate::label`).
@@ -212,7 +212,7 @@ pub struct Sensitivity {
     /// |difference| > [`WARN_SIGMAS`] · stderr, with at least one discordant pair.
     pub warning: bool,
     /// The particles, by index.
-    pub particles: Vec<Paired>,
+    pub particles: Vec<Retracked>,
 }
 
 /// Why a run has no re-track.
@@ -463,7 +463,7 @@ pub fn sensitivity(
                 } else {
                     pairing.add(deposited(&r.fate), deposited(o));
                 }
-                Paired {
+                Retracked {
                     index: r.index,
                     run: r.fate.label(),
                     other: o.label(),

@@ -18,12 +18,13 @@
 use super::observe::{Generations, Reached};
 use super::tree::Tree;
 use super::{AirwayTree, AirwayTreeError};
+use crate::error::ParamError;
 use crate::material::NeoHooke;
 use crate::output::{Csv, Figure, Panel, Series};
+use crate::population::binomial::PairedFates;
 use crate::population::{Fate, ParticleRecord, RunOptions, RunOutput};
-use crate::studies::bifurcation::Kind;
-use crate::studies::bifurcation::StudyRun;
 use crate::studies::bifurcation::injection::Material;
+use crate::studies::bifurcation::{BifurcationError, Kind, StudyRun};
 use std::path::{Path, PathBuf};
 
 /// `run` (through the tree's airway: [`AirwayTree::study`]) with each particle watched by
@@ -140,14 +141,14 @@ pub struct PairedGeneration {
 }
 
 impl PairedGeneration {
-    /// Change of the fraction of all particles deposited in the generation, soft − reference.
-    pub fn delta_fraction(&self) -> f64 {
-        (self.soft_only as f64 - self.reference_only as f64) / self.n.max(1) as f64
-    }
-
-    /// McNemar's standard error of [`Self::delta_fraction`].
-    pub fn delta_fraction_stderr(&self) -> f64 {
-        ((self.soft_only + self.reference_only) as f64).sqrt() / self.n.max(1) as f64
+    /// The generation's discordant pairs: b = deposited in it by the soft run only, c = by the
+    /// reference run only, over the n pairs (at least one: without pairs b = c = 0 and the
+    /// difference is 0 ± 0). Its [`PairedFates::difference`] is the change of the fraction of
+    /// all particles deposited in the generation, soft − reference; the tables give it McNemar's
+    /// standard error [`PairedFates::stderr_under_null`]. An error if the counts are
+    /// inconsistent (b + c > n).
+    pub fn fates(&self) -> Result<PairedFates, ParamError> {
+        PairedFates::new(self.soft_only, self.reference_only, self.n.max(1))
     }
 
     /// DE_soft − DE_reference.
@@ -235,7 +236,9 @@ pub fn de_table(rows: &[(Kind, Vec<GenerationCounts>)]) -> Result<Csv, AirwayTre
 
 /// `shape,stk,reference,soft,generation,n,reference_only,soft_only,delta_fraction,
 /// delta_fraction_stderr,de_reference,de_soft,delta_de,delta_de_stderr` (μ_s labels as in
-/// [`de_table`]; [`PairedGeneration`]).
+/// [`de_table`]; [`PairedGeneration`]): `delta_fraction` ± `delta_fraction_stderr` is
+/// [`PairedGeneration::fates`]' difference with McNemar's standard error under no effect,
+/// √(soft_only + reference_only)/n ([`PairedFates::stderr_under_null`]).
 pub fn paired_table(rows: &[(Kind, Kind, Vec<PairedGeneration>)]) -> Result<Csv, AirwayTreeError> {
     let mut csv = Csv::new(&[
         "shape",
@@ -255,6 +258,7 @@ pub fn paired_table(rows: &[(Kind, Kind, Vec<PairedGeneration>)]) -> Result<Csv,
     ]);
     for (reference, soft, gens) in rows {
         for p in gens {
+            let fates = p.fates().map_err(BifurcationError::from)?;
             csv.push(vec![
                 reference.shape.label(),
                 reference.stokes.to_string(),
@@ -264,8 +268,8 @@ pub fn paired_table(rows: &[(Kind, Kind, Vec<PairedGeneration>)]) -> Result<Csv,
                 p.n.to_string(),
                 p.reference_only.to_string(),
                 p.soft_only.to_string(),
-                format!("{:.5}", p.delta_fraction()),
-                format!("{:.5}", p.delta_fraction_stderr()),
+                format!("{:.5}", fates.difference()),
+                format!("{:.5}", fates.stderr_under_null()),
                 format!("{:.5}", p.reference.de()),
                 format!("{:.5}", p.soft.de()),
                 format!("{:.5}", p.delta_de()),

@@ -14,6 +14,7 @@ use crate::output::vtk::{PolyData, Values};
 use crate::output::{Figure, Panel, Series};
 use crate::population::RunOptions;
 use crate::population::RunOutput;
+use crate::population::binomial::PairedFates;
 use std::path::{Path, PathBuf};
 
 /// Stokes numbers of Fig. 18 (the paper's range 0.005–0.5).
@@ -264,8 +265,8 @@ pub fn deposits_vtp(runs: &[(Kind, u64, Vec<Deposit>)]) -> Result<PolyData, Bifu
 /// fates_changed,deposits_gained,deposits_lost,paired_z` where `fates_changed` counts the
 /// particles whose fate (deposited, escaped, suspended) differs from the first case's,
 /// `deposits_gained` those deposited here but not there, `deposits_lost` the reverse, and
-/// `paired_z` = (gained − lost)/√(gained + lost), McNemar's statistic (|z| > 3: the DE moved
-/// beyond what the particles' randomness explains).
+/// `paired_z` = (gained − lost)/√(gained + lost), McNemar's statistic ([`PairedFates::z`];
+/// |z| > 3: the DE moved beyond what the particles' randomness explains).
 pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate::output::Csv, BifurcationError> {
     let mut csv = crate::output::Csv::new(&[
         "case",
@@ -295,11 +296,12 @@ pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate
                     .count()
             })
         };
+        let paired = pairs(&|_, _| true);
         let changed = pairs(&|a, b| a != b);
         let gained = pairs(&|a, b| a != "deposited" && b == "deposited");
         let lost = pairs(&|a, b| a == "deposited" && b != "deposited");
-        let z = if gained + lost > 0 {
-            (gained as f64 - lost as f64) / ((gained + lost) as f64).sqrt()
+        let z = if paired > 0 {
+            PairedFates::new(gained as u64, lost as u64, paired as u64)?.z()
         } else {
             0.0
         };
@@ -341,8 +343,8 @@ pub fn write_validity(figure: &str, airway: &Airway, kinds: &[Kind]) -> Result<(
 /// and soft kinds. A row per pair `shape,stk,reference,soft,n,dep_to_esc,esc_to_dep,delta_de,
 /// delta_de_stderr`: the particles whose deposition changes either way, ΔDE = (esc→dep −
 /// dep→esc)/n and its standard error √(dep→esc + esc→dep)/n (McNemar's test: under no effect the
-/// discordant particles split evenly). Far tighter than comparing two independent DEs, because
-/// most particles meet the same fate either way.
+/// discordant particles split evenly; [`PairedFates::stderr_under_null`]). Far tighter than
+/// comparing two independent DEs, because most particles meet the same fate either way.
 pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<crate::output::Csv, BifurcationError> {
     let mut csv = crate::output::Csv::new(&[
         "shape",
@@ -361,7 +363,8 @@ pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<c
             run_cached(StudyRun::new(airway, *soft, n))?,
         );
         let (lost, gained) = deposit_changes(&a, &b);
-        let count = a.records.len().max(1) as f64;
+        // Over at least one pair: without any, 0 ± 0.
+        let fates = PairedFates::new(gained, lost, a.records.len().max(1) as u64)?;
         csv.push(vec![
             reference.shape.label(),
             reference.stokes.to_string(),
@@ -370,8 +373,8 @@ pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<c
             a.records.len().to_string(),
             lost.to_string(),
             gained.to_string(),
-            format!("{:.4}", (gained as f64 - lost as f64) / count),
-            format!("{:.4}", ((lost + gained) as f64).sqrt() / count),
+            format!("{:.4}", fates.difference()),
+            format!("{:.4}", fates.stderr_under_null()),
         ])?;
     }
     Ok(csv)

@@ -1,6 +1,7 @@
 //! The population runner (src/population).
 
 mod batch;
+mod binomial;
 mod checkpoint;
 #[cfg(feature = "parquet")]
 mod columns;

@@ -5,7 +5,7 @@
 //! quasi-steady field.
 
 use pseudorigid::population::{Fate, RunOptions};
-use pseudorigid::studies::bifurcation::breathing::{self, Breath, Paired, Waveform, de_table, paired_table};
+use pseudorigid::studies::bifurcation::breathing::{self, Breath, BreathingPair, Waveform, de_table, paired_table};
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, StudyRun, figures};
 use pseudorigid::studies::particles::Shape;
 use std::path::PathBuf;
@@ -76,7 +76,7 @@ fn constant_breath_is_the_steady_study_shifted_in_time() {
     let quiet = RunOptions::default().quiet();
     let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
     let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
-    let pair = Paired::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap();
+    let pair = BreathingPair::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap();
     let (mut changed, mut compared, mut worst) = (0, 0, 0.0f64);
     for ((a, b), &t0) in pair.steady.records.iter().zip(&pair.cyclic.records).zip(&pair.times) {
         assert!((0.0..0.5).contains(&t0));
@@ -129,7 +129,7 @@ fn sinusoidal_breath_snapshot() {
         let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
         let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
         assert_eq!(cyclic.counts().failed, 0);
-        pairs.push(Paired::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap());
+        pairs.push(BreathingPair::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap());
     }
     insta::assert_snapshot!(format!(
         "{}\n{}",
@@ -174,7 +174,7 @@ fn slow_breath_is_quasi_steady_particle_by_particle() {
     let quiet = RunOptions::default().quiet();
     let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
     let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
-    let pair = Paired::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap();
+    let pair = BreathingPair::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap();
     // ŝ(t): the levels' scales, linearly interpolated.
     let level = |t: f64| w.scale(t);
     let s_hat = |t: f64| {
