@@ -6,7 +6,7 @@ use numpy::{PyArray1, PyArrayMethods};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::material::NamedLaw;
 use pseudorigid::population::columns::{
-    FRAME_COLUMNS, Row, Values, at_time, fate_code, frame_measures, record_columns,
+    ColumnValues, FRAME_COLUMNS, Row, at_time, fate_code, frame_measures, record_columns,
 };
 use pseudorigid::population::{Fate, RunOutput};
 use pyo3::prelude::*;
@@ -78,10 +78,12 @@ impl Results {
         let d = PyDict::new(py);
         for c in record_columns::<NamedLaw>() {
             match c.values {
-                Values::Count(f) => column_i64(py, &d, c.name, rows.iter().map(|r| f(r) as i64).collect())?,
-                Values::Int(f) => d.set_item(c.name, rows.iter().map(f).collect::<Vec<_>>())?,
-                Values::Real(f) => column(py, &d, c.name, rows.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect())?,
-                Values::Text(f) => d.set_item(c.name, rows.iter().map(f).collect::<Vec<_>>())?,
+                ColumnValues::Count(f) => column_i64(py, &d, c.name, rows.iter().map(|r| f(r) as i64).collect())?,
+                ColumnValues::Int(f) => d.set_item(c.name, rows.iter().map(f).collect::<Vec<_>>())?,
+                ColumnValues::Real(f) => {
+                    column(py, &d, c.name, rows.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect())?
+                }
+                ColumnValues::Text(f) => d.set_item(c.name, rows.iter().map(f).collect::<Vec<_>>())?,
             }
         }
         Ok(d)

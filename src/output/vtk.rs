@@ -79,18 +79,18 @@ pub enum VtkError {
 
 /// The values of one point array.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Values {
+pub enum PointValues {
     /// 64-bit floats.
     Float64(Vec<f64>),
     /// 64-bit integers (ids, flags, patch numbers).
     Int64(Vec<i64>),
 }
 
-impl Values {
+impl PointValues {
     fn len(&self) -> usize {
         match self {
-            Values::Float64(v) => v.len(),
-            Values::Int64(v) => v.len(),
+            PointValues::Float64(v) => v.len(),
+            PointValues::Int64(v) => v.len(),
         }
     }
 }
@@ -100,7 +100,7 @@ impl Values {
 pub struct DataArray {
     name: String,
     components: usize,
-    values: Values,
+    values: PointValues,
 }
 
 /// Points with vertex or polyline cells and point arrays: one `.vtp` file.
@@ -202,7 +202,7 @@ impl PolyData {
     }
 
     /// Add a point array of `components` values per point (point-major).
-    pub fn with_array(mut self, name: &str, components: usize, values: Values) -> Result<Self, VtkError> {
+    pub fn with_array(mut self, name: &str, components: usize, values: PointValues) -> Result<Self, VtkError> {
         let name = plain(name)?.to_string();
         let expected = components * self.points.len();
         if components == 0 || values.len() != expected {
@@ -213,7 +213,7 @@ impl PolyData {
                 got: values.len(),
             });
         }
-        if let Values::Float64(v) = &values {
+        if let PointValues::Float64(v) = &values {
             check_finite(&name, v)?;
             if self.single {
                 check_single(&name, v)?;
@@ -234,7 +234,7 @@ impl PolyData {
         let coords: Vec<f64> = self.points.iter().flat_map(|p| p.iter().copied()).collect();
         check_single("Points", &coords)?;
         for a in &self.arrays {
-            if let Values::Float64(v) = &a.values {
+            if let PointValues::Float64(v) = &a.values {
                 check_single(&a.name, v)?;
             }
         }
@@ -303,7 +303,7 @@ impl PolyData {
         }
         s.push_str("</PointData>\n<Points>\n");
         let coords: Vec<f64> = self.points.iter().flat_map(|p| p.iter().copied()).collect();
-        write_array(s, appended, "Points", 3, &Values::Float64(coords), self.single);
+        write_array(s, appended, "Points", 3, &PointValues::Float64(coords), self.single);
         s.push_str("</Points>\n");
         if self.verts {
             write_cells(s, appended, "Verts", (0..n).map(|p| vec![p]));
@@ -328,13 +328,13 @@ fn write_array(
     appended: &mut Option<Vec<u8>>,
     name: &str,
     components: usize,
-    values: &Values,
+    values: &PointValues,
     single: bool,
 ) {
     let kind = match values {
-        Values::Float64(_) if single => "Float32",
-        Values::Float64(_) => "Float64",
-        Values::Int64(_) => "Int64",
+        PointValues::Float64(_) if single => "Float32",
+        PointValues::Float64(_) => "Float64",
+        PointValues::Int64(_) => "Int64",
     };
     let _ = write!(
         s,
@@ -344,9 +344,9 @@ fn write_array(
         let _ = writeln!(s, "format=\"appended\" offset=\"{}\"/>", data.len());
         let raw: Vec<u8> = match values {
             // Range checked by `check_single`; `as` rounds to nearest.
-            Values::Float64(v) if single => v.iter().flat_map(|&x| (x as f32).to_le_bytes()).collect(),
-            Values::Float64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
-            Values::Int64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+            PointValues::Float64(v) if single => v.iter().flat_map(|&x| (x as f32).to_le_bytes()).collect(),
+            PointValues::Float64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+            PointValues::Int64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
         };
         append_compressed(data, &raw);
         return;
@@ -354,13 +354,13 @@ fn write_array(
     s.push_str("format=\"ascii\">");
     match values {
         // `{:?}` is the shortest representation that parses back to the same f64 (or f32).
-        Values::Float64(v) if single => v.iter().for_each(|&x| {
+        PointValues::Float64(v) if single => v.iter().for_each(|&x| {
             let _ = write!(s, "{:?} ", x as f32);
         }),
-        Values::Float64(v) => v.iter().for_each(|x| {
+        PointValues::Float64(v) => v.iter().for_each(|x| {
             let _ = write!(s, "{x:?} ");
         }),
-        Values::Int64(v) => v.iter().for_each(|x| {
+        PointValues::Int64(v) => v.iter().for_each(|x| {
             let _ = write!(s, "{x} ");
         }),
     }
@@ -392,8 +392,8 @@ fn write_cells(s: &mut String, appended: &mut Option<Vec<u8>>, kind: &str, cells
         offsets.push(connectivity.len() as i64);
     }
     let _ = writeln!(s, "<{kind}>");
-    write_array(s, appended, "connectivity", 1, &Values::Int64(connectivity), false);
-    write_array(s, appended, "offsets", 1, &Values::Int64(offsets), false);
+    write_array(s, appended, "connectivity", 1, &PointValues::Int64(connectivity), false);
+    write_array(s, appended, "offsets", 1, &PointValues::Int64(offsets), false);
     let _ = writeln!(s, "</{kind}>");
 }
 
@@ -433,12 +433,12 @@ pub fn particle_cloud(points: &[CloudPoint]) -> Result<PolyData, VtkError> {
     }
     let [r1, r2, r3] = r;
     PolyData::vertices(points.iter().map(|p| p.x).collect())?
-        .with_array("id", 1, Values::Int64(points.iter().map(|p| p.id).collect()))?
-        .with_array("V", 9, Values::Float64(v))?
-        .with_array("r1", 1, Values::Float64(r1))?
-        .with_array("r2", 1, Values::Float64(r2))?
-        .with_array("r3", 1, Values::Float64(r3))?
-        .with_array("flag", 1, Values::Int64(points.iter().map(|p| p.flag).collect()))?
+        .with_array("id", 1, PointValues::Int64(points.iter().map(|p| p.id).collect()))?
+        .with_array("V", 9, PointValues::Float64(v))?
+        .with_array("r1", 1, PointValues::Float64(r1))?
+        .with_array("r2", 1, PointValues::Float64(r2))?
+        .with_array("r3", 1, PointValues::Float64(r3))?
+        .with_array("flag", 1, PointValues::Int64(points.iter().map(|p| p.flag).collect()))?
         .with_active_tensors("V")
 }
 

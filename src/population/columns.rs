@@ -74,7 +74,7 @@ impl<L: StressLaw> Row<'_, L> {
 /// A column's type and how a row gives its value; `None` is a value that does not exist (the
 /// patch of a suspended particle, μ_s of a rigid one): an empty CSV field, a Parquet null, NaN
 /// or None in Python.
-pub enum Values<L> {
+pub enum ColumnValues<L> {
     /// A count, always there (index, steps): unsigned in Parquet, an int64 array in Python.
     Count(fn(&Row<'_, L>) -> u64),
     /// An integer.
@@ -94,11 +94,11 @@ pub struct Column<L> {
     /// Whether `results.csv` has it (it leaves out F and the work counts besides the steps).
     pub csv: bool,
     /// Its type and values.
-    pub values: Values<L>,
+    pub values: ColumnValues<L>,
 }
 
 /// A column of a record's row.
-const fn column<L>(name: &'static str, doc: &'static str, csv: bool, values: Values<L>) -> Column<L> {
+const fn column<L>(name: &'static str, doc: &'static str, csv: bool, values: ColumnValues<L>) -> Column<L> {
     Column { name, doc, csv, values }
 }
 
@@ -107,7 +107,7 @@ const fn column<L>(name: &'static str, doc: &'static str, csv: bool, values: Val
 /// μ_s, ρ_s), step statistics and the error of a failed particle.
 #[rustfmt::skip]
 pub fn record_columns<L: StressLaw>() -> [Column<L>; 33] {
-    use Values::{Count, Int, Real, Text};
+    use ColumnValues::{Count, Int, Real, Text};
     // In every table; in all but `results.csv`.
     const ALL: bool = true;
     const NO_CSV: bool = false;

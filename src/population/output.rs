@@ -2,7 +2,7 @@
 //! writes), merged over shards, as a CSV table, or as one JSON file that round-trips every f64
 //! exactly (a cache of results, as the bifurcation studies keep).
 
-use super::columns::{Column, Row, Values, record_columns};
+use super::columns::{Column, ColumnValues, Row, record_columns};
 use super::record::{FateCounts, ParticleRecord};
 use super::shard::Shard;
 use super::{FORMAT, PopulationError};
@@ -286,11 +286,11 @@ impl<L: StressLaw + Serialize + DeserializeOwned> RunOutput<L> {
 }
 
 /// The CSV field of a column's value in `row`.
-fn field<L>(values: &Values<L>, row: &Row<'_, L>) -> String {
+fn field<L>(values: &ColumnValues<L>, row: &Row<'_, L>) -> String {
     match values {
-        Values::Count(f) => f(row).to_string(),
-        Values::Int(f) => f(row).map(|v| v.to_string()).unwrap_or_default(),
-        Values::Real(f) => f(row).map(|v| format!("{v:?}")).unwrap_or_default(),
-        Values::Text(f) => f(row).map(|v| v.replace([',', '\n', '\r'], " ")).unwrap_or_default(),
+        ColumnValues::Count(f) => f(row).to_string(),
+        ColumnValues::Int(f) => f(row).map(|v| v.to_string()).unwrap_or_default(),
+        ColumnValues::Real(f) => f(row).map(|v| format!("{v:?}")).unwrap_or_default(),
+        ColumnValues::Text(f) => f(row).map(|v| v.replace([',', '\n', '\r'], " ")).unwrap_or_default(),
     }
 }

@@ -8,7 +8,7 @@
 //! [`at_time`], beside the columns of a run's tables.
 
 use crate::material::NamedLaw;
-use crate::output::vtk::{CloudPoint, PolyData, Values, particle_cloud, stretch, write_pvd};
+use crate::output::vtk::{CloudPoint, PointValues, PolyData, particle_cloud, stretch, write_pvd};
 use crate::output::{Csv, OutputError};
 use crate::population::columns::at_time;
 use crate::population::{ParticleRecord, RunOutput};
@@ -104,8 +104,8 @@ fn write_trajectories(records: &[ParticleRecord<NamedLaw>], dir: &Path, csv: boo
         lines.push((start..points.len()).collect());
     }
     let data = PolyData::polylines(points, lines)
-        .and_then(|d| d.with_array("id", 1, Values::Int64(ids)))
-        .and_then(|d| d.with_array("t", 1, Values::Float64(ts)))
+        .and_then(|d| d.with_array("id", 1, PointValues::Int64(ids)))
+        .and_then(|d| d.with_array("t", 1, PointValues::Float64(ts)))
         .and_then(PolyData::single_precision)
         .map_err(OutputError::from)?;
     data.write(dir.join("vtk/trajectories.vtp"))?;

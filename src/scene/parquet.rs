@@ -16,7 +16,7 @@ use crate::material::NamedLaw;
 use crate::material::StressLaw;
 use crate::output::parquet::Table;
 use crate::population::RunOutput;
-use crate::population::columns::{FRAME_COLUMNS, Row, Values, at_time, frame_measures, record_columns};
+use crate::population::columns::{ColumnValues, FRAME_COLUMNS, Row, at_time, frame_measures, record_columns};
 use crate::scene::error::SceneError;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -32,10 +32,10 @@ pub fn write_records<L: StressLaw + Serialize + DeserializeOwned>(
     let mut t = Table::default();
     for c in record_columns::<L>() {
         match c.values {
-            Values::Count(f) => t.u64(c.name, rows.iter().map(f).collect()),
-            Values::Int(f) => t.i64_or_null(c.name, rows.iter().map(f).collect()),
-            Values::Real(f) => t.f64_or_null(c.name, rows.iter().map(f).collect()),
-            Values::Text(f) => t.text(c.name, rows.iter().map(|r| f(r).map(str::to_string)).collect()),
+            ColumnValues::Count(f) => t.u64(c.name, rows.iter().map(f).collect()),
+            ColumnValues::Int(f) => t.i64_or_null(c.name, rows.iter().map(f).collect()),
+            ColumnValues::Real(f) => t.f64_or_null(c.name, rows.iter().map(f).collect()),
+            ColumnValues::Text(f) => t.text(c.name, rows.iter().map(|r| f(r).map(str::to_string)).collect()),
         }
     }
     Ok(t.write(path)?)

@@ -78,7 +78,7 @@ fn vtp_block(bytes: &[u8], name: &str) -> (String, Vec<u8>) {
 /// The binary `.vtp` holds every value bit for bit in double precision.
 #[test]
 fn binary_vtp_blocks_hold_the_values_bit_for_bit() {
-    use pseudorigid::output::vtk::{PolyData, Values};
+    use pseudorigid::output::vtk::{PointValues, PolyData};
     use pseudorigid::tensor::Vec3;
     let points = vec![
         Vec3::new(5e-324, -0.0, 1.7976931348623157e308),
@@ -86,7 +86,7 @@ fn binary_vtp_blocks_hold_the_values_bit_for_bit() {
     ];
     let data = PolyData::vertices(points.clone())
         .unwrap()
-        .with_array("id", 1, Values::Int64(vec![7, -9]))
+        .with_array("id", 1, PointValues::Int64(vec![7, -9]))
         .unwrap();
     let bytes = data.to_binary();
     let words = |name: &str| -> Vec<[u8; 8]> {
@@ -114,13 +114,13 @@ fn binary_vtp_blocks_hold_the_values_bit_for_bit() {
 /// as infinity.
 #[test]
 fn single_precision_vtp_rounds_to_nearest_and_refuses_overflow() {
-    use pseudorigid::output::vtk::{PolyData, Values};
+    use pseudorigid::output::vtk::{PointValues, PolyData};
     use pseudorigid::tensor::Vec3;
     let points = vec![Vec3::new(0.1, -1.0 / 3.0, 1e-40), Vec3::new(3.4e38, 2.0, -0.0)];
     let r = vec![std::f64::consts::PI, 1.0 + f64::EPSILON];
     let data = PolyData::vertices(points.clone())
         .unwrap()
-        .with_array("r1", 1, Values::Float64(r.clone()))
+        .with_array("r1", 1, PointValues::Float64(r.clone()))
         .unwrap()
         .single_precision()
         .unwrap();
@@ -148,6 +148,6 @@ fn single_precision_vtp_rounds_to_nearest_and_refuses_overflow() {
         .unwrap()
         .single_precision()
         .unwrap()
-        .with_array("r1", 1, Values::Float64(vec![-1e39]));
+        .with_array("r1", 1, PointValues::Float64(vec![-1e39]));
     assert!(later.is_err());
 }

@@ -21,7 +21,7 @@ use super::study::mu_s_label;
 use super::tree::{Location, Tree};
 use super::{AirwayTree, AirwayTreeError};
 use crate::material::NeoHooke;
-use crate::output::vtk::Values;
+use crate::output::vtk::PointValues;
 use crate::output::{Csv, Figure, Panel, PolyData, Series, VtkError};
 use crate::particle::release::{ReleaseCriterion, ReleaseThresholds};
 use crate::population::release::{Crossing, ReleaseObserver, Released};
@@ -381,8 +381,8 @@ pub fn release_map(rows: &Map<'_>, particles: u64) -> Result<PolyData, VtkError>
         .flat_map(|(k, (_, r))| r.events.iter().map(move |e| (k, e)))
         .filter(|(_, e)| e.index < particles)
         .collect();
-    let f = |g: fn(&ReleaseEvent) -> f64| Values::Float64(events.iter().map(|(_, e)| g(e)).collect());
-    let i = |g: fn(usize, &ReleaseEvent) -> i64| Values::Int64(events.iter().map(|(k, e)| g(*k, e)).collect());
+    let f = |g: fn(&ReleaseEvent) -> f64| PointValues::Float64(events.iter().map(|(_, e)| g(e)).collect());
+    let i = |g: fn(usize, &ReleaseEvent) -> i64| PointValues::Int64(events.iter().map(|(k, e)| g(*k, e)).collect());
     let map = PolyData::vertices(events.iter().map(|(_, e)| Vec3::from(e.crossing.x)).collect())?
         .with_array("time", 1, f(|e| e.crossing.t))?
         .with_array("threshold", 1, f(|e| e.threshold))?

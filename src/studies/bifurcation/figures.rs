@@ -10,7 +10,7 @@ use super::setup::{Airway, zhang_reference};
 use super::study::{Efficiency, StudyRun, efficiency_table};
 use crate::material::NeoHooke;
 use crate::output::paper_figure_path;
-use crate::output::vtk::{PolyData, Values};
+use crate::output::vtk::{PointValues, PolyData};
 use crate::output::{Figure, Panel, Series};
 use crate::population::RunOptions;
 use crate::population::RunOutput;
@@ -246,14 +246,14 @@ pub fn deposits_vtp(runs: &[(Kind, u64, Vec<Deposit>)]) -> Result<PolyData, Bifu
         .enumerate()
         .flat_map(|(k, (_, _, deps))| deps.iter().map(move |d| (k, d)))
         .collect();
-    let column = |f: &dyn Fn(&Deposit) -> f64| Values::Float64(all.iter().map(|(_, d)| f(d)).collect());
-    let ints = |f: &dyn Fn(usize, &Deposit) -> i64| Values::Int64(all.iter().map(|&(k, d)| f(k, d)).collect());
+    let column = |f: &dyn Fn(&Deposit) -> f64| PointValues::Float64(all.iter().map(|(_, d)| f(d)).collect());
+    let ints = |f: &dyn Fn(usize, &Deposit) -> i64| PointValues::Int64(all.iter().map(|&(k, d)| f(k, d)).collect());
     let v = all.iter().flat_map(|(_, d)| d.v.iter().copied()).collect();
     Ok(PolyData::vertices(all.iter().map(|(_, d)| d.x).collect())?
         .with_array("id", 1, ints(&|_, d| d.index as i64))?
         .with_array("kind", 1, ints(&|k, _| k as i64))?
         .with_array("patch", 1, ints(&|_, d| d.patch as i64))?
-        .with_array("V", 9, Values::Float64(v))?
+        .with_array("V", 9, PointValues::Float64(v))?
         .with_array("r1", 1, column(&|d| d.r[0]))?
         .with_array("r2", 1, column(&|d| d.r[1]))?
         .with_array("r3", 1, column(&|d| d.r[2]))?
