@@ -90,7 +90,7 @@ impl PairedFates {
     }
 
     /// The standard error of [`Self::difference`] (module docs):
-    /// $\sqrt{b + c - (b - c)^2/n}\,/\,n$, the square root of the multinomial variance with
+    /// $\sqrt{b + c - (b - c)^2/n}/n$, the square root of the multinomial variance with
     /// the observed cell fractions (0 when every pair is discordant one way).
     pub fn stderr(&self) -> f64 {
         let (b, c, n) = (self.b as f64, self.c as f64, self.n as f64);
@@ -98,7 +98,7 @@ impl PairedFates {
     }
 
     /// The standard error of [`Self::difference`] under "both runs deposit with the same
-    /// probability" (p_b = p_c, McNemar 1947): $\sqrt{b + c}\,/\,n$, never below
+    /// probability" (p_b = p_c, McNemar 1947): $\sqrt{b + c}/n$, never below
     /// [`Self::stderr`].
     pub fn stderr_under_null(&self) -> f64 {
         ((self.b + self.c) as f64).sqrt() / self.n as f64
