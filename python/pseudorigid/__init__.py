@@ -28,6 +28,7 @@ from .errors import (
     ParameterError,
     PopulationError,
     PseudorigidError,
+    SceneError,
     StudyError,
     StepError,
 )
@@ -48,6 +49,7 @@ __all__ = [
     "integrate",
     "PseudorigidError",
     "ParameterError",
+    "SceneError",
     "StudyError",
     "StepError",
     "FlowError",

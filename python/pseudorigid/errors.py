@@ -12,6 +12,7 @@ from typing import Optional
 __all__ = [
     "PseudorigidError",
     "ParameterError",
+    "SceneError",
     "StudyError",
     "StepError",
     "FlowError",
@@ -28,8 +29,8 @@ class ParameterError(PseudorigidError, ValueError):
     """A parameter outside its domain (the library's ``ParamError``), or a bad argument."""
 
 
-class StudyError(PseudorigidError, ValueError):
-    """A scene that does not validate.
+class SceneError(PseudorigidError, ValueError):
+    """A scene that does not validate (the library's ``scene::SceneError::Invalid``).
 
     ``file``, ``line`` and ``column`` locate the value in the TOML text (for a scene given as a
     dict: in the TOML text of :meth:`pseudorigid.Scene.to_toml`, file ``<dict>``); ``key`` is
@@ -41,6 +42,11 @@ class StudyError(PseudorigidError, ValueError):
     column: Optional[int] = None
     key: Optional[str] = None
     reason: Optional[str] = None
+
+
+#: The earlier name of :class:`SceneError` (in the library, ``StudyError`` is a study's
+#: failure, not a scene's); kept so that ``except pseudorigid.StudyError`` still catches it.
+StudyError = SceneError
 
 
 class StepError(PseudorigidError, ArithmeticError):

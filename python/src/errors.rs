@@ -53,7 +53,7 @@ pub(crate) fn population_error(py: Python<'_>, e: &PopulationError) -> PyErr {
     }
 }
 
-/// A scene's error: where the scene file is wrong (`StudyError`, with its place), or the
+/// A scene's error: where the scene file is wrong (`SceneError`, with its place), or the
 /// error of what its run reads and writes.
 pub(crate) fn scene_error(py: Python<'_>, e: &SceneError) -> PyErr {
     let message = e.to_string();
@@ -76,7 +76,7 @@ pub(crate) fn scene_error(py: Python<'_>, e: &SceneError) -> PyErr {
                 ])
             };
             match attrs() {
-                Ok(a) => typed(py, "StudyError", &message, &a),
+                Ok(a) => typed(py, "SceneError", &message, &a),
                 Err(e) => e,
             }
         }
@@ -87,7 +87,7 @@ pub(crate) fn scene_error(py: Python<'_>, e: &SceneError) -> PyErr {
     }
 }
 
-/// A `StudyError` at `key` of a scene given as dicts ([`crate::scene`]'s `from_dict`).
+/// A `SceneError` at `key` of a scene given as dicts ([`crate::scene`]'s `from_dict`).
 pub(crate) fn dict_error(py: Python<'_>, key: &str, message: &str) -> PyErr {
     let text = format!("<dict>: `{key}`: {message}");
     let attrs = || -> PyResult<Vec<(&str, Bound<'_, PyAny>)>> {
@@ -98,7 +98,7 @@ pub(crate) fn dict_error(py: Python<'_>, key: &str, message: &str) -> PyErr {
         ])
     };
     match attrs() {
-        Ok(a) => typed(py, "StudyError", &text, &a),
+        Ok(a) => typed(py, "SceneError", &text, &a),
         Err(e) => e,
     }
 }

@@ -46,6 +46,6 @@ def test_fluid_inertia_terms_give_maxey_riley_settling():
 
 def test_a_term_with_parameters_is_a_table_and_bad_names_name_their_key():
     pr.Scene.from_dict(falling_sphere([{"term": "cunningham", "mean_free_path": 6.65e-8}]))
-    with pytest.raises(pr.StudyError) as info:
+    with pytest.raises(pr.SceneError) as info:
         pr.Scene.from_dict(falling_sphere(["added_mass", "basset"]))
     assert info.value.key == "particles.forces[1]", str(info.value)

@@ -45,9 +45,9 @@ def test_integrate_keeps_a_trajectory_by_default():
 
 
 def test_bad_particle_input_raises():
-    with pytest.raises(pr.StudyError):
+    with pytest.raises(pr.SceneError):
         pr.integrate({"type": "shear", "rate": 1.0}, [1.0, math.nan, 1.0], t_end=1.0)
-    with pytest.raises(pr.StudyError):
+    with pytest.raises(pr.SceneError):
         pr.integrate({"type": "vortex"}, [1.0, 1.0, 1.0], t_end=1.0)
 
 

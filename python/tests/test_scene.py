@@ -66,8 +66,14 @@ def test_property_dict_scene_toml_scene():
         assert again.count == d["particles"]["inject"]["count"]
 
 
-def scene_error(d: dict) -> pr.StudyError:
-    with pytest.raises(pr.StudyError) as info:
+def test_the_earlier_name_of_scene_error_still_catches_it() -> None:
+    assert pr.StudyError is pr.SceneError
+    with pytest.raises(pr.StudyError):
+        pr.Scene.from_text("seed = -1\n")
+
+
+def scene_error(d: dict) -> pr.SceneError:
+    with pytest.raises(pr.SceneError) as info:
         pr.Scene.from_dict(d)
     assert isinstance(info.value, pr.PseudorigidError) and isinstance(info.value, ValueError)
     return info.value
@@ -128,7 +134,7 @@ def test_scene_file_errors_carry_line_and_column(tmp_path, root):
     text = (root / "scenes" / "shear_injection.toml").read_text().replace("viscosity = 1.0", "viscosity = -1.0")
     f = tmp_path / "bad.toml"
     f.write_text(text)
-    with pytest.raises(pr.StudyError) as info:
+    with pytest.raises(pr.SceneError) as info:
         pr.Scene.from_toml(f)
     e = info.value
     line = next(i for i, l in enumerate(text.splitlines(), 1) if l.startswith("viscosity = -1.0"))
@@ -145,7 +151,7 @@ def test_missing_files(tmp_path, small_scene):
         pr.load_results(tmp_path / "no-run")
     # A case named inside a scene is a value of the scene: reported at its key, as the command does.
     d = {**small_scene, "flow": {"type": "openfoam", "case": "no-case"}}
-    with pytest.raises(pr.StudyError, match="not found") as info:
+    with pytest.raises(pr.SceneError, match="not found") as info:
         pr.Scene.from_dict(d, base=tmp_path)
     assert info.value.key == "flow.case"
 
@@ -175,7 +181,7 @@ def test_models_resolve_by_name_and_unknown_names_name_their_key():
     def refused(edit) -> str:
         broken = random_scene(random.Random(7))
         edit(broken)
-        with pytest.raises(pr.StudyError) as info:
+        with pytest.raises(pr.SceneError) as info:
             pr.Scene.from_dict(broken)
         return info.value.key
 
