@@ -71,6 +71,25 @@ pub mod work_precision;
 use crate::error::{ParamError, StepError};
 use thiserror::Error;
 
+/// The folder where the examples keep a study's finished runs (created if missing): the
+/// environment variable `var`, else `target/<default>` in the crate.
+#[cfg(all(feature = "mesh", feature = "parallel"))]
+pub fn cache_folder(var: &str, default: &str) -> Result<std::path::PathBuf, crate::output::OutputError> {
+    let dir = std::env::var_os(var).map_or_else(
+        || {
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("target")
+                .join(default)
+        },
+        std::path::PathBuf::from,
+    );
+    std::fs::create_dir_all(&dir).map_err(|source| crate::output::OutputError::Io {
+        path: dir.clone(),
+        source,
+    })?;
+    Ok(dir)
+}
+
 /// An example's `[N] [CASE_DIR]` command line: N from the first argument, else the environment
 /// variable `var`, else `default`; the case folder from the second argument, if there is one.
 pub fn count_and_case(var: &str, default: u64) -> Result<(u64, Option<std::path::PathBuf>), std::num::ParseIntError> {

@@ -25,7 +25,7 @@ use crate::population::binomial::PairedFates;
 use crate::population::{Fate, ParticleRecord, RunOptions, RunOutput};
 use crate::studies::bifurcation::injection::Material;
 use crate::studies::bifurcation::{BifurcationError, Kind, StudyRun};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// `run` (through the tree's airway: [`AirwayTree::study`]) with each particle watched by
 /// [`Generations`]: the bifurcation's study ([`crate::studies::bifurcation::study`]:
@@ -330,13 +330,5 @@ pub fn de_figure(rows: &[(Kind, Vec<GenerationCounts>)], title: &str) -> Figure 
 /// The folder where finished tree runs are kept between examples (created if missing):
 /// `PSEUDORIGID_TREE_CACHE`, else `target/airway-tree-runs` in the crate.
 pub fn cache_dir() -> Result<PathBuf, crate::output::OutputError> {
-    let dir = std::env::var_os("PSEUDORIGID_TREE_CACHE").map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("target/airway-tree-runs"),
-        PathBuf::from,
-    );
-    std::fs::create_dir_all(&dir).map_err(|source| crate::output::OutputError::Io {
-        path: dir.clone(),
-        source,
-    })?;
-    Ok(dir)
+    crate::studies::cache_folder("PSEUDORIGID_TREE_CACHE", "airway-tree-runs")
 }

@@ -35,15 +35,7 @@ pub fn arguments() -> Result<(u64, Airway), Box<dyn std::error::Error>> {
 /// The folder where finished runs are kept between examples (created if missing):
 /// `PSEUDORIGID_BIF_CACHE`, else `target/bifurcation-runs` in the crate.
 pub fn cache_dir() -> Result<PathBuf, crate::output::OutputError> {
-    let dir = std::env::var_os("PSEUDORIGID_BIF_CACHE").map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bifurcation-runs"),
-        PathBuf::from,
-    );
-    std::fs::create_dir_all(&dir).map_err(|source| crate::output::OutputError::Io {
-        path: dir.clone(),
-        source,
-    })?;
-    Ok(dir)
+    crate::studies::cache_folder("PSEUDORIGID_BIF_CACHE", "bifurcation-runs")
 }
 
 /// `run` (parallel, progress on stderr) from [`cache_dir`] if an example ran it before.
