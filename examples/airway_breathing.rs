@@ -70,10 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 material,
                 stokes,
             };
-            let clock = Instant::now();
             let steady = figures::run_cached(StudyRun::new(&airway, kind, n))?;
-            let steady_s = clock.elapsed().as_secs_f64();
-            let clock = Instant::now();
             let cyclic = breathing::run_inhaled(
                 &airway,
                 &mut breath,
@@ -83,17 +80,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 &RunOptions::default().quiet(),
                 Some(&cache),
             )?;
-            let cyclic_s = clock.elapsed().as_secs_f64();
-            for (flow, run, s) in [("steady", &steady, steady_s), ("cyclic", &cyclic, cyclic_s)] {
-                let steps: u64 = run.records.iter().map(|r| r.stats.steps).sum();
-                eprintln!("{kind:?} {flow}: {:?} in {s:.1} s ({steps} steps)", run.counts());
+            for (flow, run) in [("steady", &steady), ("cyclic", &cyclic)] {
+                let steps: u64 = run.output.records.iter().map(|r| r.stats.steps).sum();
+                eprintln!(
+                    "{kind:?} {flow}: {:?} in {} ({steps} steps)",
+                    run.output.counts(),
+                    run.time_label()
+                );
                 timing.push(vec![
                     kind.shape.label(),
                     material.label(),
                     stokes.to_string(),
                     flow.into(),
                     n.to_string(),
-                    format!("{s:.1}"),
+                    run.seconds_cell(),
                     steps.to_string(),
                 ])?;
             }
@@ -102,8 +102,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 kind,
                 waveform,
                 figures::SEED,
-                steady,
-                cyclic,
+                steady.output,
+                cyclic.output,
             )?);
         }
     }
@@ -147,7 +147,6 @@ fn quasi_steady(airway: &Airway, pairs: &[BreathingPair], m: u64) -> Result<Csv,
         "de_cyclic_stderr",
     ]);
     for p in pairs.iter().filter(|p| p.kind.material == Material::Rigid) {
-        let clock = Instant::now();
         let q = breathing::run_inhaled(
             airway,
             &mut breath,
@@ -164,12 +163,16 @@ fn quasi_steady(airway: &Airway, pairs: &[BreathingPair], m: u64) -> Result<Csv,
                 .filter(|r| matches!(r.fate, Fate::Deposited { .. }))
                 .count() as u64
         };
-        let (ds, dq, dc) = (count(&p.steady.records), count(&q.records), count(&p.cyclic.records));
+        let (ds, dq, dc) = (
+            count(&p.steady.records),
+            count(&q.output.records),
+            count(&p.cyclic.records),
+        );
         eprintln!(
-            "{:?} quasi-steady: {:?} in {:.1} s",
+            "{:?} quasi-steady: {:?} in {}",
             p.kind,
-            q.counts(),
-            clock.elapsed().as_secs_f64()
+            q.output.counts(),
+            q.time_label()
         );
         let mut row = vec![
             p.kind.shape.label(),

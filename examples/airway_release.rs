@@ -49,17 +49,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     material,
                     stokes,
                 };
-                let started = std::time::Instant::now();
-                let out = track(
+                let computed = track(
                     &tree,
                     tree.study(kind, n).cache(&cache_dir()?),
                     &thresholds,
                     &pseudorigid::population::RunOptions::default(),
                 )?;
-                let seconds = started.elapsed().as_secs_f64();
+                let out = &computed.output;
                 let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
-                let releases = ReleaseResults::of(tree.tree(), &thresholds, &out)?;
-                eprintln!("{kind:?}: {:?} in {seconds:.1} s ({steps} steps)", out.counts());
+                let releases = ReleaseResults::of(tree.tree(), &thresholds, out)?;
+                eprintln!(
+                    "{kind:?}: {:?} in {} ({steps} steps)",
+                    out.counts(),
+                    computed.time_label()
+                );
                 for &s in thresholds.levels() {
                     if let Some(t) = releases.times(s) {
                         eprintln!(
@@ -73,7 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     mu_s_label(material),
                     stokes.to_string(),
                     n.to_string(),
-                    format!("{seconds:.1}"),
+                    computed.seconds_cell(),
                     steps.to_string(),
                 ])?;
                 rows.push((kind, releases));

@@ -50,16 +50,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     material,
                     stokes,
                 };
-                let started = std::time::Instant::now();
-                let out = study::track(
+                let computed = study::track(
                     &tree,
                     tree.study(kind, n).cache(&study::cache_dir()?),
                     &pseudorigid::population::RunOptions::default(),
                 )?;
-                let seconds = started.elapsed().as_secs_f64();
+                let (time, seconds) = (computed.time_label(), computed.seconds_cell());
+                let out = computed.output;
                 let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
                 let counts = by_generation(tree.tree(), &out)?;
-                eprintln!("{kind:?}: {:?} in {seconds:.1} s ({steps} steps)", out.counts());
+                eprintln!("{kind:?}: {:?} in {time} ({steps} steps)", out.counts());
                 for c in &counts {
                     eprintln!(
                         "  G{}: {} of {} deposited, DE = {:.4} ± {:.4}",
@@ -75,7 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     study::mu_s_label(material),
                     stokes.to_string(),
                     n.to_string(),
-                    format!("{seconds:.1}"),
+                    seconds,
                     steps.to_string(),
                 ])?;
                 rows.push((kind, counts));

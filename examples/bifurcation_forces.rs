@@ -26,8 +26,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Arc::new(SchillerNaumann),
     ])?;
     for kind in figures::softness_kinds(&[1.0], &[1e5], &[0.1, 0.4]) {
-        let paper = figures::run_cached(StudyRun::new(&airway, kind, n))?;
-        let with = figures::run_cached(StudyRun::new(&airway, kind, n).forces(&forces))?;
+        let paper = figures::run_cached(StudyRun::new(&airway, kind, n))?.output;
+        let with = figures::run_cached(StudyRun::new(&airway, kind, n).forces(&forces))?.output;
         let (lost, gained) = figures::deposit_changes(&paper, &with);
         let fates = PairedFates::new(gained, lost, paper.records.len() as u64)?;
         let (a, b) = (Efficiency::of(kind, &paper), Efficiency::of(kind, &with));

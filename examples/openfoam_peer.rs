@@ -161,7 +161,7 @@ impl Setup {
         if !self.point_contact {
             return Ok(match &self.geometry {
                 Geometry::Bifurcation(airway) => StudyRun::new(airway, kind, n).run(&options)?,
-                Geometry::Tree(tree) => airway_tree::track(tree, tree.study(kind, n), &options)?,
+                Geometry::Tree(tree) => airway_tree::track(tree, tree.study(kind, n), &options)?.output,
             });
         }
         let observer = match &self.geometry {

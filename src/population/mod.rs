@@ -67,7 +67,7 @@ pub mod spec;
 
 pub use case::{Case, CaseObserver, RunConfig};
 pub use observe::{Observer, Watch};
-pub use output::{RunOutput, checkpoint_dir};
+pub use output::{Computed, RunOutput, checkpoint_dir};
 pub use progress::Progress;
 pub use record::{Fate, FateCounts, ParticleRecord, SummaryError};
 pub use runner::{CHECKPOINT_INTERVAL, RunControl, RunOptions, run, run_in_dir};

@@ -31,6 +31,44 @@ pub struct RunOutput<L> {
     pub records: Vec<ParticleRecord<L>>,
 }
 
+/// A run with the wall time its computation took ([`RunOutput::read_or_run`]).
+#[derive(Debug, Clone)]
+pub struct Computed<L> {
+    /// The run.
+    pub output: RunOutput<L>,
+    /// Wall seconds of the computation: measured when the run was computed, wherever it was
+    /// read from; `None` for a cached run whose clock file is missing or unreadable (written
+    /// before clock files were kept).
+    pub seconds: Option<f64>,
+}
+
+impl<L> Computed<L> {
+    /// The file beside a cached run's `file` that keeps its computation's wall seconds
+    /// (`<file>.seconds`: one decimal number).
+    pub fn clock_file(file: &Path) -> PathBuf {
+        let mut name = file.as_os_str().to_owned();
+        name.push(".seconds");
+        PathBuf::from(name)
+    }
+
+    /// The computation's wall time for a run log: `12.3 s`, or `time not kept` where unknown.
+    pub fn time_label(&self) -> String {
+        self.seconds
+            .map_or_else(|| "time not kept".into(), |s| format!("{s:.1} s"))
+    }
+
+    /// The computation's wall seconds for a table cell: `12.3`, or empty where unknown.
+    pub fn seconds_cell(&self) -> String {
+        self.seconds.map(|s| format!("{s:.1}")).unwrap_or_default()
+    }
+
+    /// The seconds kept beside `file`, if readable and a finite non-negative number.
+    fn read_clock(file: &Path) -> Option<f64> {
+        let text = std::fs::read_to_string(Self::clock_file(file)).ok()?;
+        text.trim().parse::<f64>().ok().filter(|s| s.is_finite() && *s >= 0.0)
+    }
+}
+
 impl<L: Serialize + DeserializeOwned> RunOutput<L> {
     /// How many particles met each fate.
     pub fn counts(&self) -> FateCounts {
@@ -81,10 +119,16 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
     /// derives from the configuration hash. A file written before checksums, or in another
     /// format, is rerun and replaced; an edited one is an error
     /// ([`PopulationError::Checksum`]).
+    ///
+    /// The wall time of the computation comes back with the run ([`Computed::seconds`]): when
+    /// the run is computed here it is measured and kept beside the file
+    /// ([`Computed::clock_file`]), so that a run read back reports the time it took to
+    /// compute, not the time of the read. The run's own file stays a function of its
+    /// configuration (byte for byte the same on every machine).
     pub fn read_or_run<E: From<PopulationError>>(
         file: Option<&Path>,
         run: impl FnOnce() -> Result<Self, E>,
-    ) -> Result<Self, E> {
+    ) -> Result<Computed<L>, E> {
         if let Some(file) = file
             && file.is_file()
         {
@@ -92,14 +136,26 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
                 Err(
                     PopulationError::Unsealed { .. } | PopulationError::Version { .. } | PopulationError::Format { .. },
                 ) => {}
-                read => return Ok(read?),
+                read => {
+                    return Ok(Computed {
+                        output: read?,
+                        seconds: Computed::<L>::read_clock(file),
+                    });
+                }
             }
         }
-        let out = run()?;
+        let started = std::time::Instant::now();
+        let output = run()?;
+        let seconds = started.elapsed().as_secs_f64();
         if let Some(file) = file {
-            out.write_json(file)?;
+            output.write_json(file)?;
+            write_atomic(Computed::<L>::clock_file(file), format!("{seconds}\n").as_bytes())
+                .map_err(PopulationError::from)?;
         }
-        Ok(out)
+        Ok(Computed {
+            output,
+            seconds: Some(seconds),
+        })
     }
 
     /// Merge the outputs of all shards 0/N … (N−1)/N of one run into the whole run: the same

@@ -25,7 +25,7 @@ use crate::output::vtk::PointValues;
 use crate::output::{Csv, Figure, Panel, PolyData, Series, VtkError};
 use crate::particle::release::{ReleaseCriterion, ReleaseThresholds};
 use crate::population::release::{Crossing, ReleaseObserver, Released};
-use crate::population::{Fate, RunOptions, RunOutput, SummaryError};
+use crate::population::{Computed, Fate, RunOptions, RunOutput, SummaryError};
 use crate::studies::bifurcation::Kind;
 use crate::studies::bifurcation::StudyRun;
 use crate::tensor::Vec3;
@@ -45,18 +45,18 @@ pub fn stretch_thresholds() -> ReleaseThresholds {
 /// `run` (through the tree's airway: [`AirwayTree::study`]) watched by [`ReleaseObserver`] at
 /// `thresholds`: the tree study's run ([`super::track`]) with another observer, hence the
 /// same fates particle by particle. A cached run is keyed by the configuration hash, which
-/// covers the observer.
+/// covers the observer. The run comes back with its computation's wall time ([`Computed`]).
 pub fn track<'a>(
     tree: &'a AirwayTree,
     run: StudyRun<'a, '_>,
     thresholds: &ReleaseThresholds,
     options: &RunOptions,
-) -> Result<RunOutput<NeoHooke>, AirwayTreeError> {
+) -> Result<Computed<NeoHooke>, AirwayTreeError> {
     if !std::ptr::eq(run.airway(), tree.airway()) {
         return Err(AirwayTreeError::OtherAirway);
     }
     let observer = ReleaseObserver::new(thresholds.clone());
-    Ok(run.observer(&observer).run(options)?)
+    Ok(run.observer(&observer).run_timed(options)?)
 }
 
 /// One particle's first crossing of one threshold, placed in the tree.

@@ -22,7 +22,7 @@ use crate::error::ParamError;
 use crate::material::NeoHooke;
 use crate::output::{Csv, Figure, Panel, Series};
 use crate::population::binomial::PairedFates;
-use crate::population::{Fate, ParticleRecord, RunOptions, RunOutput};
+use crate::population::{Computed, Fate, ParticleRecord, RunOptions, RunOutput};
 use crate::studies::bifurcation::injection::Material;
 use crate::studies::bifurcation::{BifurcationError, Kind, StudyRun};
 use std::path::PathBuf;
@@ -30,17 +30,18 @@ use std::path::PathBuf;
 /// `run` (through the tree's airway: [`AirwayTree::study`]) with each particle watched by
 /// [`Generations`]: the bifurcation's study ([`crate::studies::bifurcation::study`]:
 /// integrator, tolerances, plan) in the tree's flow. A cached run is keyed by the
-/// configuration hash, which covers the tree and the observer.
+/// configuration hash, which covers the tree and the observer; the run comes back with its
+/// computation's wall time ([`Computed`]).
 pub fn track<'a>(
     tree: &'a AirwayTree,
     run: StudyRun<'a, '_>,
     options: &RunOptions,
-) -> Result<RunOutput<NeoHooke>, AirwayTreeError> {
+) -> Result<Computed<NeoHooke>, AirwayTreeError> {
     if !std::ptr::eq(run.airway(), tree.airway()) {
         return Err(AirwayTreeError::OtherAirway);
     }
     let observer = Generations::new(tree.tree());
-    Ok(run.observer(&observer).run(options)?)
+    Ok(run.observer(&observer).run_timed(options)?)
 }
 
 /// Where one finished particle went: the deepest generation it entered and the generation it

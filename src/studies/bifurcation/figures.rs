@@ -13,8 +13,8 @@ use crate::output::paper_figure_path;
 use crate::output::vtk::{PointValues, PolyData};
 use crate::output::{Figure, Panel, Series};
 use crate::population::RunOptions;
-use crate::population::RunOutput;
 use crate::population::binomial::PairedFates;
+use crate::population::{Computed, RunOutput};
 use std::path::{Path, PathBuf};
 
 /// Stokes numbers of Fig. 18 (the paper's range 0.005–0.5).
@@ -39,8 +39,8 @@ pub fn cache_dir() -> Result<PathBuf, crate::output::OutputError> {
 }
 
 /// `run` (parallel, progress on stderr) from [`cache_dir`] if an example ran it before.
-pub fn run_cached(run: StudyRun<'_, '_>) -> Result<RunOutput<NeoHooke>, BifurcationError> {
-    run.cache(&cache_dir()?).run(&RunOptions::default())
+pub fn run_cached(run: StudyRun<'_, '_>) -> Result<Computed<NeoHooke>, BifurcationError> {
+    run.cache(&cache_dir()?).run_timed(&RunOptions::default())
 }
 
 /// The same particles in two runs: how many only the first deposits (lost) and only the
@@ -62,16 +62,16 @@ pub fn deposit_changes(a: &RunOutput<NeoHooke>, b: &RunOutput<NeoHooke>) -> (u64
 pub fn efficiencies(airway: &Airway, kinds: &[Kind], n: u64) -> Result<Vec<Efficiency>, BifurcationError> {
     let mut rows = Vec::with_capacity(kinds.len());
     for &kind in kinds {
-        let started = std::time::Instant::now();
-        let out = run_cached(StudyRun::new(airway, kind, n))?;
-        let row = Efficiency::of(kind, &out);
+        let computed = run_cached(StudyRun::new(airway, kind, n))?;
+        let out = &computed.output;
+        let row = Efficiency::of(kind, out);
         let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
         eprintln!(
-            "{kind:?}: DE = {:.4} ± {:.4} ({:?}), {steps} steps in {:.1} s",
+            "{kind:?}: DE = {:.4} ± {:.4} ({:?}), {steps} steps in {}",
             row.de(),
             row.stderr(),
             row.counts,
-            started.elapsed().as_secs_f64()
+            computed.time_label()
         );
         rows.push(row);
     }
@@ -145,7 +145,7 @@ pub fn deposits_of(
     kinds
         .iter()
         .map(|&kind| {
-            let out = run_cached(StudyRun::new(airway, kind, n))?;
+            let out = run_cached(StudyRun::new(airway, kind, n))?.output;
             Ok((kind, out.counts().total(), deposits(airway, kind, &out)?))
         })
         .collect()
@@ -351,8 +351,8 @@ pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<c
     ]);
     for (reference, soft) in pairs {
         let (a, b) = (
-            run_cached(StudyRun::new(airway, *reference, n))?,
-            run_cached(StudyRun::new(airway, *soft, n))?,
+            run_cached(StudyRun::new(airway, *reference, n))?.output,
+            run_cached(StudyRun::new(airway, *soft, n))?.output,
         );
         let (lost, gained) = deposit_changes(&a, &b);
         // Over at least one pair: without any, 0 ± 0.

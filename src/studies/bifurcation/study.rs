@@ -19,7 +19,7 @@ use crate::integrator::{ErrorNorm, Stokesian, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
 use crate::population::Injector;
-use crate::population::{Case, CaseObserver, Fate, FateCounts, RunConfig, RunOptions, RunOutput, Shard, run};
+use crate::population::{Case, CaseObserver, Computed, Fate, FateCounts, RunConfig, RunOptions, RunOutput, Shard, run};
 use serde::Serialize;
 use std::path::Path;
 
@@ -206,6 +206,12 @@ impl<'a, 'o> StudyRun<'a, 'o> {
 
     /// Run it (or read it from the cache) as `options` say.
     pub fn run(&self, options: &RunOptions) -> Result<RunOutput<NeoHooke>, BifurcationError> {
+        Ok(self.run_timed(options)?.output)
+    }
+
+    /// [`Self::run`] with the wall time the run took to compute (kept beside a cached run:
+    /// [`RunOutput::read_or_run`]).
+    pub fn run_timed(&self, options: &RunOptions) -> Result<Computed<NeoHooke>, BifurcationError> {
         let (airway, kind, forces) = (self.airway, self.kind, &self.forces);
         let integ = match &self.integrator {
             Some(integ) => integ.clone(),

@@ -398,6 +398,51 @@ fn records_round_trip_exactly() {
     assert_ne!(particle_rng(3, 17).random::<u64>(), particle_rng(4, 17).random::<u64>());
 }
 
+/// A cached run reports the wall time of its computation, not of the read: the clock file
+/// beside the cache keeps it (the run's own file is the same bytes whatever the clock), and a
+/// run cached without one says the time is not known.
+#[test]
+fn a_cached_run_reports_its_computation_time() {
+    let soft = FaultySoftPipe::new();
+    let case = soft.case(plan());
+    let file = scratch("clock").join("run.json");
+    // The computation takes at least the pause, the read back far less than it.
+    let pause = Duration::from_millis(300);
+    let computed = RunOutput::read_or_run(Some(&file), || {
+        std::thread::sleep(pause);
+        run(&case, &config(3), Shard::ALL, &RunOptions::default().quiet())
+    })
+    .unwrap();
+    let seconds = computed.seconds.unwrap();
+    assert!(seconds >= pause.as_secs_f64(), "{seconds} s");
+    let read = RunOutput::<NeoHooke>::read_or_run(Some(&file), || -> Result<_, PopulationError> {
+        panic!("a cached run is read, not rerun")
+    })
+    .unwrap();
+    assert_eq!(read.output, computed.output);
+    assert_eq!(read.seconds.map(f64::to_bits), Some(seconds.to_bits()));
+    let bytes = std::fs::read(&file).unwrap();
+    assert_eq!(bytes, computed.output.to_json().unwrap());
+    assert_eq!(read.seconds_cell(), format!("{seconds:.1}"));
+
+    for clock in [None, Some("not a number"), Some("-1"), Some("NaN")] {
+        let clock_file = pseudorigid::population::Computed::<NeoHooke>::clock_file(&file);
+        match clock {
+            None => std::fs::remove_file(&clock_file).unwrap_or(()),
+            Some(text) => std::fs::write(&clock_file, text).unwrap(),
+        }
+        let unknown = RunOutput::<NeoHooke>::read_or_run(Some(&file), || -> Result<_, PopulationError> {
+            panic!("a cached run is read, not rerun")
+        })
+        .unwrap();
+        assert_eq!(unknown.seconds, None, "clock file {clock:?}");
+        assert_eq!(
+            (unknown.seconds_cell().as_str(), unknown.time_label().as_str()),
+            ("", "time not kept")
+        );
+    }
+}
+
 /// Shards from text and the environment, and their errors.
 #[test]
 fn shard_specifications() {

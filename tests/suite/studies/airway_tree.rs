@@ -24,7 +24,9 @@ fn run_quietly(
 ) -> pseudorigid::population::RunOutput<pseudorigid::material::NeoHooke> {
     use pseudorigid::population::RunOptions;
 
-    track(shipped(), shipped().study(kind, n), &RunOptions::default().quiet()).unwrap()
+    track(shipped(), shipped().study(kind, n), &RunOptions::default().quiet())
+        .unwrap()
+        .output
 }
 
 /// A unit vector normal to `d`.
@@ -309,9 +311,10 @@ fn release_of_soft_spheres_snapshot() {
     };
     let options = RunOptions::default().quiet();
     let thresholds = stretch_thresholds();
-    let watched =
-        pseudorigid::studies::airway_tree::release::track(a, a.study(kind, n), &thresholds, &options).unwrap();
-    let reference = track(a, a.study(kind, n), &options).unwrap();
+    let watched = pseudorigid::studies::airway_tree::release::track(a, a.study(kind, n), &thresholds, &options)
+        .unwrap()
+        .output;
+    let reference = track(a, a.study(kind, n), &options).unwrap().output;
     assert_eq!(watched.counts().failed, 0);
     for (w, r) in watched.records.iter().zip(&reference.records) {
         assert_eq!(
@@ -400,7 +403,8 @@ fn a_prolate_touching_a_wall_over_a_face_edge_deposits() {
             .shard(Shard::new(18_337, 100_000).unwrap()),
         &RunOptions::default().quiet(),
     )
-    .unwrap();
+    .unwrap()
+    .output;
     crate::common::assert_single_run_ends(&out, "soft prolate 18337");
     // On the field of the defect's time the gap, sampled on the failed step's interpolant away
     // from the jump, crossed zero at t = 0.1066107 s, and the deposit was checked to 1 µs of

@@ -75,7 +75,9 @@ fn constant_breath_is_the_steady_study_shifted_in_time() {
     let n = 120;
     let quiet = RunOptions::default().quiet();
     let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
-    let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
+    let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None)
+        .unwrap()
+        .output;
     let pair = BreathingPair::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap();
     let (mut changed, mut compared, mut worst) = (0, 0, 0.0f64);
     for ((a, b), &t0) in pair.steady.records.iter().zip(&pair.cyclic.records).zip(&pair.times) {
@@ -127,7 +129,9 @@ fn sinusoidal_breath_snapshot() {
         };
         let n = 100;
         let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
-        let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
+        let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None)
+            .unwrap()
+            .output;
         assert_eq!(cyclic.counts().failed, 0);
         pairs.push(BreathingPair::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap());
     }
@@ -173,7 +177,9 @@ fn slow_breath_is_quasi_steady_particle_by_particle() {
     let n = 6;
     let quiet = RunOptions::default().quiet();
     let steady = StudyRun::new(airway(), kind, n).run(&quiet).unwrap();
-    let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None).unwrap();
+    let cyclic = breathing::run_inhaled(airway(), &mut breath, kind, n, figures::SEED, &quiet, None)
+        .unwrap()
+        .output;
     let pair = BreathingPair::new(airway(), kind, w, figures::SEED, steady, cyclic).unwrap();
     // ŝ(t): the levels' scales, linearly interpolated.
     let level = |t: f64| w.scale(t);

@@ -5,7 +5,7 @@ use super::{Breath, Inhaled};
 use crate::driver::{Budget, Plan};
 use crate::material::NeoHooke;
 use crate::population::batch::{Batch, run_batch};
-use crate::population::{RunConfig, RunOptions, RunOutput, Shard};
+use crate::population::{Computed, RunConfig, RunOptions, RunOutput, Shard};
 use crate::studies::bifurcation::BifurcationError;
 use crate::studies::bifurcation::injection::Kind;
 use crate::studies::bifurcation::setup::Airway;
@@ -16,7 +16,8 @@ use std::path::Path;
 /// [`Inhaled`] with the steady field of `airway`, tracked by the steady study's integrator
 /// ([`integrator`]: chosen on the steady field's numbers, so both runs step alike) to the end
 /// of the inhalation, window by window. With `cache` a folder, a finished run is kept there as
-/// `breath-<config hash>.json` and read back instead of rerun.
+/// `breath-<config hash>.json` and read back instead of rerun, with the wall time its
+/// computation took ([`RunOutput::read_or_run`]).
 pub fn run_inhaled(
     airway: &Airway,
     breath: &mut Breath,
@@ -25,7 +26,7 @@ pub fn run_inhaled(
     seed: u64,
     options: &RunOptions,
     cache: Option<&Path>,
-) -> Result<RunOutput<NeoHooke>, BifurcationError> {
+) -> Result<Computed<NeoHooke>, BifurcationError> {
     let integ = integrator(airway, kind)?.integrator;
     let inhaled = Inhaled::new(airway, kind, breath.waveform)?;
     let plan = Plan::new(breath.waveform.duration(), DT0)?.with_budget(Budget {
