@@ -84,7 +84,7 @@ pub fn sample<I: TimeIntegrator>(
                     xi_c: material_line(particle.shape(), &s.f, c),
                 })
             },
-            |step| monitor.observe(step.state()),
+            |step| monitor.observe_step(step),
         ),
     )?;
     Ok((out, monitor.validity()))

@@ -238,7 +238,7 @@ pub fn integrate(ca: f64, tol: f64, t_end: f64) -> Result<IntegratedSteady, Stud
                     theta: sec.angle,
                 });
             },
-            |step| monitor.observe(step.state()),
+            |step| monitor.observe_step(step),
         ),
     )?;
     let (before, end) = (read[0], read[1]);
