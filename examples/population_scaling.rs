@@ -28,9 +28,9 @@
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
+use pseudorigid::population::binomial::PairedFates;
 use pseudorigid::population::progress::{process_cpu_seconds, process_resident_bytes};
 use pseudorigid::population::settling_pipe::SettlingPipe;
-use pseudorigid::population::binomial::PairedFates;
 use pseudorigid::population::{Case, Fate, ParticleRecord, RunConfig, RunOptions, RunOutput, Shard, run};
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, study};
 use pseudorigid::studies::cavity::Shape;
@@ -42,13 +42,22 @@ fn paired_fates(
     second: &[ParticleRecord<NeoHooke>],
 ) -> Result<PairedFates, Box<dyn std::error::Error>> {
     if first.len() != second.len() || first.iter().zip(second).any(|(a, b)| a.index != b.index) {
-        return Err(format!("the runs hold different particles ({} and {} records)", first.len(), second.len()).into());
+        return Err(format!(
+            "the runs hold different particles ({} and {} records)",
+            first.len(),
+            second.len()
+        )
+        .into());
     }
     let deposited = |r: &ParticleRecord<NeoHooke>| matches!(r.fate, Fate::Deposited { .. });
     let only = |a: &[ParticleRecord<NeoHooke>], b: &[ParticleRecord<NeoHooke>]| {
         a.iter().zip(b).filter(|(x, y)| deposited(x) && !deposited(y)).count() as u64
     };
-    Ok(PairedFates::new(only(first, second), only(second, first), first.len() as u64)?)
+    Ok(PairedFates::new(
+        only(first, second),
+        only(second, first),
+        first.len() as u64,
+    )?)
 }
 
 /// One timed run of N particles; its records are dropped before the next.
