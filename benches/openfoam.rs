@@ -133,7 +133,7 @@ fn tracked_rigid_step(c: &mut Criterion) {
     let steps: u64 = run().records.iter().map(|r| r.stats.steps).sum();
     let mut g = c.benchmark_group("tracked_rigid_step");
     g.throughput(Throughput::Elements(steps));
-    g.sample_size(20);
+    g.sample_size(10);
     g.bench_function("fig18_stk0.1", |b| b.iter(|| black_box(run())));
     g.finish();
 }
