@@ -13,10 +13,18 @@
 //! points 0.3 cell sizes from cell centres spread over the mesh, "near_wall" at 1000 points a
 //! quarter of the way from wall faces spread over the walls to their cells' centres (in the
 //! first prism layer, where the supports are finest).
+//!
+//! Group `tracked_rigid_step`: Fig. 18's tracked particle-step on the blended bifurcation field:
+//! rigid λ = 20 prolates at Stk 0.1, the studies' integrator (Rosenbrock-W 2(3) at rtol 10⁻²),
+//! contact rule and seed, the first 20 particles run to their fates on one thread; the
+//! throughput is in accepted particle-steps (each with its contact event and driver work).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow, VolField};
+use pseudorigid::population::RunOptions;
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, StudyRun};
+use pseudorigid::studies::cavity::Shape;
 use pseudorigid::tensor::Vec3;
 use std::hint::black_box;
 
@@ -108,5 +116,27 @@ fn blended(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, blended, openfoam);
+fn tracked_rigid_step(c: &mut Criterion) {
+    let airway = Airway::open(Airway::shipped_dir()).expect("the shipped airway");
+    let kind = Kind {
+        shape: Shape::Prolate(20.0),
+        material: Material::Rigid,
+        stokes: 0.1,
+    };
+    let quiet = RunOptions::default().quiet();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a thread pool");
+    let run = || pool.install(|| StudyRun::new(&airway, kind, 20).run(&quiet).expect("the study runs"));
+    // The same particles every iteration: their steps, counted once, are the throughput.
+    let steps: u64 = run().records.iter().map(|r| r.stats.steps).sum();
+    let mut g = c.benchmark_group("tracked_rigid_step");
+    g.throughput(Throughput::Elements(steps));
+    g.sample_size(10);
+    g.bench_function("fig18_stk0.1", |b| b.iter(|| black_box(run())));
+    g.finish();
+}
+
+criterion_group!(benches, blended, tracked_rigid_step, openfoam);
 criterion_main!(benches);

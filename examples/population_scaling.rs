@@ -17,16 +17,48 @@
 //! CPU time does not depend on the load: equal CPU time for 1 and 2 threads means the runner
 //! adds no parallel overhead, and the speed-up on an idle machine is the thread count times
 //! the load balance.
+//!
+//! `--records PATH` writes each run's records (fates, end states, work counts) as JSON to
+//! PATH.N.T (N particles, T threads): two builds whose files are byte for byte the same gave
+//! the same results (`sha256sum`). `--pair PATH` pairs each run's fates particle by particle
+//! with the records PATH.N.T of an earlier run (another build) and prints the deposits of
+//! either only and the paired difference of the deposited fractions with its standard error
+//! (`population::binomial::PairedFates`).
 
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
+use pseudorigid::population::binomial::PairedFates;
 use pseudorigid::population::progress::{process_cpu_seconds, process_resident_bytes};
 use pseudorigid::population::settling_pipe::SettlingPipe;
-use pseudorigid::population::{Case, RunConfig, RunOptions, RunOutput, Shard, run};
+use pseudorigid::population::{Case, Fate, ParticleRecord, RunConfig, RunOptions, RunOutput, Shard, run};
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, study};
 use pseudorigid::studies::cavity::Shape;
 use std::time::Instant;
+
+/// The deposits of `first` only and of `second` only, paired by particle index.
+fn paired_fates(
+    first: &[ParticleRecord<NeoHooke>],
+    second: &[ParticleRecord<NeoHooke>],
+) -> Result<PairedFates, Box<dyn std::error::Error>> {
+    if first.len() != second.len() || first.iter().zip(second).any(|(a, b)| a.index != b.index) {
+        return Err(format!(
+            "the runs hold different particles ({} and {} records)",
+            first.len(),
+            second.len()
+        )
+        .into());
+    }
+    let deposited = |r: &ParticleRecord<NeoHooke>| matches!(r.fate, Fate::Deposited { .. });
+    let only = |a: &[ParticleRecord<NeoHooke>], b: &[ParticleRecord<NeoHooke>]| {
+        a.iter().zip(b).filter(|(x, y)| deposited(x) && !deposited(y)).count() as u64
+    };
+    Ok(PairedFates::new(
+        only(first, second),
+        only(second, first),
+        first.len() as u64,
+    )?)
+}
 
 /// One timed run of N particles; its records are dropped before the next.
 type Runner<'a> = Box<dyn Fn(u64) -> Result<RunOutput<NeoHooke>, String> + Sync + 'a>;
@@ -56,6 +88,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Material::ShearModulus(mu_s)
         }
         None => Material::Rigid,
+    };
+    let records = match args.iter().position(|a| a == "--records") {
+        Some(i) => {
+            let path = args.get(i + 1).ok_or("--records needs a path")?.clone();
+            args.drain(i..i + 2);
+            Some(path)
+        }
+        None => None,
+    };
+    let pair = match args.iter().position(|a| a == "--pair") {
+        Some(i) => {
+            let path = args.get(i + 1).ok_or("--pair needs a path")?.clone();
+            args.drain(i..i + 2);
+            Some(path)
+        }
+        None => None,
     };
     if args.is_empty() {
         args.push("1000:1,2".to_string());
@@ -127,6 +175,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 c.suspended,
                 c.failed
             );
+            if let Some(path) = &records {
+                std::fs::write(format!("{path}.{n}.{threads}"), serde_json::to_vec(&out.records)?)?;
+            }
+            if let Some(path) = &pair {
+                let earlier: Vec<ParticleRecord<NeoHooke>> =
+                    serde_json::from_slice(&std::fs::read(format!("{path}.{n}.{threads}"))?)?;
+                let paired = paired_fates(&earlier, &out.records)?;
+                println!(
+                    "paired with {path}: deposited by it only {}, by this run only {}, difference {:+.4} ± {:.4}",
+                    paired.first_only(),
+                    paired.second_only(),
+                    paired.difference(),
+                    paired.stderr()
+                );
+            }
             drop(out);
         }
     }

@@ -77,6 +77,17 @@ pub struct ContactEvent<'a, B: ?Sized, M, D, F: ?Sized> {
     /// step's end and then for the cap of the next step from that same state: one boundary
     /// query and one principal frame per step instead of two of each.
     seen: Cell<Option<Seen>>,
+    /// The last state whose clearance bound was computed, and the bound: the driver asks for
+    /// it at a step's end (the gap) and again for the next step's cap from that same state.
+    bounded: Cell<Option<Bounded>>,
+}
+
+/// A state's barycentre and F, with [`ContactEvent::bound`] there.
+#[derive(Debug, Clone, Copy)]
+struct Bounded {
+    x: Vec3,
+    f: Mat3,
+    bound: Option<(f64, f64)>,
 }
 
 /// A state's barycentre and F, with its nearest patch and longest semi-axis.
@@ -106,6 +117,7 @@ where
             slack: 0.5 * rest.min(),
             scale: 2.0 * rest.product().cbrt(),
             seen: Cell::new(None),
+            bounded: Cell::new(None),
         }
     }
 
@@ -158,6 +170,23 @@ where
         if self.seen.get().is_some_and(|s| s.x == state.x && s.f == state.f) {
             return None;
         }
+        if let Some(b) = self.bounded.get()
+            && b.x == state.x
+            && b.f == state.f
+        {
+            return b.bound;
+        }
+        let bound = self.clearance_bound(state);
+        self.bounded.set(Some(Bounded {
+            x: state.x,
+            f: state.f,
+            bound,
+        }));
+        bound
+    }
+
+    /// [`Self::bound`] computed: the clearance less the reach, where positive.
+    fn clearance_bound(&self, state: &State) -> Option<(f64, f64)> {
         let r1 = self.particle.total_distortion(&state.f).norm();
         let reach = match self.model {
             ContactModel::Extent => r1,

@@ -101,13 +101,12 @@ impl JefferyRoscoe {
         }
     }
 
-    /// The coefficients of the same ellipsoid turned by the rotation `rotation`: they depend on
-    /// the semi-axes only, so only the frame turns ([`PrincipalFrame::turned`]).
-    pub fn turned(&self, rotation: &Mat3) -> Self {
-        Self {
-            frame: self.frame.turned(rotation),
-            ..*self
-        }
+    /// The coefficients of the same ellipsoid in `frame`, a frame with this one's semi-axes
+    /// (this frame turned, [`PrincipalFrame::turned`]): they depend on the semi-axes only, so
+    /// only the frame changes. Taking the turned frame rather than the rotation lets a caller
+    /// that turns the frame anyway ([`crate::particle::Geometry::turned`]) turn it once.
+    pub fn in_frame(&self, frame: PrincipalFrame) -> Self {
+        Self { frame, ..*self }
     }
 
     /// Coefficients for `frame` and `ints`, or the first that is not finite (an ellipsoid too

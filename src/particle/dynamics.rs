@@ -59,12 +59,14 @@ impl Geometry {
 
     /// The geometry of the same ellipsoid turned by the rotation `rotation` (a rigid particle's
     /// F): the semi-axes, the integrals and the traction coefficients depend on the semi-axes
-    /// only, so only the frame turns, Q ↦ Q Rᵀ.
+    /// only, so only the frame turns, Q ↦ Q Rᵀ, once for the geometry and its traction
+    /// coefficients (which hold the same frame: [`Self::of_total_distortion`]).
     pub fn turned(&self, rotation: &Mat3) -> Self {
+        let frame = self.frame.turned(rotation);
         Self {
-            frame: self.frame.turned(rotation),
+            frame,
             ints: self.ints,
-            traction: self.traction.turned(rotation),
+            traction: self.traction.in_frame(frame),
         }
     }
 

@@ -281,3 +281,68 @@ fn mesh_clearance_is_a_lower_bound_of_the_gap() {
     eprintln!("clearance answered {answered} of {total} points, above the gap at {above}");
     assert!(answered * 4 > total, "clearance answered only {answered} of {total}");
 }
+
+/// The contact event keeps the last clearance bound and the last query, each keyed by the
+/// state's barycentre and F: whatever states it was asked about before, its gap and step cap
+/// at a state are bitwise those of a fresh event asked about that state alone (no memo). On the
+/// shipped bifurcation's mesh walls, a 20 µm sphere moving at 1 m/s at every 40th cell centre
+/// and at the same centres moved 90 % of the way to a vertex (near the walls, where the bound
+/// gives way to a query); each state is asked about after its neighbour, in both orders, gap
+/// first and cap first. Both paths must be taken (asserted), or the test would be vacuous.
+#[cfg(feature = "mesh")]
+#[test]
+fn contact_event_answers_a_state_as_a_fresh_event_does() {
+    use pseudorigid::contact::{ContactEvent, ContactModel, MeshBoundary};
+    use pseudorigid::flow::openfoam::PolyMesh;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data/bifurcation");
+    let mesh = PolyMesh::read(&dir).unwrap();
+    let boundary = MeshBoundary::new(&mesh).unwrap();
+    let p = sphere(20e-6);
+    let mut states = Vec::new();
+    for c in (0..mesh.n_cells()).step_by(40) {
+        let centre = mesh.cell_centres()[c];
+        let vertex = mesh.points()[mesh.face(mesh.cell_faces(c)[0] as usize)[0] as usize];
+        for s in [0.0, 0.9] {
+            let mut state = State::at_rest(centre + (vertex - centre) * s);
+            state.v = Vec3::new(1.0, 0.0, 0.0);
+            states.push(state);
+        }
+    }
+    let event = ContactEvent::new(&boundary, &p, &Quiescent, ContactModel::Extent);
+    let fresh = |s: &State| {
+        let e = ContactEvent::new(&boundary, &p, &Quiescent, ContactModel::Extent);
+        (e.gap(s).to_bits(), e.max_step(s).to_bits())
+    };
+    let (mut bounded, mut queried) = (0usize, 0usize);
+    for pair in states.windows(2) {
+        for (a, b) in [(&pair[0], &pair[1]), (&pair[1], &pair[0])] {
+            let want = fresh(b);
+            let _ = (event.gap(a), event.max_step(a));
+            assert_eq!(
+                (event.gap(b).to_bits(), event.max_step(b).to_bits()),
+                want,
+                "gap first at {:?}",
+                b.x
+            );
+            let _ = event.max_step(a);
+            assert_eq!(
+                (event.max_step(b).to_bits(), event.gap(b).to_bits()),
+                (want.1, want.0),
+                "cap first at {:?}",
+                b.x
+            );
+            // The event's gap is half the clearance bound where that answers, a query's gap
+            // otherwise: equal to the query's gap only when the query was needed.
+            let query = boundary.nearest(&b.x, &event.extent(b)).gap;
+            if f64::from_bits(want.0) == query {
+                queried += 1;
+            } else {
+                bounded += 1;
+            }
+        }
+    }
+    assert!(
+        bounded > 100 && queried > 100,
+        "bound {bounded} times, queried {queried} times"
+    );
+}
