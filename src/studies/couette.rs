@@ -100,10 +100,15 @@ impl CouetteAnnulus {
 }
 
 /// Largest |u − u_exact| and |∇u − ∇u_exact| of `flow` at half the first cell's height over
-/// the inner cylinder (60 points evenly around it, at z = 0.1), relative to Ω R₁ and
-/// [`GRAD_MAX`].
+/// the inner cylinder, relative to Ω R₁ and [`GRAD_MAX`] ([`errors_at`]).
 pub fn half_cell_errors(flow: &dyn FlowField, first_cell: f64) -> Result<(f64, f64), FlowError> {
-    let r = INNER + 0.5 * first_cell;
+    errors_at(flow, 0.5 * first_cell)
+}
+
+/// Largest |u − u_exact| and |∇u − ∇u_exact| of `flow` at `height` over the inner cylinder (60
+/// points evenly around it, at z = 0.1), relative to Ω R₁ and [`GRAD_MAX`].
+pub fn errors_at(flow: &dyn FlowField, height: f64) -> Result<(f64, f64), FlowError> {
+    let r = INNER + height;
     (0..60).try_fold((0.0f64, 0.0f64), |(eu, eg), i| {
         let theta = std::f64::consts::TAU * (i as f64 + 0.25) / 60.0;
         let x = Vec3::new(r * theta.cos(), r * theta.sin(), 0.1);
@@ -113,6 +118,38 @@ pub fn half_cell_errors(flow: &dyn FlowField, first_cell: f64) -> Result<(f64, f
             eg.max((s.grad_u - g).amax() / GRAD_MAX),
         ))
     })
+}
+
+/// Heights over the inner cylinder, in first-cell heights δ₁, at which
+/// [`blend_against_cellwise`] compares the two fields: through the first two cells.
+pub const BAND: [f64; 7] = [0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0];
+
+/// The largest relative ∇u error over the inner cylinder at one height `fraction` δ₁: the
+/// blended field's and the cellwise fits'.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BandError {
+    /// Height over the inner cylinder in first-cell heights.
+    pub fraction: f64,
+    /// Largest |∇u − ∇u_exact| / [`GRAD_MAX`] of the blended field (60 points).
+    pub blended: f64,
+    /// The same of the cellwise fits.
+    pub cellwise: f64,
+}
+
+/// The ∇u errors of the blended field and of the cellwise fits at each height of [`BAND`]
+/// (each the largest over 60 points around the inner cylinder, [`errors_at`]): the
+/// wall layer replaces the cellwise fits there, so it should be no worse at any of them.
+pub fn blend_against_cellwise(annulus: &CouetteAnnulus) -> Result<Vec<BandError>, FlowError> {
+    BAND.iter()
+        .map(|&fraction| {
+            let height = fraction * annulus.first_cell;
+            Ok(BandError {
+                fraction,
+                blended: errors_at(&annulus.blended, height)?.1,
+                cellwise: errors_at(&annulus.cellwise, height)?.1,
+            })
+        })
+        .collect()
 }
 
 /// The dataset row of `annulus`, a mesh with `layers` prism layers at refinement `level`.
