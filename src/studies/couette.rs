@@ -11,7 +11,14 @@
 //! at any Reynolds number below the Taylor instability (it has no inertia term to balance:
 //! the pressure takes the centripetal part). It is written at the cell and boundary-face
 //! centres as a solver holds it, so the rotating inner cylinder's faces carry Ω e_z × x_f
-//! (to the O(h²) by which the face centres lie off the cylinder). The measures: u and ∇u at
+//! (to the O(h²) by which the face centres lie off the cylinder). That O(h²) is the shear times
+//! the face centre's depth under the cylinder, which varies from face to face with the snapped
+//! faces' widths: the wall fit reads it as a deforming wall, whose surface gradient W (and
+//! a = −tr W) is O(h), a first-order error of ∂u_r/∂r and ∂u_θ/(r∂θ) at the wall that no
+//! solver field on a rigidly moving or resting wall has (`paper-figures/near-wall/NOTES.md`,
+//! 2026-12-02). Writing the rigid motion there instead is worse: the exact cell values then
+//! disagree with the faceted no-slip wall by the same shear times depth, an O(h²/ρ) error of
+//! the wall shear. The measures: u and ∇u at
 //! half the first cell's height over the inner cylinder (60 points around it, mid-depth),
 //! relative to the exact field's largest |u| (Ω R₁ = 1) and |∇u| ([`GRAD_MAX`]).
 

@@ -303,7 +303,7 @@ fn a_rigidly_rotating_snapped_annulus_is_exact() {
 /// largest ∇u error against the exact solution must be no larger than theirs at every height
 /// from 0.1 to 2 first-cell heights over the rotating cylinder (the largest over 60 points
 /// each; issue 37). No tolerance: the claim is an inequality, and it holds by a factor
-/// 1.1–9 (printed). It is asserted on levels 1–2 by `examples/near_wall_hiemenz`.
+/// 1.1–10 (printed). It is asserted on levels 1–2 by `examples/near_wall_hiemenz`.
 #[test]
 fn snapped_couette_wall_layer_is_no_worse_than_the_cellwise_fits() {
     use pseudorigid::studies::couette::{CouetteAnnulus, blend_against_cellwise};
