@@ -11,7 +11,14 @@
 //! at any Reynolds number below the Taylor instability (it has no inertia term to balance:
 //! the pressure takes the centripetal part). It is written at the cell and boundary-face
 //! centres as a solver holds it, so the rotating inner cylinder's faces carry Ω e_z × x_f
-//! (to the O(h²) by which the face centres lie off the cylinder). The measures: u and ∇u at
+//! (to the O(h²) by which the face centres lie off the cylinder). That O(h²) is the shear times
+//! the face centre's depth under the cylinder, which varies from face to face with the snapped
+//! faces' widths: the wall fit reads it as a deforming wall, whose surface gradient W (and
+//! a = −tr W) is O(h), a first-order error of ∂u_r/∂r and ∂u_θ/(r∂θ) at the wall that no
+//! solver field on a rigidly moving or resting wall has (`paper-figures/near-wall/NOTES.md`,
+//! 2026-12-02). Writing the rigid motion there instead is worse: the exact cell values then
+//! disagree with the faceted no-slip wall by the same shear times depth, an O(h²/ρ) error of
+//! the wall shear. The measures: u and ∇u at
 //! half the first cell's height over the inner cylinder (60 points around it, mid-depth),
 //! relative to the exact field's largest |u| (Ω R₁ = 1) and |∇u| ([`GRAD_MAX`]).
 
@@ -100,10 +107,15 @@ impl CouetteAnnulus {
 }
 
 /// Largest |u − u_exact| and |∇u − ∇u_exact| of `flow` at half the first cell's height over
-/// the inner cylinder (60 points evenly around it, at z = 0.1), relative to Ω R₁ and
-/// [`GRAD_MAX`].
+/// the inner cylinder, relative to Ω R₁ and [`GRAD_MAX`] ([`errors_at`]).
 pub fn half_cell_errors(flow: &dyn FlowField, first_cell: f64) -> Result<(f64, f64), FlowError> {
-    let r = INNER + 0.5 * first_cell;
+    errors_at(flow, 0.5 * first_cell)
+}
+
+/// Largest |u − u_exact| and |∇u − ∇u_exact| of `flow` at `height` over the inner cylinder (60
+/// points evenly around it, at z = 0.1), relative to Ω R₁ and [`GRAD_MAX`].
+pub fn errors_at(flow: &dyn FlowField, height: f64) -> Result<(f64, f64), FlowError> {
+    let r = INNER + height;
     (0..60).try_fold((0.0f64, 0.0f64), |(eu, eg), i| {
         let theta = std::f64::consts::TAU * (i as f64 + 0.25) / 60.0;
         let x = Vec3::new(r * theta.cos(), r * theta.sin(), 0.1);
@@ -113,6 +125,38 @@ pub fn half_cell_errors(flow: &dyn FlowField, first_cell: f64) -> Result<(f64, f
             eg.max((s.grad_u - g).amax() / GRAD_MAX),
         ))
     })
+}
+
+/// Heights over the inner cylinder, in first-cell heights δ₁, at which
+/// [`blend_against_cellwise`] compares the two fields: through the first two cells.
+pub const BAND: [f64; 7] = [0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0];
+
+/// The largest relative ∇u error over the inner cylinder at one height `fraction` δ₁: the
+/// blended field's and the cellwise fits'.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BandError {
+    /// Height over the inner cylinder in first-cell heights.
+    pub fraction: f64,
+    /// Largest |∇u − ∇u_exact| / [`GRAD_MAX`] of the blended field (60 points).
+    pub blended: f64,
+    /// The same of the cellwise fits.
+    pub cellwise: f64,
+}
+
+/// The ∇u errors of the blended field and of the cellwise fits at each height of [`BAND`]
+/// (each the largest over 60 points around the inner cylinder, [`errors_at`]): the
+/// wall layer replaces the cellwise fits there, so it should be no worse at any of them.
+pub fn blend_against_cellwise(annulus: &CouetteAnnulus) -> Result<Vec<BandError>, FlowError> {
+    BAND.iter()
+        .map(|&fraction| {
+            let height = fraction * annulus.first_cell;
+            Ok(BandError {
+                fraction,
+                blended: errors_at(&annulus.blended, height)?.1,
+                cellwise: errors_at(&annulus.cellwise, height)?.1,
+            })
+        })
+        .collect()
 }
 
 /// The dataset row of `annulus`, a mesh with `layers` prism layers at refinement `level`.
