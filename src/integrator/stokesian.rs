@@ -72,8 +72,10 @@ pub enum Scheme {
 /// The frame in which [`Scheme::Rosenbrock23`] steps an elastic particle's shape
 /// ([`super::body_frame`]). Radau IIA and rigid particles step the lab frame either way.
 ///
-/// # Measured
-/// (Filled in below once measured.)
+/// # Which one: measured ([`super::body_frame`]'s table, airway bifurcation, 1 000 spheres)
+/// The body frame takes the rigid particle's steps for a stiff particle (μ_s = 50, 500 Pa:
+/// 1.08 and 0.99 steps per rigid step against the lab frame's 2.02 and 2.76, with 12–340× less
+/// shape error) and 1.12–1.33× the lab frame's steps for a soft one (0.5, 5 Pa).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Frame {
     /// y = (F, x, v) as it is: the reference.
@@ -246,7 +248,9 @@ impl TimeIntegrator for Stokesian {
                     blocks: self.blocks(),
                     invariant: None,
                 };
-                rosenbrock::step(state.t, &y0, &f0, &jac, dt, test, |t, y| eval(t, y).map(|e| (e.vector(), e)))?
+                rosenbrock::step(state.t, &y0, &f0, &jac, dt, test, |t, y| {
+                    eval(t, y).map(|e| (e.vector(), e))
+                })?
             }
             Scheme::Radau5 => {
                 let step = radau5::step(

@@ -14,7 +14,9 @@ use pseudorigid::driver::{AcceptedStep, Observers, Plan, Problem, Stop, advance,
 use pseudorigid::ellipsoid::Ellipsoid;
 use pseudorigid::integrator::choice::Auto;
 use pseudorigid::integrator::manifold::Manifold;
-use pseudorigid::integrator::{ErrorNorm, Frame, ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator, Tolerances};
+use pseudorigid::integrator::{
+    ErrorNorm, Frame, ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator, Tolerances,
+};
 use pseudorigid::material::Response;
 use pseudorigid::prelude::*;
 use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
