@@ -20,7 +20,9 @@
 //! [`Invariant`]: y₁ is then projected onto I(y₁) = I(y) before F₂ is evaluated, the error
 //! estimate's component across the level set (what the projection removes) is dropped, and an
 //! attempt whose drift before the projection exceeds the invariant's bound is rejected like one
-//! whose error does. The projection moves y₁ by the drift, which is O(h³) for the order-2
+//! whose error does. The invariant also says in which variables the error is measured (a
+//! moving frame's state is measured in the fixed frame, so the weights are the same as without
+//! it). The projection moves y₁ by the drift, which is O(h³) for the order-2
 //! solution, so the local error stays O(h³) and the order 2 (Hairer, Lubich & Wanner,
 //! *Geometric Numerical Integration*, §IV.4, standard projection).
 //!
@@ -90,6 +92,9 @@ pub trait Invariant<const N: usize> {
     fn along(&self, y: &SVector<f64, N>, err: &SVector<f64, N>) -> SVector<f64, N>;
     /// The largest relative drift a step may remove by projection.
     fn allowed_drift(&self) -> f64;
+    /// A state or error vector `v` at τ into the step as the error test measures it (a
+    /// caller whose state is a moving frame's measures in the fixed one).
+    fn measured(&self, tau: f64, v: &SVector<f64, N>) -> SVector<f64, N>;
 }
 
 /// How an attempt is judged: the tolerances, the state's blocks the error norm measures as
@@ -155,11 +160,17 @@ pub fn step<const N: usize, P>(
             let drift = invariant.map_or(0.0, |i| i.project(&mut y1) / i.allowed_drift());
             let (f2, payload) = rhs(t + h, &y1)?;
             let k3 = solve(f2 - (k2 - f1) * E32 - (k1 - f0) * 2.0)?;
-            let mut err = (k1 - k2 * 2.0 + k3) * (h / 6.0);
-            if let Some(i) = invariant {
-                err = i.along(&y1, &err);
+            let err = (k1 - k2 * 2.0 + k3) * (h / 6.0);
+            let err = match invariant {
+                Some(i) => tol.scaled_error(
+                    &i.measured(h, &i.along(&y1, &err)),
+                    &i.measured(0.0, y),
+                    &i.measured(h, &y1),
+                    blocks,
+                ),
+                None => tol.scaled_error(&err, y, &y1, blocks),
             }
-            let err = tol.scaled_error(&err, y, &y1, blocks).max(drift);
+            .max(drift);
             Ok::<_, StepError>((y1, f2, payload, err))
         })();
         match attempt {
