@@ -1,7 +1,8 @@
 //! Issue 36: soft spheres in the airway bifurcation at Stk 0.1, μ_s = 0.5, 5, 50, 500 Pa and
 //! rigid, each run by the studies' integrator (the full inertialess model,
-//! `study::integrator`) and by the slow-manifold model over it (`integrator::manifold`), on the
-//! same particles (same seed). Prints steps, CPU time, fates, and both models' errors against
+//! `study::integrator`, its Rosenbrock-W step in the lab and in the body frame,
+//! `integrator::body_frame`) and by the slow-manifold model over each (`integrator::manifold`),
+//! on the same particles (same seed). Prints steps, CPU time, fates, and both models' errors against
 //! a reference (the full model by Radau IIA at rtol 10⁻⁶): fates paired, and the shape
 //! B = F Fᵀ and barycentre along the path at 39 common output times.
 //!
@@ -17,7 +18,7 @@ use pseudorigid::flow::FlowField;
 use pseudorigid::hydro::DragModel;
 use pseudorigid::integrator::manifold::{Manifold, ManifoldMemory};
 use pseudorigid::integrator::{BarycentreModel, Step, TimeIntegrator};
-use pseudorigid::integrator::{Scheme, Stepper, Stokesian, Tolerances};
+use pseudorigid::integrator::{Frame, Scheme, Stepper, Stokesian, Tolerances};
 use pseudorigid::material::Response;
 use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::particle::{Particle, State};
@@ -193,32 +194,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             kind.material.capillary_number(),
             choice.reason
         );
-        let full: Stokesian = choice.integrator;
-        let tally = Arc::new(Tally::default());
-        let manifold = match std::env::var("PSEUDORIGID_DELTA_MAX") {
-            Ok(d) => Manifold::new(full).with_delta_max(d.parse()?)?,
-            Err(_) => Manifold::new(full),
-        };
-        let reduced = Tallied(manifold, tally.clone());
-        let (of, cf) = run_with(&airway, kind, &full, n, seed, &times)?;
-        let (sf, _) = summary("full", &of, cf);
-        let (om, cm) = run_with(&airway, kind, &reduced, n, seed, &times)?;
-        let (sm, _) = summary("manifold", &om, cm);
-        let on = tally.manifold_steps.load(Ordering::Relaxed);
-        let off = tally.full_steps.load(Ordering::Relaxed);
-        println!(
-            "  switch: {on} steps on the manifold, {off} full ({:.1} % on), {} entries, {} exits (discarded steps); rejected attempts: {} on the manifold, {} full, {} in the full steps that follow an exit",
-            100.0 * on as f64 / (on + off).max(1) as f64,
-            tally.entered.load(Ordering::Relaxed),
-            tally.left.load(Ordering::Relaxed),
-            tally.manifold_rejected.load(Ordering::Relaxed),
-            tally.full_rejected.load(Ordering::Relaxed),
-            tally.exit_rejected.load(Ordering::Relaxed)
-        );
+        let chosen: Stokesian = choice.integrator;
         let reference = Stokesian {
             tol: Tolerances::new(1e-6, 1e-8, 1e-14)?,
             scheme: Scheme::Radau5,
-            ..full
+            ..chosen
         };
         let (or, _) = run_with(&airway, kind, &reference, n, seed, &times)?;
         let (sr, _) = summary("ref", &or, f64::NAN);
@@ -231,16 +211,42 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     .map(|s| (s.f * s.f.transpose() - Mat3::identity()).norm())
             })
             .fold(0.0, f64::max);
-        for (model, out, steps, cpu) in [("full", &of, sf, cf), ("manifold", &om, sm, cm)] {
-            let (changed, max_db, median_db, dx) = paired(out, &or);
+        for frame in [Frame::Lab, Frame::Body] {
+            let full = chosen.with_frame(frame);
+            let tally = Arc::new(Tally::default());
+            let manifold = match std::env::var("PSEUDORIGID_DELTA_MAX") {
+                Ok(d) => Manifold::new(full).with_delta_max(d.parse()?)?,
+                Err(_) => Manifold::new(full),
+            };
+            let reduced = Tallied(manifold, tally.clone());
+            let (of, cf) = run_with(&airway, kind, &full, n, seed, &times)?;
+            let (sf, _) = summary(frame.name(), &of, cf);
+            let (om, cm) = run_with(&airway, kind, &reduced, n, seed, &times)?;
+            let (sm, _) = summary("manifold", &om, cm);
+            let on = tally.manifold_steps.load(Ordering::Relaxed);
+            let off = tally.full_steps.load(Ordering::Relaxed);
             println!(
-                "  {model} against the reference ({sr} steps): {changed} of {n} fates changed; |B - B_ref| max {max_db:.3e}, median {median_db:.3e}; |x - x_ref| max {dx:.3e} m; reference max |B - 1| {b_dev:.3e}"
+                "  switch: {on} steps on the manifold, {off} full ({:.1} % on), {} entries, {} exits (discarded steps); rejected attempts: {} on the manifold, {} full, {} in the full steps that follow an exit",
+                100.0 * on as f64 / (on + off).max(1) as f64,
+                tally.entered.load(Ordering::Relaxed),
+                tally.left.load(Ordering::Relaxed),
+                tally.manifold_rejected.load(Ordering::Relaxed),
+                tally.full_rejected.load(Ordering::Relaxed),
+                tally.exit_rejected.load(Ordering::Relaxed)
             );
-            rows.push(format!(
-                "{mu_s},{model},{steps},{cpu:.2},{:.3},{:.3},{changed},{max_db:.3e},{median_db:.3e},{dx:.3e},{b_dev:.3e}",
-                steps as f64 / rigid_steps as f64,
-                cpu / rigid_cpu,
-            ));
+            let full_name = format!("full {}", frame.name());
+            let manifold_name = format!("manifold {}", frame.name());
+            for (model, out, steps, cpu) in [(&full_name, &of, sf, cf), (&manifold_name, &om, sm, cm)] {
+                let (changed, max_db, median_db, dx) = paired(out, &or);
+                println!(
+                    "  {model} against the reference ({sr} steps): {changed} of {n} fates changed; |B - B_ref| max {max_db:.3e}, median {median_db:.3e}; |x - x_ref| max {dx:.3e} m; reference max |B - 1| {b_dev:.3e}"
+                );
+                rows.push(format!(
+                    "{mu_s},{model},{steps},{cpu:.2},{:.3},{:.3},{changed},{max_db:.3e},{median_db:.3e},{dx:.3e},{b_dev:.3e}",
+                    steps as f64 / rigid_steps as f64,
+                    cpu / rigid_cpu,
+                ));
+            }
         }
     }
     // The rigid run again, last: its CPU time against the first one's is the spread of the

@@ -21,7 +21,7 @@
 
 use super::control::ErrorNorm;
 use super::stokesian::StokesianMemory;
-use super::{BarycentreModel, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
+use super::{BarycentreModel, Frame, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
@@ -163,6 +163,7 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
             },
             scheme,
             norm: ErrorNorm::default(),
+            frame: Frame::Lab,
         },
         reason,
     })

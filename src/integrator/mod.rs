@@ -17,6 +17,7 @@
 //! Scene files and the Python package choose an integrator by name ([`registry`]): each
 //! registers itself in its own file. [`choice`] picks one from the particle's numbers.
 
+pub mod body_frame;
 pub mod choice;
 pub mod control;
 pub mod dense;
@@ -34,7 +35,7 @@ pub use dense::Dense;
 pub use imex::ImexPaper;
 pub use imex_adaptive::ImexAdaptive;
 pub use registry::{IntegratorRegistration, SceneIntegrator};
-pub use stokesian::{BarycentreModel, Scheme, Stokesian};
+pub use stokesian::{BarycentreModel, Frame, Scheme, Stokesian};
 
 use crate::error::StepError;
 use crate::flow::FlowField;

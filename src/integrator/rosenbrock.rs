@@ -16,6 +16,16 @@
 //! and gets F₂ back with the caller's payload of that evaluation, so an accepted step costs two
 //! new evaluations of f.
 //!
+//! A caller whose equation has a first integral I(y) the exact flow keeps may hand an
+//! [`Invariant`]: y₁ is then projected onto I(y₁) = I(y) before F₂ is evaluated, the error
+//! estimate's component across the level set (what the projection removes) is dropped, and an
+//! attempt whose drift before the projection exceeds the invariant's bound is rejected like one
+//! whose error does. The invariant also says in which variables the error is measured (a
+//! moving frame's state is measured in the fixed frame, so the weights are the same as without
+//! it). The projection moves y₁ by the drift, which is O(h³) for the order-2
+//! solution, so the local error stays O(h³) and the order 2 (Hairer, Lubich & Wanner,
+//! *Geometric Numerical Integration*, §IV.4, standard projection).
+//!
 //! Hand-written rather than taken from an ODE crate because the callers need per-step control
 //! (one accepted step per call with its work counts, per-particle memory, static sizes).
 
@@ -73,6 +83,32 @@ where
     }
 }
 
+/// A first integral of y′ = f the step holds by projection (module docs).
+pub trait Invariant<const N: usize> {
+    /// Move `y` back onto the level set of the step's start; returns the drift removed, relative
+    /// to the invariant's value (a number to compare with [`Invariant::allowed_drift`]).
+    fn project(&self, y: &mut SVector<f64, N>) -> f64;
+    /// The error estimate `err` at `y` with its component across the level set removed.
+    fn along(&self, y: &SVector<f64, N>, err: &SVector<f64, N>) -> SVector<f64, N>;
+    /// The largest relative drift a step may remove by projection.
+    fn allowed_drift(&self) -> f64;
+    /// A state or error vector `v` at τ into the step as the error test measures it (a
+    /// caller whose state is a moving frame's measures in the fixed one).
+    fn measured(&self, tau: f64, v: &SVector<f64, N>) -> SVector<f64, N>;
+}
+
+/// How an attempt is judged: the tolerances, the state's blocks the error norm measures as
+/// wholes ([`Tolerances::scaled_error`]), and the invariant the step holds, if any.
+#[derive(Clone, Copy)]
+pub struct ErrorTest<'a, const N: usize> {
+    /// Tolerances.
+    pub tol: Tolerances,
+    /// Blocks measured as wholes (`None`: componentwise).
+    pub blocks: Option<&'a [Range<usize>]>,
+    /// The first integral held by projection.
+    pub invariant: Option<&'a dyn Invariant<N>>,
+}
+
 /// Outcome of one accepted adaptive step.
 pub struct Accepted<const N: usize, P> {
     /// New state.
@@ -90,7 +126,7 @@ pub struct Accepted<const N: usize, P> {
 }
 
 /// Take one accepted step from (t, y) with f(t, y) = `f0` and Jacobian `j`, trying `h` first,
-/// with the error measured over the state's `blocks` ([`Tolerances::scaled_error`]).
+/// judged by `test` ([`ErrorTest`]).
 ///
 /// `rhs(t, y)` returns f and a payload, or an error; an `Inverted`/`NonFinite` error (e.g. an
 /// inverted trial state) rejects the attempt and quarters h, any other error is returned.
@@ -100,10 +136,10 @@ pub fn step<const N: usize, P>(
     f0: &SVector<f64, N>,
     j: &impl Jacobian<N>,
     h: f64,
-    tol: Tolerances,
-    blocks: Option<&[Range<usize>]>,
+    test: ErrorTest<'_, N>,
     mut rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<(SVector<f64, N>, P), StepError>,
 ) -> Result<Accepted<N, P>, StepError> {
+    let ErrorTest { tol, blocks, invariant } = test;
     let mut h = positive("h", h)?;
     for rejected in 0..=CONTROL.max_rejections {
         if h < tol.h_min() {
@@ -120,11 +156,22 @@ pub fn step<const N: usize, P>(
             let k1 = solve(*f0)?;
             let (f1, _) = rhs(t + 0.5 * h, &(y + k1 * (0.5 * h)))?;
             let k2 = solve(f1 - k1)? + k1;
-            let y1 = y + k2 * h;
+            let mut y1 = y + k2 * h;
+            let drift = invariant.map_or(0.0, |i| i.project(&mut y1) / i.allowed_drift());
             let (f2, payload) = rhs(t + h, &y1)?;
             let k3 = solve(f2 - (k2 - f1) * E32 - (k1 - f0) * 2.0)?;
             let err = (k1 - k2 * 2.0 + k3) * (h / 6.0);
-            Ok::<_, StepError>((y1, f2, payload, tol.scaled_error(&err, y, &y1, blocks)))
+            let err = match invariant {
+                Some(i) => tol.scaled_error(
+                    &i.measured(h, &i.along(&y1, &err)),
+                    &i.measured(0.0, y),
+                    &i.measured(h, &y1),
+                    blocks,
+                ),
+                None => tol.scaled_error(&err, y, &y1, blocks),
+            }
+            .max(drift);
+            Ok::<_, StepError>((y1, f2, payload, err))
         })();
         match attempt {
             Ok((y1, f_new, payload, err)) if err <= 1.0 => {

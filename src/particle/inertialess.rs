@@ -66,18 +66,27 @@ pub enum ShapeJacobian {
     Full(SMatrix<f64, 9, 9>),
 }
 
+impl ShapeJacobian {
+    /// The 9×9 block.
+    pub fn block(&self) -> SMatrix<f64, 9, 9> {
+        match self {
+            ShapeJacobian::Spin(l_s) => {
+                let mut block = SMatrix::<f64, 9, 9>::zeros();
+                for c in 0..3 {
+                    block.fixed_view_mut::<3, 3>(3 * c, 3 * c).copy_from(l_s);
+                }
+                block
+            }
+            ShapeJacobian::Full(block) => *block,
+        }
+    }
+}
+
 impl InertialessJacobian {
     /// The 15×15 matrix.
     pub fn dense(&self) -> SMatrix<f64, 15, 15> {
         let mut jac = SMatrix::<f64, 15, 15>::zeros();
-        match &self.shape {
-            ShapeJacobian::Spin(l_s) => {
-                for c in 0..3 {
-                    jac.fixed_view_mut::<3, 3>(3 * c, 3 * c).copy_from(l_s);
-                }
-            }
-            ShapeJacobian::Full(block) => jac.fixed_view_mut::<9, 9>(0, 0).copy_from(block),
-        }
+        jac.fixed_view_mut::<9, 9>(0, 0).copy_from(&self.shape.block());
         jac.fixed_view_mut::<6, 6>(9, 9).copy_from(&self.barycentre);
         jac
     }
@@ -170,6 +179,16 @@ impl InertialessRate {
     /// ẋ.
     pub fn x_dot(&self) -> Vec3 {
         self.x_dot
+    }
+
+    /// v̇.
+    pub fn v_dot(&self) -> Vec3 {
+        self.v_dot
+    }
+
+    /// The particle's velocity gradient l_s (Ḟ = l_s F).
+    pub fn l_s(&self) -> Mat3 {
+        self.l_s
     }
 
     /// The flow's velocity gradient l_f = ∇u at the barycentre.

@@ -44,6 +44,7 @@ fn extension_error(tau: f64, barycentre: BarycentreModel) -> f64 {
         barycentre,
         scheme: Scheme::Radau5,
         norm: Default::default(),
+        frame: Default::default(),
     };
     let (end, _) = run(
         Problem::new(&integ, &particle, &flow),

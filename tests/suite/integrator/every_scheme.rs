@@ -14,7 +14,9 @@ use pseudorigid::driver::{AcceptedStep, Observers, Plan, Problem, Stop, advance,
 use pseudorigid::ellipsoid::Ellipsoid;
 use pseudorigid::integrator::choice::Auto;
 use pseudorigid::integrator::manifold::Manifold;
-use pseudorigid::integrator::{ErrorNorm, ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator, Tolerances};
+use pseudorigid::integrator::{
+    ErrorNorm, Frame, ImexAdaptive, ImexPaper, Scheme, Stokesian, TimeIntegrator, Tolerances,
+};
 use pseudorigid::material::Response;
 use pseudorigid::prelude::*;
 use pseudorigid::reference::{jeffery_flow_aligned_time, jeffery_phi};
@@ -315,6 +317,18 @@ harness!(
     stokesian_rosenbrock23,
     Setup {
         integ: Stokesian::new(1e-8).unwrap().with_scheme(Scheme::Rosenbrock23),
+        dt: 1e-3,
+        rho_star: 0.0,
+        scheme_error: 1e-7,
+    }
+);
+harness!(
+    stokesian_rosenbrock23_body,
+    Setup {
+        integ: Stokesian::new(1e-8)
+            .unwrap()
+            .with_scheme(Scheme::Rosenbrock23)
+            .with_frame(Frame::Body),
         dt: 1e-3,
         rho_star: 0.0,
         scheme_error: 1e-7,

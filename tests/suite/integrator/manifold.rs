@@ -49,7 +49,7 @@ fn states_at<I: TimeIntegrator, F: FlowField>(
 /// with L simple shear, Q a rotation about e₃ by t/2 and γ̇ = 1 + sin(t)/2; u = l_f x (the
 /// particle stays at the origin). |d∇u/dt| ≈ |∇u|, so the lag behind the flow is as large as
 /// the tank-treading's.
-struct TurningShear;
+pub(super) struct TurningShear;
 
 impl FlowField for TurningShear {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {

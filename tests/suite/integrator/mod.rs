@@ -1,5 +1,6 @@
 //! Time integrators (src/integrator) and the driver (src/driver).
 
+mod body_frame;
 mod choice;
 mod error_norm;
 mod every_scheme;

@@ -109,6 +109,31 @@ fn scheme_names_and_their_aliases_choose_the_scheme() {
     }
 }
 
+/// `rosenbrock_w23` takes `frame = "lab"` (the default) or `"body"` (the body-frame step of
+/// `integrator::body_frame`, named `rosenbrock_w23_body` in datasets); another value, or a
+/// `frame` given to `radau_iia` (which steps the lab frame only), is refused with the key named.
+#[test]
+fn rosenbrock_takes_the_frame() {
+    let from = "type = \"radau_iia\"";
+    for (frame, name) in [("lab", "rosenbrock_w23"), ("body", "rosenbrock_w23_body")] {
+        let s = scene(
+            "oblate_shear.toml",
+            &[(from, &format!("type = \"rosenbrock_w23\"\nframe = \"{frame}\""))],
+        );
+        assert_eq!(s.integrator.name(), name, "{frame}");
+    }
+    let text = std::fs::read_to_string(scene_path("oblate_shear.toml")).unwrap();
+    for bad in [
+        "type = \"rosenbrock_w23\"\nframe = \"sideways\"",
+        "type = \"radau_iia\"\nframe = \"body\"",
+    ] {
+        match parse_named("edited.toml", &text.replace(from, bad)) {
+            Err(e) => assert!(e.to_string().contains("frame"), "{bad}: {e}"),
+            Ok(_) => panic!("{bad} accepted"),
+        }
+    }
+}
+
 /// `slow_manifold` is selectable by name with its `delta_max`, which must lie in (0, 1): a
 /// value outside is refused with the key named (no panic, no run). Its full model takes the
 /// scheme `auto` takes at the same tolerance (Radau IIA at the scene's 10⁻⁸, Rosenbrock-W 2(3)
