@@ -6,6 +6,19 @@ pub mod build;
 pub mod reference;
 pub mod strategies;
 
+/// Observed order of convergence: the least-squares slope of ln e against ln h (h the step,
+/// cell size or tolerance, e the error at it).
+pub fn observed_order(h: &[f64], e: &[f64]) -> f64 {
+    let n = h.len() as f64;
+    let (mx, my) = h
+        .iter()
+        .zip(e)
+        .fold((0.0, 0.0), |(a, b), (h, e)| (a + h.ln() / n, b + e.ln() / n));
+    let sxy: f64 = h.iter().zip(e).map(|(h, e)| (h.ln() - mx) * (e.ln() - my)).sum();
+    let sxx: f64 = h.iter().map(|h| (h.ln() - mx).powi(2)).sum();
+    sxy / sxx
+}
+
 /// `x` rounded to `digits` significant digits, as text: stable across machines for snapshots.
 pub fn sig(x: f64, digits: i32) -> String {
     if x == 0.0 || !x.is_finite() {

@@ -27,19 +27,6 @@ fn loose(mut s: Stokesian) -> Stokesian {
     s.with_scheme(Scheme::Rosenbrock23)
 }
 
-/// Least-squares slope of log(error) against log(Δt).
-fn slope(dts: &[f64], errs: &[f64]) -> f64 {
-    let xs: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
-    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
-    let (mx, my) = (
-        xs.iter().sum::<f64>() / xs.len() as f64,
-        ys.iter().sum::<f64>() / ys.len() as f64,
-    );
-    let num: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let den: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-    num / den
-}
-
 /// Rigid limit against the exact Jeffery orbit (r = 2, axis along the flow at t = 0, so
 /// φ from the gradient axis starts at π/2 and the exact angle is jeffery_phi shifted by the
 /// time at which φ = π/2). Rosenbrock-W 2(3) must show order 2: slope in [1.8, 2.3].
@@ -66,7 +53,7 @@ fn rigid_rosenbrock_is_second_order_on_jeffery_orbit() {
             d.abs()
         })
         .collect();
-    let k = slope(&dts, &errs);
+    let k = crate::common::observed_order(&dts, &errs);
     assert!((1.8..=2.3).contains(&k), "observed order {k}, errors {errs:?}");
 }
 
@@ -95,7 +82,7 @@ fn stokesian_rosenbrock_is_second_order() {
         reference_error <= 0.02 * errs[2],
         "reference error {reference_error:e}, errors {errs:?}"
     );
-    let k = slope(&dts, &errs);
+    let k = crate::common::observed_order(&dts, &errs);
     assert!((1.8..=2.3).contains(&k), "observed order {k}, errors {errs:?}");
 }
 
@@ -127,7 +114,7 @@ fn imex_paper_is_first_order() {
         coarse_error <= 0.25 * errs[2],
         "Δt/8 vs Δt/16 differ by {coarse_error:e}, errors {errs:?}"
     );
-    let k = slope(&dts, &errs);
+    let k = crate::common::observed_order(&dts, &errs);
     assert!((0.9..=1.2).contains(&k), "observed order {k}, errors {errs:?}");
 }
 
@@ -169,6 +156,6 @@ fn imex_adaptive_error_follows_tolerance() {
             (s.f - reference).abs().max()
         })
         .collect();
-    let k = slope(&tols, &errs);
+    let k = crate::common::observed_order(&tols, &errs);
     assert!((0.35..=0.65).contains(&k), "slope {k}, errors {errs:?}");
 }

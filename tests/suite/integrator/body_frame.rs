@@ -55,19 +55,6 @@ fn fixed<I: TimeIntegrator>(integ: &I, p: &Particle<NeoHooke>, dt: f64, t_end: f
     state
 }
 
-/// Least-squares slope of log(error) against log(Δt).
-fn slope(dts: &[f64], errs: &[f64]) -> f64 {
-    let xs: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
-    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
-    let (mx, my) = (
-        xs.iter().sum::<f64>() / xs.len() as f64,
-        ys.iter().sum::<f64>() / ys.len() as f64,
-    );
-    let num: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let den: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-    num / den
-}
-
 /// Order 2 under Δt refinement: a sphere and a 3:1 prolate at Ca = 0.1 in the turning shear,
 /// fixed steps Δt = 0.1 … 0.0125 to t = 2, F against Radau IIA at rtol 10⁻¹² (its error
 /// ≲ 10⁻¹¹, below 10⁻³ of the smallest measured error, so it shifts no log-error by more than
@@ -94,7 +81,7 @@ fn body_frame_step_is_second_order() {
                     .max()
             })
             .collect();
-        let k = slope(&dts, &errs);
+        let k = crate::common::observed_order(&dts, &errs);
         assert!(
             (1.8..=2.3).contains(&k),
             "{shape:?}: observed order {k}, errors {errs:?}"

@@ -9,15 +9,10 @@ use pseudorigid::studies::couette::exact as couette;
 use pseudorigid::studies::stagnation::half_cell_errors;
 use pseudorigid::tensor::{Mat3, Vec3};
 
-/// Least-squares slope of ln e against ln h.
+/// Observed order of (h, e) rows ([`crate::common::observed_order`]).
 fn slope(rows: &[(f64, f64)]) -> f64 {
-    let n = rows.len() as f64;
-    let (mx, my) = rows
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (h, e)| (a + h.ln() / n, b + e.ln() / n));
-    let sxy: f64 = rows.iter().map(|(h, e)| (h.ln() - mx) * (e.ln() - my)).sum();
-    let sxx: f64 = rows.iter().map(|(h, _)| (h.ln() - mx).powi(2)).sum();
-    sxy / sxx
+    let (h, e): (Vec<f64>, Vec<f64>) = rows.iter().copied().unzip();
+    crate::common::observed_order(&h, &e)
 }
 
 /// The box meshes of the near-wall tests: blockMesh layerings built here (hexahedra and prisms)
