@@ -163,7 +163,7 @@ impl<'a, 'o> StudyRun<'a, 'o> {
     /// integrators and models).
     pub fn integrator(self, integ: &Stokesian) -> Self {
         Self {
-            integrator: Some(integ.clone()),
+            integrator: Some(*integ),
             ..self
         }
     }
@@ -214,7 +214,7 @@ impl<'a, 'o> StudyRun<'a, 'o> {
     pub fn run_timed(&self, options: &RunOptions) -> Result<Computed<NeoHooke>, BifurcationError> {
         let (airway, kind, forces) = (self.airway, self.kind, &self.forces);
         let integ = match &self.integrator {
-            Some(integ) => integ.clone(),
+            Some(integ) => *integ,
             None => integrator(airway, kind)?.integrator,
         };
         let injection = Injection::new(airway, kind)?.with_forces(forces.clone());
