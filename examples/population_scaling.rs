@@ -63,48 +63,31 @@ fn paired_fates(
 /// One timed run of N particles; its records are dropped before the next.
 type Runner<'a> = Box<dyn Fn(u64) -> Result<RunOutput<NeoHooke>, String> + Sync + 'a>;
 
+/// The value after `flag` in `args` (both removed), `None` if `flag` is absent.
+fn take_option(args: &mut Vec<String>, flag: &str, what: &str) -> Result<Option<String>, String> {
+    let Some(i) = args.iter().position(|a| a == flag) else {
+        return Ok(None);
+    };
+    let value = args.get(i + 1).ok_or(format!("{flag} needs {what}"))?.clone();
+    args.drain(i..i + 2);
+    Ok(Some(value))
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let bifurcation = match args.iter().position(|a| a == "--bifurcation") {
-        Some(i) => {
-            let stk: f64 = args.get(i + 1).ok_or("--bifurcation needs a Stokes number")?.parse()?;
-            args.drain(i..i + 2);
-            Some(stk)
-        }
-        None => None,
-    };
-    let prolate = match args.iter().position(|a| a == "--prolate") {
-        Some(i) => {
-            let lambda: f64 = args.get(i + 1).ok_or("--prolate needs an aspect ratio")?.parse()?;
-            args.drain(i..i + 2);
-            lambda
-        }
+    let bifurcation: Option<f64> = take_option(&mut args, "--bifurcation", "a Stokes number")?
+        .map(|v| v.parse())
+        .transpose()?;
+    let prolate: f64 = match take_option(&mut args, "--prolate", "an aspect ratio")? {
+        Some(v) => v.parse()?,
         None => 1.0,
     };
-    let material = match args.iter().position(|a| a == "--mu-s") {
-        Some(i) => {
-            let mu_s: f64 = args.get(i + 1).ok_or("--mu-s needs a shear modulus (Pa)")?.parse()?;
-            args.drain(i..i + 2);
-            Material::ShearModulus(mu_s)
-        }
+    let material = match take_option(&mut args, "--mu-s", "a shear modulus (Pa)")? {
+        Some(v) => Material::ShearModulus(v.parse()?),
         None => Material::Rigid,
     };
-    let records = match args.iter().position(|a| a == "--records") {
-        Some(i) => {
-            let path = args.get(i + 1).ok_or("--records needs a path")?.clone();
-            args.drain(i..i + 2);
-            Some(path)
-        }
-        None => None,
-    };
-    let pair = match args.iter().position(|a| a == "--pair") {
-        Some(i) => {
-            let path = args.get(i + 1).ok_or("--pair needs a path")?.clone();
-            args.drain(i..i + 2);
-            Some(path)
-        }
-        None => None,
-    };
+    let records = take_option(&mut args, "--records", "a path")?;
+    let pair = take_option(&mut args, "--pair", "a path")?;
     if args.is_empty() {
         args.push("1000:1,2".to_string());
     }

@@ -129,6 +129,26 @@ impl<'a> Parameters<'a> {
         }
     }
 
+    /// The text `key` as one of `choices` (its name, its value), the first when `key` is
+    /// absent; any other text is [`ParamError::WrongType`] with `expected` (the names, as the
+    /// error shows them).
+    pub fn choice<T: Copy>(
+        &self,
+        key: &'static str,
+        choices: &[(&str, T)],
+        expected: &'static str,
+    ) -> Result<T, ParamError> {
+        let name = match self.text(key) {
+            Err(ParamError::Missing { .. }) => return Ok(choices[0].1),
+            other => other?,
+        };
+        choices
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, v)| *v)
+            .ok_or_else(|| Self::wrong(key, expected))
+    }
+
     /// The table of numbers `key` (absent: empty).
     pub fn table(&self, key: &'static str) -> Result<BTreeMap<String, f64>, ParamError> {
         match self.values.get(key) {

@@ -394,28 +394,23 @@ impl rosenbrock::Factor<15> for InertialessFactor {
 
 /// A scene's `norm`: `"componentwise"` (also when absent) or `"tensor"` ([`ErrorNorm`]).
 pub(super) fn error_norm(p: &crate::registry::Parameters) -> Result<ErrorNorm, ParamError> {
-    match p.text("norm") {
-        Err(ParamError::Missing { .. }) | Ok("componentwise") => Ok(ErrorNorm::Componentwise),
-        Ok("tensor") => Ok(ErrorNorm::Tensor),
-        Ok(_) => Err(ParamError::WrongType {
-            key: "norm".into(),
-            expected: "\"componentwise\" or \"tensor\"",
-        }),
-        Err(e) => Err(e),
-    }
+    p.choice(
+        "norm",
+        &[
+            ("componentwise", ErrorNorm::Componentwise),
+            ("tensor", ErrorNorm::Tensor),
+        ],
+        "\"componentwise\" or \"tensor\"",
+    )
 }
 
 /// A scene's `frame`: `"lab"` (also when absent) or `"body"` ([`Frame`]).
 fn frame(p: &crate::registry::Parameters) -> Result<Frame, ParamError> {
-    match p.text("frame") {
-        Err(ParamError::Missing { .. }) | Ok("lab") => Ok(Frame::Lab),
-        Ok("body") => Ok(Frame::Body),
-        Ok(_) => Err(ParamError::WrongType {
-            key: "frame".into(),
-            expected: "\"lab\" or \"body\"",
-        }),
-        Err(e) => Err(e),
-    }
+    p.choice(
+        "frame",
+        &[("lab", Frame::Lab), ("body", Frame::Body)],
+        "\"lab\" or \"body\"",
+    )
 }
 
 /// The inertialess integrator with `scheme`, from a scene's `tol`, `overdamped` and `norm`, and
