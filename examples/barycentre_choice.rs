@@ -49,13 +49,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         let choice = study::integrator(&airway, kind)?;
         eprintln!("Stk {stk}: {}", choice.reason);
-        let chosen = choice.integrator;
+        let chosen = choice.integrator.full();
         let mut runs = Vec::new();
         for barycentre in [BarycentreModel::Inertial, BarycentreModel::Equilibrium] {
             let integ = pseudorigid::integrator::Stokesian { barycentre, ..chosen };
             let cpu = process_cpu_seconds();
             let out = study::StudyRun::new(&airway, kind, n)
-                .integrator(&integ)
+                .integrator(integ)
                 .run(&RunOptions::default().quiet())?;
             let cpu = process_cpu_seconds().zip(cpu).map(|(b, a)| b - a);
             let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();

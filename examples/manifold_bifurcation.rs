@@ -7,8 +7,9 @@
 //! B = F Fᵀ and barycentre along the path at 39 common output times.
 //!
 //! ```text
-//! cargo run --release --example manifold_bifurcation -- [N] [SEED]
+//! cargo run --release --example manifold_bifurcation -- [N] [SEED] [MU_S,MU_S,...]
 //! ```
+//! The shear moduli default to 0.5,5,50,500 (Pa).
 //! `PSEUDORIGID_DELTA_MAX` sets δ_max (default √rtol). One thread (CPU time is the process's, measured around each run, after an untimed warm-up
 //! run that fills the mesh's clearance grid).
 
@@ -164,6 +165,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let n: u64 = args.next().map_or(Ok(200), |a| a.parse())?;
     let seed: u64 = args.next().map_or(Ok(7), |a| a.parse())?;
+    let moduli: Vec<f64> = match args.next() {
+        Some(list) => list.split(',').map(str::parse).collect::<Result<_, _>>()?,
+        None => vec![0.5, 5.0, 50.0, 500.0],
+    };
     let airway = Airway::open(Airway::shipped_dir())?;
     let t_end = airway.tracking_time();
     let times: Vec<f64> = (1..40).map(|i| t_end * i as f64 / 40.0).collect();
@@ -173,7 +178,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         stokes: 0.1,
     };
     println!("N = {n} spheres at Stk 0.1, seed {seed}");
-    let full = study::integrator(&airway, rigid)?.integrator;
+    let full = study::integrator(&airway, rigid)?.integrator.full();
     // The first run pays the one-off fill of the mesh's clearance grid: warm up, untimed.
     let _ = run_with(&airway, rigid, &full, n.min(50), seed + 1, &times)?;
     let (out, cpu) = run_with(&airway, rigid, &full, n, seed, &times)?;
@@ -183,7 +188,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "material,model,steps,cpu_s,steps_over_rigid,cpu_over_rigid,fates_changed_vs_ref,max_dB_vs_ref,median_dB_vs_ref,max_dx_vs_ref_m,ref_max_B_minus_1"
     );
     let mut rows = Vec::new();
-    for mu_s in [0.5, 5.0, 50.0, 500.0] {
+    for mu_s in moduli {
         let kind = Kind {
             material: Material::ShearModulus(mu_s),
             ..rigid
@@ -194,7 +199,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             kind.material.capillary_number(),
             choice.reason
         );
-        let chosen: Stokesian = choice.integrator;
+        let chosen: Stokesian = choice.integrator.full();
         let reference = Stokesian {
             tol: Tolerances::new(1e-6, 1e-8, 1e-14)?,
             scheme: Scheme::Radau5,
@@ -251,7 +256,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     // The rigid run again, last: its CPU time against the first one's is the spread of the
     // measurement (cache, the shared machine).
-    let rigid_full = study::integrator(&airway, rigid)?.integrator;
+    let rigid_full = study::integrator(&airway, rigid)?.integrator.full();
     let (again, cpu_again) = run_with(&airway, rigid, &rigid_full, n, seed, &times)?;
     println!("rigid again");
     summary("full", &again, cpu_again);

@@ -154,7 +154,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             let injection = Injection::new(airway, kind)?;
             let integ = Stokesian {
                 tol: Tolerances::new(rtol, rtol * study::ATOL / study::RTOL, 1e-14)?,
-                ..study::integrator(airway, kind)?.integrator
+                ..study::integrator(airway, kind)?.integrator.full()
             }
             .with_scheme(scheme);
             let case = Case::new(

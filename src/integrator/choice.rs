@@ -14,18 +14,25 @@
 //!   where its two evaluations per step beat Radau IIA's three to four, and Radau IIA(5)
 //!   below, where accuracy sets the step and order 5 takes 15–20× fewer ([`Scheme`]'s table).
 //!   Rigid or soft does not change the scheme: both measurements below hold for either.
+//! - **Stiff elastic particles**: the slow manifold over that full model
+//!   ([`super::manifold`]: the shape slaved to the local velocity gradient, the full model
+//!   where the expansion does not hold) where the flow's mean expansion ratio
+//!   δ̄ = γ̇/k ([`ParticleNumbers::shape_ratio`], k the slowest elastic relaxation rate) is at
+//!   most [`MANIFOLD_SHARE`] of the manifold's δ_max = √rtol; the full model elsewhere.
 //!
 //! The user can still force any integrator: this is a default, not a restriction. Scene files
 //! and Python name it `auto` ([`Auto`]: the choice made per particle at its first step, from
 //! [`ParticleNumbers::of`], and printed per injection group in the run log).
 
 use super::control::ErrorNorm;
+use super::manifold::{Manifold, ManifoldMemory};
 use super::stokesian::StokesianMemory;
 use super::{BarycentreModel, Frame, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
 use crate::material::Response;
+use crate::particle::manifold::SlowManifold;
 use crate::particle::{Particle, State};
 use crate::tensor::Mat3;
 use serde::{Deserialize, Serialize};
@@ -55,6 +62,32 @@ pub const ROSENBROCK_RTOL: f64 = 1e-3;
 /// shear); 0.1 keeps that below the studies' 10⁻² tolerance.
 pub const RHO_STAR_INERTIALESS: f64 = 0.1;
 
+/// Largest δ̄/δ_max at which an elastic particle goes on the slow manifold, δ̄ = γ̇/k the
+/// expansion ratio at the flow's mean strain rate and δ_max = √rtol the manifold's own bound.
+/// Measured on the airway bifurcation (`examples/manifold_bifurcation -- 1000 7 MU_S`,
+/// neo-Hookean spheres at Stk 0.1, the studies' rtol 10⁻³, so δ_max = 0.0316; one thread; CPU
+/// per particle over a rigid sphere's, same particles; fates changed against the full model
+/// by Radau IIA at rtol 10⁻⁶ on the same 1 000):
+///
+/// | μ_s (Pa) | δ̄/δ_max | full model: CPU, fates changed | slow manifold: CPU, fates changed | steps on the manifold |
+/// |---|---|---|---|---|
+/// | 0.5 | 1.47 | 1.73, 0 | 1.98, 0 | 9 % |
+/// | 1 | 0.74 | 2.04, 1 | 2.59, 1 | 17 % |
+/// | 2 | 0.37 | 2.24, 0 | 2.49, 0 | 41 % |
+/// | 3 | 0.245 | 2.27, 0 | 1.65, 3 (96 → 99 deposited) | 63 % |
+/// | 5 | 0.147 | 2.07, 0 | 1.10, 1 | 85 % |
+/// | 50 | 0.0147 | 2.06, 0 | 0.86, 0 | 99 % |
+/// | 500 | 0.00147 | 2.72, 0 | 0.91, 0 | 99 % |
+///
+/// Up to 2 Pa the manifold costs more than it saves (the shape is not slaved where the
+/// particle meets the walls' shear, and each exit is a discarded step); at 3 Pa it saves 27 %
+/// but moves 3 fates of 1 000 toward the rigid sphere's (99 deposited), three times what the
+/// integration tolerance moves (`crate::studies::bifurcation::study::RTOL`); from 5 Pa it
+/// takes the rigid sphere's CPU within 10 % and moves at most the tolerance's fate. 0.2 lies
+/// between the 3 Pa and 5 Pa measurements. (CPU times on a shared machine carry ±15 %: the
+/// rigid run repeated gave 0.73–0.82 of its first time.)
+pub const MANIFOLD_SHARE: f64 = 0.2;
+
 /// The numbers the choice reads.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParticleNumbers {
@@ -64,6 +97,11 @@ pub struct ParticleNumbers {
     pub rho_star: f64,
     /// A rigid particle (Ca → 0).
     pub rigid: bool,
+    /// δ̄ = γ̇/k: the slow-manifold expansion ratio ([`SlowManifold::ratio`]) at the flow's
+    /// mean strain rate, k the particle's slowest elastic relaxation rate
+    /// ([`SlowManifold::relaxation_rate`]); 0 for a rigid particle, ∞ where the flow has no
+    /// rate.
+    pub shape_ratio: f64,
 }
 
 impl ParticleNumbers {
@@ -89,10 +127,12 @@ impl ParticleNumbers {
         let tau = Self::response_time(particle)?;
         let rate = flow.strain_rate().unwrap_or(f64::INFINITY);
         let d_eq = 2.0 * particle.shape().semi_axes().product().cbrt();
+        let shape_ratio = SlowManifold::of(particle)?.map_or(0.0, |m| rate / m.relaxation_rate());
         Ok(Self {
             stokes: tau * rate,
             rho_star: particle.rho_solid() * rate * d_eq * d_eq / particle.fluid().mu,
             rigid: particle.elastic().is_none(),
+            shape_ratio,
         })
     }
 }
@@ -113,9 +153,92 @@ pub fn scheme_for(rtol: f64) -> Scheme {
 #[derive(Debug, Clone)]
 pub struct Choice {
     /// The integrator.
-    pub integrator: Stokesian,
+    pub integrator: Chosen,
     /// One line for the run log: the numbers and the rules they met.
     pub reason: String,
+}
+
+/// What [`choose`] picks: the full inertialess model, or the slow manifold over it.
+#[derive(Debug, Clone, Copy)]
+pub enum Chosen {
+    /// The full model.
+    Full(Stokesian),
+    /// The slow manifold where it holds, the full model elsewhere.
+    SlowManifold(Manifold),
+}
+
+impl Chosen {
+    /// The full model (the slow manifold's own where it does not hold).
+    pub fn full(&self) -> Stokesian {
+        match self {
+            Chosen::Full(full) => *full,
+            Chosen::SlowManifold(m) => m.full,
+        }
+    }
+
+    /// The same choice with the full model measuring its error by `norm`.
+    pub fn with_norm(self, norm: ErrorNorm) -> Self {
+        match self {
+            Chosen::Full(full) => Chosen::Full(full.with_norm(norm)),
+            Chosen::SlowManifold(m) => Chosen::SlowManifold(Manifold {
+                full: m.full.with_norm(norm),
+                ..m
+            }),
+        }
+    }
+}
+
+impl From<Stokesian> for Chosen {
+    fn from(full: Stokesian) -> Self {
+        Chosen::Full(full)
+    }
+}
+
+/// Step memory of [`Chosen`]: the memory of the integrator it holds.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct ChosenMemory {
+    full: StokesianMemory,
+    manifold: ManifoldMemory,
+}
+
+impl TimeIntegrator for Chosen {
+    type Memory = ChosenMemory;
+
+    fn name(&self) -> &'static str {
+        match self {
+            Chosen::Full(full) => full.name(),
+            Chosen::SlowManifold(m) => m.name(),
+        }
+    }
+
+    fn barycentre(&self) -> BarycentreModel {
+        self.full().barycentre
+    }
+
+    fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        state: &State,
+        memory: &mut ChosenMemory,
+        flow: &F,
+        dt: f64,
+    ) -> Result<Step, StepError> {
+        match self {
+            Chosen::Full(full) => full.step_with(particle, state, &mut memory.full, flow, dt),
+            Chosen::SlowManifold(m) => m.step_with(particle, state, &mut memory.manifold, flow, dt),
+        }
+    }
+
+    fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        flow: &F,
+    ) -> Option<String> {
+        match self {
+            Chosen::Full(full) => full.describe(particle, flow),
+            Chosen::SlowManifold(m) => m.describe(particle, flow),
+        }
+    }
 }
 
 /// The integrator for a particle with `numbers` at tolerances `tol` (module docs).
@@ -135,9 +258,43 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
             value: rho_star,
         });
     }
+    let shape_ratio = numbers.shape_ratio;
+    if shape_ratio.is_nan() || shape_ratio < 0.0 {
+        return Err(ParamError::NotPositive {
+            name: "shape ratio",
+            value: shape_ratio,
+        });
+    }
     let equilibrium = stokes <= EQUILIBRIUM_STOKES;
     let scheme = scheme_for(tol.rtol());
     let rosenbrock = scheme == Scheme::Rosenbrock23;
+    let full = Stokesian {
+        tol,
+        barycentre: if equilibrium {
+            BarycentreModel::Equilibrium
+        } else {
+            BarycentreModel::Inertial
+        },
+        scheme,
+        norm: ErrorNorm::default(),
+        frame: Frame::Lab,
+    };
+    let manifold = Manifold::new(full);
+    let slow = !numbers.rigid && shape_ratio <= MANIFOLD_SHARE * manifold.delta_max;
+    let shape = if numbers.rigid {
+        String::new()
+    } else {
+        format!(
+            ", {}: gamma/k = {shape_ratio:.3e} {} {MANIFOLD_SHARE} delta_max = {:.3e}",
+            if slow {
+                "on the slow manifold"
+            } else {
+                "full shape model"
+            },
+            if slow { "<=" } else { ">" },
+            MANIFOLD_SHARE * manifold.delta_max
+        )
+    };
     let reason = format!(
         "{} inertialess shape, {} barycentre, {}: St = {stokes:.3e} {} {EQUILIBRIUM_STOKES}, rtol = {:.0e} {} \
          {ROSENBROCK_RTOL:.0e}, rho* = {rho_star:.3e}{}",
@@ -152,18 +309,12 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
         } else {
             String::new()
         }
-    );
+    ) + &shape;
     Ok(Choice {
-        integrator: Stokesian {
-            tol,
-            barycentre: if equilibrium {
-                BarycentreModel::Equilibrium
-            } else {
-                BarycentreModel::Inertial
-            },
-            scheme,
-            norm: ErrorNorm::default(),
-            frame: Frame::Lab,
+        integrator: if slow {
+            Chosen::SlowManifold(manifold)
+        } else {
+            Chosen::Full(full)
         },
         reason,
     })
@@ -199,8 +350,8 @@ impl Auto {
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct AutoMemory {
     #[serde(skip)]
-    chosen: Option<Stokesian>,
-    inner: StokesianMemory,
+    chosen: Option<Chosen>,
+    inner: ChosenMemory,
 }
 
 impl TimeIntegrator for Auto {

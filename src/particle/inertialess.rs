@@ -52,7 +52,39 @@ pub struct InertialessJacobian {
     /// ∂Ḟ/∂F.
     pub shape: ShapeJacobian,
     /// ∂(ẋ, v̇)/∂(x, v).
-    pub barycentre: SMatrix<f64, 6, 6>,
+    pub barycentre: BarycentreJacobian,
+}
+
+/// The barycentre block ∂(ẋ, v̇)/∂(x, v) of an [`InertialessJacobian`], by its 3×3 blocks.
+#[derive(Debug, Clone, Copy)]
+pub enum BarycentreJacobian {
+    /// Inertial (eq. 17): ∂ẋ/∂x = 0, ∂ẋ/∂v = 1, ∂v̇/∂x = A = R l_f, ∂v̇/∂v = −R (R the drag rate).
+    Inertial {
+        /// A = R l_f.
+        coupling: Mat3,
+        /// R.
+        drag_rate: Mat3,
+    },
+    /// Overdamped or equilibrium: ∂ẋ/∂x = l_f, and v is not integrated (its rows are zero).
+    Drift(Mat3),
+}
+
+impl BarycentreJacobian {
+    /// The 6×6 block.
+    pub fn block(&self) -> SMatrix<f64, 6, 6> {
+        let mut jac = SMatrix::<f64, 6, 6>::zeros();
+        match self {
+            BarycentreJacobian::Inertial { coupling, drag_rate } => {
+                jac.fixed_view_mut::<3, 3>(0, 3).copy_from(&Mat3::identity());
+                jac.fixed_view_mut::<3, 3>(3, 0).copy_from(coupling);
+                jac.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-drag_rate));
+            }
+            BarycentreJacobian::Drift(l_f) => {
+                jac.fixed_view_mut::<3, 3>(0, 0).copy_from(l_f);
+            }
+        }
+        jac
+    }
 }
 
 /// The shape block ∂ vec Ḟ/∂ vec F of an [`InertialessJacobian`].
@@ -87,7 +119,7 @@ impl InertialessJacobian {
     pub fn dense(&self) -> SMatrix<f64, 15, 15> {
         let mut jac = SMatrix::<f64, 15, 15>::zeros();
         jac.fixed_view_mut::<9, 9>(0, 0).copy_from(&self.shape.block());
-        jac.fixed_view_mut::<6, 6>(9, 9).copy_from(&self.barycentre);
+        jac.fixed_view_mut::<6, 6>(9, 9).copy_from(&self.barycentre.block());
         jac
     }
 }
@@ -294,18 +326,13 @@ impl<M: Response, D: DragModel, F: FlowField + ?Sized> Model<'_, M, D, F> {
 }
 
 /// ∂(ẋ, v̇)/∂(x, v): ∂ẋ/∂v = 1, ∂v̇/∂x = R l_f, ∂v̇/∂v = −R (inertial), or ∂ẋ/∂x = l_f.
-fn barycentre_jacobian(model: BarycentreModel, e: &InertialessRate) -> SMatrix<f64, 6, 6> {
-    let mut jac = SMatrix::<f64, 6, 6>::zeros();
+fn barycentre_jacobian(model: BarycentreModel, e: &InertialessRate) -> BarycentreJacobian {
     match model {
-        BarycentreModel::Inertial => {
-            jac.fixed_view_mut::<3, 3>(0, 3).copy_from(&Mat3::identity());
-            jac.fixed_view_mut::<3, 3>(3, 0).copy_from(&(e.drag_rate * e.l_f()));
-            jac.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-e.drag_rate));
-        }
+        BarycentreModel::Inertial => BarycentreJacobian::Inertial {
+            coupling: e.drag_rate * e.l_f(),
+            drag_rate: e.drag_rate,
+        },
         // The drift R⁻¹(a − Du/Dt) varies with x on the flow's scale, τ times slower than u.
-        BarycentreModel::Overdamped | BarycentreModel::Equilibrium => {
-            jac.fixed_view_mut::<3, 3>(0, 0).copy_from(&e.l_f());
-        }
+        BarycentreModel::Overdamped | BarycentreModel::Equilibrium => BarycentreJacobian::Drift(e.l_f()),
     }
-    jac
 }

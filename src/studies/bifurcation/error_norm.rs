@@ -93,7 +93,7 @@ fn timed(
     let before = process_cpu_seconds();
     let out = StudyRun::new(airway, kind, n)
         .seed(seed)
-        .integrator(integ)
+        .integrator(*integ)
         .run(&quiet)?;
     let cpu = before.zip(process_cpu_seconds()).map(|(a, b)| b - a);
     Ok((out, cpu))
@@ -111,7 +111,7 @@ pub fn compare(
     n: u64,
     seed: u64,
 ) -> Result<Vec<NormRow>, BifurcationError> {
-    let chosen = integrator(airway, kind)?.integrator;
+    let chosen = integrator(airway, kind)?.integrator.full();
     let reference = Stokesian {
         scheme: Scheme::Radau5,
         tol: Tolerances::new(REFERENCE.0, REFERENCE.1, 1e-14)?,

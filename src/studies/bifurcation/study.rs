@@ -14,8 +14,8 @@ use crate::driver::{Budget, Plan};
 use crate::error::ParamError;
 use crate::flow::openfoam::BlendedFlow;
 use crate::hydro::ForceTerms;
-use crate::integrator::choice::{self, Choice, ParticleNumbers};
-use crate::integrator::{ErrorNorm, Stokesian, Tolerances};
+use crate::integrator::choice::{self, Choice, Chosen, ParticleNumbers};
+use crate::integrator::{ErrorNorm, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
 use crate::population::Injector;
@@ -120,7 +120,7 @@ pub struct StudyRun<'a, 'o> {
     seed: u64,
     shard: Shard,
     forces: ForceTerms,
-    integrator: Option<Stokesian>,
+    integrator: Option<Chosen>,
     observer: Option<&'o StudyObserver<'a>>,
     cache: Option<&'o Path>,
 }
@@ -161,9 +161,9 @@ impl<'a, 'o> StudyRun<'a, 'o> {
 
     /// The integrator `integ` instead of the study's choice (paired comparisons of
     /// integrators and models).
-    pub fn integrator(self, integ: &Stokesian) -> Self {
+    pub fn integrator(self, integ: impl Into<Chosen>) -> Self {
         Self {
-            integrator: Some(*integ),
+            integrator: Some(integ.into()),
             ..self
         }
     }

@@ -6,7 +6,7 @@
 use crate::common::strategies::{deformation, rotation};
 use proptest::prelude::*;
 use pseudorigid::driver::{Observers, Problem, run};
-use pseudorigid::integrator::choice::{self, ParticleNumbers};
+use pseudorigid::integrator::choice::{self, Chosen, ParticleNumbers};
 use pseudorigid::integrator::rosenbrock::{Factor, Jacobian};
 use pseudorigid::integrator::{BarycentreModel, Scheme, Tolerances};
 use pseudorigid::material::Rigid;
@@ -83,13 +83,14 @@ fn choice_follows_its_rules() {
         stokes,
         rho_star: 0.01,
         rigid: true,
+        shape_ratio: 0.0,
     };
     let tracer = choice::choose(numbers(choice::EQUILIBRIUM_STOKES), loose).unwrap();
-    assert_eq!(tracer.integrator.barycentre, BarycentreModel::Equilibrium);
-    assert_eq!(tracer.integrator.scheme, Scheme::Rosenbrock23);
+    assert_eq!(tracer.integrator.full().barycentre, BarycentreModel::Equilibrium);
+    assert_eq!(tracer.integrator.full().scheme, Scheme::Rosenbrock23);
     let inertial = choice::choose(numbers(2.0 * choice::EQUILIBRIUM_STOKES), tight).unwrap();
-    assert_eq!(inertial.integrator.barycentre, BarycentreModel::Inertial);
-    assert_eq!(inertial.integrator.scheme, Scheme::Radau5);
+    assert_eq!(inertial.integrator.full().barycentre, BarycentreModel::Inertial);
+    assert_eq!(inertial.integrator.full().scheme, Scheme::Radau5);
     assert!(!inertial.reason.contains("neglected"));
     let heavy = ParticleNumbers {
         rho_star: 10.0,
@@ -102,6 +103,54 @@ fn choice_follows_its_rules() {
             .contains("inertia is neglected")
     );
     assert!(choice::choose(numbers(f64::NAN), loose).is_err());
+    // The slow manifold: elastic particles at δ̄ ≤ MANIFOLD_SHARE √rtol, over the same full model.
+    let bound = choice::MANIFOLD_SHARE * loose.rtol().sqrt();
+    let elastic = |shape_ratio| ParticleNumbers {
+        rigid: false,
+        shape_ratio,
+        ..numbers(0.1)
+    };
+    let stiff = choice::choose(elastic(bound), loose).unwrap();
+    let Chosen::SlowManifold(manifold) = stiff.integrator else {
+        panic!("δ̄ at the bound: {}", stiff.reason)
+    };
+    assert_eq!(manifold.full.barycentre, BarycentreModel::Inertial);
+    assert_eq!(manifold.delta_max, loose.rtol().sqrt());
+    assert!(stiff.reason.contains("on the slow manifold"), "{}", stiff.reason);
+    let soft = choice::choose(elastic(1.01 * bound), loose).unwrap();
+    assert!(matches!(soft.integrator, Chosen::Full(_)), "{}", soft.reason);
+    assert!(matches!(
+        choice::choose(numbers(0.1), loose).unwrap().integrator,
+        Chosen::Full(_)
+    ));
+    assert!(choice::choose(elastic(f64::NAN), loose).is_err());
+}
+
+/// The shape ratio the choice reads is γ̇/k with the closed forms of both: a sphere's slowest
+/// relaxation rate k = 2μ_s/(3μ_f) and a simple shear's strain rate γ̇; a rigid particle's is 0.
+#[test]
+fn shape_ratio_is_the_strain_rate_over_the_sphere_relaxation_rate() {
+    let shear_rate = 40.0;
+    let flow = LinearFlow::simple_shear(shear_rate).unwrap();
+    let fluid = Fluid::new(1e-3, 1e3).unwrap();
+    for mu_s in [0.5, 50.0] {
+        let particle = Particle::new(
+            Ellipsoid::aligned([1e-5; 3]).unwrap(),
+            NeoHooke::new(mu_s, 100.0 * mu_s).unwrap(),
+            fluid,
+            1e3,
+        )
+        .unwrap();
+        let numbers = ParticleNumbers::of(&particle, &flow).unwrap();
+        let exact = shear_rate / (2.0 * mu_s / (3.0 * 1e-3));
+        assert!(
+            (numbers.shape_ratio - exact).abs() <= 1e-12 * exact,
+            "mu_s {mu_s}: {} against {exact}",
+            numbers.shape_ratio
+        );
+    }
+    let rigid = Particle::new(Ellipsoid::aligned([1e-5; 3]).unwrap(), Rigid, fluid, 1e3).unwrap();
+    assert_eq!(ParticleNumbers::of(&rigid, &flow).unwrap().shape_ratio, 0.0);
 }
 
 proptest! {

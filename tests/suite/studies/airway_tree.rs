@@ -367,11 +367,11 @@ fn particles_leaving_through_a_snapped_outlet_cap_escape() {
         let integ = Stokesian {
             tol: Tolerances::new(1e-2, ATOL, 1e-14).unwrap(),
             norm: ErrorNorm::Componentwise,
-            ..integrator(a.airway(), kind).unwrap().integrator
+            ..integrator(a.airway(), kind).unwrap().integrator.full()
         };
         let out = a
             .study(kind, 10_000)
-            .integrator(&integ)
+            .integrator(integ)
             .shard(Shard::new(index, 10_000).unwrap())
             .run(&RunOptions::default().quiet())
             .unwrap();
@@ -621,4 +621,32 @@ fn peer_pairs_are_the_particles_both_saw_enter() {
     };
     assert_eq!(own(&cmp.ours), vec![(3, 0), (3, 1), (2, 0), (2, 0)]);
     assert_eq!(own(&cmp.peer), vec![(3, 1), (2, 0), (2, 0), (2, 0)]);
+}
+
+/// The tree's soft kinds (μ_s = 1 and 0.5 Pa, spheres and λ = 5 prolates, Stk 0.1 and 0.4:
+/// the tree and drug-release datasets) keep the full shape model on the tree's field: their
+/// shape ratio γ̇/k is above the slow manifold's share of δ_max (`integrator::choice`).
+#[test]
+fn tree_soft_kinds_keep_the_full_model() {
+    use pseudorigid::integrator::choice::Chosen;
+    use pseudorigid::studies::bifurcation::study::integrator;
+    use pseudorigid::studies::bifurcation::{Kind, Material};
+    use pseudorigid::studies::particles::Shape;
+    for stokes in [0.1, 0.4] {
+        for shape in [Shape::Sphere, Shape::Prolate(5.0)] {
+            for mu_s in [1.0, 0.5] {
+                let kind = Kind {
+                    shape,
+                    material: Material::ShearModulus(mu_s),
+                    stokes,
+                };
+                let choice = integrator(shipped().airway(), kind).unwrap();
+                assert!(
+                    matches!(choice.integrator, Chosen::Full(_)),
+                    "{kind:?}: {}",
+                    choice.reason
+                );
+            }
+        }
+    }
 }

@@ -453,3 +453,36 @@ fn particles_sliding_past_a_wall_kink_stay_inside() {
         crate::common::assert_single_run_ends(&out, &format!("particle {index}"));
     }
 }
+
+/// The studies' integrator puts an elastic particle on the slow manifold only where its shape
+/// ratio δ̄ = γ̇/k is at most `MANIFOLD_SHARE` of δ_max = √rtol: every soft kind of the datasets
+/// (μ_s = 1 and 0.5 Pa; spheres and λ = 2, 5 prolates; Figs 19–23, the breathing and release
+/// studies) keeps the full shape model, so the switch moved no dataset, and 5 Pa spheres
+/// (δ̄/δ_max = 0.15, measured in `integrator::choice::MANIFOLD_SHARE`) take the manifold.
+#[test]
+fn datasets_soft_kinds_keep_the_full_model_and_stiff_ones_take_the_manifold() {
+    use pseudorigid::integrator::choice::Chosen;
+    use pseudorigid::studies::bifurcation::figures::softness_kinds;
+    use pseudorigid::studies::bifurcation::study::integrator;
+    use pseudorigid::studies::bifurcation::{Kind, Material};
+    use pseudorigid::studies::particles::Shape;
+    for kind in softness_kinds(&[1.0, 2.0, 5.0], &[1e5, 1.0, 0.5], &[0.1, 0.4]) {
+        let choice = integrator(airway(), kind).unwrap();
+        assert!(
+            matches!(choice.integrator, Chosen::Full(_)),
+            "{kind:?}: {}",
+            choice.reason
+        );
+    }
+    let stiff = Kind {
+        shape: Shape::Sphere,
+        material: Material::ShearModulus(5.0),
+        stokes: 0.1,
+    };
+    let choice = integrator(airway(), stiff).unwrap();
+    assert!(
+        matches!(choice.integrator, Chosen::SlowManifold(_)),
+        "{}",
+        choice.reason
+    );
+}
