@@ -34,7 +34,7 @@
 //! \frac{\partial u}{\partial x} = \frac{\sum_i w_i G_i + \sum_i \big(L_i(x) − u(x)\big)\,∇w_i^T}{\sum_i w_i},
 //! ```
 //! times u, with $∇\phi(s_c) = −20(1 − s_c)^3 M_c(x − x_c)$ for a cell and
-//! $∇\omega_f = (\frac{d\phi}{ds}/s^2 − 2\phi/s^3)(x − q_f)/(2\rho_f d_f)$ for a wall face
+//! $∇\omega_f = (\frac{d\phi}{ds}/s^2 − 2\phi/s^3)(x − q_f)/(H_f d_f)$ for a wall face
 //! ($q_f$ its point nearest to x). `grad_u`, and so every dataset without the fluid-inertia
 //! terms, is unchanged.
 //!
@@ -56,11 +56,16 @@
 //! its fit $L_f$ ([`FoamFlow::sample_wall`], [`super::wall_layer`]: the wall velocity, the wall
 //! shear times δ and the normal velocity −½δ²∇ₛ·γ that continuity demands) and the weight
 //! ```math
-//! \omega_f(x) = \phi(s_f)\,s_f^{-2},\qquad s_f = d_f(x)/(2\rho_f),
+//! \omega_f(x) = \phi(s_f) s_f^{-2},\qquad s_f = d_f(x)/H_f,
 //! ```
-//! $d_f$ the distance from x to the face ([`super::walls`]), capped below at $10^{-12}\rho_f$,
-//! and $\rho_f$ the depth of the face's cell (its centre's distance from the face's plane), so
-//! $2\rho_f$ is the wall cell's height:
+//! $d_f$ the distance from x to the face ([`super::walls`]), capped below at $10^{-12}H_f$,
+//! and $H_f$ the wall cell's height over the face's plane (its farthest vertex's; at least
+//! $2\rho_f$, $\rho_f$ its centre's depth): the support covers the wall cell. $2\rho_f$ is that
+//! height for a prism or hexahedron standing on the face, but a snapped cut cell of triangular
+//! section has its centroid at a third of its height: with the support $2\rho_f$ the wall fits
+//! faded out within the wall cell of the snapped Taylor–Couette annuli without layers, and the
+//! cells' own linear fits (first order in ∇u) carried the blend at half the first cell's mean
+//! height over the thin cut cells (`paper-figures/near-wall/NOTES.md`, 2026-12-02):
 //! ```math
 //! u(x) = \frac{\sum_c \phi_c L_c(x) + \sum_f \omega_f L_f(x)}{\sum_c \phi_c + \sum_f \omega_f},
 //! \qquad
@@ -73,7 +78,7 @@
 //!   the near-wall expansion: the normal velocity grows as δ² with the coefficient of
 //!   continuity and passes through the cell's value, whatever the layering.
 //! - *On the wall* $\omega_f$ is infinite (capped at 10²⁴), so u is the wall's velocity.
-//! - *Accuracy stays O(h²)*: the wall fit's error is O(δ²) tangentially over δ ≤ 2ρ.
+//! - *Accuracy stays O(h²)*: the wall fit's error is O(δ²) tangentially over δ ≤ H_f.
 //! - *Exactness*: every divergence-free linear field is reproduced exactly, with whatever
 //!   velocity it gives the wall patches (a moving, transpiring or deforming wall: the wall fit
 //!   carries the wall velocity's surface gradient), and a rigidly moving curved wall's
@@ -136,7 +141,7 @@ pub struct BlendedFlow {
 /// a stagnation flow there by 8 %; with 1.2 they stop above it.
 pub const OVERLAP: f64 = 1.2;
 
-/// Smallest wall distance, relative to the wall cell's depth, in a wall weight: it caps the
+/// Smallest wall distance, relative to the wall cell's height, in a wall weight: it caps the
 /// weight at 10²⁴, where the cells' share of the blend is below round-off, so u on a wall is
 /// its wall velocity.
 const MIN_WALL_DISTANCE: f64 = 1e-12;
@@ -218,7 +223,7 @@ impl BlendedFlow {
             reason: "cannot bin the cell supports for blending: a centre or radius is not finite".into(),
         })?;
         let layer = flow.wall_layer();
-        let heights: Vec<f64> = (0..layer.len()).map(|k| 2.0 * layer.depth(k)).collect();
+        let heights: Vec<f64> = (0..layer.len()).map(|k| layer.cell_height(k)).collect();
         let walls = WallFaces::new(mesh, flow.walls(), &heights).ok_or_else(|| FoamError::Mesh {
             reason: "cannot bin the wall faces for blending: a face centre or depth is not finite".into(),
         })?;
@@ -242,7 +247,7 @@ impl BlendedFlow {
         })
     }
 
-    /// The no-slip wall faces and their supports $2\rho_f$ (module docs).
+    /// The no-slip wall faces and their supports $H_f$, the wall cells' heights (module docs).
     pub(super) fn wall_faces(&self) -> &WallFaces {
         &self.walls
     }

@@ -31,8 +31,8 @@
 //!   leaf).
 //!
 //! # The wall layer
-//! Within a wall face's support ($d_f < 2\rho_f$) the blend's wall weights grow as $d_f^{-2}$:
-//! there the near-wall expansion (the δ² normal velocity of [`super::wall_layer`]) is not a
+//! Within a wall face's support ($d_f < H_f$, the wall cell's height, [`super::blend`]) the
+//! blend's wall weights grow as $d_f^{-2}$: there the near-wall expansion (the δ² normal velocity of [`super::wall_layer`]) is not a
 //! polynomial of the leaf, so a leaf that comes that near a wall face is a *wall leaf*, where
 //! a sample is the blend itself. Wall leaves are refined to [`WALL_LEAF`] times the wall cell's
 //! height (within the leaf budget), so the blend is paid for only next to the walls. Between a
@@ -132,7 +132,7 @@ const CHECK_SHARE: f64 = 0.25;
 pub const MAX_LEVEL: u32 = 12;
 /// Leaves allowed per mesh cell.
 pub const LEAVES_PER_CELL: usize = 12;
-/// Edge of a wall leaf over the smallest support $2\rho_f$ of the wall faces near it.
+/// Edge of a wall leaf over the smallest support $H_f$ (wall cell height) of the wall faces near it.
 pub const WALL_LEAF: f64 = 2.0;
 
 /// Components of a corner's data: u (3), ∇u (9, column-major), (u·∇)u (3), χ.

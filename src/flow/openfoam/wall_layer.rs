@@ -44,18 +44,36 @@
 //!   motion with this W has ($m = Ω × n$ for $u_w = V + Ω × x$), so a rotating wall's velocity
 //!   is extended into the fluid exactly, curved or not. The rest of $L_f$ is the shear part,
 //!   zero on the wall.
-//! - *Tangential*: the profile $u_t − U_{f,t} = γδ + qδ^2$ through the values $u_o$ of the
-//!   wall cell (centre at height ρ) and
-//!   $u_1$ of the cell above it (plane height ρ₁, the wall cell's face neighbour furthest along
-//!   n for its tangential offset $s_1$, moved onto the normal through the foot by its own
-//!   gradient, $u_1 − G_1 s_1$):
+//! - *Tangential*: the profile $u_t − U_{f,t} = γη + qη^2$ through the values $u_o$ of the
+//!   wall cell and $u_1$ of the cell above it (a face neighbour of the wall cell, at plane
+//!   height ρ₁ and tangential offset $s_1$ from the foot, moved onto the normal through the
+//!   foot by its own gradient, $u_1 − G_1 s_1$):
 //!   ```math
-//!   q = \frac{v_1/ρ_1 − v_o/ρ}{ρ_1 − ρ},\qquad γ = \frac{v_o}{ρ} − qρ,\qquad v = (I − nn^T)\big(u − U_f\big).
+//!   q = \frac{v_1/η_1 − v_o/η_o}{η_1 − η_o},\qquad γ = \frac{v_o}{η_o} − qη_o,\qquad v = (I − nn^T)\big(u − U_f\big).
 //!   ```
-//!   Exact for a quadratic profile, so γ is second order in the cell size and q first: ∇u at
-//!   δ = O(h) is second order. A wall cell with no cell above it (one cell across a channel)
-//!   takes the wall cell's gradient for the normal derivative at ρ, $G_o n − m = γ + 2qρ$,
-//!   first order (the least-squares gradient at a wall cell is one-sided).
+//!   η is the height over the osculating wall through the face centre, $δ + \tfrac12 r_c^T K r_c$
+//!   (*Curved walls*): the wall cell's centre stands at $η_o = ρ + \tfrac12 s_f^T K s_f$, and the
+//!   moved value of the cell above at $η_1 = ρ_1 + \tfrac12 s_f^T K s_f − \tfrac12 s_1^T K s_1$ (the
+//!   gradient at its centre carries the shear's turning over $s_1$ linearly, and misses the
+//!   quadratic remainder $\tfrac12 γ s_1^T K s_1$). Both corrections are O(h²), but divided by
+//!   ρ = O(h) they were first-order errors of γ wherever a snapped cut cell's centre lies off its
+//!   face's centre or the cell above is offset (on a flat wall K = 0 and η = δ). Exact for a
+//!   quadratic profile, so γ is second order in the cell size and q first: ∇u at δ = O(h) is
+//!   second order.
+//!
+//!   *Which neighbour*: an error ε of the least-squares gradient $G_1$ moves the value by
+//!   $ε s_1$ and γ by $ε s_1 ρ/(ρ_1(ρ_1 − ρ))$; the one-sided alternative below moves γ by
+//!   the wall cell's own gradient error, with gain 1. So the cell above is the face neighbour
+//!   of smallest gain $g = ρ |s_1| / (ρ_1 (ρ_1 − ρ))$ among those with g < 1 and
+//!   ρ₁ ≥ 1.5 ρ (`MIN_ABOVE`, for the divided differences' conditioning). The cone |s₁| ≤ ρ₁ − ρ
+//!   used before (a sufficient condition: g ≤ 2/3 in it) left a fifth of the wall faces of the
+//!   snapped Taylor–Couette annuli without a cell above: cut cells of triangular section
+//!   whose neighbours above sit to the sides, |s₁| ≈ 1.0–1.4 (ρ₁ − ρ), the better one at
+//!   g ≈ 0.36. Their shears fell back on the one-sided gradient and were the largest errors of
+//!   ∇u at half the first cell (∂u_θ/∂r off by 0.03 of |∇u|max at level 0, 0.02 at level 2).
+//!   A wall cell with no such neighbour (one cell across a channel) takes the wall cell's
+//!   gradient for the normal derivative at ρ, $G_o n − m = γ + 2qρ$, first order (the
+//!   least-squares gradient at a wall cell is one-sided).
 //! - *Curved walls*: u is a flat-face expansion: the solver's no-slip wall is the faceted
 //!   one, which this keeps (measuring δ over the osculating surface instead moved no-slip off
 //!   the faces of a concave pipe). ∇u takes the wall's turning, with the shape operator
@@ -166,6 +184,9 @@ pub struct WallGeometry {
     feet: Vec<Vec3>,
     /// Depth ρ of the wall cell's centre above the face's plane.
     depths: Vec<f64>,
+    /// Height of the wall cell over the face's plane: its farthest vertex's (2ρ for a prism or
+    /// hexahedron on the face, up to 3ρ for a cut cell of triangular section).
+    heights: Vec<f64>,
     /// Owner cell of wall face k.
     owners: Vec<usize>,
     /// Shape operator $K = ∇_s n$ of the faceted wall at face k (symmetric, tangential; zero
@@ -185,8 +206,8 @@ pub struct WallGeometry {
     edge_faces: Vec<usize>,
 }
 
-/// The second cell of a wall face's normal profile: the wall cell's face neighbour whose centre
-/// lies furthest along the normal for its offset.
+/// The second cell of a wall face's normal profile: the wall cell's face neighbour through which
+/// a gradient error moves the shear least (module docs, Which neighbour).
 #[derive(Debug, Clone, Copy)]
 struct Above {
     /// The cell.
@@ -249,7 +270,8 @@ impl WallGeometry {
     /// The wall faces `faces` (boundary faces) of `mesh`.
     pub fn new(mesh: &PolyMesh, faces: &[u32]) -> Self {
         let n = faces.len();
-        let (mut normals, mut centres, mut feet, mut depths, mut owners) = (
+        let (mut normals, mut centres, mut feet, mut depths, mut heights, mut owners) = (
+            Vec::with_capacity(n),
             Vec::with_capacity(n),
             Vec::with_capacity(n),
             Vec::with_capacity(n),
@@ -267,6 +289,12 @@ impl WallGeometry {
             centres.push(centre);
             feet.push(cell - normal * depth);
             depths.push(depth.abs());
+            let height = mesh
+                .cell_faces(owner)
+                .iter()
+                .flat_map(|&g| mesh.face(g as usize).iter())
+                .map(|&v| normal.dot(&(mesh.points()[v as usize] - centre)));
+            heights.push(height.fold(2.0 * depth.abs(), f64::max));
             owners.push(owner);
         }
         // Wall faces sharing a vertex.
@@ -357,6 +385,7 @@ impl WallGeometry {
             centres,
             feet,
             depths,
+            heights,
             owners,
             shapes,
             offsets,
@@ -385,6 +414,11 @@ impl WallGeometry {
     /// Depth ρ of wall face k's cell centre above the face's plane.
     pub fn depth(&self, k: usize) -> f64 {
         self.depths[k]
+    }
+
+    /// Height of wall face k's cell over the face's plane: its farthest vertex's, at least 2ρ.
+    pub fn cell_height(&self, k: usize) -> f64 {
+        self.heights[k]
     }
 
     /// The fits of every wall face for one time level: wall velocities `velocity[k]` (at the
@@ -444,13 +478,23 @@ impl WallGeometry {
                 if depth <= 0.0 {
                     return (tangential(&n, grad[o] * n) - m, Vec3::zeros());
                 }
-                let near = tangential(&n, u[o] - moving(k, self.feet[k] + n * depth)) / depth;
+                // Heights η over the osculating wall through the face centre (module docs,
+                // Tangential): the foot lies s_f off the face centre, where that wall is
+                // ½ s_fᵀK s_f below the face's plane.
+                let bend = |s: Vec3| 0.5 * s.dot(&(self.shapes[k] * s));
+                let lift = bend(tangential(&n, self.feet[k] - self.centres[k]));
+                let depth_o = depth + lift;
+                let near = tangential(&n, u[o] - moving(k, self.feet[k] + n * depth)) / depth_o;
                 let (shear, curvature) = match self.above[k] {
                     Some(Above { cell, height, offset }) => {
                         let value = u[cell] - grad[cell] * offset - moving(k, self.feet[k] + n * height);
-                        let far = tangential(&n, value) / height;
-                        let curvature = (far - near) / (height - depth);
-                        (near - curvature * depth, curvature)
+                        // Moved onto the normal by its gradient, the cell above's value misses the
+                        // quadratic remainder ½ γ s₁ᵀK s₁ of the shear's turning: it stands at
+                        // this height.
+                        let height_1 = height + lift - bend(offset);
+                        let far = tangential(&n, value) / height_1;
+                        let curvature = (far - near) / (height_1 - depth_o);
+                        (near - curvature * depth_o, curvature)
                     }
                     None => {
                         let slope = tangential(&n, grad[o] * n) - m;
@@ -545,8 +589,8 @@ impl WallGeometry {
 
 /// The cell above wall cell `owner` (centre at depth `depth` over the face of inward normal
 /// `n`, centre `centre`, foot `foot`): of its face neighbours at least [`MIN_ABOVE`] times as
-/// high over the face's plane and offset from the normal through the foot by no more than
-/// they rise above the wall cell, the one with the smallest offset per rise.
+/// high over the face's plane, the one of smallest gain ρ|s₁|/(ρ₁(ρ₁ − ρ)) if that is below 1
+/// (module docs, Which neighbour).
 fn above(mesh: &PolyMesh, owner: usize, n: Vec3, centre: Vec3, foot: Vec3, depth: f64) -> Option<Above> {
     let mut best: Option<(f64, Above)> = None;
     for &f in mesh.cell_faces(owner) {
@@ -559,9 +603,11 @@ fn above(mesh: &PolyMesh, owner: usize, n: Vec3, centre: Vec3, foot: Vec3, depth
         let height = n.dot(&(x - centre));
         let along = x - foot;
         let offset = along - n * n.dot(&along);
-        let (rise, slant) = (height - depth, offset.norm());
-        if height >= MIN_ABOVE * depth && slant <= rise && best.is_none_or(|(b, _)| slant / rise < b) {
-            best = Some((slant / rise, Above { cell, height, offset }));
+        // How much an error of the neighbour's gradient, carried into its value over the offset,
+        // moves γ; the one-sided slope's gain is 1 (module docs, Which neighbour).
+        let gain = depth * offset.norm() / (height * (height - depth));
+        if height >= MIN_ABOVE * depth && gain < 1.0 && best.is_none_or(|(b, _)| gain < b) {
+            best = Some((gain, Above { cell, height, offset }));
         }
     }
     best.map(|(_, a)| a)
