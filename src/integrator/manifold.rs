@@ -28,6 +28,11 @@
 //! manifold, the switches and the largest δ on it are kept per particle
 //! ([`ManifoldReport`], in the step memory).
 //!
+//! `auto` and the studies' integrator ([`super::choice`]) take this model for an elastic
+//! particle whose δ at the flow's mean strain rate is at most
+//! [`MANIFOLD_SHARE`](super::choice::MANIFOLD_SHARE) of δ_max, where it was measured to pay
+//! (the table there); a scene may also name it (`slow_manifold`).
+//!
 //! # Measured (`examples/manifold_bifurcation`, 1 000 spheres at Stk 0.1, one thread)
 //! The airway bifurcation's spheres, the studies' integrator (Rosenbrock-W 2(3), rtol 10⁻³,
 //! tensor norm) as the full model, and both against a reference (the full model by Radau IIA at
