@@ -80,9 +80,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         ));
                     }
                 }
+                let parts = couette::component_errors_at(&annulus.blended, 0.5 * annulus.first_cell)?;
                 println!(
-                    "Taylor–Couette, {layers} layers, level {level}: first cell {:.3e}, u {:.3e}, ∇u {:.3e}",
-                    row.first_cell_height, row.u_rel_err, row.grad_rel_err
+                    "Taylor–Couette, {layers} layers, level {level}: first cell {:.3e}, u {:.3e}, ∇u {:.3e} (shear {:.3e}, stretch {:.3e})",
+                    row.first_cell_height, row.u_rel_err, row.grad_rel_err, parts.shear, parts.stretch
                 );
                 orders.push(row);
             }
