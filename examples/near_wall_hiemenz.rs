@@ -19,6 +19,9 @@
 //! `gradient_order.csv` (u and ∇u at half the first cell's height, relative to the exact
 //! field's maxima) and fails unless the fitted order of that ∇u error is at least 1.8 on every
 //! layering (issue 37: the wall fit's shear is second order, `flow::openfoam::wall_layer`).
+//! Beside each measured v/δ² it prints the ratio the three-point profile's truncation predicts
+//! (`studies::stagnation::predicted_coefficient_ratio`; printed, not asserted: the remainder
+//! beyond it has no bound here).
 //! With COUETTE_MESHES (`cases/taylor-couette/Allmesh` meshes under
 //! `COUETTE_MESHES/layers{0,2,5}/level{0,1,...}`) it adds the Taylor–Couette rows at the rotating
 //! cylinder (`studies::couette`) and fails unless their u error's fitted order is at least 1.8
@@ -29,7 +32,7 @@
 use pseudorigid::studies::couette::{self, CouetteAnnulus};
 use pseudorigid::studies::stagnation::{
     Measure, OrderRow, StagnationBox, WallLayerRow, fitted_order, gradient_order_table, observed_order,
-    order_row_slope, wall_layer_figure, wall_layer_table,
+    order_row_slope, predicted_coefficient_ratio, wall_layer_figure, wall_layer_table,
 };
 use std::path::PathBuf;
 
@@ -42,7 +45,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         PathBuf::from,
     );
     let couette_meshes = args.next().map(PathBuf::from);
-    let mut rows = Vec::new();
+    let (mut rows, mut predicted) = (Vec::new(), Vec::new());
     for layers in [0, 2, 5] {
         for level in 0.. {
             let case = meshes.join(format!("layers{layers}/level{level}"));
@@ -51,6 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             let flow = StagnationBox::read(&case)?;
             rows.push(WallLayerRow::measure(layers, level, &flow)?);
+            predicted.push(predicted_coefficient_ratio(&flow));
         }
     }
     if rows.is_empty() {
@@ -80,20 +84,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         ));
                     }
                 }
+                let parts = couette::component_errors_at(&annulus.blended, 0.5 * annulus.first_cell)?;
                 println!(
-                    "Taylor–Couette, {layers} layers, level {level}: first cell {:.3e}, u {:.3e}, ∇u {:.3e}",
-                    row.first_cell_height, row.u_rel_err, row.grad_rel_err
+                    "Taylor–Couette, {layers} layers, level {level}: first cell {:.3e}, u {:.3e}, ∇u {:.3e} (shear {:.3e}, stretch {:.3e})",
+                    row.first_cell_height, row.u_rel_err, row.grad_rel_err, parts.shear, parts.stretch
                 );
                 orders.push(row);
             }
         }
     }
     gradient_order_table(&orders, 4)?.write(out.join("gradient_order.csv"))?;
-    println!("layers level  cells  first cell  |Δu_n|/|u_n| at 0.1 0.25 0.5 0.75 of it   (v/δ²)/c   max|Δu|    order");
-    for (i, r) in rows.iter().enumerate() {
+    println!(
+        "layers level  cells  first cell  |Δu_n|/|u_n| at 0.1 0.25 0.5 0.75 of it   (v/δ²)/c (the profile's truncation)   max|Δu|    order"
+    );
+    for (i, (r, p)) in rows.iter().zip(&predicted).enumerate() {
         let order = observed_order(&rows, i, Measure::Velocity);
+        let p = p.map_or_else(|| "-".into(), |(lo, hi)| format!("{lo:.4}–{hi:.4}"));
         println!(
-            "{:6} {:5} {:6}  {:.3e}   {:.4} {:.4} {:.4} {:.4}   {:.4}   {:.3e}  {}",
+            "{:6} {:5} {:6}  {:.3e}   {:.4} {:.4} {:.4} {:.4}   {:.4} ({p})   {:.3e}  {}",
             r.layers,
             r.level,
             r.cells,

@@ -173,6 +173,44 @@ pub fn continuity_coefficient() -> f64 {
     -0.5 * STRAIN * exact.wall_curvature() / exact.length()
 }
 
+/// The ratio (v/δ²)/c that the wall fit's three-point profile leaves, over the wall faces over
+/// the middle of the wall: (smallest, largest); `None` if no face there has a cell above.
+///
+/// The Hiemenz profile has no cubic term: from
+/// $f^{\prime\prime\prime} + f f^{\prime\prime} + 1 − (f^{\prime})^2 = 0$ at the wall,
+/// $f^{\prime\prime\prime}(0) = −1$, $f^{(4)}(0) = 0$ and $f^{(5)}(0) = f^{\prime\prime}(0)^2$, so
+/// ```math
+/// f^{\prime}(η) = f^{\prime\prime}(0) η − \tfrac12 η^2 + \tfrac{1}{24} f^{\prime\prime}(0)^2 η^4 + O(η^5).
+/// ```
+/// The quadratic through the wall and the heights $η_o = ρ/ℓ$ of the wall cell's centre and
+/// $η_1 = ρ_1/ℓ$ of the cell above (`flow::openfoam::wall_layer`, Tangential) takes the
+/// quartic's slope at the wall as $−\tfrac{1}{24} f^{\prime\prime}(0)^2 η_o η_1 (η_o + η_1)$, so
+/// the shear γ and c = −½∇ₛ·γ come out low by the factor 1 − ε,
+/// $ε = \tfrac{1}{24} f^{\prime\prime}(0) η_o η_1 (η_o + η_1)$:
+/// third order in the cell size, what is left of v/δ² at the coarsest levels
+/// (`paper-figures/near-wall/NOTES.md`).
+pub fn predicted_coefficient_ratio(flow: &StagnationBox) -> Option<(f64, f64)> {
+    let exact = hiemenz();
+    let (curvature, length) = (exact.wall_curvature(), exact.length());
+    let cells = &flow.cellwise;
+    let (mesh, layer) = (cells.mesh(), cells.wall_layer());
+    cells
+        .walls()
+        .iter()
+        .enumerate()
+        .filter(|&(_, &f)| {
+            let x = mesh.face_centres()[f as usize];
+            x[1].abs() < 1e-9 && over_the_middle(&x)
+        })
+        .filter_map(|(k, _)| {
+            let (near, far) = (layer.depth(k) / length, layer.above_height(k)? / length);
+            Some(1.0 - curvature / 24.0 * near * far * (near + far))
+        })
+        .fold(None, |range, r| {
+            Some(range.map_or((r, r), |(lo, hi): (f64, f64)| (lo.min(r), hi.max(r))))
+        })
+}
+
 /// The ratio (v/δ²)/c at height δ over the middle of the wall that is furthest from 1.
 pub fn coefficient_ratio(flow: &dyn FlowField, delta: f64) -> Result<f64, FlowError> {
     let c = continuity_coefficient();

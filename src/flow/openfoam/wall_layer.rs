@@ -416,6 +416,12 @@ impl WallGeometry {
         self.depths[k]
     }
 
+    /// Height ρ₁ over wall face k's plane of the cell above its wall cell, the second point of
+    /// the shear's profile (module docs, Which neighbour), if there is one.
+    pub fn above_height(&self, k: usize) -> Option<f64> {
+        self.above[k].map(|a| a.height)
+    }
+
     /// Height of wall face k's cell over the face's plane: its farthest vertex's, at least 2ρ.
     pub fn cell_height(&self, k: usize) -> f64 {
         self.heights[k]
