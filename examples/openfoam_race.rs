@@ -149,7 +149,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         jobs.push((threads[0], Some(shear_modulus)));
     }
     for &(_, soft) in &jobs {
-        let _ = case.scene(
+        let scene = case.scene(
             stk,
             n,
             SEED,
@@ -158,6 +158,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 ..settings
             },
         )?;
+        // The run log's integrator line (for `auto`: what it chose for these particles, and why).
+        for line in scene.integrator_log() {
+            println!("race: {line}");
+        }
     }
 
     // OpenFOAM, serial.
