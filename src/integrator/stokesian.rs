@@ -316,11 +316,12 @@ impl TimeIntegrator for Stokesian {
             frame: (!rigid).then(|| *acc.payload.frame()),
             flow: Some(*acc.payload.sample()),
         };
-        // The next step starts from the last stage's evaluation. A rigid particle's F was
+        // The next step starts from this step's end evaluation. A rigid particle's F was
         // projected onto SO(3) after it, by the step's own error (O(h³)): the evaluation at the
-        // unprojected F stands in for the projected one, an O(ε) change of the W-method's first
-        // stage that saves one of its three evaluations per step (measured: steps within
-        // 0.1 %, fates paired unchanged; `paper-figures/fig18/NOTES.md`).
+        // unprojected F stands in for the projected one (its rate and Jacobian), an O(ε)
+        // change that saves the Rosenbrock-W step one of its three evaluations and Radau IIA
+        // one per step (measured on the Rosenbrock-W step: steps within 0.1 %, fates paired
+        // unchanged; `paper-figures/fig18/NOTES.md`).
         let key = if rigid { pack(&next.f, &next.x, &next.v) } else { acc.y };
         memory.last = Some((next.t, key, acc.payload));
         let start = Knot {
