@@ -166,7 +166,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     serde_json::from_slice(&std::fs::read(format!("{path}.{n}.{threads}"))?)?;
                 let paired = paired_fates(&earlier, &out.records)?;
                 println!(
-                    "paired with {path}: deposited by it only {}, by this run only {}, difference {:+.4} ± {:.4}",
+                    "paired with {path}: deposited by it only {}, by this run only {}, difference {:+.2e} ± {:.2e}",
                     paired.first_only(),
                     paired.second_only(),
                     paired.difference(),
