@@ -209,6 +209,18 @@ fn flow_imports_nothing_above_itself() {
     assert!(upward.is_empty(), "flow imports from above: {upward:#?}");
 }
 
+/// The shipped airway bifurcation's mesh and its walls as a contact boundary.
+#[cfg(feature = "mesh")]
+fn shipped_bifurcation() -> (
+    pseudorigid::flow::openfoam::PolyMesh,
+    pseudorigid::contact::MeshBoundary,
+) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data/bifurcation");
+    let mesh = pseudorigid::flow::openfoam::PolyMesh::read(&dir).unwrap();
+    let boundary = pseudorigid::contact::MeshBoundary::new(&mesh).unwrap();
+    (mesh, boundary)
+}
+
 /// `MeshBoundary::clearance` answers only inside the domain: a point carried past an outlet (or
 /// through a wall) within one step must reach the nearest-face query, whose gap is negative
 /// there, or the contact event never sees the exit. Points: every 5th face centre of each
@@ -219,11 +231,8 @@ fn flow_imports_nothing_above_itself() {
 #[cfg(feature = "mesh")]
 #[test]
 fn mesh_clearance_never_answers_outside_the_domain() {
-    use pseudorigid::contact::MeshBoundary;
-    use pseudorigid::flow::openfoam::{PatchSet, PolyMesh};
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data/bifurcation");
-    let mesh = PolyMesh::read(&dir).unwrap();
-    let boundary = MeshBoundary::new(&mesh).unwrap();
+    use pseudorigid::flow::openfoam::PatchSet;
+    let (mesh, boundary) = shipped_bifurcation();
     let faces = PatchSet::boundaries(&mesh);
     let mut tried = 0usize;
     for i in (0..faces.len()).step_by(5) {
@@ -254,11 +263,7 @@ fn mesh_clearance_never_answers_outside_the_domain() {
 #[cfg(feature = "mesh")]
 #[test]
 fn mesh_clearance_is_a_lower_bound_of_the_gap() {
-    use pseudorigid::contact::MeshBoundary;
-    use pseudorigid::flow::openfoam::PolyMesh;
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data/bifurcation");
-    let mesh = PolyMesh::read(&dir).unwrap();
-    let boundary = MeshBoundary::new(&mesh).unwrap();
+    let (mesh, boundary) = shipped_bifurcation();
     let (mut answered, mut total, mut above) = (0usize, 0usize, 0usize);
     for c in (0..mesh.n_cells()).step_by(7) {
         let centre = mesh.cell_centres()[c];
@@ -292,11 +297,8 @@ fn mesh_clearance_is_a_lower_bound_of_the_gap() {
 #[cfg(feature = "mesh")]
 #[test]
 fn contact_event_answers_a_state_as_a_fresh_event_does() {
-    use pseudorigid::contact::{ContactEvent, ContactModel, MeshBoundary};
-    use pseudorigid::flow::openfoam::PolyMesh;
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference-data/bifurcation");
-    let mesh = PolyMesh::read(&dir).unwrap();
-    let boundary = MeshBoundary::new(&mesh).unwrap();
+    use pseudorigid::contact::{ContactEvent, ContactModel};
+    let (mesh, boundary) = shipped_bifurcation();
     let p = sphere(20e-6);
     let mut states = Vec::new();
     for c in (0..mesh.n_cells()).step_by(40) {
