@@ -27,6 +27,15 @@ pub use inventory;
 pub trait DragModel: Send + Sync {
     /// Resistance tensor K̂ (global components) of the ellipsoid in `frame` with integrals `ints`.
     fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3;
+
+    /// Whether K̂ of a sphere is the same whatever the rotation of its principal frame (true
+    /// for every model that sees the frame only through the shape). The default, `false`,
+    /// is the safe answer for a model with body-fixed data; with `true` a rigid sphere's
+    /// orientation may be left out of the step's error test
+    /// ([`crate::particle::Particle::orientation_is_passive`]).
+    fn isotropic_on_spheres(&self) -> bool {
+        false
+    }
 }
 
 /// Brenner's exact Stokes resistance of an ellipsoid (the paper's model).
@@ -60,12 +69,21 @@ impl<D: DragModel + ?Sized> DragModel for &D {
     fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3 {
         (**self).resistance(frame, ints)
     }
+
+    fn isotropic_on_spheres(&self) -> bool {
+        (**self).isotropic_on_spheres()
+    }
 }
 
 impl DragModel for Brenner {
     fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3 {
         let k = Self::k_principal(frame, ints);
         frame.to_global(&Mat3::from_diagonal(&k)) * (PI * frame.r_min())
+    }
+
+    /// A sphere's k_i are equal (6 each), so K̂ = 6π a 1.
+    fn isotropic_on_spheres(&self) -> bool {
+        true
     }
 }
 
@@ -76,6 +94,10 @@ pub struct StokesSphere;
 impl DragModel for StokesSphere {
     fn resistance(&self, frame: &PrincipalFrame, _ints: &EllipsoidIntegrals) -> Mat3 {
         Mat3::identity() * (6.0 * PI * frame.r.product().cbrt())
+    }
+
+    fn isotropic_on_spheres(&self) -> bool {
+        true
     }
 }
 
@@ -146,6 +168,10 @@ impl PartialEq for NamedDrag {
 impl DragModel for NamedDrag {
     fn resistance(&self, frame: &PrincipalFrame, ints: &EllipsoidIntegrals) -> Mat3 {
         self.model.resistance(frame, ints)
+    }
+
+    fn isotropic_on_spheres(&self) -> bool {
+        self.model.isotropic_on_spheres()
     }
 }
 

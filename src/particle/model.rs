@@ -101,6 +101,10 @@ pub struct Particle<M, D = Brenner> {
     mass: f64,
     volume0: f64,
     theta_inv: Mat3,
+    /// A rigid twin of an elastic particle ([`Particle::rigid_twin`]): its rotation stands for
+    /// the elastic particle's, which an anisotropic law may need, so it is never passive
+    /// ([`Particle::orientation_is_passive`]).
+    elastic_twin: bool,
 }
 
 impl<M: Response> Particle<M, Brenner> {
@@ -139,6 +143,7 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             mass,
             volume0,
             theta_inv,
+            elastic_twin: false,
         };
         particle.check_rest_geometry()?;
         let rest = Geometry::try_of_total_distortion(&s)?;
@@ -369,7 +374,25 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             mass: self.mass,
             volume0: self.volume0,
             theta_inv: self.theta_inv,
+            elastic_twin: self.elastic_twin || self.elastic().is_some(),
         }
+    }
+
+    /// Whether the particle's orientation enters none of its equations: a rigid sphere whose
+    /// drag is [`DragModel::isotropic_on_spheres`] and whose force terms are all
+    /// [`crate::hydro::forces::ForceTerm::orientation_free_on_spheres`]. Its rotation then
+    /// turns nothing the model sees: the drag, Jeffery's spin, the contact's extent, the
+    /// traction and every force are the same for any F ∈ SO(3). The Rosenbrock-W step still
+    /// integrates F (the output carries it) but leaves it out of its error test, so the steps
+    /// follow the barycentre alone ([`crate::integrator::Stokesian`]). Never for an elastic
+    /// particle or its rigid twin.
+    pub fn orientation_is_passive(&self) -> bool {
+        let r = self.shape.semi_axes();
+        self.elastic().is_none()
+            && !self.elastic_twin
+            && r.max() == r.min()
+            && self.drag.isotropic_on_spheres()
+            && self.forces.orientation_free_on_spheres()
     }
 
     /// The hyperelastic law, or `None` for a rigid particle.

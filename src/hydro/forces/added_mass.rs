@@ -46,6 +46,11 @@ impl ForceTerm for AddedMass {
         Self::NAME
     }
 
+    /// ρ_f vol Qᵀ diag(k) Q with k₁ = k₂ = k₃ = ½ on a sphere.
+    fn orientation_free_on_spheres(&self) -> bool {
+        true
+    }
+
     fn contribution(&self, ctx: &ForceContext) -> Contribution {
         let k = coefficients(ctx.ints);
         let added_mass: Mat3 = ctx.frame.to_global(&Mat3::from_diagonal(&k)) * ctx.fluid_mass();

@@ -105,6 +105,11 @@ impl ForceTerm for Cunningham {
         }
     }
 
+    /// Its factor is a function of the particle's size and the gas's mean free path.
+    fn orientation_free_on_spheres(&self) -> bool {
+        true
+    }
+
     fn contribution(&self, ctx: &ForceContext) -> Contribution {
         Contribution {
             drag_factor: 1.0 / self.correction(ctx.volume_diameter()),

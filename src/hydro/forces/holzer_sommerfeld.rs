@@ -73,6 +73,11 @@ impl ForceTerm for HolzerSommerfeld {
         Some(FINITE_RE_DRAG)
     }
 
+    /// A sphere's crosswise area and sphericities do not depend on the slip's direction in its frame.
+    fn orientation_free_on_spheres(&self) -> bool {
+        true
+    }
+
     fn contribution(&self, ctx: &ForceContext) -> Contribution {
         let slip = ctx.slip();
         let speed = slip.norm();

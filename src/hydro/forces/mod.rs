@@ -169,6 +169,16 @@ pub trait ForceTerm: Send + Sync + Debug {
 
     /// The term's share at one state.
     fn contribution(&self, ctx: &ForceContext) -> Contribution;
+
+    /// Whether the term's share on a sphere is the same whatever the rotation of its principal
+    /// frame ([`ForceContext::frame`]'s axes): true for a term that sees the frame only through
+    /// the shape (every term of this crate). The default, `false`, is the safe answer for a
+    /// term with body-fixed data (a propulsion along a body axis, a magnetic moment); with
+    /// `true` from every term a rigid sphere's orientation may be left out of the step's error
+    /// test ([`crate::particle::Particle::orientation_is_passive`]).
+    fn orientation_free_on_spheres(&self) -> bool {
+        false
+    }
 }
 
 /// The group of the finite-Reynolds-number drag corrections ([`schiller_naumann`],
@@ -223,6 +233,11 @@ impl ForceTerms {
     /// The terms, in order.
     pub fn iter(&self) -> impl Iterator<Item = &dyn ForceTerm> {
         self.0.iter().map(|t| t.as_ref())
+    }
+
+    /// Whether every term is [`ForceTerm::orientation_free_on_spheres`] (true for none).
+    pub fn orientation_free_on_spheres(&self) -> bool {
+        self.iter().all(ForceTerm::orientation_free_on_spheres)
     }
 
     /// The terms' names, in order.

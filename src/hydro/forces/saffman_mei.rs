@@ -152,6 +152,11 @@ impl ForceTerm for SaffmanMei {
         )
     }
 
+    /// A function of the slip and the vorticity.
+    fn orientation_free_on_spheres(&self) -> bool {
+        true
+    }
+
     fn contribution(&self, ctx: &ForceContext) -> Contribution {
         let omega = vorticity(&ctx.flow.grad_u);
         let w = ctx.slip();

@@ -71,6 +71,11 @@ impl ForceTerm for SchillerNaumann {
         Some(FINITE_RE_DRAG)
     }
 
+    /// Spheres only, and its factor is a function of the slip's Reynolds number.
+    fn orientation_free_on_spheres(&self) -> bool {
+        true
+    }
+
     fn contribution(&self, ctx: &ForceContext) -> Contribution {
         Contribution {
             drag_factor: Self::factor(ctx.reynolds()),

@@ -33,6 +33,11 @@ impl ForceTerm for UndisturbedFlow {
         Self::NAME
     }
 
+    /// m_f Du/Dt: no frame.
+    fn orientation_free_on_spheres(&self) -> bool {
+        true
+    }
+
     fn contribution(&self, ctx: &ForceContext) -> Contribution {
         Contribution {
             force: ctx.flow.material_acceleration() * ctx.fluid_mass(),

@@ -6,6 +6,7 @@ mod error_norm;
 mod every_scheme;
 mod imex;
 mod manifold;
+mod passive_orientation;
 mod radau5;
 
 use proptest::prelude::*;
