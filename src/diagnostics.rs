@@ -36,6 +36,18 @@
 //! (the shear lift over the drag) and [`cunningham`](crate::hydro::forces::cunningham) (gas slip,
 //! from d_eq and the fluid).
 //!
+//! # The slow manifold ([`Validity::manifold`])
+//! A stiff elastic particle stepped by the slow-manifold model ([`crate::integrator::manifold`])
+//! has its shape slaved to the local flow where the expansion ratio δ (the flow's rates over
+//! the particle's elastic relaxation rate) is at most δ_max = √rtol; its dropped terms are
+//! O(δ²), the full model's own tolerance at δ_max. The diagnostics state the largest δ of an
+//! accepted step on the manifold against δ_max, so a user sees how close to its bound the
+//! reduced model ran, and flag `manifold_ratio` if it ever ran above it, which the switch
+//! excludes (it discards such a step and takes it again with the full model): the flag
+//! checks that invariant. The monitor sees the accepted steps, not the integrator's step
+//! memory, so the caller that ran the particle adds the integrator's report
+//! ([`Validity::with_manifold`]).
+//!
 //! # Unbounded linear flows
 //! In the shear scenes ([`Monitor::in_linear_flow`]) there is no wall and u is exactly linear
 //! across a particle of any size, so both length-scale ratios are 0 by construction; the
@@ -50,6 +62,7 @@ use crate::flow::FlowSample;
 use crate::flow::analytic::LinearFlow;
 use crate::hydro::DragModel;
 use crate::hydro::forces::omission::{self, Observed, Rest, Size, StateEstimate};
+use crate::integrator::manifold::ManifoldReport;
 use crate::material::Response;
 use crate::particle::{Particle, State};
 use crate::tensor::sym;
@@ -236,6 +249,11 @@ pub struct Validity {
     pub unsampled: u64,
     /// Sizes of the force terms the run left out.
     pub omitted: Omitted,
+    /// What the slow-manifold switch did (module docs): its steps, switches, the largest δ on
+    /// the manifold and δ_max; `None` where the slow-manifold integrator did not step the
+    /// particle. Not among the CSV cells ([`Self::COLUMNS`]), only in the flags.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub manifold: Option<ManifoldReport>,
 }
 
 impl Validity {
@@ -251,7 +269,18 @@ impl Validity {
         }
     }
 
-    /// The maxima over two runs (e.g. the two runs bracketing a phase boundary).
+    /// The same with the slow-manifold switch's `report` of the run
+    /// ([`crate::integrator::TimeIntegrator::manifold_report`] of its step memory; `None`
+    /// where the slow-manifold integrator did not step the particle).
+    pub fn with_manifold(self, report: Option<ManifoldReport>) -> Self {
+        Self {
+            manifold: report,
+            ..self
+        }
+    }
+
+    /// The maxima over two runs (e.g. the two runs bracketing a phase boundary); the
+    /// slow-manifold reports combined ([`ManifoldReport::combine`]).
     pub fn combine(self, other: Self) -> Self {
         Self {
             max_re_shear: self.max_re_shear.max(other.max_re_shear),
@@ -262,12 +291,17 @@ impl Validity {
             states: self.states + other.states,
             unsampled: self.unsampled + other.unsampled,
             omitted: self.omitted.max(&other.omitted),
+            manifold: match (self.manifold, other.manifold) {
+                (Some(a), Some(b)) => Some(a.combine(b)),
+                (a, b) => a.or(b),
+            },
         }
     }
 
     /// Names of the thresholds crossed, in the order of [`Thresholds`]' fields, then
     /// `omits_<term>` for every force term left out whose size crosses
-    /// [`Thresholds::omitted_term`].
+    /// [`Thresholds::omitted_term`], then `manifold_ratio` if an accepted step on the slow
+    /// manifold ran above its own bound δ_max ([`ManifoldReport::exceeded`]; module docs).
     pub fn flags(&self, limits: &Thresholds) -> Vec<String> {
         let omitted = self
             .omitted
@@ -290,6 +324,11 @@ impl Validity {
         .filter(|(_, crossed)| *crossed)
         .map(|(name, _)| name.to_string())
         .chain(omitted)
+        .chain(
+            self.manifold
+                .filter(ManifoldReport::exceeded)
+                .map(|_| "manifold_ratio".to_string()),
+        )
         .collect()
     }
 

@@ -146,9 +146,11 @@ class Results:
 
     def records(self) -> Table:
         """One row per particle: the columns of ``records.parquet`` in its order (those of
-        ``results.csv`` plus the end state's F, ``F11`` .. ``F33``, and step statistics). Where
-        the file has a null, a float column holds NaN and ``patch``, ``patch_name`` and
-        ``error`` hold None."""
+        ``results.csv`` plus the end state's F, ``F11`` .. ``F33``, step statistics and the
+        slow-manifold switch's: ``manifold_steps``, ``full_steps``, ``manifold_entered``,
+        ``manifold_left``, ``manifold_max_ratio``, ``manifold_delta_max``). Where the file has
+        a null, a float column holds NaN (the slow manifold's δ columns of a particle it did
+        not step) and ``patch``, ``patch_name`` and ``error`` hold None."""
         return _table(self._native.records())
 
     def frames(self) -> Table:

@@ -65,8 +65,8 @@ impl Results {
     }
 
     /// One row per particle: the columns of `records.parquet`, in its order (the columns of
-    /// `results.csv` with the end state's F, `F11`..`F33`, and step statistics; all from
-    /// `population::columns::record_columns`). Where the file has a null a float column holds
+    /// `results.csv` with the end state's F, `F11`..`F33`, step statistics and the slow-manifold
+    /// switch's; all from `population::columns::record_columns`). Where the file has a null a float column holds
     /// NaN and the integer and text columns (`patch`, `patch_name`, `error`) hold None.
     fn records<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let rows: Vec<Row<'_, NamedLaw>> = self

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import _thread
+import copy
 import csv
 import gzip
 import json
+import math
 import pathlib
 import signal
 import subprocess
@@ -173,6 +175,25 @@ def test_columns_equal_the_csv_files(tmp_path, small_scene):
     pd = pytest.importorskip("pandas")
     df = rec.to_pandas()
     assert isinstance(df, pd.DataFrame) and df.shape == (12, len(rec.columns))
+
+
+def test_records_carry_the_slow_manifold_switch(small_scene):
+    """The particles made stiff (mu_s = 2 500, Ca = 4e-4) under `slow_manifold` at tol 1e-3
+    step on the slow manifold: for each, manifold_steps + full_steps = steps and the largest
+    delta on it is at most delta_max = sqrt(tol). Under the scene's own integrator no particle
+    has a step on it, all its steps are the full model's and the delta columns are NaN."""
+    stiff = copy.deepcopy(small_scene)
+    stiff["particles"]["inject"]["material"] = {"law": "neo_hooke", "mu": 2500.0, "lambda": 2.5e6}
+    stiff["integrator"] = {"type": "slow_manifold", "tol": 1e-3, "dt": 1e-3, "overdamped": True}
+    rec = pr.run_in_memory(stiff).records()
+    assert (rec["manifold_steps"] > 0).all(), rec["manifold_steps"]
+    np.testing.assert_array_equal(rec["manifold_steps"] + rec["full_steps"], rec["steps"])
+    np.testing.assert_array_equal(rec["manifold_delta_max"], np.full(12, math.sqrt(1e-3)))
+    assert (rec["manifold_max_ratio"] <= rec["manifold_delta_max"]).all(), rec["manifold_max_ratio"]
+    full = pr.run_in_memory(small_scene).records()
+    assert (full["manifold_steps"] == 0).all()
+    np.testing.assert_array_equal(full["full_steps"], full["steps"])
+    assert np.isnan(full["manifold_max_ratio"]).all() and np.isnan(full["manifold_delta_max"]).all()
 
 
 def test_edited_checkpoint_chunk_is_refused(tmp_path, small_scene):

@@ -25,7 +25,7 @@
 //! [`ParticleNumbers::of`], and printed per injection group in the run log).
 
 use super::control::ErrorNorm;
-use super::manifold::{Manifold, ManifoldMemory};
+use super::manifold::{Manifold, ManifoldMemory, ManifoldReport};
 use super::stokesian::StokesianMemory;
 use super::{BarycentreModel, Frame, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
 use crate::error::{ParamError, StepError};
@@ -229,6 +229,13 @@ impl TimeIntegrator for Chosen {
         }
     }
 
+    fn manifold_report(&self, memory: &ChosenMemory) -> Option<ManifoldReport> {
+        match self {
+            Chosen::Full(_) => None,
+            Chosen::SlowManifold(m) => m.manifold_report(&memory.manifold),
+        }
+    }
+
     fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
@@ -378,6 +385,11 @@ impl TimeIntegrator for Auto {
             }
         };
         chosen.step_with(particle, state, &mut memory.inner, flow, dt)
+    }
+
+    /// The chosen integrator's report; `None` before the first step (nothing chosen yet).
+    fn manifold_report(&self, memory: &AutoMemory) -> Option<ManifoldReport> {
+        memory.chosen?.manifold_report(&memory.inner)
     }
 
     fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(

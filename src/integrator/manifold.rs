@@ -25,8 +25,13 @@
 //! A rigid particle is passed to the full model unchanged.
 //!
 //! The run log states the rule and k ([`TimeIntegrator::describe`]); the steps on and off the
-//! manifold, the switches and the largest δ on it are kept per particle
-//! ([`ManifoldReport`], in the step memory).
+//! manifold, the switches and the largest δ on it are kept per particle in the step memory
+//! ([`ManifoldReport`], read by [`TimeIntegrator::manifold_report`]) and reach the
+//! population's records and their columns (`manifold_steps`, `full_steps`,
+//! `manifold_entered`, `manifold_left`, `manifold_max_ratio`, `manifold_delta_max`:
+//! [`crate::population::columns`]), the validity diagnostics
+//! ([`crate::diagnostics::Validity::manifold`], which flag a step above δ_max) and the
+//! command's summary line (the share of steps on the manifold).
 //!
 //! `auto` and the studies' integrator ([`super::choice`]) take this model for an elastic
 //! particle whose δ at the flow's mean strain rate is at most
@@ -101,6 +106,14 @@ impl Manifold {
         Ok(Self { delta_max, ..self })
     }
 
+    /// What the switch did for the particle with step memory `memory`.
+    pub fn report(&self, memory: &ManifoldMemory) -> ManifoldReport {
+        ManifoldReport {
+            delta_max: self.delta_max,
+            ..memory.report
+        }
+    }
+
     /// The time the full model runs after release before the manifold may take over:
     /// ln(1/δ_max)/k (module docs).
     pub fn initial_layer(&self, manifold: &SlowManifold) -> f64 {
@@ -108,7 +121,9 @@ impl Manifold {
     }
 }
 
-/// What the switch did for one particle.
+/// What the switch did for one particle ([`Manifold::report`]): every accepted step
+/// is counted once, on the manifold or of the full model, so the two counts add up to the
+/// driver's accepted steps ([`crate::driver::RunStats::steps`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct ManifoldReport {
     /// Steps on the manifold.
@@ -119,8 +134,39 @@ pub struct ManifoldReport {
     pub entered: u32,
     /// Switches from the manifold to the full model (each one discarded manifold step).
     pub left: u32,
-    /// The largest δ of an accepted manifold step.
+    /// The largest δ of an accepted manifold step (0 before the first).
     pub max_ratio: f64,
+    /// The bound δ_max of the integrator ([`Manifold::delta_max`]): a manifold step whose δ
+    /// exceeds it is discarded, so `max_ratio` ≤ `delta_max` ([`Self::exceeded`]).
+    pub delta_max: f64,
+}
+
+impl ManifoldReport {
+    /// Whether an accepted manifold step ran above δ_max. The switch discards every such
+    /// step, so this is never true of a report of [`Manifold`]: the validity diagnostics
+    /// check it ([`crate::diagnostics::Validity::manifold`], flag `manifold_ratio`).
+    pub fn exceeded(&self) -> bool {
+        self.max_ratio > self.delta_max
+    }
+
+    /// The reports of two runs as one (a population's total, the runs of a phase boundary):
+    /// steps and switches added, and the largest δ and δ_max of the run that came closer to
+    /// its own bound (the larger δ where both ran under one bound), so the total
+    /// [`Self::exceeded`] where either run did.
+    pub fn combine(self, other: Self) -> Self {
+        let closer = if other.max_ratio * self.delta_max > self.max_ratio * other.delta_max {
+            other
+        } else {
+            self
+        };
+        Self {
+            manifold_steps: self.manifold_steps + other.manifold_steps,
+            full_steps: self.full_steps + other.full_steps,
+            entered: self.entered + other.entered,
+            left: self.left + other.left,
+            ..closer
+        }
+    }
 }
 
 /// Step memory of [`Manifold`].
@@ -135,18 +181,12 @@ pub struct ManifoldMemory {
     gradient: Option<(f64, Mat3)>,
     /// ε₀ at the last accepted state on the manifold, with its time.
     strain: Option<(f64, Mat3)>,
-    /// The switch's record.
-    pub report: ManifoldReport,
+    /// The switch's record; its `delta_max` is the integrator's, filled in by
+    /// [`Manifold::report`].
+    report: ManifoldReport,
     /// The particle's constants: a function of the particle, recomputed after a checkpoint.
     #[serde(skip)]
     constants: Option<Option<SlowManifold>>,
-}
-
-impl ManifoldMemory {
-    /// The switch's record for this particle.
-    pub fn report(&self) -> ManifoldReport {
-        self.report
-    }
 }
 
 impl Manifold {
@@ -250,8 +290,9 @@ impl TimeIntegrator for Manifold {
             }
         };
         let Some(manifold) = constants else {
+            let step = self.full.step_with(particle, state, &mut memory.full, flow, dt)?;
             memory.report.full_steps += 1;
-            return self.full.step_with(particle, state, &mut memory.full, flow, dt);
+            return Ok(step);
         };
         let released = *memory.released.get_or_insert(state.t);
         if memory.on_manifold {
@@ -281,6 +322,10 @@ impl TimeIntegrator for Manifold {
             memory.rigid = StokesianMemory::default();
         }
         Ok(step)
+    }
+
+    fn manifold_report(&self, memory: &ManifoldMemory) -> Option<ManifoldReport> {
+        Some(self.report(memory))
     }
 
     fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(

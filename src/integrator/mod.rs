@@ -158,6 +158,15 @@ pub trait TimeIntegrator: Send + Sync {
         None
     }
 
+    /// What the slow-manifold switch ([`manifold`]) did for the particle whose step memory is
+    /// `memory`: its steps on and off the manifold, its switches and the largest expansion
+    /// ratio δ on it against the bound δ_max. `None` where this integrator did not step the
+    /// particle by the slow-manifold model (every other integrator, and [`choice::Auto`] where
+    /// it chose the full model).
+    fn manifold_report(&self, _memory: &Self::Memory) -> Option<manifold::ManifoldReport> {
+        None
+    }
+
     /// One step from a fresh memory (a first step, or a test of a single step).
     fn step<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
@@ -188,6 +197,10 @@ pub trait Stepper<M: Response, D: DragModel>: Send + Sync {
         flow: &F,
         dt: f64,
     ) -> Result<Step, StepError>;
+
+    /// What the slow-manifold switch did for the particle with `memory`
+    /// ([`TimeIntegrator::manifold_report`]).
+    fn particle_manifold_report(&self, memory: &Self::Memory) -> Option<manifold::ManifoldReport>;
 }
 
 impl<I: TimeIntegrator, M: Response, D: DragModel> Stepper<M, D> for I {
@@ -202,5 +215,9 @@ impl<I: TimeIntegrator, M: Response, D: DragModel> Stepper<M, D> for I {
         dt: f64,
     ) -> Result<Step, StepError> {
         self.step_with(particle, state, memory, flow, dt)
+    }
+
+    fn particle_manifold_report(&self, memory: &I::Memory) -> Option<manifold::ManifoldReport> {
+        self.manifold_report(memory)
     }
 }

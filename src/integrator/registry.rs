@@ -9,6 +9,7 @@
 //! the population runner take it as a [`Stepper`]. Library code keeps using the integrator
 //! types themselves, monomorphised for its particle types.
 
+use super::manifold::ManifoldReport;
 use super::{BarycentreModel, Step, Stepper, TimeIntegrator};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
@@ -86,6 +87,7 @@ trait SceneStep: Send + Sync + fmt::Debug {
         flow: &dyn FlowField,
         dt: f64,
     ) -> Result<Step, StepError>;
+    fn manifold_report_scene(&self, memory: &SceneMemory) -> Option<ManifoldReport>;
 }
 
 impl<I: TimeIntegrator + fmt::Debug + 'static> SceneStep for I {
@@ -115,6 +117,11 @@ impl<I: TimeIntegrator + fmt::Debug + 'static> SceneStep for I {
             Some(m) => self.step_with(particle, state, m, flow, dt),
             None => unreachable!("the slot holds I::Memory: set just above"),
         }
+    }
+    fn manifold_report_scene(&self, memory: &SceneMemory) -> Option<ManifoldReport> {
+        // A fresh memory (or another integrator's) holds no step of this one.
+        let m = memory.0.as_ref()?.downcast_ref::<I::Memory>()?;
+        self.manifold_report(m)
     }
 }
 
@@ -178,5 +185,9 @@ impl Stepper<Softness<NamedLaw>, NamedDrag> for SceneIntegrator {
         dt: f64,
     ) -> Result<Step, StepError> {
         self.0.step_scene(particle, state, memory, &flow, dt)
+    }
+
+    fn particle_manifold_report(&self, memory: &SceneMemory) -> Option<ManifoldReport> {
+        self.0.manifold_report_scene(memory)
     }
 }

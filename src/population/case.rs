@@ -160,6 +160,7 @@ where
             fate,
             end: Some(end),
             stats,
+            manifold: self.integrator.particle_manifold_report(&memory),
             samples,
             observed,
         }
@@ -287,6 +288,7 @@ where
                     fate,
                     end: Some(end),
                     stats,
+                    manifold: self.integrator.particle_manifold_report(&particle.memory),
                     samples: std::mem::take(&mut particle.samples),
                     observed: serde_json::Value::Null,
                 })
@@ -307,6 +309,7 @@ where
             fate: Fate::Suspended,
             end: Some(end),
             stats,
+            manifold: self.integrator.particle_manifold_report(&particle.memory),
             samples: std::mem::take(&mut particle.samples),
             observed: serde_json::Value::Null,
         }
@@ -374,6 +377,7 @@ impl<L> ParticleRecord<L> {
             },
             end,
             stats: RunStats::default(),
+            manifold: None,
             samples: Vec::new(),
             observed: serde_json::Value::Null,
         }

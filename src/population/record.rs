@@ -3,6 +3,7 @@
 use super::spec::ParticleSpec;
 use crate::driver::RunStats;
 use crate::ellipsoid::PrincipalFrame;
+use crate::integrator::manifold::ManifoldReport;
 use crate::particle::State;
 use crate::tensor::Vec3;
 use serde::de::DeserializeOwned;
@@ -71,6 +72,12 @@ pub struct ParticleRecord<L> {
     pub end: Option<State>,
     /// Work of its run.
     pub stats: RunStats,
+    /// What the slow-manifold switch did in its run, where the slow-manifold integrator
+    /// stepped it (`slow_manifold`, or `auto`'s and the studies' choice for a stiff elastic
+    /// particle: [`crate::integrator::TimeIntegrator::manifold_report`]); `None` otherwise,
+    /// and absent from the JSON then (a record without it reads as before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub manifold: Option<ManifoldReport>,
     /// Its states at the start, at the plan's output times and at its event, when the case
     /// keeps them ([`super::Case::with_samples`]); empty otherwise. Stored packed
     /// ([`super::packed`]).

@@ -124,3 +124,79 @@ fn before_a_run_the_undisturbed_flow_force_is_bounded_by_the_density_ratio() {
     let carrying = p.with_forces(ForceTerms::new(vec![term]).unwrap()).unwrap();
     assert_eq!(omitted_before_run(&carrying).size("undisturbed_flow"), Some(0.0));
 }
+
+/// The slow manifold in the diagnostics (issue 36, item 3): a stiff sphere (Ca = 10⁻³, so
+/// δ = |∇u|/k = 1.5 Ca against δ_max = √rtol = 0.0316) in unit shear, stepped by
+/// `slow_manifold` with the monitor fed at every accepted step and the integrator's report
+/// added after the run, as `studies::bifurcation::validity` does: the report counts every
+/// step the monitor saw, its largest δ is at most δ_max, and nothing is flagged for it. A
+/// report with δ above its bound is flagged `manifold_ratio`, also combined with a run that
+/// kept to it; combined reports add their steps and keep the δ and δ_max of the run closer to
+/// its bound; a validity without a report serialises as before.
+#[test]
+fn validity_states_the_slow_manifolds_ratio_against_its_bound() {
+    use pseudorigid::driver::{Observers, Plan, Problem, integrate};
+    use pseudorigid::integrator::manifold::{Manifold, ManifoldReport};
+    use pseudorigid::studies::particles::Shape;
+    use pseudorigid::studies::shear_run::unit_shear;
+    use pseudorigid::studies::shear_shape::ShearShape;
+    let p = ShearShape::new(Shape::Sphere)
+        .particle(&ShearScaling::new(1e-3, 1.0, 1e3).unwrap())
+        .unwrap();
+    let flow = unit_shear();
+    let integ = Manifold::new(Stokesian::overdamped(1e-3).unwrap());
+    let mut monitor = Monitor::in_linear_flow(&p, &flow);
+    let mut memory = Default::default();
+    integrate(
+        Problem::new(&integ, &p, &flow),
+        State::at_rest(Vec3::zeros()),
+        &mut memory,
+        &Plan::new(5.0, 1e-3).unwrap(),
+        &[],
+        Observers::none().with_on_step(|step| monitor.observe_step(step)),
+    )
+    .unwrap();
+    let v = monitor.validity().with_manifold(integ.manifold_report(&memory));
+    let m = v.manifold.unwrap();
+    assert!(m.manifold_steps > m.full_steps && m.entered == 1, "{m:?}");
+    assert_eq!(m.manifold_steps + m.full_steps, v.states, "{m:?}");
+    assert!(m.max_ratio > 0.0 && m.max_ratio <= m.delta_max, "{m:?}");
+    assert_eq!(m.delta_max, 1e-3f64.sqrt());
+    let limits = Thresholds::default();
+    let flagged = |v: &Validity| v.flags(&limits).contains(&"manifold_ratio".to_string());
+    assert!(!flagged(&v), "{v:?}");
+
+    let over = ManifoldReport {
+        max_ratio: 1.01 * m.delta_max,
+        ..m
+    };
+    let exceeded = Validity::default().with_manifold(Some(over));
+    assert_eq!(exceeded.flags(&limits), ["manifold_ratio"]);
+    let both = v.clone().combine(exceeded);
+    assert!(flagged(&both), "{both:?}");
+    let total = both.manifold.unwrap();
+    assert_eq!(
+        (total.manifold_steps, total.max_ratio),
+        (2 * m.manifold_steps, over.max_ratio)
+    );
+    // A larger δ under a looser bound is farther from its bound: the first run's pair stays.
+    let loose = ManifoldReport {
+        max_ratio: 2.0 * m.max_ratio,
+        delta_max: 10.0 * m.delta_max,
+        ..m
+    };
+    let kept = m.combine(loose);
+    assert_eq!(
+        (kept.max_ratio, kept.delta_max, kept.entered),
+        (m.max_ratio, m.delta_max, 2)
+    );
+    assert_eq!(Validity::default().combine(v.clone()).manifold, v.manifold);
+
+    assert!(
+        !serde_json::to_string(&Validity::default())
+            .unwrap()
+            .contains("manifold")
+    );
+    let back: Validity = serde_json::from_str(&serde_json::to_string(&v).unwrap()).unwrap();
+    assert_eq!(back, v);
+}

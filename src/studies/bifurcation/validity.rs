@@ -3,7 +3,9 @@
 //!
 //! The population runner reports fates, not trajectories, so the diagnostics re-run particles
 //! 0..count of a run (same seed, injection, integrator, plan and contact rule, hence the same
-//! trajectories) under a [`Monitor`] fed at every accepted step.
+//! trajectories) under a [`Monitor`] fed at every accepted step, with what the slow-manifold
+//! switch did where the study's integrator put a stiff particle on it
+//! ([`Validity::with_manifold`]).
 
 use super::BifurcationError;
 use super::injection::{Injection, Kind};
@@ -12,6 +14,7 @@ use super::study::{integrator, plan};
 use crate::contact::{ContactEvent, ContactModel};
 use crate::diagnostics::{Monitor, Thresholds, Validity};
 use crate::driver::{Observers, Problem, integrate};
+use crate::integrator::TimeIntegrator;
 use crate::output::Csv;
 use crate::population::{Injector, particle_rng};
 
@@ -41,7 +44,7 @@ pub fn sample(airway: &Airway, kind: Kind, seed: u64, count: u64) -> Result<Vec<
             &[&contact],
             Observers::none().with_on_step(|step| monitor.observe_step(step)),
         );
-        out.push(monitor.validity());
+        out.push(monitor.validity().with_manifold(integ.manifold_report(&memory)));
     }
     Ok(out)
 }

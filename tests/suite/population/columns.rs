@@ -2,12 +2,18 @@
 //! columns and values of `records.parquet`, for every fate, a rigid particle and one that
 //! could not be drawn.
 
-use super::common::{FaultySoftPipe, config, plan};
+use super::common::{FaultySoftPipe, config, pipe, plan};
 use arrow_array::{Array, Float64Array, Int64Array, StringArray, UInt64Array};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use pseudorigid::diagnostics::{Thresholds, Validity};
+use pseudorigid::hydro::Brenner;
+use pseudorigid::integrator::choice::Auto;
+use pseudorigid::integrator::manifold::Manifold;
+use pseudorigid::integrator::{ErrorNorm, Stepper, Stokesian, Tolerances};
 use pseudorigid::material::{NeoHooke, Softness};
-use pseudorigid::population::columns::record_columns;
-use pseudorigid::population::{Fate, RunOptions, Shard, run};
+use pseudorigid::population::columns::{ColumnValues, Row, record_columns};
+use pseudorigid::population::settling_pipe::SettlingPipe;
+use pseudorigid::population::{Case, Fate, ParticleRecord, RunOptions, RunOutput, Shard, run};
 
 /// The value in row `i` of `column` as `results.csv` writes it.
 fn csv_field(column: &dyn Array, i: usize) -> String {
@@ -77,5 +83,110 @@ fn results_csv_read_back_holds_the_records_parquet_columns_and_values() {
         for (i, row) in rows.iter().enumerate() {
             assert_eq!(row[k], csv_field(column.as_ref(), i), "column {name}, row {i}");
         }
+    }
+}
+
+/// Column `name` of every record of `out`, counts as reals; `None` for an empty value.
+fn column_values(out: &RunOutput<NeoHooke>, name: &str) -> Vec<Option<f64>> {
+    let column = record_columns::<NeoHooke>()
+        .into_iter()
+        .find(|c| c.name == name)
+        .unwrap_or_else(|| panic!("no column {name}"));
+    out.records
+        .iter()
+        .map(|r| {
+            let row = Row::new(r, &out.patches);
+            match column.values {
+                ColumnValues::Count(f) => Some(f(&row) as f64),
+                ColumnValues::Real(f) => f(&row),
+                _ => panic!("{name} is neither a count nor a real"),
+            }
+        })
+        .collect()
+}
+
+/// Four particles of `pipe` run by `integ` to [`plan`]'s end.
+fn run_pipe<I: Stepper<Softness<NeoHooke>, Brenner> + std::fmt::Debug>(
+    integ: &I,
+    pipe: &SettlingPipe,
+) -> RunOutput<NeoHooke> {
+    let case = Case::new(integ, pipe.flow(), pipe.boundary(), pipe, plan());
+    run(&case, &config(4), Shard::ALL, &RunOptions::default().quiet()).unwrap()
+}
+
+/// The slow-manifold switch in the records and their columns (issue 36, item 3), on the
+/// settling pipe: stiff neo-Hookean spheres (Ca = 10⁻³: k = 2/(3Ca) ≈ 667 against the pipe's
+/// strain rates ≤ 4Ū/R = 0.2) under `auto` at rtol 10⁻³, which puts them on the slow manifold
+/// (δ̄ = 8Ū/(3Rk) = 2·10⁻⁴ ≤ 0.2 δ_max, δ_max = √rtol = 0.0316); rigid spheres under `auto`
+/// (the full model: no report) and under `slow_manifold` itself (which passes a rigid particle
+/// to the full model). Every accepted step is counted once, on the manifold or of the full
+/// model, so `manifold_steps` + `full_steps` = `steps` for every particle; the largest δ on the
+/// manifold stays at or below δ_max, the switch's invariant, and the validity flags say so.
+#[test]
+fn records_carry_the_slow_manifold_switch() {
+    let auto = Auto {
+        tol: Tolerances::uniform(1e-3).unwrap(),
+        norm: ErrorNorm::default(),
+    };
+    let manifold = Manifold::new(Stokesian::new(1e-3).unwrap());
+    let delta_max = 1e-3f64.sqrt();
+    let with_auto = |p: &SettlingPipe| run_pipe(&auto, p);
+    let with_manifold = |p: &SettlingPipe| run_pipe(&manifold, p);
+
+    let soft = with_auto(&pipe().with_shape(1.0, 1e-3).unwrap());
+    for (i, r) in soft.records.iter().enumerate() {
+        assert!(!matches!(r.fate, Fate::Failed { .. }), "particle {i}: {:?}", r.fate);
+        let m = r.manifold.unwrap_or_else(|| panic!("particle {i} has no report"));
+        assert!(m.manifold_steps > 0 && m.entered >= 1, "particle {i}: {m:?}");
+        assert_eq!(m.manifold_steps + m.full_steps, r.stats.steps, "particle {i}: {m:?}");
+        assert!(m.max_ratio > 0.0 && m.max_ratio <= delta_max && !m.exceeded(), "{m:?}");
+        assert_eq!(m.delta_max, delta_max);
+        let validity = Validity::default().with_manifold(r.manifold);
+        assert!(validity.flags(&Thresholds::default()).is_empty(), "{validity:?}");
+        let json = serde_json::to_string(r).unwrap();
+        assert_eq!(serde_json::from_str::<ParticleRecord<NeoHooke>>(&json).unwrap(), *r);
+    }
+    let [steps, on, off, ratio, bound] = [
+        "steps",
+        "manifold_steps",
+        "full_steps",
+        "manifold_max_ratio",
+        "manifold_delta_max",
+    ]
+    .map(|name| column_values(&soft, name));
+    for i in 0..steps.len() {
+        assert_eq!(Some(on[i].unwrap() + off[i].unwrap()), steps[i], "particle {i}");
+        assert!(ratio[i].unwrap() <= bound[i].unwrap(), "particle {i}");
+    }
+    let total = soft.manifold().unwrap();
+    assert_eq!(total.manifold_steps as f64, on.iter().flatten().sum::<f64>());
+    assert!(!total.exceeded(), "{total:?}");
+
+    for (out, reported) in [(with_manifold(&pipe()), true), (with_auto(&pipe()), false)] {
+        for (i, r) in out.records.iter().enumerate() {
+            assert_eq!(r.manifold.is_some(), reported, "particle {i}: {:?}", r.manifold);
+            match r.manifold {
+                Some(m) => assert_eq!(
+                    (m.manifold_steps, m.entered, m.full_steps),
+                    (0, 0, r.stats.steps),
+                    "{m:?}"
+                ),
+                // No report, and none in the JSON: such a record reads as records did before.
+                None => assert!(!serde_json::to_string(r).unwrap().contains("manifold")),
+            }
+        }
+        let [steps, on, off, ratio, bound] = [
+            "steps",
+            "manifold_steps",
+            "full_steps",
+            "manifold_max_ratio",
+            "manifold_delta_max",
+        ]
+        .map(|name| column_values(&out, name));
+        assert!(on.iter().all(|v| *v == Some(0.0)), "{on:?}");
+        assert_eq!(off, steps);
+        assert!(ratio.iter().all(Option::is_none), "{ratio:?}");
+        let expected = reported.then_some(delta_max);
+        assert!(bound.iter().all(|v| *v == expected), "{bound:?}");
     }
 }

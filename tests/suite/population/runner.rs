@@ -602,6 +602,7 @@ proptest::proptest! {
             fate: Fate::Deposited { patch: 3, position: state.x, time: state.t },
             end: Some(state),
             stats: RunStats::default(),
+            manifold: None,
             samples: vec![state],
             observed: serde_json::Value::Null,
         };
@@ -638,6 +639,7 @@ fn an_observer_summary_reads_back_typed_or_names_the_particle() {
             fate: Fate::Suspended,
             end: None,
             stats: RunStats::default(),
+            manifold: None,
             samples: vec![],
             observed,
         };

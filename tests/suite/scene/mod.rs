@@ -166,6 +166,49 @@ fn slow_manifold_is_selectable_and_checks_delta_max() {
     }
 }
 
+/// The command's summary line gives the slow manifold's share of the steps and its largest δ
+/// against δ_max where the run stepped a particle by it, and nothing of it otherwise: Fig. 4's
+/// oblate made stiff (μ_s = 2 500, Ca = 4·10⁻⁴: δ ≈ 10⁻³ against δ_max = √10⁻³) under
+/// `slow_manifold` at tol 10⁻³, and the scene's own Radau IIA, both to t = 5.
+#[test]
+fn the_summary_line_gives_the_slow_manifolds_share() {
+    let short = ("t_end = 30.0", "t_end = 5.0");
+    let stiff = scene(
+        "oblate_shear.toml",
+        &[
+            (
+                "type = \"radau_iia\"\ntol = 1e-8",
+                "type = \"slow_manifold\"\ntol = 1e-3",
+            ),
+            ("mu = 2.5, lambda = 2500.0", "mu = 2500.0, lambda = 2.5e6"),
+            short,
+        ],
+    );
+    let summary = |s: &Scene, name: &str| {
+        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+        let _ = std::fs::remove_dir_all(&dir);
+        let options = RunOptions::default().serial().quiet();
+        pseudorigid::scene::run::run(s, &dir, Shard::ALL, options, false).unwrap()
+    };
+    let done = summary(&stiff, "summary_slow_manifold");
+    let m = done.output.manifold().unwrap();
+    let steps = done.output.records[0].stats.steps;
+    assert!(
+        m.manifold_steps > 0 && m.manifold_steps + m.full_steps == steps,
+        "{m:?}"
+    );
+    let share = format!(
+        "; slow manifold: {} of {steps} steps ({:.1} %), largest delta {:.3e} <= delta_max = {:.3e};",
+        m.manifold_steps,
+        100.0 * m.manifold_steps as f64 / steps as f64,
+        m.max_ratio,
+        1e-3f64.sqrt()
+    );
+    assert!(done.summary.contains(&share), "{}", done.summary);
+    let done = summary(&scene("oblate_shear.toml", &[short]), "summary_full_model");
+    assert!(!done.summary.contains("slow manifold"), "{}", done.summary);
+}
+
 /// Fig. 4's oblate at Ca = 0.4: the scene's material lines at every output time equal the
 /// library's `oblate_fig4_run` bitwise.
 #[test]
