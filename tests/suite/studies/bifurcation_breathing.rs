@@ -102,7 +102,11 @@ fn constant_breath_is_the_steady_study_shifted_in_time() {
                 let speed = a.end.as_ref().map_or(0.0, |end| end.v.norm());
                 let steps = (a.stats.steps + b.stats.steps) as f64;
                 let allowed = steps * pseudorigid::studies::bifurcation::study::ATOL / speed;
-                assert!(dt <= allowed, "particle {}: event times {dt:e} s apart, allowed {allowed:e} s", a.index);
+                assert!(
+                    dt <= allowed,
+                    "particle {}: event times {dt:e} s apart, allowed {allowed:e} s",
+                    a.index
+                );
                 worst = worst.max(dt);
             }
             _ => changed += 1,
