@@ -85,3 +85,17 @@ pub fn assert_single_run_ends<L>(out: &pseudorigid::population::RunOutput<L>, wh
         record.fate
     );
 }
+
+/// A rigid sphere of Stokes response time τ = 2ρr²/(9μ) (its mass over 6πμr) and density ρ in
+/// a fluid of viscosity μ without density.
+pub fn heavy_sphere(tau: f64, mu: f64, rho: f64) -> pseudorigid::particle::Particle<pseudorigid::material::Rigid> {
+    use pseudorigid::prelude::*;
+    let r = (4.5 * mu * tau / rho).sqrt();
+    Particle::new(
+        Ellipsoid::aligned([r; 3]).unwrap(),
+        pseudorigid::material::Rigid,
+        Fluid::new(mu, 0.0).unwrap(),
+        rho,
+    )
+    .unwrap()
+}

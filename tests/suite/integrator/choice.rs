@@ -3,6 +3,7 @@
 //! particle's cached geometry against the eigen-decomposition, the polar factor against the
 //! SVD, and the block factorisation of the inertialess Jacobian against the dense LU.
 
+use crate::common::heavy_sphere;
 use crate::common::strategies::{deformation, rotation};
 use proptest::prelude::*;
 use pseudorigid::driver::{Observers, Problem, run};
@@ -24,14 +25,7 @@ use pseudorigid::tensor::nearest_rotation;
 /// overdamped model (ẋ = a x) is first order.
 fn extension_error(tau: f64, barycentre: BarycentreModel) -> f64 {
     let (a, mu, rho) = (1.0, 1.0, 1.0);
-    let r = (4.5 * mu * tau / rho).sqrt();
-    let particle = Particle::new(
-        Ellipsoid::aligned([r; 3]).unwrap(),
-        Rigid,
-        Fluid::new(mu, 0.0).unwrap(),
-        rho,
-    )
-    .unwrap();
+    let particle = heavy_sphere(tau, mu, rho);
     let flow = LinearFlow::new(Vec3::zeros(), Mat3::from_diagonal(&Vec3::new(a, -a, 0.0))).unwrap();
     let s = ((1.0 + 4.0 * a * tau).sqrt() - 1.0) / (2.0 * tau);
     let x0 = Vec3::new(1.0, 0.0, 0.0);

@@ -2,6 +2,7 @@
 //! out of its error test (`Particle::orientation_is_passive`, `integrator::stokesian`): which
 //! particles qualify, and that the barycentre still follows a closed form to its tolerance.
 
+use crate::common::heavy_sphere;
 use nalgebra::Complex;
 use pseudorigid::driver::{Observers, Problem, run};
 use pseudorigid::hydro::StokesSphere;
@@ -124,14 +125,8 @@ fn exact(t: f64, omega: f64, tau: f64) -> Complex<f64> {
 #[test]
 fn a_passive_sphere_in_solid_body_rotation_follows_the_closed_form() {
     let (omega, mu, rho, tau): (f64, f64, f64, f64) = (1.0, 1.0, 1.0, 0.1);
-    let r = (4.5 * mu * tau / rho).sqrt();
-    let particle = Particle::new(
-        Ellipsoid::aligned([r; 3]).unwrap(),
-        Rigid,
-        Fluid::new(mu, 0.0).unwrap(),
-        rho,
-    )
-    .unwrap();
+    let particle = heavy_sphere(tau, mu, rho);
+    let r = particle.shape().semi_axes()[0];
     assert!(particle.orientation_is_passive());
     let spin = Mat3::new(0.0, -omega, 0.0, omega, 0.0, 0.0, 0.0, 0.0, 0.0);
     let flow = LinearFlow::new(Vec3::zeros(), spin).unwrap();
