@@ -114,6 +114,15 @@ fn run_pipe<I: Stepper<Softness<NeoHooke>, Brenner> + std::fmt::Debug>(
     run(&case, &config(4), Shard::ALL, &RunOptions::default().quiet()).unwrap()
 }
 
+/// The record's steps and the slow manifold's columns, in the order the test reads them.
+const MANIFOLD_COLUMNS: [&str; 5] = [
+    "steps",
+    "manifold_steps",
+    "full_steps",
+    "manifold_max_ratio",
+    "manifold_delta_max",
+];
+
 /// The slow-manifold switch in the records and their columns (issue 36, item 3), on the
 /// settling pipe: stiff neo-Hookean spheres (Ca = 10⁻³: k = 2/(3Ca) ≈ 667 against the pipe's
 /// strain rates ≤ 4Ū/R = 0.2) under `auto` at rtol 10⁻³, which puts them on the slow manifold
@@ -146,14 +155,7 @@ fn records_carry_the_slow_manifold_switch() {
         let json = serde_json::to_string(r).unwrap();
         assert_eq!(serde_json::from_str::<ParticleRecord<NeoHooke>>(&json).unwrap(), *r);
     }
-    let [steps, on, off, ratio, bound] = [
-        "steps",
-        "manifold_steps",
-        "full_steps",
-        "manifold_max_ratio",
-        "manifold_delta_max",
-    ]
-    .map(|name| column_values(&soft, name));
+    let [steps, on, off, ratio, bound] = MANIFOLD_COLUMNS.map(|name| column_values(&soft, name));
     for i in 0..steps.len() {
         assert_eq!(Some(on[i].unwrap() + off[i].unwrap()), steps[i], "particle {i}");
         assert!(ratio[i].unwrap() <= bound[i].unwrap(), "particle {i}");
@@ -175,14 +177,7 @@ fn records_carry_the_slow_manifold_switch() {
                 None => assert!(!serde_json::to_string(r).unwrap().contains("manifold")),
             }
         }
-        let [steps, on, off, ratio, bound] = [
-            "steps",
-            "manifold_steps",
-            "full_steps",
-            "manifold_max_ratio",
-            "manifold_delta_max",
-        ]
-        .map(|name| column_values(&out, name));
+        let [steps, on, off, ratio, bound] = MANIFOLD_COLUMNS.map(|name| column_values(&out, name));
         assert!(on.iter().all(|v| *v == Some(0.0)), "{on:?}");
         assert_eq!(off, steps);
         assert!(ratio.iter().all(Option::is_none), "{ratio:?}");
