@@ -99,7 +99,7 @@ fn constant_breath_is_the_steady_study_shifted_in_time() {
         match b.fate {
             Fate::Deposited { time, .. } | Fate::Escaped { time, .. } if b.fate.label() == a.fate.label() => {
                 let dt = (time - t0 - steady_end).abs();
-                let speed = a.end.as_ref().map_or(0.0, |end| end.v.norm());
+                let speed = a.end.as_ref().expect("a finished record keeps its end state").v.norm();
                 let steps = (a.stats.steps + b.stats.steps) as f64;
                 let allowed = steps * pseudorigid::studies::bifurcation::study::ATOL / speed;
                 assert!(
