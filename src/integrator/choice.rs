@@ -31,7 +31,7 @@ use super::{BarycentreModel, Frame, Scheme, Step, Stokesian, TimeIntegrator, Tol
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
-use crate::material::Response;
+use crate::material::{Response, StressLaw};
 use crate::particle::manifold::SlowManifold;
 use crate::particle::{Particle, State};
 use crate::tensor::Mat3;
@@ -100,7 +100,9 @@ pub struct ParticleNumbers {
     /// δ̄ = γ̇/k: the slow-manifold expansion ratio ([`SlowManifold::ratio`]) at the flow's
     /// mean strain rate, k the particle's slowest elastic relaxation rate
     /// ([`SlowManifold::relaxation_rate`]); 0 for a rigid particle, ∞ where the flow has no
-    /// rate.
+    /// rate or the law is not isotropic ([`crate::material::Hyperelastic::is_isotropic`]: the
+    /// manifold's quasi-static stretch is the isotropic small-strain one, so such a particle
+    /// keeps the full shape model).
     pub shape_ratio: f64,
 }
 
@@ -127,7 +129,12 @@ impl ParticleNumbers {
         let tau = Self::response_time(particle)?;
         let rate = flow.strain_rate().unwrap_or(f64::INFINITY);
         let d_eq = 2.0 * particle.shape().semi_axes().product().cbrt();
-        let shape_ratio = SlowManifold::of(particle)?.map_or(0.0, |m| rate / m.relaxation_rate());
+        let isotropic = particle.elastic().is_none_or(|law| law.is_isotropic());
+        let shape_ratio = match SlowManifold::of(particle)? {
+            Some(m) if isotropic => rate / m.relaxation_rate(),
+            Some(_) => f64::INFINITY,
+            None => 0.0,
+        };
         Ok(Self {
             stokes: tau * rate,
             rho_star: particle.rho_solid() * rate * d_eq * d_eq / particle.fluid().mu,

@@ -61,6 +61,23 @@
 //! steps; those steps are rejected 0.82 times each against 0.33 in the full model's own run
 //! (1 334 exits from the manifold over 1 000 particles), which costs 14 % CPU over the full
 //! model alone. Why a handover raises the rejections of the full steps after it is not known.
+//!
+//! # The rotation of an isotropic sphere is not tested
+//! The table above tested the rigid twin's rotation R. For a sphere whose law is isotropic
+//! ([`crate::material::Hyperelastic::is_isotropic`]) nothing on the manifold depends on R: the
+//! turned rest geometry is the same sphere, V depends on ∇u alone, and B = F Fᵀ = V R Rᵀ V = V².
+//! So the twin's step measures only x and v, as a rigid sphere's does
+//! ([`crate::particle::Particle::orientation_is_passive`]); F = V R still carries R, integrated
+//! but not controlled. A law that does not say it is isotropic never goes on the manifold
+//! ([`super::choice`]): the quasi-static stretch here is the isotropic small-strain one.
+//! Measured 2 Dec 2026 with the studies' integrator (`examples/population_scaling --bifurcation
+//! 0.1 --mu-s MU_S --records`/`--pair`, 1 000 spheres, rtol 10⁻², one thread; rigid: 108 914
+//! steps, 1.15 s CPU): 5 Pa 177 k → 125 k steps, 2.59 → 1.48 s (1.29× rigid); 50 Pa 163 k →
+//! 109 249, 2.09 → 1.20 s (1.04×); 500 Pa 163 k → 109 245, 2.25 → 1.32 s (1.15×); 0.5 Pa (the
+//! full model) unchanged, 271 k steps, 2.78 s (2.4×). Fates paired with the tested rotation:
+//! none changed at any modulus. Against the Radau IIA reference (`manifold_bifurcation 300 7
+//! 5,50,500`, rtol 10⁻³): ΔB median, max 1.7e-5, 1.1e-2 (5 Pa), 4.3e-7, 9.7e-4 (50 Pa), 6.5e-8,
+//! 8.3e-5 (500 Pa), no fate changed; the table's numbers or below.
 
 use super::dense::Knot;
 use super::stokesian::StokesianMemory;

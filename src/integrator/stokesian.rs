@@ -34,6 +34,12 @@
 //! The closed form of a heavy sphere in solid-body rotation checks the barycentre
 //! (`tests/suite/integrator/passive_orientation.rs`). Radau IIA keeps F in its weighted norm:
 //! its Newton iteration measures convergence in the same norm.
+//!
+//! The same holds for the rigid twin that turns a stiff elastic sphere on the slow manifold
+//! ([`super::manifold`]) when its law is isotropic
+//! ([`crate::material::Hyperelastic::is_isotropic`]): the stretch V there depends on the flow
+//! alone and the shape B = V² on nothing of the rotation (measured in the manifold's module
+//! docs).
 
 use super::body_frame::BodyStep;
 use super::control::{ErrorNorm, Tolerances};

@@ -217,6 +217,11 @@ impl Hyperelastic for ExpressionLaw {
     fn lame_lambda(&self) -> f64 {
         self.lambda
     }
+
+    /// The expression's only variables are I₁, I₂ and J.
+    fn is_isotropic(&self) -> bool {
+        true
+    }
 }
 
 /// The top of a stack the parser made: it emits every operand before its operator, so an

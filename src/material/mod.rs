@@ -43,6 +43,17 @@ pub trait Hyperelastic: Send + Sync {
     /// Small-strain first Lamé parameter λ_s (bulk stiffness; J − 1 ~ stress/λ_s).
     fn lame_lambda(&self) -> f64;
 
+    /// Whether W depends on F only through the invariants of C = FᵀF: material isotropy,
+    /// W(F Q) = W(F) for every rotation Q. A sphere of such a law has no direction of its own,
+    /// so its rotation on the slow manifold enters nothing the model sees
+    /// ([`crate::particle::Particle::orientation_is_passive`]), and only such a law has the
+    /// manifold's isotropic quasi-static stretch ([`crate::integrator::manifold`]). Default
+    /// `false`: a law with fibres or other material directions keeps its particles' rotation
+    /// in the error test and the full shape model.
+    fn is_isotropic(&self) -> bool {
+        false
+    }
+
     /// First Piola–Kirchhoff stress P = ∂W/∂F (by AD unless overridden).
     fn piola(&self, f: &Mat3) -> Mat3 {
         piola_ad(self, f)
@@ -75,6 +86,8 @@ pub trait StressLaw: Send + Sync {
     fn shear_modulus(&self) -> f64;
     /// Small-strain first Lamé parameter λ_s.
     fn lame_lambda(&self) -> f64;
+    /// Material isotropy ([`Hyperelastic::is_isotropic`]).
+    fn is_isotropic(&self) -> bool;
 }
 
 impl<M: Hyperelastic> StressLaw for M {
@@ -95,6 +108,9 @@ impl<M: Hyperelastic> StressLaw for M {
     }
     fn lame_lambda(&self) -> f64 {
         Hyperelastic::lame_lambda(self)
+    }
+    fn is_isotropic(&self) -> bool {
+        Hyperelastic::is_isotropic(self)
     }
 }
 

@@ -85,6 +85,11 @@ impl Hyperelastic for MooneyRivlin {
     fn lame_lambda(&self) -> f64 {
         self.lambda
     }
+
+    /// W is a function of I₁, I₂ and J.
+    fn is_isotropic(&self) -> bool {
+        true
+    }
 }
 
 // Selectable by name: `material = { law = "mooney_rivlin", mu1 = μ₁, mu2 = μ₂, lambda = λ_s }`.

@@ -79,6 +79,11 @@ impl Hyperelastic for NeoHooke {
         self.lambda
     }
 
+    /// W is a function of I₁ and J.
+    fn is_isotropic(&self) -> bool {
+        true
+    }
+
     fn piola(&self, f: &Mat3) -> Mat3 {
         let f_inv_t = crate::tensor::inv_transpose(f);
         let ln_j = f.determinant().ln();

@@ -122,6 +122,9 @@ impl StressLaw for NamedLaw {
     fn lame_lambda(&self) -> f64 {
         self.law.lame_lambda()
     }
+    fn is_isotropic(&self) -> bool {
+        self.law.is_isotropic()
+    }
 }
 
 /// The serialised form of a [`NamedLaw`]: `{ "law": name, parameters... }`, as in a scene.

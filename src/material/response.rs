@@ -47,6 +47,9 @@ impl Hyperelastic for NoLaw {
     fn lame_lambda(&self) -> f64 {
         match *self {}
     }
+    fn is_isotropic(&self) -> bool {
+        match *self {}
+    }
 }
 
 impl Response for Rigid {

@@ -101,10 +101,10 @@ pub struct Particle<M, D = Brenner> {
     mass: f64,
     volume0: f64,
     theta_inv: Mat3,
-    /// A rigid twin of an elastic particle ([`Particle::rigid_twin`]): its rotation stands for
-    /// the elastic particle's, which an anisotropic law may need, so it is never passive
-    /// ([`Particle::orientation_is_passive`]).
-    elastic_twin: bool,
+    /// A rigid twin of an elastic particle whose law is not isotropic ([`Particle::rigid_twin`]):
+    /// its rotation stands for the elastic particle's, which the law's material directions
+    /// need, so it is never passive ([`Particle::orientation_is_passive`]).
+    anisotropic_twin: bool,
 }
 
 impl<M: Response> Particle<M, Brenner> {
@@ -143,7 +143,7 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             mass,
             volume0,
             theta_inv,
-            elastic_twin: false,
+            anisotropic_twin: false,
         };
         particle.check_rest_geometry()?;
         let rest = Geometry::try_of_total_distortion(&s)?;
@@ -374,7 +374,7 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             mass: self.mass,
             volume0: self.volume0,
             theta_inv: self.theta_inv,
-            elastic_twin: self.elastic_twin || self.elastic().is_some(),
+            anisotropic_twin: self.anisotropic_twin || self.elastic().is_some_and(|law| !law.is_isotropic()),
         }
     }
 
@@ -385,11 +385,14 @@ impl<M: Response, D: DragModel> Particle<M, D> {
     /// traction and every force are the same for any F ∈ SO(3). The Rosenbrock-W step still
     /// integrates F (the output carries it) but leaves it out of its error test, so the steps
     /// follow the barycentre alone ([`crate::integrator::Stokesian`]). Never for an elastic
-    /// particle or its rigid twin.
+    /// particle (its F is its deformation). The rigid twin of an elastic sphere
+    /// ([`Self::rigid_twin`], the slow manifold's rotation) is passive when its law is
+    /// isotropic ([`crate::material::Hyperelastic::is_isotropic`]): the manifold's stretch V
+    /// then depends on the flow alone, and the shape B = F Fᵀ = V² on nothing of the rotation.
     pub fn orientation_is_passive(&self) -> bool {
         let r = self.shape.semi_axes();
         self.elastic().is_none()
-            && !self.elastic_twin
+            && !self.anisotropic_twin
             && r.max() == r.min()
             && self.drag.isotropic_on_spheres()
             && self.forces.orientation_free_on_spheres()

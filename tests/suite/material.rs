@@ -133,3 +133,42 @@ proptest! {
         prop_assert!((text.tangent(&f) - mr.tangent(&f)).abs().max() <= round_off(tangent_bound(mu, lambda)));
     }
 }
+
+proptest! {
+    /// The laws that say they are isotropic (`Hyperelastic::is_isotropic`) are: W(F Q) = W(F)
+    /// for random F and rotations Q (material isotropy; objectivity is W(Q F) = W(F)), to the
+    /// round-off of W's O(10) terms of size ≤ |W| + μ + λ. The fibre-reinforced law
+    /// (`common::Fibred`) does not say so, and the same check fails for it: its energy
+    /// changes by O(k) when Q turns the fibre (so the check can tell the two apart).
+    #[test]
+    fn laws_that_say_they_are_isotropic_are(f in strategies::deformation(), q in strategies::rotation(), mu in 0.1f64..10.0, ratio in 1.0f64..1e3, beta in 0.0f64..1.0) {
+        let lambda = mu * ratio;
+        let nh = NeoHooke::new(mu, lambda).unwrap();
+        let mr = MooneyRivlin::new((1.0 - beta) * mu, beta * mu, lambda).unwrap();
+        let text = ExpressionLaw::new(
+            "mu/2*(I1 - 3) - mu*ln(J) + lambda/2*ln(J)^2 + c*(I2 - 3)^2",
+            [("mu".to_string(), mu), ("lambda".to_string(), lambda), ("c".to_string(), 0.1 * mu)].into_iter().collect(),
+        ).unwrap();
+        let fq = f * q;
+        let check = |w: f64, wq: f64| (w - wq).abs() <= 1e-12 * (w.abs() + mu + lambda);
+        prop_assert!(nh.is_isotropic() && check(nh.energy(&f), nh.energy(&fq)));
+        prop_assert!(mr.is_isotropic() && check(mr.energy(&f), mr.energy(&fq)));
+        prop_assert!(text.is_isotropic() && check(text.energy(&f), text.energy(&fq)));
+    }
+}
+
+/// The other side of the check above: a law with a material direction is not invariant under
+/// F → F Q and keeps the default `is_isotropic() == false`. At F = diag(1.2, 1, 1/1.2) and Q a
+/// quarter turn about e₃ the fibre's I₄ goes from 1.44 to 1, so W changes by (k/2)·0.44².
+#[test]
+fn a_fibred_law_is_not_isotropic() {
+    let fibred = common::Fibred {
+        matrix: NeoHooke::new(1.0, 10.0).unwrap(),
+        k: 5.0,
+    };
+    assert!(!fibred.is_isotropic());
+    let f = Mat3::from_diagonal(&Vec3::new(1.2, 1.0, 1.0 / 1.2));
+    let q = Mat3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+    let change: f64 = fibred.energy(&f) - fibred.energy(&(f * q));
+    assert!((change - 2.5 * 0.44 * 0.44).abs() < 1e-12, "ΔW = {change}");
+}

@@ -99,3 +99,26 @@ pub fn heavy_sphere(tau: f64, mu: f64, rho: f64) -> pseudorigid::particle::Parti
     )
     .unwrap()
 }
+
+/// A fibre-reinforced Neo-Hookean solid (a hydrogel with aligned fibres): W = W_NH + (k/2)(I₄ − 1)²
+/// with I₄ = e₁·C e₁ = |F e₁|², the stretch of the fibre that lies along e₁ at rest. Not
+/// isotropic: it keeps `Hyperelastic::is_isotropic`'s default.
+pub struct Fibred {
+    /// The matrix.
+    pub matrix: pseudorigid::material::NeoHooke,
+    /// The fibre stiffness k.
+    pub k: f64,
+}
+
+impl pseudorigid::material::Hyperelastic for Fibred {
+    fn energy<S: pseudorigid::tensor::Scalar>(&self, f: &nalgebra::Matrix3<S>) -> S {
+        let i4 = f[(0, 0)] * f[(0, 0)] + f[(1, 0)] * f[(1, 0)] + f[(2, 0)] * f[(2, 0)];
+        self.matrix.energy(f) + (i4 - 1.0) * (i4 - 1.0) * (0.5 * self.k)
+    }
+    fn shear_modulus(&self) -> f64 {
+        self.matrix.shear_modulus()
+    }
+    fn lame_lambda(&self) -> f64 {
+        self.matrix.lame_lambda()
+    }
+}

@@ -145,6 +145,24 @@ fn shape_ratio_is_the_strain_rate_over_the_sphere_relaxation_rate() {
     }
     let rigid = Particle::new(Ellipsoid::aligned([1e-5; 3]).unwrap(), Rigid, fluid, 1e3).unwrap();
     assert_eq!(ParticleNumbers::of(&rigid, &flow).unwrap().shape_ratio, 0.0);
+    // A law with a material direction is not what the manifold's isotropic stretch describes:
+    // the ratio is ∞, so the choice keeps the full shape model however stiff the particle.
+    let fibred = Particle::new(
+        Ellipsoid::aligned([1e-5; 3]).unwrap(),
+        crate::common::Fibred {
+            matrix: NeoHooke::new(500.0, 5e4).unwrap(),
+            k: 500.0,
+        },
+        fluid,
+        1e3,
+    )
+    .unwrap();
+    let numbers = ParticleNumbers::of(&fibred, &flow).unwrap();
+    assert_eq!(numbers.shape_ratio, f64::INFINITY);
+    assert!(matches!(
+        choice::choose(numbers, Tolerances::uniform(1e-2).unwrap()).unwrap().integrator,
+        Chosen::Full(_)
+    ));
 }
 
 proptest! {

@@ -44,6 +44,7 @@ fn rigid(semi_axes: [f64; 3]) -> Particle<Rigid> {
 
 #[test]
 fn only_a_rigid_sphere_whose_drag_and_forces_are_isotropic_is_passive() {
+    // (and the rigid twin of an isotropic elastic sphere, which the slow manifold turns)
     let sphere = rigid([1e-5; 3]);
     assert!(sphere.orientation_is_passive());
     assert!(
@@ -62,8 +63,22 @@ fn only_a_rigid_sphere_whose_drag_and_forces_are_isotropic_is_passive() {
         "an elastic sphere's F is its deformation"
     );
     assert!(
-        !soft.rigid_twin().orientation_is_passive(),
-        "the twin's rotation is the elastic particle's"
+        soft.rigid_twin().orientation_is_passive(),
+        "an isotropic elastic sphere's twin turns nothing the slow manifold sees"
+    );
+    let fibred = Particle::new(
+        Ellipsoid::aligned([1e-5; 3]).unwrap(),
+        crate::common::Fibred {
+            matrix: NeoHooke::new(1.0, 1e3).unwrap(),
+            k: 1.0,
+        },
+        Fluid::new(1e-3, 1e3).unwrap(),
+        1e3,
+    )
+    .unwrap();
+    assert!(
+        !fibred.rigid_twin().orientation_is_passive(),
+        "the twin's rotation turns the fibres of a fibred sphere"
     );
     // Every term of the crate sees a sphere's frame through its shape only.
     let all = forces::names()
