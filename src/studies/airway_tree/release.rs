@@ -29,7 +29,6 @@ use crate::population::{Computed, Fate, RunOptions, RunOutput, SummaryError};
 use crate::studies::bifurcation::Kind;
 use crate::studies::bifurcation::StudyRun;
 use crate::tensor::Vec3;
-use std::path::Path;
 
 /// Thresholds of the largest principal stretch λ₁ scanned by the study: from barely deformed
 /// (1.01) past the rupture stretch of a brittle alginate gel (about 1.2, Sun et al., Nature 489
@@ -404,7 +403,7 @@ pub fn release_map(rows: &Map<'_>, particles: u64) -> Result<PolyData, VtkError>
 /// `zone`, one row per release event of the particles with index below `particles` (as
 /// [`release_map`]).
 #[cfg(feature = "parquet")]
-pub fn write_release_parquet(rows: &Map<'_>, particles: u64, path: &Path) -> Result<(), AirwayTreeError> {
+pub fn write_release_parquet(rows: &Map<'_>, particles: u64, path: &std::path::Path) -> Result<(), AirwayTreeError> {
     use crate::output::parquet::Table;
     use crate::studies::bifurcation::Material;
     let events: Vec<(&Kind, &ReleaseEvent)> = rows
