@@ -160,7 +160,9 @@ fn shape_ratio_is_the_strain_rate_over_the_sphere_relaxation_rate() {
     let numbers = ParticleNumbers::of(&fibred, &flow).unwrap();
     assert_eq!(numbers.shape_ratio, f64::INFINITY);
     assert!(matches!(
-        choice::choose(numbers, Tolerances::uniform(1e-2).unwrap()).unwrap().integrator,
+        choice::choose(numbers, Tolerances::uniform(1e-2).unwrap())
+            .unwrap()
+            .integrator,
         Chosen::Full(_)
     ));
 }
