@@ -19,6 +19,25 @@
 //! their corners a scene caps the step by its flow speed ([`crate::driver::Plan::with_dt_max`]),
 //! as the cavity does.
 //!
+//! # Room along smooth walls
+//! Along most of a duct's wall the full speed is far too cautious: a sphere gliding parallel to
+//! the wall a diameter away takes steps of about its own size, and on the 90° bend 89 % of the
+//! steps are taken within about 0.4 mm of a wall. Where a mesh boundary knows that within a distance ρ of the barycentre
+//! (its [`Gap::room`](super::Gap::room)) every face lies beyond the plane where the gap is
+//! measured, or the faces bound a convex fluid side ([`crate::contact::mesh`], Room), the normal
+//! velocity is again all that closes the gap, as long as the particle stays inside that
+//! distance:
+//! ```math
+//! \Delta t \le \max\Big(\frac{g + \delta_s}{|v| + r_1|\nabla u|},\ \min\Big(\frac{g + \delta_s}{|v·n| + r_1|\nabla u|},\ \frac{\rho − r_1}{|v| + r_1|\nabla u|}\Big)\Big).
+//! ```
+//! Beyond the plane nothing can be touched in the first case. In the second a straight move
+//! between two points of the convex fluid side stays in it, so a move that meets a wall ends
+//! beyond it, where the gap at the step's end is negative and the event is located as any
+//! other. (Both are statements about straight moves at the current rates, as the cap always
+//! was.) On the bend race's 1 000 rigid spheres (`openfoam_race --integrator auto --tol 1e-2`)
+//! the steps fell from 182 to 112 per particle with every fate the same; on the airway
+//! bifurcation, where few steps are spent near the walls, by under 1 %.
+//!
 //! # Queries skipped far from the walls
 //! The nearest-face query of mesh walls costs as much as a third of a Radau step. Where the
 //! boundary knows a lower bound c of the distance from the barycentre to its faces without a
@@ -225,19 +244,27 @@ where
             // Outside the flow the step fails anyway; do not cap.
             Err(_) => return f64::INFINITY,
         };
-        let (gap, r1, approach) = match self.bound(state) {
+        // The step within which the gap can close by at most g + δ_s at the rate `approach`.
+        let cap = |gap: f64, r1: f64, approach: f64| {
+            (gap.max(0.0) + self.slack) / (approach + r1 * sweep).max(f64::MIN_POSITIVE)
+        };
+        match self.bound(state) {
             // Only on mesh walls, whose approach is the full speed.
-            Some((bound, r1)) => (bound, r1, state.v.norm()),
+            Some((bound, r1)) => cap(bound, r1, state.v.norm()),
             None => {
                 let Seen { near, r1, .. } = self.seen(state);
-                let approach = match self.boundary.approach() {
-                    Approach::Normal => state.v.dot(&near.normal).abs(),
-                    Approach::AnyDirection => state.v.norm(),
-                };
-                (near.gap, r1, approach)
+                let normal = cap(near.gap, r1, state.v.dot(&near.normal).abs());
+                match self.boundary.approach() {
+                    Approach::Normal => normal,
+                    // Within its room only the normal velocity closes the gap (module docs):
+                    // the step may be as long as the particle stays inside the room.
+                    Approach::AnyDirection => {
+                        let speed = (state.v.norm() + r1 * sweep).max(f64::MIN_POSITIVE);
+                        let inside = (near.room - r1).max(0.0) / speed;
+                        cap(near.gap, r1, state.v.norm()).max(normal.min(inside))
+                    }
+                }
             }
-        };
-        let rate = approach + r1 * sweep;
-        (gap.max(0.0) + self.slack) / rate.max(f64::MIN_POSITIVE)
+        }
     }
 }

@@ -58,6 +58,29 @@
 //! exterior angle θ between the faces. The answer bounds the distance to the walls; the
 //! contact event halves it for the gap ([`super::ContactEvent`]). The grid has 64 bins per face, at most 2²² (64 MiB),
 //! over the faces' bounding box.
+//!
+//! # Room
+//! Next to a wall the contact event caps a step by the full speed, because moving along the
+//! nearest face can reach another one ([`super::event`]). Where the faces about it are shaped
+//! so that it cannot, the gap says so with its room ([`Gap::room`]): about the centre of each
+//! face i, the largest ball of radius 8, 4 or 2 times the face's circumradius (holding at most
+//! 96 faces) within which either
+//! - every face lies on or beyond face i's plane (its points: vertices and centre, within face
+//!   i's own warp, the largest distance of its vertices from its plane): a particle that keeps to
+//!   the fluid's side of that plane touches none of them (a convex ridge, a flat wall); or
+//! - every face has every face on its fluid's side (each within its own warp): the faces bound a
+//!   convex region, so a straight move between two points of the fluid stays in it (a pipe's
+//!   concave wall, an outlet's rim).
+//!
+//! The room of a particle is that radius less its distance from the face centre, given only
+//! where the face covers the support point (the gap is then the plane's). It is computed on
+//! first use per face. A saddle (the inner wall of a bend, the flanks of a carina) passes
+//! neither test and keeps the full-speed cap. The tests see each face as its plane, within its
+//! warp, as the gap does (a covered face's gap is the distance to its plane, not to its fan of
+//! triangles); warps measured: median 0.07 µm, largest 1.1 µm on the 90° bend's wall (faces of
+//! circumradius 0.32 mm), median 0.14 µm, largest 28 µm on the shipped bifurcation. Checked
+//! against the fans themselves by brute force on the shipped bifurcation
+//! (`tests/suite/contact.rs`: a segment–triangle test against every face).
 
 use super::{Approach, Boundary, Extent, Gap, PatchRule};
 use crate::ellipsoid::frame::support_distance;
@@ -76,6 +99,11 @@ pub struct FaceGap {
     pub gap: f64,
     /// Outward unit normal of the face.
     pub normal: Vec3,
+    /// Index of the face in the set ([`PatchSet::face`]).
+    pub index: usize,
+    /// Whether the particle's support point projects into the face, so that `gap` is the gap
+    /// to its plane (module docs); otherwise `gap` is a lower bound.
+    pub covered: bool,
 }
 
 /// Gap between an ellipsoidal particle and a boundary.
@@ -129,6 +157,8 @@ impl PatchGap for PatchSet {
                 patch,
                 gap,
                 normal: n,
+                index: i,
+                covered: false,
             };
             // The ellipsoid's extreme point along n (a point particle's centre), projected onto
             // the face plane.
@@ -142,7 +172,10 @@ impl PatchGap for PatchSet {
                 // Ties (a support point over a shared edge) go to the lowest face number, so
                 // the answer does not depend on the index's traversal order.
                 if covered.is_none_or(|c| (gap, candidate.face) < (c.gap, c.face)) {
-                    covered = Some(candidate);
+                    covered = Some(FaceGap {
+                        covered: true,
+                        ..candidate
+                    });
                 }
             } else {
                 let d = (face_centre - projected).norm();
@@ -182,6 +215,73 @@ pub struct MeshBoundary {
     names: Vec<String>,
     rules: Vec<PatchRule>,
     clearance: Clearance,
+    /// Each face's [`room`], computed on first use.
+    rooms: Vec<OnceLock<f64>>,
+}
+
+/// Radii of the neighbourhoods [`room`] tries about a face, in multiples of its circumradius,
+/// largest first.
+const ROOM_RADII: [f64; 3] = [8.0, 4.0, 2.0];
+/// Faces a neighbourhood may hold: its convexity test is quadratic in them.
+const ROOM_FACES: usize = 96;
+
+/// The radius of the largest ball about face i's centre (of [`ROOM_RADII`] times its
+/// circumradius) within which every face of the set lies beyond face i's plane, or the faces
+/// bound a convex fluid side (module docs, Room); 0 if none.
+fn room(set: &PatchSet, i: usize) -> f64 {
+    let SetFace { centre, .. } = set.face(i);
+    let circumradius = set.polygon(i).iter().map(|v| (v - centre).norm()).fold(0.0, f64::max);
+    for k in ROOM_RADII {
+        let radius = k * circumradius;
+        let near: Vec<usize> = set
+            .by_box_distance(&centre)
+            .take_while(|&(_, d)| d <= radius)
+            .take(ROOM_FACES + 1)
+            .map(|(j, _)| j)
+            .collect();
+        if near.len() > ROOM_FACES {
+            continue;
+        }
+        let tolerance = 1e-12 * radius;
+        if beyond_plane(set, &near, i, tolerance) || near.iter().all(|&k| fluid_side(set, &near, k, tolerance)) {
+            return radius;
+        }
+    }
+    0.0
+}
+
+/// The points that span face j: its vertices and its centre.
+fn points(set: &PatchSet, j: usize) -> impl Iterator<Item = Vec3> + '_ {
+    set.polygon(j)
+        .iter()
+        .copied()
+        .chain(std::iter::once(set.face(j).centre))
+}
+
+/// How far face i's vertices lie off its plane (a warped face's).
+fn warp(set: &PatchSet, i: usize) -> f64 {
+    let SetFace { centre, normal, .. } = set.face(i);
+    set.polygon(i)
+        .iter()
+        .map(|v| (v - centre).dot(&normal).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Whether every point of the faces `near` lies on or beyond face i's plane (within its warp).
+fn beyond_plane(set: &PatchSet, near: &[usize], i: usize, tolerance: f64) -> bool {
+    let SetFace { centre, normal, .. } = set.face(i);
+    let within = warp(set, i) + tolerance;
+    near.iter()
+        .all(|&j| points(set, j).all(|p| (p - centre).dot(&normal) >= -within))
+}
+
+/// Whether every point of the faces `near` lies on the fluid's side of face k's plane (within its
+/// warp).
+fn fluid_side(set: &PatchSet, near: &[usize], k: usize, tolerance: f64) -> bool {
+    let SetFace { centre, normal, .. } = set.face(k);
+    let within = warp(set, k) + tolerance;
+    near.iter()
+        .all(|&j| points(set, j).all(|p| (p - centre).dot(&normal) <= within))
 }
 
 /// Largest number of clearance bins (16 bytes each), and per boundary face.
@@ -293,6 +393,7 @@ impl MeshBoundary {
         Ok(Self {
             fingerprint,
             clearance: Clearance::new(&set),
+            rooms: (0..set.len()).map(|_| OnceLock::new()).collect(),
             set,
             names,
             mesh_patches,
@@ -318,6 +419,14 @@ impl Boundary for MeshBoundary {
             .set
             .nearest_gap(x, &axes, &q)
             .expect("MeshBoundary::new keeps at least one face");
+        // Room only where the gap is the covered face's plane gap, which the cap closes.
+        let room = if hit.covered {
+            let centre = self.set.face(hit.index).centre;
+            let radius = *self.rooms[hit.index].get_or_init(|| room(&self.set, hit.index));
+            (radius - (x - centre).norm()).max(0.0)
+        } else {
+            0.0
+        };
         Gap {
             patch: self
                 .mesh_patches
@@ -326,6 +435,7 @@ impl Boundary for MeshBoundary {
                 .expect("faces come from the listed patches"),
             gap: hit.gap,
             normal: hit.normal,
+            room,
         }
     }
 

@@ -71,6 +71,13 @@ pub struct Gap {
     pub gap: f64,
     /// Outward unit normal n of the patch where the gap is measured.
     pub normal: Vec3,
+    /// How far from the barycentre the walls are known to be shaped so that only the velocity
+    /// along `normal` can close the gap within a step (an [`Approach::AnyDirection`]
+    /// boundary's local [`Approach::Normal`]; [`ContactEvent`] explains the cap): within this
+    /// distance every boundary face lies beyond the plane where the gap is measured, or the
+    /// fluid's side of the boundary is convex. 0 where the boundary knows no such
+    /// neighbourhood.
+    pub room: f64,
 }
 
 /// Which velocity closes the gap to a boundary's patches within one step (see the module docs).
@@ -121,6 +128,7 @@ impl Boundary for Unbounded {
             patch: 0,
             gap: f64::INFINITY,
             normal: Vec3::zeros(),
+            room: 0.0,
         }
     }
 

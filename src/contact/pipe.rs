@@ -43,7 +43,12 @@ impl Boundary for PipeWall {
         };
         // On the axis every radial direction is a normal; the gap does not depend on it there.
         let normal = x_perp.try_normalize(0.0).unwrap_or_else(Vec3::y);
-        Gap { patch: 0, gap, normal }
+        Gap {
+            patch: 0,
+            gap,
+            normal,
+            room: 0.0,
+        }
     }
 
     fn patch_name(&self, _patch: usize) -> &str {

@@ -84,6 +84,7 @@ impl Boundary for Planes {
             patch: 0,
             gap: f64::INFINITY,
             normal: self.walls[0].normal,
+            room: 0.0,
         };
         for (patch, gap) in self.gaps(x, extent).enumerate() {
             if gap < best.gap || gap.is_nan() {
@@ -91,6 +92,7 @@ impl Boundary for Planes {
                     patch,
                     gap,
                     normal: self.walls[patch].normal,
+                    room: 0.0,
                 };
                 if gap.is_nan() {
                     break;

@@ -64,6 +64,7 @@ impl Boundary for TorusWall {
             patch: 0,
             gap: self.tube_radius - distance - reach,
             normal,
+            room: 0.0,
         }
     }
 

@@ -243,6 +243,12 @@ impl PatchSet {
         }
     }
 
+    /// The vertices of face i of the set, in order around it (its fan of triangles joins them
+    /// to [`SetFace::centre`]).
+    pub fn polygon(&self, i: usize) -> &[Vec3] {
+        &self.vertices[self.offsets[i]..self.offsets[i + 1]]
+    }
+
     /// Largest distance from a face's centre to its vertices.
     pub fn circumradius(&self) -> f64 {
         self.circumradius

@@ -146,6 +146,7 @@ impl Boundary for Floor {
             patch: 0,
             gap: x[2] - extent.support(&-Vec3::z()),
             normal: -Vec3::z(),
+            room: 0.0,
         }
     }
     fn patch_name(&self, _: usize) -> &str {
