@@ -220,68 +220,84 @@ pub struct MeshBoundary {
 }
 
 /// Radii of the neighbourhoods [`room`] tries about a face, in multiples of its circumradius,
-/// largest first.
-const ROOM_RADII: [f64; 3] = [8.0, 4.0, 2.0];
+/// smallest first.
+const ROOM_RADII: [f64; 3] = [2.0, 4.0, 8.0];
 /// Faces a neighbourhood may hold: its convexity test is quadratic in them.
 const ROOM_FACES: usize = 96;
 
 /// The radius of the largest ball about face i's centre (of [`ROOM_RADII`] times its
 /// circumradius) within which every face of the set lies beyond face i's plane, or the faces
 /// bound a convex fluid side (module docs, Room); 0 if none.
+///
+/// Both tests hold in a ball if they hold in a larger one (fewer faces), so the radii are
+/// tried from the smallest, and the first that fails ends the search: most faces of a snapped
+/// wall fail at the smallest, at the cost of a few dozen pairs.
 fn room(set: &PatchSet, i: usize) -> f64 {
     let SetFace { centre, .. } = set.face(i);
     let circumradius = set.polygon(i).iter().map(|v| (v - centre).norm()).fold(0.0, f64::max);
+    let largest = ROOM_RADII[ROOM_RADII.len() - 1] * circumradius;
+    let (own, tolerance) = (Plane::of(set, i), 1e-12 * largest);
+    // In order of their boxes' distance, fetched as far as each ball needs.
+    let mut fetch = set.by_box_distance(&centre).peekable();
+    let mut near: Vec<Plane> = Vec::new();
+    let mut room = 0.0;
     for k in ROOM_RADII {
         let radius = k * circumradius;
-        let near: Vec<usize> = set
-            .by_box_distance(&centre)
-            .take_while(|&(_, d)| d <= radius)
-            .take(ROOM_FACES + 1)
-            .map(|(j, _)| j)
-            .collect();
-        if near.len() > ROOM_FACES {
-            continue;
+        while near.len() <= ROOM_FACES
+            && let Some((j, _)) = fetch.next_if(|&(_, d)| d <= radius)
+        {
+            near.push(Plane::of(set, j));
         }
-        let tolerance = 1e-12 * radius;
-        if beyond_plane(set, &near, i, tolerance) || near.iter().all(|&k| fluid_side(set, &near, k, tolerance)) {
-            return radius;
+        // More faces than a test may take.
+        if near.len() > ROOM_FACES {
+            break;
+        }
+        let supported = near
+            .iter()
+            .all(|f| f.points.iter().all(|p| own.height(p) >= -(own.warp + tolerance)));
+        let convex = || {
+            near.iter().all(|k| {
+                near.iter()
+                    .all(|f| f.points.iter().all(|p| k.height(p) <= k.warp + tolerance))
+            })
+        };
+        if !(supported || convex()) {
+            break;
+        }
+        room = radius;
+    }
+    room
+}
+
+/// A face as the room's tests see it: its plane, its warp and the points that span it.
+struct Plane {
+    centre: Vec3,
+    normal: Vec3,
+    /// How far its vertices lie off its plane (a warped face's).
+    warp: f64,
+    /// Its vertices and its centre.
+    points: Vec<Vec3>,
+}
+
+impl Plane {
+    fn of(set: &PatchSet, j: usize) -> Self {
+        let SetFace { centre, normal, .. } = set.face(j);
+        let polygon = set.polygon(j);
+        Self {
+            centre,
+            normal,
+            warp: polygon
+                .iter()
+                .map(|v| (v - centre).dot(&normal).abs())
+                .fold(0.0, f64::max),
+            points: polygon.iter().copied().chain(std::iter::once(centre)).collect(),
         }
     }
-    0.0
-}
 
-/// The points that span face j: its vertices and its centre.
-fn points(set: &PatchSet, j: usize) -> impl Iterator<Item = Vec3> + '_ {
-    set.polygon(j)
-        .iter()
-        .copied()
-        .chain(std::iter::once(set.face(j).centre))
-}
-
-/// How far face i's vertices lie off its plane (a warped face's).
-fn warp(set: &PatchSet, i: usize) -> f64 {
-    let SetFace { centre, normal, .. } = set.face(i);
-    set.polygon(i)
-        .iter()
-        .map(|v| (v - centre).dot(&normal).abs())
-        .fold(0.0, f64::max)
-}
-
-/// Whether every point of the faces `near` lies on or beyond face i's plane (within its warp).
-fn beyond_plane(set: &PatchSet, near: &[usize], i: usize, tolerance: f64) -> bool {
-    let SetFace { centre, normal, .. } = set.face(i);
-    let within = warp(set, i) + tolerance;
-    near.iter()
-        .all(|&j| points(set, j).all(|p| (p - centre).dot(&normal) >= -within))
-}
-
-/// Whether every point of the faces `near` lies on the fluid's side of face k's plane (within its
-/// warp).
-fn fluid_side(set: &PatchSet, near: &[usize], k: usize, tolerance: f64) -> bool {
-    let SetFace { centre, normal, .. } = set.face(k);
-    let within = warp(set, k) + tolerance;
-    near.iter()
-        .all(|&j| points(set, j).all(|p| (p - centre).dot(&normal) <= within))
+    /// Height of `p` over the plane along the outward normal (positive: beyond it, in the wall).
+    fn height(&self, p: &Vec3) -> f64 {
+        (p - self.centre).dot(&self.normal)
+    }
 }
 
 /// Largest number of clearance bins (16 bytes each), and per boundary face.
