@@ -236,17 +236,17 @@ fn room(set: &PatchSet, i: usize) -> f64 {
     let SetFace { centre, .. } = set.face(i);
     let circumradius = set.polygon(i).iter().map(|v| (v - centre).norm()).fold(0.0, f64::max);
     let largest = ROOM_RADII[ROOM_RADII.len() - 1] * circumradius;
-    let (own, tolerance) = (Plane::of(set, i), 1e-12 * largest);
+    let (own, tolerance) = (FacePlane::of(set, i), 1e-12 * largest);
     // In order of their boxes' distance, fetched as far as each ball needs.
     let mut fetch = set.by_box_distance(&centre).peekable();
-    let mut near: Vec<Plane> = Vec::new();
+    let mut near: Vec<FacePlane> = Vec::new();
     let mut room = 0.0;
     for k in ROOM_RADII {
         let radius = k * circumradius;
         while near.len() <= ROOM_FACES
             && let Some((j, _)) = fetch.next_if(|&(_, d)| d <= radius)
         {
-            near.push(Plane::of(set, j));
+            near.push(FacePlane::of(set, j));
         }
         // More faces than a test may take.
         if near.len() > ROOM_FACES {
@@ -270,7 +270,7 @@ fn room(set: &PatchSet, i: usize) -> f64 {
 }
 
 /// A face as the room's tests see it: its plane, its warp and the points that span it.
-struct Plane {
+struct FacePlane {
     centre: Vec3,
     normal: Vec3,
     /// How far its vertices lie off its plane (a warped face's).
@@ -279,7 +279,7 @@ struct Plane {
     points: Vec<Vec3>,
 }
 
-impl Plane {
+impl FacePlane {
     fn of(set: &PatchSet, j: usize) -> Self {
         let SetFace { centre, normal, .. } = set.face(j);
         let polygon = set.polygon(j);
