@@ -74,7 +74,13 @@
 //!
 //! The room of a particle is that radius less its distance from the face centre, given only
 //! where the face covers the support point (the gap is then the plane's). It is computed on
-//! first use per face. A saddle (the inner wall of a bend, the flanks of a carina) passes
+//! first use per face: one query of the faces' boxes within the largest ball, and the heights
+//! of their points (kept in three coordinate arrays) over each plane. Measured on the 90°
+//! bend (callgrind, 300 spheres, `openfoam_race --integrator auto --no-soft`): the tracking
+//! took 2 239 M instructions with the faces fetched one by one by the incremental nearest
+//! search and each face's points in its own allocation, 2 133 M now (−4.7 %), with the same
+//! steps, rejections and fates to the particle (1 000 spheres: 111 598 steps, 3 729 rejected,
+//! 719 deposited either way). A saddle (the inner wall of a bend, the flanks of a carina) passes
 //! neither test and keeps the full-speed cap. The tests see each face as its plane, within its
 //! warp, as the gap does (a covered face's gap is the distance to its plane, not to its fan of
 //! triangles); warps measured: median 0.07 µm, largest 1.1 µm on the 90° bend's wall (faces of
@@ -237,30 +243,26 @@ fn room(set: &PatchSet, i: usize) -> f64 {
     let circumradius = set.polygon(i).iter().map(|v| (v - centre).norm()).fold(0.0, f64::max);
     let largest = ROOM_RADII[ROOM_RADII.len() - 1] * circumradius;
     let (own, tolerance) = (FacePlane::of(set, i), 1e-12 * largest);
-    // In order of their boxes' distance, fetched as far as each ball needs.
-    let mut fetch = set.by_box_distance(&centre).peekable();
-    let mut near: Vec<FacePlane> = Vec::new();
+    // Every face within the largest ball, in order of its box's distance.
+    let mut within: Vec<(usize, f64)> = set.within_box_distance(&centre, largest).collect();
+    within.sort_unstable_by(|a, b| a.1.total_cmp(&b.1));
+    let mut near: Vec<FacePlane> = Vec::with_capacity(within.len().min(ROOM_FACES));
+    let mut points = Points::default();
     let mut room = 0.0;
     for k in ROOM_RADII {
         let radius = k * circumradius;
-        while near.len() <= ROOM_FACES
-            && let Some((j, _)) = fetch.next_if(|&(_, d)| d <= radius)
-        {
-            near.push(FacePlane::of(set, j));
-        }
+        let count = within.partition_point(|&(_, d)| d <= radius);
         // More faces than a test may take.
-        if near.len() > ROOM_FACES {
+        if count > ROOM_FACES {
             break;
         }
-        let supported = near
-            .iter()
-            .all(|f| f.points.iter().all(|p| own.height(p) >= -(own.warp + tolerance)));
-        let convex = || {
-            near.iter().all(|k| {
-                near.iter()
-                    .all(|f| f.points.iter().all(|p| k.height(p) <= k.warp + tolerance))
-            })
-        };
+        for &(j, _) in &within[near.len()..count] {
+            let face = FacePlane::of(set, j);
+            points.extend(face.points());
+            near.push(face);
+        }
+        let supported = points.all_at_least(&own, -(own.warp + tolerance));
+        let convex = || near.iter().all(|k| points.all_at_most(k, k.warp + tolerance));
         if !(supported || convex()) {
             break;
         }
@@ -270,17 +272,17 @@ fn room(set: &PatchSet, i: usize) -> f64 {
 }
 
 /// A face as the room's tests see it: its plane, its warp and the points that span it.
-struct FacePlane {
+struct FacePlane<'a> {
     centre: Vec3,
     normal: Vec3,
     /// How far its vertices lie off its plane (a warped face's).
     warp: f64,
-    /// Its vertices and its centre.
-    points: Vec<Vec3>,
+    /// Its vertices.
+    polygon: &'a [Vec3],
 }
 
-impl FacePlane {
-    fn of(set: &PatchSet, j: usize) -> Self {
+impl<'a> FacePlane<'a> {
+    fn of(set: &'a PatchSet, j: usize) -> Self {
         let SetFace { centre, normal, .. } = set.face(j);
         let polygon = set.polygon(j);
         Self {
@@ -290,13 +292,52 @@ impl FacePlane {
                 .iter()
                 .map(|v| (v - centre).dot(&normal).abs())
                 .fold(0.0, f64::max),
-            points: polygon.iter().copied().chain(std::iter::once(centre)).collect(),
+            polygon,
         }
     }
 
-    /// Height of `p` over the plane along the outward normal (positive: beyond it, in the wall).
-    fn height(&self, p: &Vec3) -> f64 {
-        (p - self.centre).dot(&self.normal)
+    /// Its vertices and its centre.
+    fn points(&self) -> impl Iterator<Item = &Vec3> {
+        self.polygon.iter().chain(std::iter::once(&self.centre))
+    }
+}
+
+/// The points of the faces in a ball, in three arrays of coordinates: the room's tests take
+/// every point's height over a plane, (p − c)·n summed in the order of `Vector3::dot`, in a
+/// loop the compiler vectorises.
+#[derive(Default)]
+struct Points {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+}
+
+impl Points {
+    fn extend<'p>(&mut self, points: impl Iterator<Item = &'p Vec3>) {
+        for p in points {
+            self.x.push(p[0]);
+            self.y.push(p[1]);
+            self.z.push(p[2]);
+        }
+    }
+
+    /// The heights of every point over `plane`, along its outward normal (positive: beyond it,
+    /// in the wall), folded by `keep` from `true`.
+    fn heights_all(&self, plane: &FacePlane, keep: impl Fn(f64) -> bool) -> bool {
+        let (c, n) = (plane.centre, plane.normal);
+        self.x.iter().zip(&self.y).zip(&self.z).fold(true, |all, ((x, y), z)| {
+            all & keep((x - c[0]) * n[0] + (y - c[1]) * n[1] + (z - c[2]) * n[2])
+        })
+    }
+
+    /// Whether every point lies at least `low` over `plane`.
+    fn all_at_least(&self, plane: &FacePlane, low: f64) -> bool {
+        self.heights_all(plane, |h| h >= low)
+    }
+
+    /// Whether every point lies at most `high` over `plane`.
+    fn all_at_most(&self, plane: &FacePlane, high: f64) -> bool {
+        self.heights_all(plane, |h| h <= high)
     }
 }
 

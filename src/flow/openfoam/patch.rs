@@ -263,6 +263,20 @@ impl PatchSet {
             .map(move |hit| (hit.data as usize, hit.distance_2(&p).sqrt()))
     }
 
+    /// The faces whose bounding box lies within `radius` of `x`, in no order: (index in the
+    /// set, the box's distance, as [`Self::by_box_distance`] gives it). One query of the tree
+    /// where the radius is known beforehand, without the incremental search's heap.
+    pub fn within_box_distance(&self, x: &Vec3, radius: f64) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let p = [x[0], x[1], x[2]];
+        // The tree compares squared distances; a hair wider, so that every box whose distance
+        // is within `radius` once rooted is found, and the caller's filter decides.
+        let wide = radius * (1.0 + 1e-12);
+        self.boxes
+            .locate_within_distance(p, wide * wide)
+            .map(move |hit| (hit.data as usize, hit.distance_2(&p).sqrt()))
+            .filter(move |&(_, d)| d <= radius)
+    }
+
     /// The face whose centre is nearest to `x`: (face, patch, distance).
     pub fn nearest_face(&self, x: &Vec3) -> Option<(usize, usize, f64)> {
         let hit = self.tree.nearest_neighbor([x[0], x[1], x[2]])?;
