@@ -221,6 +221,47 @@ fn shipped_bifurcation() -> (
     (mesh, boundary)
 }
 
+/// `PatchSet::within_box_distance` (the room's query) against brute force on the shipped
+/// bifurcation: each face's bounding box (its vertices and centre) and the point's distance to
+/// it, computed here for every face. Every face within the radius is found and no face beyond it;
+/// a band of 10⁻⁹ of the radius on either side is left to the tree's own rounding of the same
+/// distance.
+#[cfg(feature = "mesh")]
+#[test]
+fn within_box_distance_finds_every_face_box_within_the_radius() {
+    use pseudorigid::flow::openfoam::PatchSet;
+    let (mesh, _) = shipped_bifurcation();
+    let faces = PatchSet::boundaries(&mesh);
+    let boxes: Vec<(Vec3, Vec3)> = (0..faces.len())
+        .map(|i| {
+            let c = faces.face(i).centre;
+            faces
+                .polygon(i)
+                .iter()
+                .fold((c, c), |(lo, hi), v| (lo.inf(v), hi.sup(v)))
+        })
+        .collect();
+    let mut found = 0usize;
+    for c in (0..mesh.n_cells()).step_by(997) {
+        let x = mesh.cell_centres()[c];
+        for radius in [1e-4, 5e-4, 2e-3] {
+            let got: std::collections::HashMap<usize, f64> = faces.within_box_distance(&x, radius).collect();
+            for (i, (lo, hi)) in boxes.iter().enumerate() {
+                let d = (lo - x).sup(&(x - hi)).sup(&Vec3::zeros()).norm();
+                match got.get(&i) {
+                    Some(&g) => {
+                        assert!(d <= radius * (1.0 + 1e-9), "face {i} at {d} found within {radius}");
+                        assert!((g - d).abs() <= 1e-9 * radius, "face {i}: distance {g} against {d}");
+                    }
+                    None => assert!(d > radius * (1.0 - 1e-9), "face {i} at {d} missed within {radius}"),
+                }
+            }
+            found += got.len();
+        }
+    }
+    assert!(found > 1000, "only {found} faces found: the points miss the walls");
+}
+
 /// `MeshBoundary::clearance` answers only inside the domain: a point carried past an outlet (or
 /// through a wall) within one step must reach the nearest-face query, whose gap is negative
 /// there, or the contact event never sees the exit. Points: every 5th face centre of each
