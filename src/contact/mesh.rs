@@ -303,8 +303,9 @@ impl<'a> FacePlane<'a> {
 }
 
 /// The points of the faces in a ball, in three arrays of coordinates: the room's tests take
-/// every point's height over a plane, (p − c)·n summed in the order of `Vector3::dot`, in a
-/// loop the compiler vectorises.
+/// every point's height over a plane, (p − c)·n summed in the order of `Vector3::dot` (so
+/// every comparison is the one the faces' own vectors gave), in a loop without an early exit
+/// over contiguous arrays (whether the compiler vectorises it was not checked).
 #[derive(Default)]
 struct Points {
     x: Vec<f64>,
