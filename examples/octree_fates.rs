@@ -5,8 +5,11 @@
 //! itself keeps Fig. 18's deposition.
 //!
 //! ```text
-//! cargo run --release --example octree_fates -- [N STK U_TOL LEAVES_PER_CELL]   # 4000 0.5 inf 12
+//! cargo run --release --example octree_fates -- [N STK U_TOL LEAVES_PER_CELL INTERPOLANT KIND WALL_LEAF]
+//! # defaults 4000 0.5 inf 12 trilinear prolate 2
 //! ```
+//! `KIND` `prolate` (Fig. 18's rigid λ = 20 prolates) or `sphere:MU_S` (Neo-Hookean spheres of
+//! shear modulus MU_S Pa, Figs 19–23; `sphere:rigid` rigid ones).
 //! `U_TOL` the table's tolerance of u against the blend relative to |u|max (`inf`: leaves sized
 //! by the mesh alone); the tolerance of ∇u is infinite, the wall leaves [`Options`]' default.
 //! One thread per run, so the two times compare.
@@ -29,6 +32,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         u_tolerance: arg(2, "inf").parse()?,
         gradient_tolerance: f64::INFINITY,
         leaves_per_cell: arg(3, "12").parse()?,
+        interpolant: arg(4, "trilinear").parse()?,
+        wall_leaf: arg(6, "2").parse()?,
         ..Options::default()
     };
     let airway = Airway::open(Airway::shipped_dir())?;
@@ -46,10 +51,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         r.u_miss,
         r.gradient_miss
     );
-    let kind = Kind {
-        shape: Shape::Prolate(20.0),
-        material: Material::Rigid,
-        stokes,
+    let kind = match arg(5, "prolate").as_str() {
+        "prolate" => Kind {
+            shape: Shape::Prolate(20.0),
+            material: Material::Rigid,
+            stokes,
+        },
+        sphere => {
+            let modulus = sphere.strip_prefix("sphere:").ok_or("KIND: prolate or sphere:MU_S")?;
+            Kind {
+                shape: Shape::Sphere,
+                material: match modulus {
+                    "rigid" => Material::Rigid,
+                    mu_s => Material::ShearModulus(mu_s.parse()?),
+                },
+                stokes,
+            }
+        }
     };
     let integ = study::integrator(&airway, kind)?.integrator;
     let injection = Injection::new(&airway, kind)?;

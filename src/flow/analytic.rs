@@ -227,3 +227,52 @@ impl FlowField for BendPlug {
         finite_sample(FlowSample::steady(u, grad_u), x, t)
     }
 }
+
+/// A smooth divergence-free cellular flow, the curl of
+/// $A = UL\,(\sin y'\sin z',\ \sin z'\sin x',\ \sin x'\sin y')$ with $x' = x/L$:
+/// ```math
+/// u = U\begin{pmatrix} \sin x'(\cos y' − \cos z')\\ \sin y'(\cos z' − \cos x')\\ \sin z'(\cos x' − \cos y')\end{pmatrix}.
+/// ```
+/// Not a flow of any of the paper's scenes: a field with curvature on the scale L everywhere,
+/// to be written into a mesh's cells and patches and read back, so that a reconstruction of
+/// cell data (the blend, its tables) is compared with the exact u and ∇u
+/// (`examples/octree_field`).
+#[derive(Debug, Clone, Copy)]
+pub struct Cellular {
+    /// Velocity scale U.
+    pub speed: f64,
+    /// Length scale L (a cell of the pattern is πL wide).
+    pub length: f64,
+}
+
+impl Cellular {
+    /// The field with velocity scale `speed` (finite) and length scale `length` (positive).
+    pub fn new(speed: f64, length: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            speed: finite("cellular flow speed", speed)?,
+            length: positive("cellular flow length", length)?,
+        })
+    }
+}
+
+impl FlowField for Cellular {
+    fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+        check_query(x, t)?;
+        let (u, l) = (self.speed, self.length);
+        let (s, c): (Vec<f64>, Vec<f64>) = (0..3).map(|a| (x[a] / l).sin_cos()).unzip();
+        let velocity = Vec3::new(s[0] * (c[1] - c[2]), s[1] * (c[2] - c[0]), s[2] * (c[0] - c[1])) * u;
+        // ∂u_i/∂x_j, i the row.
+        let grad_u = Mat3::new(
+            c[0] * (c[1] - c[2]),
+            -s[0] * s[1],
+            s[0] * s[2],
+            s[1] * s[0],
+            c[1] * (c[2] - c[0]),
+            -s[1] * s[2],
+            -s[2] * s[0],
+            s[2] * s[1],
+            c[2] * (c[0] - c[1]),
+        ) * (u / l);
+        finite_sample(FlowSample::steady(velocity, grad_u), x, t)
+    }
+}

@@ -114,6 +114,7 @@
 
 use super::FoamError;
 use super::blend::BlendedFlow;
+use super::hermite;
 use super::memo;
 use crate::error::FlowError;
 use crate::flow::{FlowField, FlowSample};
@@ -135,9 +136,11 @@ pub const LEAVES_PER_CELL: usize = 12;
 /// Edge of a wall leaf over the smallest support $H_f$ (wall cell height) of the wall faces near it.
 pub const WALL_LEAF: f64 = 2.0;
 
-/// Components of a corner's data: u (3), ∇u (9, column-major), (u·∇)u (3), χ.
+/// Components of a trilinear corner's data: u (3), ∇u (9, column-major), (u·∇)u (3), χ.
 const DATA: usize = 16;
-const CHI: usize = 15;
+/// Components of a Hermite corner's data: the eight derivatives of each of u's three
+/// components ([`hermite`]), χ.
+const HERMITE: usize = 3 * hermite::QUANTITIES + 1;
 
 /// What a tree entry is: a branch (its payload the first of its 8 children), a tabulated leaf
 /// (its payload the leaf's index into `corners`) or a wall leaf.
@@ -165,8 +168,37 @@ struct Table {
     tree: Vec<u32>,
     /// Corner node indices of each tabulated leaf, corner k at (k & 1, k >> 1 & 1, k >> 2 & 1).
     corners: Vec<[u32; 8]>,
-    nodes: Vec<[f64; DATA]>,
+    /// Each node's data, `stride` numbers, χ the last ([`DATA`] or [`HERMITE`]).
+    nodes: Vec<f64>,
+    stride: usize,
+    interpolant: Interpolant,
     report: BuildReport,
+}
+
+/// How a tabulated leaf interpolates between its corners.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Interpolant {
+    /// u, ∇u and (u·∇)u each trilinear in the corners' blended values (module docs,
+    /// Interpolant): continuous, linear fields exact.
+    #[default]
+    Trilinear,
+    /// u tricubic Hermite in the corners' u, ∇u and mixed second derivatives (Lekien &
+    /// Marsden 2005), ∇u and (u·∇)u its own derivatives: C¹, polynomials of degree 3 per
+    /// coordinate exact given exact corner data (module docs, Hermite leaves).
+    Hermite,
+}
+
+impl std::str::FromStr for Interpolant {
+    type Err = String;
+
+    /// `trilinear` or `hermite`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "trilinear" => Ok(Self::Trilinear),
+            "hermite" => Ok(Self::Hermite),
+            other => Err(format!("unknown interpolant {other:?}: trilinear or hermite")),
+        }
+    }
 }
 
 /// How fine the table is built: its tolerances against the blend (relative to the field's
@@ -181,6 +213,8 @@ pub struct Options {
     pub leaves_per_cell: usize,
     /// Edge of a wall leaf over the smallest support of the wall faces near it.
     pub wall_leaf: f64,
+    /// The tabulated leaves' interpolant.
+    pub interpolant: Interpolant,
 }
 
 impl Default for Options {
@@ -191,6 +225,7 @@ impl Default for Options {
             gradient_tolerance: GRADIENT_TOLERANCE,
             leaves_per_cell: LEAVES_PER_CELL,
             wall_leaf: WALL_LEAF,
+            interpolant: Interpolant::Trilinear,
         }
     }
 }
@@ -319,7 +354,40 @@ struct Builder<'a> {
     gradient_tol: f64,
     budget: usize,
     wall_leaf: f64,
+    interpolant: Interpolant,
     report: BuildReport,
+}
+
+/// A trilinear datum's ∂u_i/∂x_j (∇u column-major after u).
+fn gradient_entry(d: &[f64; DATA], i: usize, j: usize) -> f64 {
+    d[3 + i + 3 * j]
+}
+
+/// Hermite corner data of a cube of edge `edge` from its corners' blended u and ∇u alone, the
+/// mixed derivatives the cube's one-sided differences of ∇u, f_xyz zero: what the split test
+/// of a Hermite leaf uses (the table's nodes take centred differences, [`Builder::finish`]).
+fn hermite_corners(data: &[[f64; DATA]], edge: f64) -> Vec<[f64; HERMITE]> {
+    (0..8)
+        .map(|k| {
+            let mut h = [0.0; HERMITE];
+            // ∂(∂u_c/∂x_j)/∂x_a from the corner across axis a.
+            let along = |c: usize, j: usize, a: usize| {
+                let sign = if (k >> a) & 1 == 0 { 1.0 } else { -1.0 };
+                sign * (gradient_entry(&data[k ^ (1 << a)], c, j) - gradient_entry(&data[k], c, j)) / edge
+            };
+            for c in 0..3 {
+                let q = c * hermite::QUANTITIES;
+                h[q] = data[k][c];
+                for a in 0..3 {
+                    h[q + (1 << a)] = gradient_entry(&data[k], c, a);
+                }
+                for (a, b) in [(0, 1), (0, 2), (1, 2)] {
+                    h[q + (1 << a) + (1 << b)] = 0.5 * (along(c, a, b) + along(c, b, a));
+                }
+            }
+            h
+        })
+        .collect()
 }
 
 impl Builder<'_> {
@@ -386,12 +454,14 @@ impl Builder<'_> {
         cube.point(end(0), end(1), end(2))
     }
 
-    /// Largest misses of the cube's trilinear interpolant at its 19 midpoints (|Δu| and the
+    /// Largest misses of the cube's interpolant at its 19 midpoints (|Δu| and the
     /// Frobenius norm of Δ∇u); `None` where a point is outside every support.
     fn misses(&self, cube: &Cube) -> Option<(f64, f64)> {
         let data: Vec<[f64; DATA]> = (0..8)
             .map(|k| self.samples[&Self::corner(cube, k)])
             .collect::<Option<_>>()?;
+        let edge = f64::from(cube.span()) * self.edge / f64::from(1u32 << MAX_LEVEL);
+        let hermite = (self.interpolant == Interpolant::Hermite).then(|| hermite_corners(&data, edge));
         let (mut u_miss, mut g_miss) = (0.0f64, 0.0f64);
         for n in 0..27u32 {
             let (i, j, k) = (n % 3, n / 3 % 3, n / 9);
@@ -399,10 +469,20 @@ impl Builder<'_> {
                 continue;
             }
             let exact = self.samples[&cube.point(i, j, k)]?;
-            let w = weights(&[f64::from(i) / 2.0, f64::from(j) / 2.0, f64::from(k) / 2.0]);
-            let at = |c: usize| (0..8).map(|q| w[q] * data[q][c]).sum::<f64>() - exact[c];
-            let du = (0..3).map(|c| at(c).powi(2)).sum::<f64>().sqrt();
-            let dg = (3..12).map(|c| at(c).powi(2)).sum::<f64>().sqrt();
+            let xi = [f64::from(i) / 2.0, f64::from(j) / 2.0, f64::from(k) / 2.0];
+            let mut d = [0.0; 12];
+            if let Some(h) = &hermite {
+                let (u, g) = hermite::value_and_gradient(|k| &h[k][..HERMITE - 1], &xi, edge);
+                d[..3].copy_from_slice(u.as_slice());
+                d[3..].copy_from_slice(g.as_slice());
+            } else {
+                let w = weights(&xi);
+                for (c, v) in d.iter_mut().enumerate() {
+                    *v = (0..8).map(|q| w[q] * data[q][c]).sum::<f64>();
+                }
+            }
+            let du = (0..3).map(|c| (d[c] - exact[c]).powi(2)).sum::<f64>().sqrt();
+            let dg = (3..12).map(|c| (d[c] - exact[c]).powi(2)).sum::<f64>().sqrt();
             u_miss = u_miss.max(du);
             g_miss = g_miss.max(dg);
         }
@@ -614,17 +694,37 @@ impl Builder<'_> {
                 })
             }));
         }
-        // Each node's data and the coarsest tabulated leaf it hangs on (if any).
-        let mut nodes: Vec<[f64; DATA]> = Vec::with_capacity(points.len());
+        // Each node's data, the deepest leaf it is a point of, and the coarsest tabulated
+        // leaf it hangs on (if any).
+        let stride = match self.interpolant {
+            Interpolant::Trilinear => DATA,
+            Interpolant::Hermite => HERMITE,
+        };
+        let mut nodes = vec![0.0; points.len() * stride];
+        let mut deepest = vec![0u32; points.len()];
         let mut hanging: Vec<(u32, usize, Cube)> = Vec::new();
         for (n, p) in points.iter().enumerate() {
-            let mut d = self.samples[p].unwrap_or([0.0; DATA]);
+            let d = &mut nodes[n * stride..(n + 1) * stride];
+            if let Some(s) = self.samples[p] {
+                match self.interpolant {
+                    Interpolant::Trilinear => d[..DATA - 1].copy_from_slice(&s[..DATA - 1]),
+                    Interpolant::Hermite => {
+                        for c in 0..3 {
+                            d[c * hermite::QUANTITIES] = s[c];
+                            for a in 0..3 {
+                                d[c * hermite::QUANTITIES + (1 << a)] = gradient_entry(&s, c, a);
+                            }
+                        }
+                    }
+                }
+            }
             let mut host: Option<Cube> = None;
             for o in 0..8 {
                 let q: [i64; 3] = std::array::from_fn(|a| 2 * i64::from(p[a]) + if (o >> a) & 1 == 1 { 1 } else { -1 });
                 let Some(leaf) = self.leaf_at(q) else { continue };
+                deepest[n] = deepest[n].max(leaf.level);
                 match self.tree[leaf.entry] & TAG {
-                    WALL => d[CHI] = 1.0,
+                    WALL => d[stride - 1] = 1.0,
                     TABLE
                         if (0..8).all(|k| Self::corner(&leaf, k) != *p)
                             && host.is_none_or(|h| leaf.level < h.level) =>
@@ -634,24 +734,60 @@ impl Builder<'_> {
                     _ => {}
                 }
             }
-            nodes.push(d);
             if let Some(h) = host {
                 hanging.push((h.level, n, h));
             }
         }
+        if self.interpolant == Interpolant::Hermite {
+            let free: Vec<usize> = {
+                let mut is_hanging = vec![false; points.len()];
+                for &(_, n, _) in &hanging {
+                    is_hanging[n] = true;
+                }
+                (0..points.len())
+                    .filter(|&n| !is_hanging[n] && self.samples[&points[n]].is_some())
+                    .collect()
+            };
+            let mixed = self.mixed_derivatives(&free, &points, &deepest);
+            for (&n, m) in free.iter().zip(mixed) {
+                for c in 0..3 {
+                    for (pair, &(a, b)) in [(0, 1), (0, 2), (1, 2)].iter().enumerate() {
+                        nodes[n * stride + c * hermite::QUANTITIES + (1 << a) + (1 << b)] = m[3 * c + pair];
+                    }
+                }
+            }
+        }
         hanging.sort_by_key(|&(level, n, _)| (level, n));
         self.report.hanging = hanging.len();
+        let unit = self.edge / f64::from(1u32 << MAX_LEVEL);
         for (_, n, host) in hanging {
             let span = f64::from(host.span());
             let xi: [f64; 3] = std::array::from_fn(|a| f64::from(points[n][a] - host.corner[a]) / span);
             let w = weights(&xi);
-            let leaf = (self.tree[host.entry] & !TAG) as usize;
-            nodes[n] = std::array::from_fn(|c| (0..8).map(|k| w[k] * nodes[corners[leaf][k] as usize][c]).sum());
+            let ids = corners[(self.tree[host.entry] & !TAG) as usize];
+            let node = |k: usize| &nodes[ids[k] as usize * stride..(ids[k] as usize + 1) * stride];
+            let mut d = vec![0.0; stride];
+            match self.interpolant {
+                Interpolant::Trilinear => {
+                    for (c, v) in d.iter_mut().enumerate() {
+                        *v = (0..8).map(|k| w[k] * node(k)[c]).sum();
+                    }
+                }
+                Interpolant::Hermite => {
+                    for q in 0..hermite::QUANTITIES {
+                        let v = hermite::derivative(|k| &node(k)[..stride - 1], &xi, span * unit, q);
+                        for c in 0..3 {
+                            d[c * hermite::QUANTITIES + q] = v[c];
+                        }
+                    }
+                    d[stride - 1] = (0..8).map(|k| w[k] * node(k)[stride - 1]).sum();
+                }
+            }
+            nodes[n * stride..(n + 1) * stride].copy_from_slice(&d);
         }
         let wall_leaves = (0..self.tree.len()).filter(|&e| self.tree[e] & TAG == WALL).count();
-        let bytes = self.tree.len() * size_of::<u32>()
-            + corners.len() * size_of::<[u32; 8]>()
-            + nodes.len() * size_of::<[f64; DATA]>();
+        let bytes =
+            self.tree.len() * size_of::<u32>() + corners.len() * size_of::<[u32; 8]>() + nodes.len() * size_of::<f64>();
         Table {
             origin: self.origin,
             edge: self.edge,
@@ -660,13 +796,58 @@ impl Builder<'_> {
             report: BuildReport {
                 table_leaves: corners.len(),
                 wall_leaves,
-                nodes: nodes.len(),
+                nodes: points.len(),
                 bytes,
                 ..self.report
             },
             corners,
             nodes,
+            stride,
+            interpolant: self.interpolant,
         }
+    }
+
+    /// The mixed second derivatives ∂²u_c/∂x_a∂x_b (a < b: xy, xz, yz; 3 per component) at
+    /// nodes `which`: centred differences of the blend's ∇u over ±ε along each axis, ε half the
+    /// edge of the smallest leaf the node is a corner of (one-sided where a side is outside
+    /// every support, zero where both are), symmetrised over the two orders.
+    fn mixed_derivatives(&self, which: &[usize], points: &[Lattice], deepest: &[u32]) -> Vec<[f64; 9]> {
+        let compute = |&n: &usize| -> [f64; 9] {
+            let x = self.position(&points[n]);
+            let eps = 0.5 * self.edge / f64::from(1u32 << deepest[n]);
+            let at = |y: Vec3| {
+                self.blend
+                    .sample(&y, self.time)
+                    .ok()
+                    .map(|s| s.grad_u)
+                    .filter(|g| g.iter().all(|v| v.is_finite()))
+            };
+            let centre = self.samples[&points[n]].map(|s| Mat3::from_column_slice(&s[3..12]));
+            // ∂(∇u)/∂x_a.
+            let slope: [Mat3; 3] = std::array::from_fn(|a| {
+                let step = Vec3::ith(a, eps);
+                match (at(x - step), centre, at(x + step)) {
+                    (Some(lo), _, Some(hi)) => (hi - lo) / (2.0 * eps),
+                    (None, Some(c), Some(hi)) => (hi - c) / eps,
+                    (Some(lo), Some(c), None) => (c - lo) / eps,
+                    _ => Mat3::zeros(),
+                }
+            });
+            let mut m = [0.0; 9];
+            for c in 0..3 {
+                for (pair, &(a, b)) in [(0, 1), (0, 2), (1, 2)].iter().enumerate() {
+                    m[3 * c + pair] = 0.5 * (slope[b][(c, a)] + slope[a][(c, b)]);
+                }
+            }
+            m
+        };
+        #[cfg(feature = "parallel")]
+        {
+            use rayon::prelude::*;
+            which.par_iter().map(compute).collect()
+        }
+        #[cfg(not(feature = "parallel"))]
+        which.iter().map(compute).collect()
     }
 }
 
@@ -685,6 +866,7 @@ impl OctreeFlow {
             gradient_tolerance,
             leaves_per_cell,
             wall_leaf,
+            interpolant,
         } = options;
         // A tolerance may be infinite: leaves sized by the mesh alone (module docs, Fates).
         if !([u_tolerance, gradient_tolerance].iter().all(|t| *t > 0.0)
@@ -779,6 +961,7 @@ impl OctreeFlow {
             gradient_tol: gradient_tolerance * gradient_max,
             budget: leaves_per_cell.saturating_mul(n_cells),
             wall_leaf,
+            interpolant,
             report: BuildReport {
                 u_max,
                 gradient_max,
@@ -820,13 +1003,14 @@ impl OctreeFlow {
         &self.blend
     }
 
-    /// The tabulated leaf holding x and x's coordinates ξ in it, `None` in a wall leaf or
-    /// outside the root cubes.
-    fn leaf(&self, x: &Vec3) -> Option<(usize, [f64; 3])> {
+    /// The tabulated leaf holding x, x's coordinates ξ in it and its edge, `None` in a wall
+    /// leaf or outside the root cubes.
+    fn leaf(&self, x: &Vec3) -> Option<(usize, [f64; 3], f64)> {
         let t = &self.table;
         let rel = (x - t.origin) / t.edge;
         let mut entry = 0usize;
         let mut xi = [0.0; 3];
+        let mut edge = t.edge;
         for a in (0..3).rev() {
             let f = rel[a].floor();
             if !(f >= 0.0 && f < t.dims[a] as f64) {
@@ -849,8 +1033,9 @@ impl OctreeFlow {
                         }
                     }
                     entry = (e & !TAG) as usize + child;
+                    edge *= 0.5;
                 }
-                TABLE => return Some(((e & !TAG) as usize, xi)),
+                TABLE => return Some(((e & !TAG) as usize, xi, edge)),
                 _ => return None,
             }
         }
@@ -897,21 +1082,55 @@ impl OctreeFlow {
 
     /// Whether x lies where a sample is the table alone (a tabulated leaf, χ = 0 there).
     pub fn is_tabulated(&self, x: &Vec3) -> bool {
-        self.leaf(x)
-            .is_some_and(|(leaf, xi)| self.interpolate(leaf, &xi)[CHI] <= 0.0)
+        self.leaf(x).is_some_and(|(leaf, xi, _)| self.chi(leaf, &xi) <= 0.0)
     }
 
-    /// The interpolated corner data at ξ in tabulated leaf `leaf`.
-    fn interpolate(&self, leaf: usize, xi: &[f64; 3]) -> [f64; DATA] {
+    /// Node n's data.
+    fn node(&self, n: u32) -> &[f64] {
+        let stride = self.table.stride;
+        &self.table.nodes[n as usize * stride..(n as usize + 1) * stride]
+    }
+
+    /// The join's weight χ at ξ in tabulated leaf `leaf` (trilinear in the corners' χ).
+    fn chi(&self, leaf: usize, xi: &[f64; 3]) -> f64 {
         let w = weights(xi);
-        let mut d = [0.0; DATA];
-        for (k, &n) in self.table.corners[leaf].iter().enumerate() {
-            let node = &self.table.nodes[n as usize];
-            for c in 0..DATA {
-                d[c] += w[k] * node[c];
+        let last = self.table.stride - 1;
+        (0..8)
+            .map(|k| w[k] * self.node(self.table.corners[leaf][k])[last])
+            .sum()
+    }
+
+    /// The tabulated leaf's interpolant at ξ (leaf edge `edge`) and χ there.
+    fn tabulated(&self, leaf: usize, xi: &[f64; 3], edge: f64) -> (FlowSample, f64) {
+        let ids = &self.table.corners[leaf];
+        match self.table.interpolant {
+            Interpolant::Trilinear => {
+                let w = weights(xi);
+                let mut d = [0.0; DATA];
+                for (k, &n) in ids.iter().enumerate() {
+                    for (dc, v) in d.iter_mut().zip(self.node(n)) {
+                        *dc += w[k] * v;
+                    }
+                }
+                let sample = FlowSample {
+                    u: Vec3::from_column_slice(&d[..3]),
+                    grad_u: Mat3::from_column_slice(&d[3..12]),
+                    du_dt: Vec3::zeros(),
+                    convective: Vec3::from_column_slice(&d[12..15]),
+                };
+                (sample, d[DATA - 1])
+            }
+            Interpolant::Hermite => {
+                let (u, grad_u) = hermite::value_and_gradient(|k| &self.node(ids[k])[..HERMITE - 1], xi, edge);
+                let sample = FlowSample {
+                    u,
+                    grad_u,
+                    du_dt: Vec3::zeros(),
+                    convective: grad_u * u,
+                };
+                (sample, self.chi(leaf, xi))
             }
         }
-        d
     }
 }
 
@@ -931,17 +1150,10 @@ impl OctreeFlow {
     /// The table at (x, t): a tabulated leaf's interpolant, joined to the blend by χ next to
     /// the wall leaves; the blend in a wall leaf (module docs).
     fn evaluate(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
-        let Some((leaf, xi)) = self.leaf(x) else {
+        let Some((leaf, xi, edge)) = self.leaf(x) else {
             return self.blend.sample(x, t);
         };
-        let d = self.interpolate(leaf, &xi);
-        let table = FlowSample {
-            u: Vec3::from_column_slice(&d[..3]),
-            grad_u: Mat3::from_column_slice(&d[3..12]),
-            du_dt: Vec3::zeros(),
-            convective: Vec3::from_column_slice(&d[12..15]),
-        };
-        let chi = d[CHI];
+        let (table, chi) = self.tabulated(leaf, &xi, edge);
         if chi <= 0.0 {
             return Ok(table);
         }

@@ -1,4 +1,6 @@
 //! Flow fields (src/flow).
 
+mod analytic;
+
 #[cfg(feature = "mesh")]
 mod openfoam;

@@ -4,7 +4,7 @@
 
 use crate::common::build::{layered_box, sampled};
 use pseudorigid::flow::FlowField;
-use pseudorigid::flow::openfoam::octree::Options;
+use pseudorigid::flow::openfoam::octree::{Interpolant, Options};
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamFlow, OctreeFlow};
 use pseudorigid::tensor::Vec3;
 
@@ -32,7 +32,9 @@ fn graded_box(u: impl Fn(&Vec3) -> Vec3) -> FoamFlow {
 /// shear's value would show as an O(1) miss of the trilinear interpolant.
 ///
 /// The same with infinite tolerances (leaves sized by the mesh alone, as `examples/octree_fates`
-/// builds them): fewer, larger leaves, still exact.
+/// builds them): fewer, larger leaves, still exact; and both with Hermite leaves, whose mixed
+/// derivatives are differences of the blend's constant ∇u (zero to round-off over ε ≥ 10⁻³,
+/// so below 10⁻¹⁰ and multiplied by E² ≤ 10⁻² in the interpolant).
 #[test]
 fn a_linear_shear_at_a_no_slip_wall_is_exact_everywhere() {
     let shear = |x: &Vec3| Vec3::new(2.0 * x[1], 0.0, -x[1]);
@@ -42,7 +44,16 @@ fn a_linear_shear_at_a_no_slip_wall_is_exact_everywhere() {
         gradient_tolerance: f64::INFINITY,
         ..Options::default()
     };
-    for options in [Options::default(), mesh_sized] {
+    let hermite = |o: Options| Options {
+        interpolant: Interpolant::Hermite,
+        ..o
+    };
+    for options in [
+        Options::default(),
+        mesh_sized,
+        hermite(Options::default()),
+        hermite(mesh_sized),
+    ] {
         let table = OctreeFlow::with_options(blend.clone(), options).unwrap();
         let points = table.check_points(2000, 1, &[0.1, 0.25, 0.5], 7);
         let (mut tabulated, mut worst) = (0, 0.0f64);
@@ -106,8 +117,18 @@ fn bad_options_are_refused() {
 /// 3·10⁻³), which this sees (checked by leaving the hanging corners at the blend's values:
 /// jumps of 3.6·10⁻³ of the edge). The field is smooth, not a flow, with a front at x = 1/2 that
 /// the table refines more than the rest, so leaves of different sizes meet (checked).
+///
+/// Both interpolants: Hermite leaves are C¹, so ∇u is continuous too; a hanging corner given
+/// its host's value but not its derivatives breaks it (checked by zeroing the hanging corners'
+/// mixed derivatives: jumps of 1.8·10⁻⁵ of the edge, 175 times the bound).
 #[test]
 fn the_table_is_continuous_across_every_leaf_face() {
+    for interpolant in [Interpolant::Trilinear, Interpolant::Hermite] {
+        continuous_across_every_leaf_face(interpolant);
+    }
+}
+
+fn continuous_across_every_leaf_face(interpolant: Interpolant) {
     let field = |x: &Vec3| {
         Vec3::new(
             (3.0 * x[0]).sin() + x[1] * x[1],
@@ -118,6 +139,7 @@ fn the_table_is_continuous_across_every_leaf_face() {
     // A budget the table does not reach, so it refines where the field asks.
     let options = Options {
         leaves_per_cell: 1000,
+        interpolant,
         ..Options::default()
     };
     let table = OctreeFlow::with_options(BlendedFlow::new(graded_box(field)).unwrap(), options).unwrap();
@@ -168,7 +190,7 @@ fn the_table_is_continuous_across_every_leaf_face() {
             }
         }
     }
-    println!("{pairs} pairs; worst jump / edge {worst:e}");
+    println!("{interpolant:?}: {pairs} pairs; worst jump / edge {worst:e}");
     assert!(pairs > 1000, "{pairs}");
     assert!(worst < 1e-7, "{worst:e}");
 }
