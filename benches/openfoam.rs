@@ -14,6 +14,11 @@
 //! quarter of the way from wall faces spread over the walls to their cells' centres (in the
 //! first prism layer, where the supports are finest).
 //!
+//! Group `tabulated_sample`: one sample of the same field tabulated on an octree
+//! ([`OctreeFlow`], leaves sized by the mesh) with trilinear and with tricubic Hermite leaves,
+//! at the "cells" points of `blended_sample` (those in wall leaves or next to them pay the
+//! blend too).
+//!
 //! Group `tracked_rigid_step`: Fig. 18's tracked particle-step on the blended bifurcation field:
 //! rigid λ = 20 prolates at Stk 0.1, the studies' integrator (Rosenbrock-W 2(3) at rtol 10⁻²),
 //! contact rule and seed, the first 20 particles run to their fates on one thread; the
@@ -21,7 +26,8 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use pseudorigid::flow::FlowField;
-use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow, VolField};
+use pseudorigid::flow::openfoam::octree::{Interpolant, Options};
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamCase, FoamFlow, OctreeFlow, VolField};
 use pseudorigid::population::RunOptions;
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, StudyRun};
 use pseudorigid::studies::cavity::Shape;
@@ -109,6 +115,25 @@ fn blended(c: &mut Criterion) {
             b.iter(|| {
                 for x in points {
                     black_box(flow.sample(black_box(x), 0.0).ok());
+                }
+            })
+        });
+    }
+    g.finish();
+    let mut g = c.benchmark_group("tabulated_sample");
+    g.throughput(Throughput::Elements(1000));
+    for (name, interpolant) in [("trilinear", Interpolant::Trilinear), ("hermite", Interpolant::Hermite)] {
+        let options = Options {
+            u_tolerance: f64::INFINITY,
+            gradient_tolerance: f64::INFINITY,
+            interpolant,
+            ..Options::default()
+        };
+        let table = OctreeFlow::with_options(flow.clone(), options).expect("a table");
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                for x in &cells {
+                    black_box(table.sample(black_box(x), 0.0).ok());
                 }
             })
         });

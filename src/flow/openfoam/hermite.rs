@@ -82,57 +82,51 @@ pub fn derivative<'a>(corner: impl Fn(usize) -> &'a [f64], xi: &[f64; 3], edge: 
 }
 
 /// The interpolant u at ξ and its gradient ∇u (∂u_i/∂x_j), three components (as
-/// [`derivative`], the four derivatives in one pass): each component's 64 data contracted one
-/// axis at a time (z, then y, then x), about 190 multiply-adds per component.
+/// [`derivative`], the four derivatives in one pass), contracted one axis at a time: z first
+/// (a corner and the one above it, the four (m_x, m_y) quantities side by side), then y, then
+/// x: about 190 multiply-adds per component.
 pub fn value_and_gradient<'a>(corner: impl Fn(usize) -> &'a [f64], xi: &[f64; 3], edge: f64) -> (Vec3, Mat3) {
-    // Per axis the four slots s = 2·end + order: basis values and derivatives.
-    let flat = |(v, d): ([[f64; 2]; 2], [[f64; 2]; 2])| {
-        (
-            [v[0][0], v[0][1], v[1][0], v[1][1]],
-            [d[0][0], d[0][1], d[1][0], d[1][1]],
-        )
-    };
-    let [x, y, z] = axes(xi, edge).map(flat);
-    // t[c][(sx·4 + sy)·4 + sz].
-    let mut t = [[0.0; 64]; 3];
-    for k in 0..8 {
-        let data = corner(k);
-        let (kx, ky, kz) = (k & 1, (k >> 1) & 1, (k >> 2) & 1);
-        for m in 0..QUANTITIES {
-            let (sx, sy, sz) = (2 * kx + (m & 1), 2 * ky + ((m >> 1) & 1), 2 * kz + ((m >> 2) & 1));
-            let slot = (sx * 4 + sy) * 4 + sz;
-            for (c, tc) in t.iter_mut().enumerate() {
-                tc[slot] = data[c * QUANTITIES + m];
-            }
-        }
-    }
+    let [(xv, xd), (yv, yd), (zv, zd)] = axes(xi, edge);
     let mut u = [0.0; 3];
     let mut g = [[0.0; 3]; 3];
+    // The four (kx, ky) columns of corners: k = kx + 2ky below, k + 4 above.
+    let columns: [(&[f64], &[f64]); 4] = std::array::from_fn(|k| (corner(k), corner(k + 4)));
     for c in 0..3 {
-        let tc = &t[c];
-        // Along z: the value (a) and its z-derivative (az) for each (sx, sy).
-        let (mut a, mut az) = ([0.0; 16], [0.0; 16]);
-        for xy in 0..16 {
-            let row = &tc[4 * xy..4 * xy + 4];
-            a[xy] = row[0] * z.0[0] + row[1] * z.0[1] + row[2] * z.0[2] + row[3] * z.0[3];
-            az[xy] = row[0] * z.1[0] + row[1] * z.1[1] + row[2] * z.1[2] + row[3] * z.1[3];
+        let q = c * QUANTITIES;
+        // a[k][m0], az[k][m0]: along z, for column k and m0 = mx + 2my.
+        let mut a = [[0.0; 4]; 4];
+        let mut az = [[0.0; 4]; 4];
+        for (k, (lo, hi)) in columns.iter().enumerate() {
+            let (lo, hi) = (&lo[q..q + QUANTITIES], &hi[q..q + QUANTITIES]);
+            for m0 in 0..4 {
+                a[k][m0] = zv[0][0] * lo[m0] + zv[0][1] * lo[m0 + 4] + zv[1][0] * hi[m0] + zv[1][1] * hi[m0 + 4];
+                az[k][m0] = zd[0][0] * lo[m0] + zd[0][1] * lo[m0 + 4] + zd[1][0] * hi[m0] + zd[1][1] * hi[m0 + 4];
+            }
         }
-        // Along y: value, y-derivative, z-derivative for each sx.
-        let (mut b, mut by, mut bz) = ([0.0; 4], [0.0; 4], [0.0; 4]);
-        for sx in 0..4 {
-            for sy in 0..4 {
-                let n = 4 * sx + sy;
-                b[sx] += y.0[sy] * a[n];
-                by[sx] += y.1[sy] * a[n];
-                bz[sx] += y.0[sy] * az[n];
+        // Along y: for kx and mx, the value, its y- and its z-derivative.
+        let mut b = [[0.0; 2]; 2];
+        let mut by = [[0.0; 2]; 2];
+        let mut bz = [[0.0; 2]; 2];
+        for kx in 0..2 {
+            for mx in 0..2 {
+                for ky in 0..2 {
+                    for my in 0..2 {
+                        let (k, m0) = (kx + 2 * ky, mx + 2 * my);
+                        b[kx][mx] += yv[ky][my] * a[k][m0];
+                        by[kx][mx] += yd[ky][my] * a[k][m0];
+                        bz[kx][mx] += yv[ky][my] * az[k][m0];
+                    }
+                }
             }
         }
         // Along x.
-        for sx in 0..4 {
-            u[c] += x.0[sx] * b[sx];
-            g[c][0] += x.1[sx] * b[sx];
-            g[c][1] += x.0[sx] * by[sx];
-            g[c][2] += x.0[sx] * bz[sx];
+        for kx in 0..2 {
+            for mx in 0..2 {
+                u[c] += xv[kx][mx] * b[kx][mx];
+                g[c][0] += xd[kx][mx] * b[kx][mx];
+                g[c][1] += xv[kx][mx] * by[kx][mx];
+                g[c][2] += xv[kx][mx] * bz[kx][mx];
+            }
         }
     }
     (

@@ -48,7 +48,7 @@ pub mod error;
 pub mod field;
 pub mod frame;
 pub mod grid;
-mod hermite;
+pub mod hermite;
 pub mod locate;
 mod memo;
 pub mod mesh;
