@@ -11,7 +11,8 @@
 //! `KIND` `prolate` (Fig. 18's rigid λ = 20 prolates) or `sphere:MU_S` (Neo-Hookean spheres of
 //! shear modulus MU_S Pa, Figs 19–23; `sphere:rigid` rigid ones).
 //! `U_TOL` the table's tolerance of u against the blend relative to |u|max (`inf`: leaves sized
-//! by the mesh alone); the tolerance of ∇u is infinite, the wall leaves [`Options`]' default.
+//! by the mesh alone); the tolerance of ∇u is infinite; `INTERPOLANT` `trilinear` or `hermite`;
+//! `WALL_LEAF` the wall leaves' edge over the wall cell's height ([`Options`]).
 //! One thread per run, so the two times compare.
 
 use pseudorigid::flow::FlowField;
@@ -34,7 +35,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         leaves_per_cell: arg(3, "12").parse()?,
         interpolant: arg(4, "trilinear").parse()?,
         wall_leaf: arg(6, "2").parse()?,
-        ..Options::default()
     };
     let airway = Airway::open(Airway::shipped_dir())?;
     let start = Instant::now();

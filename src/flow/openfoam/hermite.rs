@@ -28,7 +28,7 @@ pub const QUANTITIES: usize = 8;
 
 /// The cubic Hermite basis at t: `value[end][order]` and its t-derivative `slope[end][order]`
 /// (end 0 or 1 of [0, 1]; order 0 the value's function, 1 the slope's).
-fn basis(t: f64) -> ([[f64; 2]; 2], [[f64; 2]; 2]) {
+fn basis(t: f64) -> Basis {
     let (t2, t3) = (t * t, t * t * t);
     (
         [
@@ -42,9 +42,12 @@ fn basis(t: f64) -> ([[f64; 2]; 2], [[f64; 2]; 2]) {
     )
 }
 
+/// One axis's basis: `[end][order]` values and their derivatives.
+type Basis = ([[f64; 2]; 2], [[f64; 2]; 2]);
+
 /// Per axis: the basis at ξ_a, its slope functions times E (the data are physical
 /// derivatives) and, for a derivative along the axis, divided by E.
-fn axes(xi: &[f64; 3], edge: f64) -> [([[f64; 2]; 2], [[f64; 2]; 2]); 3] {
+fn axes(xi: &[f64; 3], edge: f64) -> [Basis; 3] {
     std::array::from_fn(|a| {
         let (mut v, mut d) = basis(xi[a]);
         for end in 0..2 {
@@ -203,8 +206,8 @@ mod tests {
             }
             for d in 0..QUANTITIES {
                 let v = derivative(|k| &data[k], &xi, edge, d);
-                for c in 0..3 {
-                    worst = worst.max((v[c] - poly(&x, d, c)).abs());
+                for (c, vc) in v.iter().enumerate() {
+                    worst = worst.max((vc - poly(&x, d, c)).abs());
                 }
             }
         }
