@@ -229,9 +229,9 @@ impl FlowField for BendPlug {
 }
 
 /// A smooth divergence-free cellular flow, the curl of
-/// $A = UL\,(\sin y'\sin z',\ \sin z'\sin x',\ \sin x'\sin y')$ with $x' = x/L$:
+/// $A = UL (\sin ξ_2 \sin ξ_3, \sin ξ_3 \sin ξ_1, \sin ξ_1 \sin ξ_2)$ with $ξ = x/L$:
 /// ```math
-/// u = U\begin{pmatrix} \sin x'(\cos y' − \cos z')\\ \sin y'(\cos z' − \cos x')\\ \sin z'(\cos x' − \cos y')\end{pmatrix}.
+/// u = U\begin{pmatrix} \sin ξ_1(\cos ξ_2 − \cos ξ_3)\\ \sin ξ_2(\cos ξ_3 − \cos ξ_1)\\ \sin ξ_3(\cos ξ_1 − \cos ξ_2)\end{pmatrix}.
 /// ```
 /// Not a flow of any of the paper's scenes: a field with curvature on the scale L everywhere,
 /// to be written into a mesh's cells and patches and read back, so that a reconstruction of

@@ -3,7 +3,7 @@
 //!
 //! # Interpolant
 //! Each corner k of a cube of edge E carries, per component, the eight derivatives
-//! $\partial^m f$ with $m \in \{0, 1\}^3$ (f, f_x, f_y, f_xy, f_z, f_xz, f_yz, f_xyz: bit 0 of m
+//! $\partial^m f$ with $m \in \lbrace 0, 1 \rbrace^3$ (f, f_x, f_y, f_xy, f_z, f_xz, f_yz, f_xyz: bit 0 of m
 //! is x, bit 1 y, bit 2 z), in physical units. Inside the cube, with ξ = (x − x₁)/E ∈ [0, 1]³,
 //! ```math
 //! f(\xi) = \sum_{k} \sum_{m} E^{|m|}\,(\partial^m f)_k \prod_{a=1}^{3} h_{k_a m_a}(\xi_a),
