@@ -20,11 +20,14 @@
 //!   derivative. A smaller cube on part of a larger one's face agrees with it when its
 //!   corners on that face carry the larger cube's interpolant and its derivatives (the face's
 //!   bicubic space restricted to a sub-rectangle is the sub-rectangle's bicubic space).
+//!
+//! The functions are the crate's own: their callers (the octree table) hand each corner's 24
+//! numbers; the module is public for this description of the table's interpolant.
 
 use crate::tensor::{Mat3, Vec3};
 
 /// Derivatives per corner and component: $\partial^m f$, m's bits x, y, z.
-pub const QUANTITIES: usize = 8;
+pub(crate) const QUANTITIES: usize = 8;
 
 /// The cubic Hermite basis at t: `value[end][order]` and its t-derivative `slope[end][order]`
 /// (end 0 or 1 of [0, 1]; order 0 the value's function, 1 the slope's).
@@ -63,7 +66,7 @@ fn axes(xi: &[f64; 3], edge: f64) -> [Basis; 3] {
 /// The derivative $\partial^d f$ (d's bits x, y, z) of the interpolant at ξ in a cube of edge
 /// `edge`, for three components: `corner(k)` is corner k's data (k's bits the x, y, z ends),
 /// component c's derivatives at `c * QUANTITIES..`.
-pub fn derivative<'a>(corner: impl Fn(usize) -> &'a [f64], xi: &[f64; 3], edge: f64, d: usize) -> [f64; 3] {
+pub(crate) fn derivative<'a>(corner: impl Fn(usize) -> &'a [f64], xi: &[f64; 3], edge: f64, d: usize) -> [f64; 3] {
     let ax = axes(xi, edge);
     let mut out = [0.0; 3];
     for k in 0..8 {
@@ -88,7 +91,7 @@ pub fn derivative<'a>(corner: impl Fn(usize) -> &'a [f64], xi: &[f64; 3], edge: 
 /// [`derivative`], the four derivatives in one pass), contracted one axis at a time: z first
 /// (a corner and the one above it, the four (m_x, m_y) quantities side by side), then y, then
 /// x: about 190 multiply-adds per component.
-pub fn value_and_gradient<'a>(corner: impl Fn(usize) -> &'a [f64], xi: &[f64; 3], edge: f64) -> (Vec3, Mat3) {
+pub(crate) fn value_and_gradient<'a>(corner: impl Fn(usize) -> &'a [f64], xi: &[f64; 3], edge: f64) -> (Vec3, Mat3) {
     let [(xv, xd), (yv, yd), (zv, zd)] = axes(xi, edge);
     let mut u = [0.0; 3];
     let mut g = [[0.0; 3]; 3];
