@@ -259,7 +259,8 @@ impl FlowField for Cellular {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         check_query(x, t)?;
         let (u, l) = (self.speed, self.length);
-        let (s, c): (Vec<f64>, Vec<f64>) = (0..3).map(|a| (x[a] / l).sin_cos()).unzip();
+        let sc: [(f64, f64); 3] = std::array::from_fn(|a| (x[a] / l).sin_cos());
+        let (s, c) = (sc.map(|p| p.0), sc.map(|p| p.1));
         let velocity = Vec3::new(s[0] * (c[1] - c[2]), s[1] * (c[2] - c[0]), s[2] * (c[0] - c[1])) * u;
         // ∂u_i/∂x_j, i the row.
         let grad_u = Mat3::new(

@@ -53,11 +53,10 @@ type Basis = ([[f64; 2]; 2], [[f64; 2]; 2]);
 fn axes(xi: &[f64; 3], edge: f64) -> [Basis; 3] {
     std::array::from_fn(|a| {
         let (mut v, mut d) = basis(xi[a]);
+        // The slope functions' derivatives need both factors, E and 1/E: they cancel.
         for end in 0..2 {
             v[end][1] *= edge;
-            d[end][1] *= edge;
             d[end][0] /= edge;
-            d[end][1] /= edge;
         }
         (v, d)
     })
