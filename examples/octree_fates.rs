@@ -5,7 +5,7 @@
 //! itself keeps Fig. 18's deposition.
 //!
 //! ```text
-//! cargo run --release --example octree_fates -- [N STK U_TOL LEAVES_PER_CELL INTERPOLANT KIND WALL_LEAF]
+//! cargo run --release --example octree_fates -- [N STK U_TOL LEAVES_PER_CELL INTERPOLANT KIND WALL_LEAF [FINE_CASE]]
 //! # defaults 4000 0.5 inf 12 trilinear prolate 2
 //! ```
 //! `KIND` `prolate` (Fig. 18's rigid λ = 20 prolates) or `sphere:MU_S` (Neo-Hookean spheres of
@@ -13,7 +13,11 @@
 //! `U_TOL` the table's tolerance of u against the blend relative to |u|max (`inf`: leaves sized
 //! by the mesh alone); the tolerance of ∇u is infinite; `INTERPOLANT` `trilinear` or `hermite`;
 //! `WALL_LEAF` the wall leaves' edge over the wall cell's height ([`Options`]).
-//! One thread per run, so the two times compare.
+//! `FINE_CASE` (optional) a finer solution of the same airway (`cases/bifurcation/Allrun
+//! 0.2e-3 DIR`): the same particles are tracked on its blend as well and both fields of the
+//! shipped mesh are paired against it, so the table's shift from the blend can be set beside
+//! the blend's own change under mesh refinement.
+//! One thread per run, so the times compare.
 
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::OctreeFlow;
@@ -94,14 +98,37 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         deposited.push(fates);
     }
-    let mut pairing = Pairing::default();
-    for (table, blend) in deposited[1].iter().zip(&deposited[0]) {
-        pairing.add(*table, *blend);
+    let paired = |ours: &[bool], reference: &[bool], label: &str| {
+        let mut pairing = Pairing::default();
+        for (a, b) in ours.iter().zip(reference) {
+            pairing.add(*a, *b);
+        }
+        let (difference, se) = pairing.difference();
+        println!(
+            "paired: {label} {difference:+.4} ± {se:.4} ({} / {} deposited by one only)",
+            pairing.only_ours, pairing.only_peer
+        );
+    };
+    paired(&deposited[1], &deposited[0], "DE table − blend");
+    if let Some(dir) = args.get(7) {
+        let fine = Airway::open(dir)?;
+        let integ = study::integrator(&fine, kind)?.integrator;
+        let injection = Injection::new(&fine, kind)?;
+        let case = Case::new(&integ, fine.flow(), fine.boundary(), &injection, study::plan(&fine)?);
+        let start = Instant::now();
+        let out = run(&case, &config, Shard::ALL, &RunOptions::default().serial().quiet())?;
+        let fates: Vec<bool> = out
+            .records
+            .iter()
+            .map(|r| matches!(r.fate, Fate::Deposited { .. }))
+            .collect();
+        println!(
+            "blend of {dir}: {:.1} s, {} of {n} deposited",
+            start.elapsed().as_secs_f64(),
+            fates.iter().filter(|d| **d).count()
+        );
+        paired(&deposited[0], &fates, "DE blend − fine blend");
+        paired(&deposited[1], &fates, "DE table − fine blend");
     }
-    let (difference, se) = pairing.difference();
-    println!(
-        "paired: {} deposited on the table only, {} on the blend only; DE table − blend {difference:+.4} ± {se:.4}",
-        pairing.only_ours, pairing.only_peer
-    );
     Ok(())
 }
