@@ -120,7 +120,9 @@
 //! - So at Stk ≥ 0.3 deposition depends on the field's structure below a fifth of a cell, by
 //!   about half a percentage point: two reconstructions, each O(h²) in u, do not agree on it.
 //!   That is a discretisation uncertainty of Fig. 18's upper points on this mesh. Which of the
-//!   two is nearer the converged answer is not known here; a finer mesh would say.
+//!   two is nearer the converged answer: the blend, at three of four Stokes numbers, and the
+//!   mesh's own error is several times larger than either's difference (measured on finer
+//!   meshes below, "Against the mesh's own error").
 //!
 //! So tabulating the blend cannot make tracking cheaper at the accuracy the datasets need: the
 //! table must resolve the blend's own fine structure. A faster field has to be one whose
@@ -161,9 +163,23 @@
 //!
 //! The Hermite table moves Fig. 18's upper points four times less than the trilinear one, but
 //! still by 3–6 paired standard errors at 10⁵ (within 2 only at Stk 0.2): the fate
-//! target against the blend is not met. For scale, the same blend on the 0.2 mm mesh moves the
-//! rigid spheres' DE at Stk 0.4 by +0.0011 (5 paired standard errors, 500 fates changed,
-//! `cases/bifurcation/README.md`): the table's shift is of the size of the mesh's own.
+//! target against the blend is not met.
+//!
+//! *Against the mesh's own error* (`octree_fates … FINE_CASE`: the same 10⁵ prolates on the
+//! blend of `cases/bifurcation/Allrun H` solutions, H = 0.4, 0.3 (shipped), 0.2 and 0.15 mm;
+//! `paper-figures/fig18/NOTES.md`, "Four meshes"):
+//!
+//! | Stk | DE 0.4 mm | DE 0.3 mm | DE 0.2 mm | DE 0.15 mm | blend 0.3 − 0.15 mm, paired | Hermite table − blend (0.3 mm) |
+//! |---|---|---|---|---|---|---|
+//! | 0.1 | 0.0261 | 0.0134 | 0.0079 | 0.0072 | +0.0062 ± 0.0003 | +0.0004 ± 0.0001 |
+//! | 0.2 | 0.0837 | 0.0730 | 0.0685 | 0.0686 | +0.0044 ± 0.0003 | −0.0003 ± 0.0002 |
+//! | 0.3 | 0.1846 | 0.1810 | 0.1829 | 0.1875 | −0.0065 ± 0.0003 | −0.0010 ± 0.0002 |
+//! | 0.5 | 0.4299 | 0.4347 | 0.4491 | 0.4520 | −0.0173 ± 0.0005 | −0.0019 ± 0.0003 |
+//!
+//! The table moves DE by 7–15 % of the shipped mesh's distance from the finest one, further
+//! from the finest answer at three of the four Stokes numbers. A fate target of two paired
+//! standard errors (2–6·10⁻⁴) against the blend asks a faster field to reproduce the shipped
+//! mesh's discretisation error to a tenth of its size or better.
 //!
 //! *Cost* (callgrind, 200 prolates at Stk 0.1, one thread, tracking only): a sample costs
 //! 4.28 k instructions on the Hermite table against 4.84 k on the blend; of those, 38 % of the
