@@ -73,62 +73,62 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     };
-    let integ = study::integrator(&airway, kind)?.integrator;
-    let injection = Injection::new(&airway, kind)?;
     let config = RunConfig {
         seed: figures::SEED,
         particles: n,
         fingerprint: "octree_fates".into(),
     };
-    let mut deposited = Vec::new();
-    for (name, field) in [("blend", airway.flow() as &dyn FlowField), ("table", &table)] {
-        let case = Case::new(&integ, field, airway.boundary(), &injection, study::plan(&airway)?);
-        let start = Instant::now();
-        let out = run(&case, &config, Shard::ALL, &RunOptions::default().serial().quiet())?;
-        let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
-        let fates: Vec<bool> = out
-            .records
-            .iter()
-            .map(|r| matches!(r.fate, Fate::Deposited { .. }))
-            .collect();
-        println!(
-            "{name}: {:.1} s, {steps} steps, {} of {n} deposited",
-            start.elapsed().as_secs_f64(),
-            fates.iter().filter(|d| **d).count()
-        );
-        deposited.push(fates);
-    }
-    let paired = |ours: &[bool], reference: &[bool], label: &str| {
-        let mut pairing = Pairing::default();
-        for (a, b) in ours.iter().zip(reference) {
-            pairing.add(*a, *b);
-        }
-        let (difference, se) = pairing.difference();
-        println!(
-            "paired: {label} {difference:+.4} ± {se:.4} ({} / {} deposited by one only)",
-            pairing.only_ours, pairing.only_peer
-        );
-    };
-    paired(&deposited[1], &deposited[0], "DE table − blend");
+    let blend = fates(&airway, airway.flow(), kind, &config, "blend")?;
+    let tabulated = fates(&airway, &table, kind, &config, "table")?;
+    paired(&tabulated, &blend, "DE table − blend");
     if let Some(dir) = args.get(7) {
         let fine = Airway::open(dir)?;
-        let integ = study::integrator(&fine, kind)?.integrator;
-        let injection = Injection::new(&fine, kind)?;
-        let case = Case::new(&integ, fine.flow(), fine.boundary(), &injection, study::plan(&fine)?);
-        let start = Instant::now();
-        let out = run(&case, &config, Shard::ALL, &RunOptions::default().serial().quiet())?;
-        let fates: Vec<bool> = out
-            .records
-            .iter()
-            .map(|r| matches!(r.fate, Fate::Deposited { .. }))
-            .collect();
-        println!(
-            "blend of {dir}: {:.1} s, {} of {n} deposited",
-            start.elapsed().as_secs_f64(),
-            fates.iter().filter(|d| **d).count()
-        );
-        paired(&deposited[0], &fates, "DE blend − fine blend");
-        paired(&deposited[1], &fates, "DE table − fine blend");
+        let finer = fates(&fine, fine.flow(), kind, &config, &format!("blend of {dir}"))?;
+        paired(&blend, &finer, "DE blend − fine blend");
+        paired(&tabulated, &finer, "DE table − fine blend");
     }
     Ok(())
+}
+
+/// Whether each particle of `config` deposits on `field` in `airway` (the studies' integrator,
+/// injection, contact and plan, one thread), with the run's time and steps printed.
+fn fates(
+    airway: &Airway,
+    field: &dyn FlowField,
+    kind: Kind,
+    config: &RunConfig,
+    name: &str,
+) -> Result<Vec<bool>, Box<dyn std::error::Error>> {
+    let integ = study::integrator(airway, kind)?.integrator;
+    let injection = Injection::new(airway, kind)?;
+    let case = Case::new(&integ, field, airway.boundary(), &injection, study::plan(airway)?);
+    let start = Instant::now();
+    let out = run(&case, config, Shard::ALL, &RunOptions::default().serial().quiet())?;
+    let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
+    let fates: Vec<bool> = out
+        .records
+        .iter()
+        .map(|r| matches!(r.fate, Fate::Deposited { .. }))
+        .collect();
+    println!(
+        "{name}: {:.1} s, {steps} steps, {} of {} deposited",
+        start.elapsed().as_secs_f64(),
+        fates.iter().filter(|d| **d).count(),
+        config.particles
+    );
+    Ok(fates)
+}
+
+/// The paired difference of DE, `ours` − `reference`, over the same particles (McNemar's
+/// standard error), printed with the counts deposited by one only.
+fn paired(ours: &[bool], reference: &[bool], label: &str) {
+    let mut pairing = Pairing::default();
+    for (a, b) in ours.iter().zip(reference) {
+        pairing.add(*a, *b);
+    }
+    let (difference, se) = pairing.difference();
+    println!(
+        "paired: {label} {difference:+.4} ± {se:.4} ({} / {} deposited by one only)",
+        pairing.only_ours, pairing.only_peer
+    );
 }
