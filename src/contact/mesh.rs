@@ -6,32 +6,27 @@
 //! principal directions). Its extent along a unit vector n is the support distance
 //! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2}$, so against a boundary face with centre $x_f$ and
 //! outward unit normal $n_f$ the gap is $g = (x_f − x_c)·n_f − h(n_f)$; g ≤ 0 is contact.
-//! The face that counts is the one the particle's extreme point faces: among the faces whose
-//! bounding boxes are near enough to hold a nearer face ([`PatchGap::nearest_gap`]), those for
-//! which the support point $s = x_c + b\\,n_f / h(n_f)$ ($b = Q^T \mathrm{diag}(r_a^2)\\,Q$,
-//! the point of the ellipsoid farthest along $n_f$) projects into the face polygon; the
-//! smallest of their gaps is the gap. (Taking the smallest plane gap over all nearby faces
-//! would be wrong at convex walls, where the planes of neighbouring faces cut into the fluid.)
-//! If the support point projects into none of them (over an edge between faces), the face
-//! nearest to it is used, unless a face is proven nearer (next section).
+//! The gap to a face is measured to the face itself (its fan of triangles about the centre),
+//! not to its plane beyond its edges. Where the support point $s = x_c + b\,n_f / h(n_f)$
+//! ($b = Q^T \mathrm{diag}(r_a^2)\,Q$, the point of the ellipsoid farthest along $n_f$)
+//! projects into the face polygon (the face *covers* it), the plane gap is the distance to the
+//! face, exactly. Otherwise the nearest point of the face lies on its rim, and the gap is the
+//! largest of three lower bounds of the distance from the ellipsoid to the face, each ≤ 0
+//! exactly where the ellipsoid meets the face:
+//! - the plane gap (the face lies in its plane);
+//! - $(s − 1)\,r_3$, with s the distance from the origin to the face after the affine map
+//!   $p ↦ \mathrm{diag}(r_a)^{-1} Q (p − x_c)$, which takes the ellipsoid onto the unit ball
+//!   ([`PatchSet::mapped_face_distance`]): a point at s lies on the surface of the ellipsoid
+//!   scaled by s about its centre, at least $(s − 1) r_3$ from the ellipsoid; exact for a sphere
+//!   and for a point particle of contact radius δ;
+//! - $d_f − r_1$, $d_f$ the distance from the centre to the face.
 //!
-//! # Faces the support point misses
-//! A covered face is not always the nearest: where the wall forms a ridge into the fluid (a
-//! kink of a snapped mesh), the support point can project past the edge of every face near
-//! the particle and into a face of the opposite wall, millimetres away. A face at distance
-//! $d_f$ from the centre (to the face, not its plane) holds a point within $d_f − r_3$ of the
-//! ellipsoid (which contains the ball of radius $r_3$ about its centre), so where some
-//! uncovered face has $d_f − r_3 <$ the covered gap, the covered gap is not the smallest. The
-//! gap is then the smallest lower bound over the uncovered faces: the larger of the plane gap
-//! (the face lies in its plane) and $d_f − r_1$ (no point of the ellipsoid is farther than
-//! $r_1$ from its centre). It lies below the true gap by at most $r_1 − r_3$, and it replaces
-//! the covered gap only where that was too large; on a planar wall a face the support point
-//! misses lies at least $r_3$ beyond the covered gap, so nothing changes there. The same test
-//! guards the gap of the face nearest to the support point where no face is covered: a prolate
-//! touching a wall with its side over an edge between two faces had its support point covered
-//! by neither, and the face whose centre lay nearest to the projections was a face 1.1 mm
-//! away, so the gap jumped from 0 to 1.1 mm at contact and the event could not be located
-//! (1 particle of 1.2·10⁶ in the airway tree). Exact for planar walls; on a curved wall meshed with faces of size h
+//! The gap is the smallest over the faces whose bounding boxes lie within it plus $r_1$
+//! ([`PatchGap::nearest_gap`]). A particle passing over a convex edge (a step's corner, the
+//! kink of a snapped wall, a carina) is therefore as far from the wall as it is from the edge:
+//! where the gap was the plane gap of the face nearest to the support point, tracers passing
+//! 16–172 µm above the corner of OpenFOAM's pitzDaily step were deposited on the plane of its
+//! vertical face. Exact for planar walls; on a curved wall meshed with faces of size h
 //! whose vertices lie on the surface, within the sagitta O(h²κ) of the gap to the surface (κ
 //! the curvature). Wall patches (`type wall`) deposit; generic patches (`type patch`: inlets
 //! and outlets) let the particle exit; constraint patches (`empty`, `symmetry*`, `wedge`,
@@ -52,10 +47,7 @@
 //! contact event, taking it for inside, would never see the exit. A bin centre outside the
 //! domain could not lend a bound to a point inside anyway: the segment between them crosses
 //! the boundary, so $d_c ≤ |x − c|$. The gap of a point is
-//! the distance to the plane of the face its projection covers, which is the distance to that
-//! face; where the projection covers none (over a convex ridge, a carina), it is the distance to
-//! the plane of the nearest face, at least cos θ times the distance to the ridge for an
-//! exterior angle θ between the faces. The answer bounds the distance to the walls; the
+//! its distance to the nearest face (above). The answer bounds the distance to the walls; the
 //! contact event halves it for the gap ([`super::ContactEvent`]). The grid has 64 bins per face, at most 2²² (64 MiB),
 //! over the faces' bounding box.
 //!
@@ -73,7 +65,14 @@
 //!   concave wall, an outlet's rim).
 //!
 //! The room of a particle is that radius less its distance from the face centre, given only
-//! where the face covers the support point (the gap is then the plane's). It is computed on
+//! where the face covers the support point (the gap is then the plane's), and no more than the
+//! support point's distance to the face's *open* edges plus $r_1$ ([`open_edges`]: those where
+//! the neighbouring face falls away beyond the plane, and those no face of the set shares).
+//! Beyond such an edge the plane is no longer the wall: a particle allowed by the room to glide
+//! past the corner of a step while sinking towards the plateau touched it mid-step, yet ended
+//! the step over the drop with a positive gap (spheres aimed 5° downwards at distances 0.8–0.95
+//! of their radius from the edge passed through at 1–10 m/s). Near an open edge the full-speed
+//! cap holds, whose slack shrinks with the gap ([`super::event`], Grazing contact). It is computed on
 //! first use per face: one query of the faces' boxes within the largest ball, and the heights
 //! of their points (kept in three coordinate arrays) over each plane. Measured on the 90°
 //! bend (callgrind, 300 spheres, `openfoam_race --integrator auto --no-soft`): the tracking
@@ -110,6 +109,8 @@ pub struct FaceGap {
     /// Whether the particle's support point projects into the face, so that `gap` is the gap
     /// to its plane (module docs); otherwise `gap` is a lower bound.
     pub covered: bool,
+    /// The support point along `normal`, projected onto the face's plane.
+    pub projected: Vec3,
 }
 
 /// Gap between an ellipsoidal particle and a boundary.
@@ -122,33 +123,15 @@ impl PatchGap for PatchSet {
     fn nearest_gap(&self, centre: &Vec3, semi_axes: &Vec3, q: &Mat3) -> Option<FaceGap> {
         let r2 = semi_axes.component_mul(semi_axes);
         let (r1, r3) = (semi_axes.amax(), semi_axes.amin());
-        let mut covered: Option<FaceGap> = None;
-        let mut nearest: Option<(f64, FaceGap)> = None;
-        // Uncovered faces near the centre (module docs, "Faces the support point misses"): the
-        // smallest lower bound of a gap, with its face, and the smallest upper bound.
-        let mut uncovered: Option<FaceGap> = None;
-        let mut uncovered_upper = f64::INFINITY;
-        // Faces in order of their bounding box's distance from the centre, a lower bound of
-        // the distance to the face. A face that covers the support point's projection is at
-        // its plane distance, so once a box lies farther than the best covered gap plus the
-        // particle's extent (the support point is within the largest semi-axis of the centre)
-        // no later face can do better. Without a covered face the search goes on within the
-        // first box's distance plus twice the largest circumradius and semi-axis. (A fixed
-        // number of nearest face centres missed a long wall face beside the small faces of an
-        // adjacent outlet, and let particles cross the wall unseen.)
-        let reach = 2.0 * semi_axes.amax();
-        let mut uncovered_bound = f64::INFINITY;
+        let inverse = semi_axes.map(|r| 1.0 / r);
+        let mut best: Option<FaceGap> = None;
+        // Faces in order of their bounding box's distance d_b from the centre: every point of
+        // a face lies at least d_b from the centre, so at least d_b − r₁ from the ellipsoid, and
+        // each face's gap below is at least that (module docs). Once a box lies farther than
+        // the best gap plus r₁, no later face can do better.
         for (i, distance) in self.by_box_distance(centre) {
-            if let Some(c) = &covered
-                && distance > c.gap.abs() + 2.0 * reach
-            {
+            if best.is_some_and(|b| distance - r1 > b.gap) {
                 break;
-            }
-            if distance > uncovered_bound {
-                break;
-            }
-            if uncovered_bound.is_infinite() {
-                uncovered_bound = distance + 2.0 * self.circumradius() + 2.0 * reach;
             }
             let SetFace {
                 face,
@@ -157,15 +140,7 @@ impl PatchGap for PatchSet {
                 normal: n,
             } = self.face(i);
             let h = support_distance(semi_axes, q, &n);
-            let gap = (face_centre - centre).dot(&n) - h;
-            let candidate = FaceGap {
-                face,
-                patch,
-                gap,
-                normal: n,
-                index: i,
-                covered: false,
-            };
+            let plane = (face_centre - centre).dot(&n) - h;
             // The ellipsoid's extreme point along n (a point particle's centre), projected onto
             // the face plane.
             let support = if h > 0.0 {
@@ -174,37 +149,40 @@ impl PatchGap for PatchSet {
                 *centre
             };
             let projected = support + n * (face_centre - support).dot(&n);
-            if self.covers(i, &projected) {
-                // Ties (a support point over a shared edge) go to the lowest face number, so
-                // the answer does not depend on the index's traversal order.
-                if covered.is_none_or(|c| (gap, candidate.face) < (c.gap, c.face)) {
-                    covered = Some(FaceGap {
-                        covered: true,
-                        ..candidate
-                    });
-                }
+            let covered = self.covers(i, &projected);
+            let gap = if covered {
+                plane
             } else {
-                let d = (face_centre - projected).norm();
-                if nearest.is_none_or(|(dn, c)| (d, candidate.face) < (dn, c.face)) {
-                    nearest = Some((d, candidate));
-                }
-                if covered.is_none_or(|c| distance < c.gap + r3) {
-                    let d_face = self.face_offset(i, centre).norm();
-                    uncovered_upper = uncovered_upper.min(d_face - r3);
-                    let lower = FaceGap {
-                        gap: gap.max(d_face - r1),
-                        ..candidate
-                    };
-                    if uncovered.is_none_or(|u| (lower.gap, lower.face) < (u.gap, u.face)) {
-                        uncovered = Some(lower);
-                    }
-                }
+                // Lower bounds of the distance to the face polygon, each ≤ 0 exactly where the
+                // ellipsoid meets it (module docs).
+                let polygon = if r3 > 0.0 {
+                    (self.mapped_face_distance(i, centre, q, &inverse) - 1.0) * r3
+                } else {
+                    self.face_offset(i, centre).norm() - r1
+                };
+                let reach = if r1 > r3 {
+                    self.face_offset(i, centre).norm() - r1
+                } else {
+                    polygon
+                };
+                plane.max(polygon).max(reach)
+            };
+            let candidate = FaceGap {
+                face,
+                patch,
+                gap,
+                normal: n,
+                index: i,
+                covered,
+                projected,
+            };
+            // Ties (a support point over a shared edge) go to the lowest face number, so the
+            // answer does not depend on the index's traversal order.
+            if best.is_none_or(|b| (gap, face) < (b.gap, b.face)) {
+                best = Some(candidate);
             }
         }
-        match (covered.or(nearest.map(|(_, c)| c)), uncovered) {
-            (Some(c), Some(u)) if uncovered_upper < c.gap => Some(u),
-            (c, _) => c,
-        }
+        best
     }
 }
 
@@ -223,6 +201,8 @@ pub struct MeshBoundary {
     clearance: Clearance,
     /// Each face's [`room`], computed on first use.
     rooms: Vec<OnceLock<f64>>,
+    /// Each face's [`open_edges`], computed on first use.
+    edges: Vec<OnceLock<Box<[u32]>>>,
 }
 
 /// Radii of the neighbourhoods [`room`] tries about a face, in multiples of its circumradius,
@@ -269,6 +249,49 @@ fn room(set: &PatchSet, i: usize) -> f64 {
         room = radius;
     }
     room
+}
+
+/// The edges of face i (k for the edge from vertex k to k + 1 of [`PatchSet::polygon`]) that
+/// a particle must not cross within a step that only its normal velocity bounds (module docs,
+/// Room): those where the neighbouring face of the set falls away beyond face i's plane by more
+/// than face i's warp (a convex ridge), and those that no face of the set shares (the rim
+/// towards a constraint patch, or a face of another shape).
+fn open_edges(set: &PatchSet, i: usize) -> Box<[u32]> {
+    let own = FacePlane::of(set, i);
+    let polygon = set.polygon(i);
+    let tolerance = 1e-12 * set.circumradius();
+    let mut open = Vec::new();
+    for (k, a) in polygon.iter().enumerate() {
+        let b = &polygon[(k + 1) % polygon.len()];
+        let middle = (a + b) * 0.5;
+        let neighbour = set
+            .within_box_distance(&middle, 0.0)
+            .map(|(j, _)| j)
+            .filter(|&j| j != i)
+            .find(|&j| {
+                let p = set.polygon(j);
+                p.contains(a) && p.contains(b)
+            });
+        let falls_away = neighbour.is_none_or(|j| {
+            FacePlane::of(set, j)
+                .points()
+                .any(|p| (p - own.centre).dot(&own.normal) > own.warp + tolerance)
+        });
+        if falls_away {
+            open.push(k as u32);
+        }
+    }
+    open.into_boxed_slice()
+}
+
+/// Distance from p to the segment from a to b.
+fn segment_distance(p: &Vec3, a: &Vec3, b: &Vec3) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
+    if t.is_nan() {
+        return (p - a).norm();
+    }
+    (p - (a + ab * t)).norm()
 }
 
 /// A face as the room's tests see it: its plane, its warp and the points that span it.
@@ -452,6 +475,7 @@ impl MeshBoundary {
             fingerprint,
             clearance: Clearance::new(&set),
             rooms: (0..set.len()).map(|_| OnceLock::new()).collect(),
+            edges: (0..set.len()).map(|_| OnceLock::new()).collect(),
             set,
             names,
             mesh_patches,
@@ -478,10 +502,22 @@ impl Boundary for MeshBoundary {
             .nearest_gap(x, &axes, &q)
             .expect("MeshBoundary::new keeps at least one face");
         // Room only where the gap is the covered face's plane gap, which the cap closes.
+        // The room ends where the support point would pass an open edge of the covered face
+        // (module docs, Room): beyond it the face's plane is no longer what the gap measures.
         let room = if hit.covered {
             let centre = self.set.face(hit.index).centre;
             let radius = *self.rooms[hit.index].get_or_init(|| room(&self.set, hit.index));
-            (radius - (x - centre).norm()).max(0.0)
+            let ball = (radius - (x - centre).norm()).max(0.0);
+            let polygon = self.set.polygon(hit.index);
+            let edges = self.edges[hit.index].get_or_init(|| open_edges(&self.set, hit.index));
+            let edge = edges
+                .iter()
+                .map(|&k| {
+                    let k = k as usize;
+                    segment_distance(&hit.projected, &polygon[k], &polygon[(k + 1) % polygon.len()])
+                })
+                .fold(f64::INFINITY, f64::min);
+            ball.min(edge + axes.amax())
         } else {
             0.0
         };

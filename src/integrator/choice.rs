@@ -9,7 +9,10 @@
 //! - **Barycentre**: the equilibrium velocity ([`BarycentreModel::Equilibrium`], first order
 //!   in the response time) for St ≤ [`EQUILIBRIUM_STOKES`], its full inertia
 //!   ([`BarycentreModel::Inertial`]) above. St = τ γ̇ is the particle's largest response time
-//!   over the flow's time scale, the volume mean of the strain rate ([`ParticleNumbers::of`]).
+//!   over the flow's time scale, the volume mean of the strain rate ([`ParticleNumbers::of`]),
+//!   or, if larger, the distance a launch's slip carries the particle before it relaxes, in
+//!   equivalent diameters ([`ParticleNumbers::at`]): a particle thrown into still fluid is not
+//!   overdamped.
 //! - **Scheme**: the Rosenbrock-W 2(3) pair at loose tolerances (rtol ≥ [`ROSENBROCK_RTOL`]),
 //!   where its two evaluations per step beat Radau IIA's three to four, and Radau IIA(5)
 //!   below, where accuracy sets the step and order 5 takes 15–20× fewer ([`Scheme`]'s table).
@@ -22,7 +25,9 @@
 //!
 //! The user can still force any integrator: this is a default, not a restriction. Scene files
 //! and Python name it `auto` ([`Auto`]: the choice made per particle at its first step, from
-//! [`ParticleNumbers::of`], and printed per injection group in the run log).
+//! [`ParticleNumbers::at`]: a particle launched with a slip keeps its inertia, section
+//! Barycentre; printed per injection group in the run log for particles launched at the fluid's
+//! velocity).
 
 use super::control::ErrorNorm;
 use super::manifold::{Manifold, ManifoldMemory, ManifoldReport};
@@ -140,6 +145,32 @@ impl ParticleNumbers {
             rho_star: particle.rho_solid() * rate * d_eq * d_eq / particle.fluid().mu,
             rigid: particle.elastic().is_none(),
             shape_ratio,
+        })
+    }
+
+    /// [`Self::of`] for a particle starting in `state`, whose Stokes number is at least its
+    /// launch's: $τ\,|v − u(x)|/d_{eq}$, the distance its initial slip carries it before it
+    /// relaxes, in equivalent diameters. A particle thrown into still fluid (St = 0 by the flow's
+    /// rate alone) keeps its inertia; one released at the fluid's velocity is chosen as before.
+    /// A state outside the flow leaves the flow's number alone (its first step fails anyway).
+    pub fn at<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        particle: &Particle<M, D>,
+        flow: &F,
+        state: &State,
+    ) -> Result<Self, ParamError> {
+        let numbers = Self::of(particle, flow)?;
+        let Ok(sample) = flow.sample(&state.x, state.t) else {
+            return Ok(numbers);
+        };
+        let d_eq = 2.0 * particle.shape().semi_axes().product().cbrt();
+        let launch = Self::response_time(particle)? * (state.v - sample.u).norm() / d_eq;
+        Ok(Self {
+            stokes: if launch.is_finite() {
+                numbers.stokes.max(launch)
+            } else {
+                numbers.stokes
+            },
+            ..numbers
         })
     }
 }
@@ -345,13 +376,28 @@ pub struct Auto {
 }
 
 impl Auto {
-    /// The choice for `particle` in `flow`.
+    /// The choice for `particle` in `flow`, launched at the fluid's velocity.
     pub fn choice<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
         flow: &F,
     ) -> Result<Choice, ParamError> {
-        let choice = choose(ParticleNumbers::of(particle, flow)?, self.tol)?;
+        self.chosen(ParticleNumbers::of(particle, flow)?)
+    }
+
+    /// The choice for `particle` in `flow` starting in `state`: its launch's slip counts
+    /// ([`ParticleNumbers::at`]).
+    pub fn choice_at<M: Response, D: DragModel, F: FlowField + ?Sized>(
+        &self,
+        particle: &Particle<M, D>,
+        flow: &F,
+        state: &State,
+    ) -> Result<Choice, ParamError> {
+        self.chosen(ParticleNumbers::at(particle, flow, state)?)
+    }
+
+    fn chosen(&self, numbers: ParticleNumbers) -> Result<Choice, ParamError> {
+        let choice = choose(numbers, self.tol)?;
         Ok(Choice {
             integrator: choice.integrator.with_norm(self.norm),
             ..choice
@@ -360,11 +406,16 @@ impl Auto {
 }
 
 /// Step memory of [`Auto`]: the chosen integrator and its memory. The choice is a function of
-/// the particle, the flow and the tolerances, so a checkpoint need not keep it.
+/// the particle, the flow, the tolerances and the Stokes number of the first step's state
+/// ([`ParticleNumbers::at`]), so a checkpoint keeps that number and a resumed run chooses as
+/// the first did.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct AutoMemory {
     #[serde(skip)]
     chosen: Option<Chosen>,
+    /// The Stokes number of the choice, once made.
+    #[serde(default)]
+    stokes: Option<f64>,
     inner: ChosenMemory,
 }
 
@@ -386,7 +437,15 @@ impl TimeIntegrator for Auto {
         let chosen = match memory.chosen {
             Some(chosen) => chosen,
             None => {
-                let chosen = self.choice(particle, flow).map_err(StepError::Param)?.integrator;
+                let numbers = match memory.stokes {
+                    Some(stokes) => ParticleNumbers {
+                        stokes,
+                        ..ParticleNumbers::of(particle, flow).map_err(StepError::Param)?
+                    },
+                    None => ParticleNumbers::at(particle, flow, state).map_err(StepError::Param)?,
+                };
+                let chosen = self.chosen(numbers).map_err(StepError::Param)?.integrator;
+                memory.stokes = Some(numbers.stokes);
                 memory.chosen = Some(chosen);
                 chosen
             }

@@ -14,10 +14,11 @@ impl Builder<'_> {
             ("flow.time", spec.time.is_some()),
             ("flow.precision", spec.precision.is_some()),
             ("flow.window", spec.window.is_some()),
+            ("flow.still", spec.still),
         ];
         let linear = |kind: &str, make: fn(f64) -> Result<LinearFlow, ParamError>| {
             self.refuse(
-                &[pipe[0], pipe[1], foam[0], foam[1], foam[2], foam[3]],
+                &[pipe[0], pipe[1], foam[0], foam[1], foam[2], foam[3], foam[4]],
                 at.clone(),
                 kind,
             )?;
@@ -30,7 +31,7 @@ impl Builder<'_> {
         match spec.kind.get_ref() {
             FlowKind::Quiescent => {
                 self.refuse(
-                    &[rate, pipe[0], pipe[1], foam[0], foam[1], foam[2], foam[3]],
+                    &[rate, pipe[0], pipe[1], foam[0], foam[1], foam[2], foam[3], foam[4]],
                     at,
                     "quiescent",
                 )?;
@@ -40,7 +41,11 @@ impl Builder<'_> {
             FlowKind::PlanarExtension => linear("planar_extension", LinearFlow::planar_extension),
             FlowKind::UniaxialExtension => linear("uniaxial_extension", LinearFlow::uniaxial_extension),
             FlowKind::Poiseuille => {
-                self.refuse(&[rate, foam[0], foam[1], foam[2], foam[3]], at.clone(), "poiseuille")?;
+                self.refuse(
+                    &[rate, foam[0], foam[1], foam[2], foam[3], foam[4]],
+                    at.clone(),
+                    "poiseuille",
+                )?;
                 let radius = self.need(&spec.radius, at.clone(), "flow.radius", "poiseuille")?;
                 let mean = self.need(&spec.mean_velocity, at, "flow.mean_velocity", "poiseuille")?;
                 let r = self.positive(radius, "flow.radius")?;
@@ -105,15 +110,17 @@ impl Builder<'_> {
                     // Built once per scene: the cell is empty here.
                     let _ = self.boundary_flux.set(flux);
                 }
-                if cells.is_zero() {
-                    return Err(self.err(
-                        span,
-                        key,
+                if cells.is_zero() != spec.still {
+                    let message = if spec.still {
+                        format!("`flow.still = true` but U is not zero in every cell at t = {times:?}")
+                    } else {
                         format!(
-                            "U is zero in every cell at t = {times:?} (an initial condition?); the case has times {:?}",
+                            "U is zero in every cell at t = {times:?} (an initial condition? for still fluid say \
+                             `still = true`); the case has times {:?}",
                             foam.times()
-                        ),
-                    ));
+                        )
+                    };
+                    return Err(self.err(span, key, message));
                 }
                 match spec.blend {
                     true => BlendedFlow::new(cells).map(|b| SceneFlow::Blended(Box::new(b))),
@@ -130,6 +137,9 @@ impl Builder<'_> {
     /// field's included, so a window holds at most three levels).
     fn transient(&self, spec: &FlowSpec, time: &Spanned<TimeSpec>, foam: FoamCase) -> Result<SceneFlow, SceneError> {
         let (at, key) = (time.span(), "flow.time");
+        if spec.still {
+            return Err(self.err(at, "flow.still", "is for a steady field: a transient one is not still"));
+        }
         let case_times = foam.times();
         let err = |message: String| self.err(at.clone(), key, message);
         let (levels, cycle) = match time.get_ref() {

@@ -16,8 +16,9 @@
 //! | `[flow] type` | `quiescent`, `shear`, `planar_extension`, `uniaxial_extension`, `poiseuille`, `openfoam` |
 //! | `flow.rate` | γ̇ or ε̇ of the linear flows |
 //! | `flow.radius`, `flow.mean_velocity` | Poiseuille pipe along e₁: R and Ū (centreline 2Ū) |
-//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file; an absolute path or one climbing with `..` is read as given: the command reads what the scene names, and writes nothing but under `--out`) and time: a number or `"latest"` (the default), a steady field (one that is zero in every cell is refused); a list of times or a range `{ start, end, period }`, a transient field (see *Transient fields*) |
+//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file; an absolute path or one climbing with `..` is read as given: the command reads what the scene names, and writes nothing but under `--out`) and time: a number or `"latest"` (the default), a steady field (one that is zero in every cell is refused unless `flow.still = true`); a list of times or a range `{ start, end, period }`, a transient field (see *Transient fields*) |
 //! | `flow.precision`, `flow.window` | transient fields only: `"f64"` (default) or `"f32"` storage of the levels; the length of the run's time windows (default: the smallest spacing of the levels) |
+//! | `flow.still` | `openfoam` only: `true` reads a case whose U is zero in every cell as still fluid (settling in a closed box, particles thrown into still air), and refuses one whose U is not; default `false`, where a zero field is refused as a likely initial condition |
 //! | `flow.blend` | `true` (default): the continuous field with the second-order no-slip wall layer (`flow::openfoam::BlendedFlow`); `false`: each cell's linear fit (discontinuous at faces, no wall-normal velocity near walls) |
 //! | `[fluid] viscosity`, `density`, `gravity` | μ_f, ρ_f, g (default 0) |
 //! | `[boundary] type` | `pipe` (needs `radius`), `planes` (needs `[[boundary.walls]]`), `mesh` (the case's patches) |

@@ -80,6 +80,11 @@ pub struct FlowSpec {
     /// particles to a wall, and with an O(h²) velocity on the wall itself.
     #[serde(default = "default_blend")]
     pub blend: bool,
+    /// The fluid is at rest (`openfoam`; default false): a case whose U is zero in every cell is
+    /// then read as still fluid (settling in a closed box, a particle thrown into still air)
+    /// instead of refused as a likely initial condition.
+    #[serde(default)]
+    pub still: bool,
 }
 
 fn default_blend() -> bool {

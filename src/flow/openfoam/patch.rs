@@ -201,6 +201,23 @@ impl PatchSet {
         best
     }
 
+    /// The distance from the origin to face i (its fan of triangles) after the affine map
+    /// $p \mapsto D\\,Q\\,(p − x)$ of every point, with $D = \mathrm{diag}(d)$: for $d = 1/r_a$
+    /// and Q the rows of an ellipsoid's principal directions this maps the ellipsoid centred
+    /// at x onto the unit ball and the face onto a polygon (an affine map keeps planes and
+    /// fans), so the ellipsoid meets the face exactly where the distance is at most 1.
+    pub fn mapped_face_distance(&self, i: usize, x: &Vec3, q: &crate::tensor::Mat3, d: &Vec3) -> f64 {
+        let map = |p: &Vec3| (q * (p - x)).component_mul(d);
+        let (c, poly) = (map(&self.centres[i]), self.polygon(i));
+        let origin = Vec3::zeros();
+        let mut best = f64::INFINITY;
+        for (k, a) in poly.iter().enumerate() {
+            let (a, b) = (map(a), map(&poly[(k + 1) % poly.len()]));
+            best = best.min(super::walls::triangle_offset(&origin, &c, &a, &b).norm());
+        }
+        best
+    }
+
     /// All patches with the given role.
     pub fn with_role(mesh: &PolyMesh, role: PatchRole) -> Self {
         let ids: Vec<usize> = (0..mesh.patches().len())

@@ -238,6 +238,54 @@ pub fn l_channel(n: usize) -> Raw {
     })
 }
 
+/// Hexahedra on the grid `xs` × `ys` × `zs` (each ascending) with every point moved by `map`,
+/// less the cells whose (unmapped) centre `solid` takes. `map` must keep the faces of each cell
+/// planar (e.g. piecewise linear in x with a kink on a grid line). Patches: `wall` (type wall)
+/// on the boundary faces whose (mapped) centre `wall` takes, `open` (type patch) on the rest.
+pub fn carved_box(
+    xs: &[f64],
+    ys: &[f64],
+    zs: &[f64],
+    map: impl Fn(Vec3) -> Vec3,
+    solid: impl Fn(&Vec3) -> bool,
+    wall: impl Fn(&Vec3) -> bool,
+) -> Raw {
+    let (nx, ny) = (xs.len(), ys.len());
+    let id = |i: usize, j: usize, k: usize| (i + nx * (j + ny * k)) as u32;
+    let mut points = Vec::new();
+    for &z in zs {
+        for &y in ys {
+            for &x in xs {
+                points.push(map(Vec3::new(x, y, z)));
+            }
+        }
+    }
+    let mut cells: Vec<Vec<Vec<u32>>> = Vec::new();
+    for k in 0..zs.len() - 1 {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let centre = Vec3::new(xs[i] + xs[i + 1], ys[j] + ys[j + 1], zs[k] + zs[k + 1]) * 0.5;
+                if solid(&centre) {
+                    continue;
+                }
+                cells.push(hex_faces([
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ]));
+            }
+        }
+    }
+    assemble_with(points, &cells, &[("wall", "wall"), ("open", "patch")], |c| {
+        usize::from(!wall(c))
+    })
+}
+
 /// Patch of a boundary face by its centre.
 fn patch_name(c: &Vec3) -> &'static str {
     if c[0] < 1e-9 {

@@ -1,5 +1,8 @@
 //! Boundaries and wall contact (src/contact) and event location in the driver.
 
+#[cfg(feature = "mesh")]
+mod mesh;
+
 use approx::assert_relative_eq;
 #[cfg(all(feature = "mesh", feature = "parallel"))] // the cavity's walls
 use pseudorigid::contact::{Approach, PatchRule, Planes};
