@@ -4,7 +4,7 @@ use super::observe::{Observer, Watch};
 use super::record::{Fate, ParticleRecord};
 use super::spec::{Injector, particle_rng};
 use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
-use crate::driver::{Observers, Plan, Problem, RunEnd, RunFailure, RunStats, Stop, integrate, resume};
+use crate::driver::{Event, Observers, Plan, Problem, RunEnd, RunFailure, RunStats, Stop, integrate, resume};
 use crate::error::StepError;
 use crate::flow::FlowField;
 use crate::integrator::Stepper;
@@ -13,6 +13,9 @@ use crate::particle::{Particle, State};
 use std::cell::RefCell;
 use std::hash::Hasher;
 
+/// Moves off the walls a particle born overlapping them may take ([`Case`], Birth).
+pub const BIRTH_MOVES: usize = 8;
+
 /// The observer of a case's particles ([`Case::with_observer`]).
 pub type CaseObserver<'a, J, F, B> =
     dyn Observer<Particle<Softness<<J as Injector>::Law>, <J as Injector>::Drag>, F, B> + 'a;
@@ -20,6 +23,12 @@ pub type CaseObserver<'a, J, F, B> =
 /// What every particle of a population shares: integrator, flow, boundary, injection rule,
 /// contact model, the driver's plan (end time, first step, step cap, step budget) and what is
 /// observed of each run.
+///
+/// # Birth
+/// A particle whose extent overlaps a wall where it is injected (near the rim of an inlet,
+/// where the walls meet it) is moved off it along the wall's normal before its first step,
+/// not deposited at birth; one that cannot be moved off in [`BIRTH_MOVES`] moves is refused and
+/// counted as failed.
 ///
 /// The plan's end time is each particle's time limit (it starts at its injection time,
 /// [`Injector::injection`], usually 0), unless the injector gives a particle its own plan
@@ -121,6 +130,10 @@ where
             }
         };
         let contact = ContactEvent::new(self.boundary, &particle, self.flow, self.contact);
+        let start = match self.off_walls(&contact, start) {
+            Ok(start) => start,
+            Err(e) => return ParticleRecord::not_started(index, Some(spec), Some(start), &e),
+        };
         let mut memory = I::Memory::default();
         let mut samples = Vec::new();
         // Both callbacks of the driver feed the one watch.
@@ -164,6 +177,39 @@ where
             samples,
             observed,
         }
+    }
+
+    /// `start` moved off every wall its extent overlaps at birth: along the nearest wall's
+    /// normal by its overlap and 10⁻⁶ of the particle's equivalent diameter, at most
+    /// [`BIRTH_MOVES`] times (a particle wedged in a corner meets the other wall after the
+    /// first move). A particle born on an exit patch is left as it is: it escapes at its first
+    /// step. One still overlapping a wall after the last move is refused, with the wall and the
+    /// depth, and counted as failed, apart from the deposited.
+    fn off_walls(
+        &self,
+        contact: &ContactEvent<'_, B, Softness<J::Law>, J::Drag, F>,
+        start: State,
+    ) -> Result<State, String> {
+        let mut state = start;
+        let margin = 1e-6 * contact.scale(&state);
+        for _ in 0..BIRTH_MOVES {
+            let near = contact.nearest(&state);
+            if !(near.gap <= 0.0) || self.boundary.rule(near.patch) == PatchRule::Exit {
+                return Ok(state);
+            }
+            state.x -= near.normal * (margin - near.gap);
+        }
+        let near = contact.nearest(&state);
+        if !(near.gap <= 0.0) || self.boundary.rule(near.patch) == PatchRule::Exit {
+            return Ok(state);
+        }
+        Err(format!(
+            "injected overlapping wall `{}`: still {:.3e} m deep after {BIRTH_MOVES} moves off along the wall normals \
+             (from {:?})",
+            self.boundary.patch_name(near.patch),
+            -near.gap,
+            start.x.as_slice()
+        ))
     }
 
     /// The fate of a run's `result`, its end state and work.
@@ -225,6 +271,8 @@ where
             .injector
             .plan(index, &spec, &self.plan)
             .map_err(|e| not_started(&e))?;
+        let contact = ContactEvent::new(self.boundary, &particle, self.flow, self.contact);
+        let start = self.off_walls(&contact, start).map_err(|e| not_started(&e))?;
         Ok(InFlight {
             index,
             spec,

@@ -224,3 +224,43 @@ proptest! {
         prop_assert!(check(model.inertialess_jacobian(Barycentre::Inertial, &y, &e)));
     }
 }
+
+/// A sphere thrown at V under `auto` into a flow whose rate makes it a tracer (simple shear
+/// γ̇ = 10⁻³/s, St = τγ̇ = 10⁻⁶), along the line y = 0 where the fluid is still, coasts its
+/// stopping distance τV (Stokes drag, ẍ = −ẋ/τ: x(∞) = τV, closed form; nothing acts across
+/// the line) and keeps its inertia; released at the fluid's velocity it is a tracer. By the
+/// flow's rate alone `auto` chose the equilibrium barycentre, which cannot carry a launch: a
+/// sphere thrown into a still OpenFOAM field (rate 0) did not move. The tolerance: 10
+/// relaxation times leave e⁻¹⁰ = 4.5·10⁻⁵ of τV to go; the integration at rtol 10⁻⁸ adds far
+/// less.
+#[test]
+fn auto_keeps_the_inertia_of_a_thrown_particle() {
+    use pseudorigid::driver::{Plan, until_event};
+    use pseudorigid::integrator::choice::Auto;
+    let (tau, speed) = (1e-3, 2.0);
+    let sphere = heavy_sphere(tau, 1.8e-5, 1000.0);
+    let flow = LinearFlow::simple_shear(1e-3).unwrap();
+    let auto = Auto {
+        tol: Tolerances::uniform(1e-8).unwrap(),
+        norm: Default::default(),
+    };
+    let mut thrown = State::at_rest(Vec3::zeros());
+    thrown.v = Vec3::new(speed, 0.0, 0.0);
+    let chosen = auto.choice_at(&sphere, &flow, &thrown).unwrap();
+    assert_eq!(
+        chosen.integrator.full().barycentre,
+        BarycentreModel::Inertial,
+        "{}",
+        chosen.reason
+    );
+    let carried = auto.choice_at(&sphere, &flow, &State::at_rest(Vec3::zeros())).unwrap();
+    assert_eq!(carried.integrator.full().barycentre, BarycentreModel::Equilibrium);
+    let plan = Plan::new(10.0 * tau, 1e-6).unwrap();
+    let end = until_event(Problem::new(&auto, &sphere, &flow), thrown, &plan, &[]).unwrap();
+    let stopping = tau * speed;
+    assert!(
+        (end.state.x[0] / stopping - 1.0).abs() < 1e-4,
+        "coasted {} m against τV = {stopping} m",
+        end.state.x[0]
+    );
+}

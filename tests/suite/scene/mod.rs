@@ -369,6 +369,112 @@ fn openfoam_scene_with_mesh_patches() {
     assert!((time - 0.85).abs() < 1e-9, "t = {time}");
 }
 
+/// Settling in still fluid on a case whose U is zero everywhere: refused as a likely initial
+/// condition unless the scene says `still = true`; with it, a rigid sphere (a = 0.05,
+/// ρ_p = 2, ρ_f = 1, μ = 1, g = 1) released at rest at the centre of the cube falls onto its
+/// floor when the closed form says: Stokes drag and reduced gravity give
+/// z(t) = z₀ − v_t (t − τ(1 − e^{−t/τ})) with τ = 2ρ_p a²/(9μ) and v_t = τ g (1 − ρ_f/ρ_p), and
+/// contact is z = a. The tolerance 10⁻⁶ of that time holds the event's location (10⁻⁹ of the
+/// diameter in gap) and the integration at rtol 10⁻⁸ with a wide margin.
+#[test]
+fn still_fluid_is_read_when_the_scene_says_so() {
+    let case = foam_case("cli_foam_still", |_| pseudorigid::tensor::Vec3::zeros());
+    let scene = |still: &str| {
+        format!(
+            r#"[flow]
+type = "openfoam"
+case = "{}"
+{still}
+[fluid]
+viscosity = 1.0
+density = 1.0
+gravity = [0.0, 0.0, -1.0]
+[boundary]
+type = "mesh"
+[particles]
+density = 2.0
+[[particles.list]]
+semi_axes = [0.05, 0.05, 0.05]
+position = [0.5, 0.5, 0.5]
+material = {{ law = "rigid" }}
+[integrator]
+type = "stokesian"
+tol = 1e-8
+dt = 1e-3
+[end]
+t_end = 2000.0
+[output]
+vtk = false
+"#,
+            case.display()
+        )
+    };
+    let parsed = |text: &str| {
+        parse(
+            &Source {
+                file: "still.toml",
+                text,
+            },
+            Path::new("."),
+        )
+    };
+    let refused = parsed(&scene("")).unwrap_err().to_string();
+    assert!(refused.contains("still = true"), "{refused}");
+    let s = parsed(&scene("still = true")).unwrap();
+    let out = run(&s, "cli_foam_still_run");
+    let Fate::Deposited { patch, time, .. } = out.records[0].fate else {
+        panic!("{:?}", out.records[0].fate);
+    };
+    assert_eq!(out.patches[patch], "walls");
+    let (a, tau) = (0.05, 2.0 * 2.0 * 0.05 * 0.05 / 9.0);
+    let terminal = tau * 1.0 * (1.0 - 1.0 / 2.0);
+    let fall = |t: f64| terminal * (t - tau * (1.0 - (-t / tau).exp()));
+    // Bisection for fall(t) = 0.5 − a on [0, 10⁴] (fall is increasing).
+    let (mut lo, mut hi) = (0.0, 1e4);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if fall(mid) < 0.5 - a { lo = mid } else { hi = mid }
+    }
+    assert!((time / hi - 1.0).abs() < 1e-6, "deposited at t = {time} against {hi}");
+    // And a field that is not zero is refused as still.
+    let moving = foam_case("cli_foam_not_still", |_| pseudorigid::tensor::Vec3::x());
+    let text = scene("still = true").replace(&case.display().to_string(), &moving.display().to_string());
+    let refused = parsed(&text).unwrap_err().to_string();
+    assert!(refused.contains("not zero"), "{refused}");
+}
+
+/// Particles born overlapping a wall are moved off it, not deposited at birth: on the uniform
+/// flow u = e₁ (walls moving with it, so the field is uniform to round-off), spheres of radius
+/// 0.05 placed 0.02 into the wall y = 0, and into the corner of y = 0 and z = 0, are moved
+/// to 0.05 (and 10⁻⁶ of the diameter) off each wall and carried out through `outlet` when
+/// their front reaches x = 1: at t = 1 − 0.05 − 0.5 = 0.45, to the event's 10⁻⁹.
+#[test]
+fn particles_born_in_a_wall_are_moved_off_it() {
+    let case = foam_case("cli_foam_born_in_wall", |_| pseudorigid::tensor::Vec3::x());
+    let text = sphere_on_case_scene(&case).replace(
+        "position = [0.1, 0.5, 0.5]",
+        "position = [0.5, 0.03, 0.5]\nfluid_velocity = true\nmaterial = { law = \"rigid\" }\n\n\
+         [[particles.list]]\nsemi_axes = [0.05, 0.05, 0.05]\nposition = [0.5, 0.03, 0.03]",
+    );
+    let s = parse(
+        &Source {
+            file: "born.toml",
+            text: &text,
+        },
+        Path::new("."),
+    )
+    .unwrap();
+    let out = run(&s, "cli_foam_born_in_wall_run");
+    assert_eq!(out.records.len(), 2);
+    for record in &out.records {
+        let Fate::Escaped { patch, time } = record.fate else {
+            panic!("particle {}: {:?}", record.index, record.fate);
+        };
+        assert_eq!(out.patches[patch], "outlet");
+        assert!((time - 0.45).abs() < 1e-9, "particle {}: t = {time}", record.index);
+    }
+}
+
 /// Every file under `dir` with its length and modification time.
 fn listing(dir: &Path) -> Vec<(PathBuf, u64, std::time::SystemTime)> {
     let mut files = Vec::new();
