@@ -2,6 +2,7 @@
 //! patch faces indexed for nearest-face queries. The gap between a particle and these faces,
 //! and the patches as a particle boundary, are contact's (`crate::contact::mesh`).
 
+use super::error::FoamError;
 use super::mesh::PolyMesh;
 use crate::tensor::Vec3;
 use rstar::primitives::{GeomWithData, Rectangle};
@@ -17,9 +18,17 @@ pub enum PatchRole {
     Wall,
     /// Contact means the particle leaves the domain (`type patch`: inlets, outlets).
     Exit,
-    /// Not a particle boundary (`empty`, `symmetry`, `symmetryPlane`, `wedge`, `cyclic`, ...).
+    /// Not a particle boundary: `empty` (a 2-D case's front and back) and `processor` (faces
+    /// between the processors of a decomposed case, which the reassembled mesh does not have).
+    /// Types a particle could cross but that are not handled as its boundary yet (`cyclic`,
+    /// `wedge`, `symmetry`, ...) map here too; [`check_particle_patches`] refuses them.
     Constraint,
 }
+
+/// The patch types a particle can meet and that are handled as its boundary: `wall`
+/// (deposit), `patch` (exit), `empty` (2-D: the slab's faces, which particles are kept off)
+/// and `processor` (internal faces of a decomposed case).
+pub const PARTICLE_PATCH_TYPES: [&str; 4] = ["wall", "patch", "empty", "processor"];
 
 impl PatchRole {
     /// Role from the patch's geometric type in `constant/polyMesh/boundary`.
@@ -29,6 +38,34 @@ impl PatchRole {
             "patch" => PatchRole::Exit,
             _ => PatchRole::Constraint,
         }
+    }
+
+    /// Role of a patch type a particle can meet, `None` for a type not handled as a particle
+    /// boundary ([`PARTICLE_PATCH_TYPES`]): `cyclic`, `cyclicAMI`, `cyclicACMI`, `cyclicSlip`,
+    /// `wedge`, `symmetry`, `symmetryPlane`, `mapped*`, `processorCyclic`, `nonConformal*` and
+    /// any type unknown here. A particle crossing one of them would be tracked outside the
+    /// mesh.
+    pub fn of_particle_boundary(kind: &str) -> Option<Self> {
+        PARTICLE_PATCH_TYPES.contains(&kind).then(|| Self::of(kind))
+    }
+}
+
+/// Refuse a mesh with a patch a particle can cross but that is not handled as a particle
+/// boundary ([`PatchRole::of_particle_boundary`]): the first such patch with faces, named with
+/// its type. A patch without faces cannot be met and is let through (a decomposed case's
+/// patch that lies in other processors, a generic mesh's unused patch).
+pub fn check_particle_patches(mesh: &PolyMesh) -> Result<(), FoamError> {
+    match mesh
+        .patches()
+        .iter()
+        .find(|p| p.size > 0 && PatchRole::of_particle_boundary(&p.kind).is_none())
+    {
+        Some(p) => Err(FoamError::UnsupportedPatch {
+            patch: p.name.clone(),
+            kind: p.kind.clone(),
+            faces: p.size,
+        }),
+        None => Ok(()),
     }
 }
 

@@ -1263,3 +1263,63 @@ fn auto_integrator_chooses_per_group_and_says_so() {
     // A fixed scheme has nothing to say per particle.
     assert!(scene("bifurcation.toml", &[]).integrator_log().is_empty());
 }
+
+/// A tracer scene on the case `case` with its patches as the boundary.
+fn tracer_on_case(case: &Path) -> String {
+    format!(
+        r#"[flow]
+type = "openfoam"
+case = "{}"
+[fluid]
+viscosity = 1e-5
+density = 1.0
+[boundary]
+type = "mesh"
+[particles]
+density = 1.0
+[[particles.list]]
+semi_axes = [1e-6, 1e-6, 1e-6]
+position = [1e-3, 1e-3, 0.25e-3]
+fluid_velocity = true
+material = {{ law = "rigid" }}
+[integrator]
+type = "stokesian"
+tol = 1e-8
+dt = 1e-4
+[end]
+t_end = 1.0
+[output]
+every = 0.5
+vtk = false
+"#,
+        case.display()
+    )
+}
+
+/// A 2-D case as OpenFOAM writes it is a valid scene; with a patch of a type that is not a
+/// particle boundary the scene is refused at `flow.case`, the patch and its type named, before
+/// its fields are read (a `cyclic` patch's `U` has no value to read).
+#[test]
+fn openfoam_scene_refuses_unsupported_patch_types() {
+    let text = tracer_on_case(&build::channel_2d());
+    parse_named("channel.toml", &text).unwrap();
+    for (patch, kind) in [
+        ("walls", "symmetryPlane"),
+        ("frontAndBack", "cyclic"),
+        ("inlet", "wedge"),
+    ] {
+        let dir = build::channel_copy(&format!("scene_{kind}"));
+        build::retype(&dir, patch, kind);
+        let err = parse_named("channel.toml", &tracer_on_case(&dir))
+            .err()
+            .expect("refused");
+        let message = err.to_string();
+        assert!(
+            message.contains("flow.case")
+                && message.contains(&format!("`{patch}`"))
+                && message.contains(&format!("`{kind}`"))
+                && message.contains("not yet supported as a particle boundary"),
+            "{message}"
+        );
+    }
+}

@@ -1,28 +1,10 @@
 //! Patch types as OpenFOAM writes them: a 2-D case's `empty` patches read (the fixture
-//! `tests/data/channel-2d`, as simpleFoam wrote it).
+//! `tests/data/channel-2d`, as simpleFoam wrote it); every other type a particle can meet
+//! refused by name.
 
-use pseudorigid::flow::openfoam::{FoamCase, FoamError};
-use std::path::{Path, PathBuf};
-
-fn channel_2d() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/channel-2d")
-}
-
-/// A copy of the 2-D channel in a scratch directory, to be altered.
-fn channel_copy(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("flow_openfoam_patch")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    for sub in ["constant/polyMesh", "117"] {
-        std::fs::create_dir_all(dir.join(sub)).unwrap();
-        for e in std::fs::read_dir(channel_2d().join(sub)).unwrap() {
-            let e = e.unwrap();
-            std::fs::copy(e.path(), dir.join(sub).join(e.file_name())).unwrap();
-        }
-    }
-    dir
-}
+use crate::common::build;
+use build::{channel_2d, channel_copy, retype};
+use pseudorigid::flow::openfoam::{FoamCase, FoamError, PatchRole, check_particle_patches};
 
 /// The 2-D channel: `phi`'s `frontAndBack` is `value nonuniform 0();` and `U`'s is
 /// `type empty;` with no value, as simpleFoam writes them. Checked against the case's own
@@ -78,4 +60,85 @@ fn an_empty_list_elsewhere_is_refused() {
         message.contains("walls") && message.contains("an empty list for 20 faces"),
         "{message}"
     );
+}
+
+/// Every patch type: `wall`, `patch`, `empty` and `processor` are particle boundaries with
+/// their roles; every other type OpenFOAM has (and one it has not) is refused with the patch,
+/// its type and its faces named, whichever patch carries it (the 80 faces of `frontAndBack`,
+/// the 20 of `walls`).
+#[test]
+fn every_patch_type_is_handled_or_refused_by_name() {
+    let handled = [
+        ("wall", PatchRole::Wall),
+        ("patch", PatchRole::Exit),
+        ("empty", PatchRole::Constraint),
+        ("processor", PatchRole::Constraint),
+    ];
+    for (kind, role) in handled {
+        assert_eq!(PatchRole::of_particle_boundary(kind), Some(role), "{kind}");
+        let dir = channel_copy(&format!("handled_{kind}"));
+        retype(&dir, "frontAndBack", kind);
+        check_particle_patches(FoamCase::open(&dir).unwrap().mesh()).unwrap();
+    }
+    let refused = [
+        "cyclic",
+        "cyclicAMI",
+        "cyclicACMI",
+        "cyclicSlip",
+        "wedge",
+        "symmetry",
+        "symmetryPlane",
+        "mappedPatch",
+        "mappedWall",
+        "processorCyclic",
+        "nonConformalCyclic",
+        "nonConformalMapped",
+        "somethingNew",
+    ];
+    for kind in refused {
+        assert_eq!(PatchRole::of_particle_boundary(kind), None, "{kind}");
+        for (patch, faces) in [("frontAndBack", 80), ("walls", 20)] {
+            let dir = channel_copy(&format!("refused_{kind}_{patch}"));
+            retype(&dir, patch, kind);
+            let case = FoamCase::open(&dir).unwrap();
+            match check_particle_patches(case.mesh()) {
+                Err(FoamError::UnsupportedPatch {
+                    patch: p,
+                    kind: k,
+                    faces: n,
+                }) => {
+                    assert_eq!((p.as_str(), k.as_str(), n), (patch, kind, faces));
+                }
+                other => panic!("{kind} on {patch}: {other:?}"),
+            }
+        }
+    }
+    let message = FoamError::UnsupportedPatch {
+        patch: "side1".into(),
+        kind: "cyclic".into(),
+        faces: 3,
+    }
+    .to_string();
+    assert!(
+        message.contains("`side1`")
+            && message.contains("`cyclic`")
+            && message.contains("not yet supported as a particle boundary"),
+        "{message}"
+    );
+}
+
+/// A patch without faces cannot be met: a `cyclic` patch of no faces (appended to the
+/// channel's boundary file) is let through.
+#[test]
+fn a_patch_without_faces_is_not_refused() {
+    let dir = channel_copy("empty_cyclic");
+    let path = dir.join("constant/polyMesh/boundary");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text.replacen("\n4\n(", "\n5\n(", 1);
+    let close = text.rfind(')').unwrap();
+    let extra = "    unused\n    {\n        type cyclic;\n        nFaces 0;\n        startFace 174;\n    }\n";
+    std::fs::write(&path, format!("{}{extra}{}", &text[..close], &text[close..])).unwrap();
+    let case = FoamCase::open(&dir).unwrap();
+    assert_eq!(case.mesh().patches().len(), 5);
+    check_particle_patches(case.mesh()).unwrap();
 }
