@@ -69,6 +69,30 @@ pub fn check_particle_patches(mesh: &PolyMesh) -> Result<(), FoamError> {
     }
 }
 
+/// Smallest |n_k| of an `empty` face's unit normal n for the face to count as normal to axis k
+/// ([`slab_axis`]): the front and back of an extruded 2-D mesh are planes normal to the axis,
+/// their normals ±e_k up to the rounding of the points' coordinates (10⁻¹⁵ relative); a face
+/// tilted by more than 1.4·10⁻⁴ rad is no such plane's.
+pub const SLAB_NORMAL_COS: f64 = 1.0 - 1e-8;
+
+/// The axis (0, 1, 2) a 2-D mesh is extruded along: the one axis every face of every `empty`
+/// patch is normal to (within [`SLAB_NORMAL_COS`]). `None` without `empty` faces, and where
+/// they are normal to more than one axis (a 1-D case) or to none.
+pub fn slab_axis(mesh: &PolyMesh) -> Option<usize> {
+    let mut axis = None;
+    for patch in mesh.patches().iter().filter(|p| p.kind == "empty") {
+        for f in patch.start..patch.start + patch.size {
+            let n = mesh.face_areas()[f].normalize();
+            let k = n.iamax();
+            if !(n[k].abs() >= SLAB_NORMAL_COS) || axis.is_some_and(|a| a != k) {
+                return None;
+            }
+            axis = Some(k);
+        }
+    }
+    axis
+}
+
 /// One face of a [`PatchSet`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SetFace {

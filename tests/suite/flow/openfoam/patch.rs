@@ -142,3 +142,18 @@ fn a_patch_without_faces_is_not_refused() {
     assert_eq!(case.mesh().patches().len(), 5);
     check_particle_patches(case.mesh()).unwrap();
 }
+
+/// The 2-D channel is extruded along z: its 80 `empty` faces are normal to e₃. With the walls
+/// (normal to e₂) also `empty` the faces are normal to two axes (a 1-D case): no one slab axis;
+/// nor without `empty` faces.
+#[test]
+fn a_two_d_mesh_has_its_slab_axis() {
+    use pseudorigid::flow::openfoam::slab_axis;
+    assert_eq!(slab_axis(FoamCase::open(channel_2d()).unwrap().mesh()), Some(2));
+    let dir = channel_copy("walls_empty");
+    retype(&dir, "walls", "empty");
+    assert_eq!(slab_axis(FoamCase::open(&dir).unwrap().mesh()), None);
+    let dir = channel_copy("no_empty");
+    retype(&dir, "frontAndBack", "wall");
+    assert_eq!(slab_axis(FoamCase::open(&dir).unwrap().mesh()), None);
+}
