@@ -439,8 +439,11 @@ impl Clearance {
 }
 
 impl MeshBoundary {
-    /// The particle boundaries of `mesh`; it needs at least one wall or exit patch with faces.
+    /// The particle boundaries of `mesh`; it needs at least one wall or exit patch with faces,
+    /// and no patch with faces of a type particles cannot yet meet
+    /// ([`crate::flow::openfoam::check_particle_patches`]).
     pub fn new(mesh: &PolyMesh) -> Result<Self, FoamError> {
+        crate::flow::openfoam::check_particle_patches(mesh)?;
         let mut mesh_patches = Vec::new();
         let mut rules = Vec::new();
         for (p, patch) in mesh.patches().iter().enumerate() {

@@ -22,6 +22,17 @@
 //! and its end state's principal frame and flow sample, carried from the scheme where it
 //! computed them and otherwise computed once, on first demand, for every reader.
 //!
+//! # Held planes (2-D cases)
+//! A [`Plan::with_hold`] keeps the barycentre in the plane normal to one axis, as OpenFOAM's
+//! tracker keeps particles in a 2-D case's slab (it zeroes the displacement along the `empty`
+//! direction): the start's velocity along the axis is set to zero, and every accepted step's
+//! end state (and an event's located state) gets the start's coordinate and zero velocity along
+//! it. The axis's force is taken up by the slab, as a constraint force; the shape's F and A are
+//! not touched, so a shape tilted out of the plane keeps turning and stretching in 3-D (its
+//! Jeffery orbit) while its barycentre stays in the plane, moved by the in-plane part of its
+//! drag. Within a step the trial stages and the dense output may leave the plane by what the
+//! out-of-plane force moves the barycentre in one step; the next accepted state is back on it.
+//!
 //! # Failures
 //! A run that fails keeps its record: [`integrate`] returns a [`RunFailure`] with the error, the
 //! state after the last accepted step and the [`RunStats`] of the steps taken up to the failure.
@@ -167,6 +178,7 @@ pub struct Plan {
     dt0: f64,
     dt_max: f64,
     budget: Budget,
+    hold: Option<usize>,
 }
 
 impl Plan {
@@ -179,7 +191,28 @@ impl Plan {
             dt0: crate::error::positive("dt", dt0)?,
             dt_max: f64::INFINITY,
             budget: Budget::default(),
+            hold: None,
         })
+    }
+
+    /// Keep the barycentre in the plane through its start normal to `axis` (0, 1 or 2): its
+    /// coordinate and velocity along `axis` held (module docs, *Held planes*).
+    pub fn with_hold(mut self, axis: usize) -> Result<Self, ParamError> {
+        if axis > 2 {
+            return Err(ParamError::OutOfRange {
+                name: "held axis",
+                value: axis as f64,
+                min: 0.0,
+                max: 2.0,
+            });
+        }
+        self.hold = Some(axis);
+        Ok(self)
+    }
+
+    /// The axis along which the barycentre is held, if any ([`Plan::with_hold`]).
+    pub fn hold(&self) -> Option<usize> {
+        self.hold
     }
 
     /// Stop exactly at these times (ascending, finite, ≤ t_end) and observe the state there.
@@ -468,6 +501,15 @@ where
     }
     let started = Instant::now();
     let mut s = state;
+    // The held plane: the start's coordinate along the axis (a resumed run's start is on it).
+    let hold = plan.hold.map(|k| (k, s.x[k]));
+    let held = |state: &mut State| {
+        if let Some((k, at)) = hold {
+            state.x[k] = at;
+            state.v[k] = 0.0;
+        }
+    };
+    held(&mut s);
     let mut h = resumed.unwrap_or(plan.dt0).min(plan.dt_max);
     let mut outside_retries = 0;
     if resumed.is_none() {
@@ -527,7 +569,7 @@ where
         if s.t + try_h <= s.t || try_h.is_nan() {
             return Err(StepError::NoProgress { t: s.t, dt: try_h });
         }
-        let step = match integrator.step_particle(particle, &s, memory, flow, try_h) {
+        let mut step = match integrator.step_particle(particle, &s, memory, flow, try_h) {
             Ok(step) => step,
             // A trial state beyond the domain: the step overshot a boundary the events have not
             // seen yet (a point particle crossing an exit, a stage past the wall). Retry shorter,
@@ -542,6 +584,7 @@ where
             Err(e) => return Err(e),
         };
         outside_retries = 0;
+        held(&mut step.state);
         stats.record(&step.info);
         *last = step.state;
         // A step shortened to hit a target or a cap says nothing about the next step size.
@@ -551,7 +594,8 @@ where
             step.info.dt_next
         };
         on_step(&AcceptedStep::new(&step, &context));
-        if let Some((index, at)) = first_event(events, &s, &step.dense, &step.state)? {
+        if let Some((index, mut at)) = first_event(events, &s, &step.dense, &step.state)? {
+            held(&mut at);
             observe(&at);
             return Ok(RunEnd {
                 state: at,

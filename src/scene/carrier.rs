@@ -59,6 +59,8 @@ impl Builder<'_> {
                 let case = self.need(&spec.case, at, "flow.case", "openfoam")?;
                 let dir = base.join(case.get_ref());
                 let foam = FoamCase::open(&dir).map_err(|e| self.err(case.span(), "flow.case", e.to_string()))?;
+                // Before any field is read: a cyclic or wedge patch's field has no value to read.
+                check_particle_patches(foam.mesh()).map_err(|e| self.err(case.span(), "flow.case", e.to_string()))?;
                 let latest = || {
                     foam.times()
                         .last()

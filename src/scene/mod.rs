@@ -16,7 +16,7 @@
 //! | `[flow] type` | `quiescent`, `shear`, `planar_extension`, `uniaxial_extension`, `poiseuille`, `openfoam` |
 //! | `flow.rate` | γ̇ or ε̇ of the linear flows |
 //! | `flow.radius`, `flow.mean_velocity` | Poiseuille pipe along e₁: R and Ū (centreline 2Ū) |
-//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file; an absolute path or one climbing with `..` is read as given: the command reads what the scene names, and writes nothing but under `--out`) and time: a number or `"latest"` (the default), a steady field (one that is zero in every cell is refused unless `flow.still = true`); a list of times or a range `{ start, end, period }`, a transient field (see *Transient fields*) |
+//! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file; an absolute path or one climbing with `..` is read as given: the command reads what the scene names, and writes nothing but under `--out`; every patch with faces must be of type `wall`, `patch`, `empty` or `processor`: a case with a `cyclic`, `wedge`, `symmetry`, ... patch is refused with the patch named, as not yet a particle boundary; in a 2-D case, every `empty` face normal to one axis, each particle's barycentre is held in its plane: `driver::Plan::with_hold`) and time: a number or `"latest"` (the default), a steady field (one that is zero in every cell is refused unless `flow.still = true`); a list of times or a range `{ start, end, period }`, a transient field (see *Transient fields*) |
 //! | `flow.precision`, `flow.window` | transient fields only: `"f64"` (default) or `"f32"` storage of the levels; the length of the run's time windows (default: the smallest spacing of the levels) |
 //! | `flow.still` | `openfoam` only: `true` reads a case whose U is zero in every cell as still fluid (settling in a closed box, particles thrown into still air), and refuses one whose U is not; default `false`, where a zero field is refused as a likely initial condition |
 //! | `flow.blend` | `true` (default): the continuous field with the second-order no-slip wall layer (`flow::openfoam::BlendedFlow`); `false`: each cell's linear fit (discontinuous at faces, no wall-normal velocity near walls) |
@@ -133,7 +133,9 @@ use crate::ellipsoid::Ellipsoid;
 use crate::error::ParamError;
 use crate::flow::FlowField;
 use crate::flow::analytic::{LinearFlow, Poiseuille};
-use crate::flow::openfoam::{BlendedFlow, Cycle, FoamCase, FoamFlow, Precision, TransientFlow};
+use crate::flow::openfoam::{
+    BlendedFlow, Cycle, FoamCase, FoamFlow, Precision, TransientFlow, check_particle_patches, slab_axis,
+};
 use crate::hydro::drag::NamedDrag;
 use crate::hydro::{ForceTerms, VolumetricTraction, drag, forces};
 use crate::integrator::SceneIntegrator;
@@ -495,7 +497,13 @@ impl Builder<'_> {
         let particles = self.particles(&raw.particles, &template, &flow, contact_radius)?;
         let (integrator, dt, dt_max) = self.integrator(&raw.integrator)?;
         self.barycentre_admits(&integrator, &forces, &raw.integrator)?;
-        let (plan, outputs) = self.plan(&dt, dt_max.as_ref(), &raw.end, &raw.output, particles.count())?;
+        let (mut plan, outputs) = self.plan(&dt, dt_max.as_ref(), &raw.end, &raw.output, particles.count())?;
+        // A 2-D case: its particles are held in their plane, as OpenFOAM's tracker holds them.
+        if let Some(axis) = flow.with_cellwise(|c| c.and_then(|c| slab_axis(c.mesh()))) {
+            plan = plan
+                .with_hold(axis)
+                .map_err(|e| self.param(raw.flow.kind.span(), "flow.case", e))?;
+        }
         let adequacy_sample = self.adequacy_sample(&raw.output, &flow)?;
         Ok(Scene {
             seed: raw.seed,

@@ -138,6 +138,20 @@ pub enum FoamError {
         /// What is wrong.
         reason: String,
     },
+    /// A patch a particle can cross whose type is not handled as a particle boundary
+    /// ([`super::patch::check_particle_patches`]): a particle crossing it would be tracked
+    /// outside the mesh.
+    #[error(
+        "patch `{patch}` ({faces} faces) has type `{kind}`, which is not yet supported as a particle boundary (supported: wall, patch, empty, processor)"
+    )]
+    UnsupportedPatch {
+        /// Patch name.
+        patch: String,
+        /// Its geometric type in `constant/polyMesh/boundary`.
+        kind: String,
+        /// Its number of faces.
+        faces: usize,
+    },
     /// Query point outside the mesh.
     #[error("point {x:?} is outside the mesh; nearest patch `{patch}` at distance {distance:.3e}")]
     Outside {

@@ -6,7 +6,9 @@
 //! the value follows from the condition and the adjacent cell, as OpenFOAM evaluates it:
 //! `noSlip` is zero, `zeroGradient` and `empty` repeat the cell value, `symmetry`,
 //! `symmetryPlane` and `slip` remove the wall-normal component of a vector. Any other condition
-//! without a stored value is an error naming it.
+//! without a stored value is an error naming it. On a patch of geometric type `empty` (a 2-D
+//! case's front and back), which holds no values in OpenFOAM, the empty list solvers write
+//! there (`value nonuniform 0();`) counts as no value.
 
 use super::error::FoamError;
 use super::mesh::PolyMesh;
@@ -113,10 +115,16 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
         let kind = entry.word("type").unwrap_or("");
         fixed.push(FIXED_CONDITIONS.contains(&kind));
         let bad = |r: String| field_err(format!("patch `{}` ({kind}): {r}", patch.name));
-        if let Some((Entry::Values(v), _)) = entry.get("value") {
-            boundary.extend(values(v, comps, patch.size).map_err(bad)?);
-            continue;
+        match entry.get("value") {
+            // An `empty` patch holds no values in OpenFOAM (a 2-D case's front and back):
+            // solvers write `value nonuniform 0();` on it. Its faces repeat the cell below.
+            Some((Entry::Values(v), _)) if !(patch.kind == "empty" && is_empty_list(v)) => {
+                boundary.extend(values(v, comps, patch.size).map_err(bad)?);
+                continue;
+            }
+            _ => {}
         }
+        let kind = if patch.kind == "empty" { "empty" } else { kind };
         for f in patch.start..patch.start + patch.size {
             let cell = &internal[mesh.owner(f) * comps..(mesh.owner(f) + 1) * comps];
             match kind {
@@ -176,6 +184,10 @@ pub fn read_boundary_flux(dir: &Path, mesh: &PolyMesh) -> Result<Option<Vec<f64>
     let mut flux = Vec::with_capacity(mesh.n_faces() - mesh.n_internal_faces());
     for patch in mesh.patches() {
         match patch_dict(boundary_dict, &patch.name).and_then(|d| d.get("value")) {
+            // No flux through an `empty` patch: OpenFOAM writes `value nonuniform 0();` there.
+            Some((Entry::Values(v), _)) if patch.kind == "empty" && is_empty_list(v) => {
+                flux.extend(std::iter::repeat_n(0.0, patch.size))
+            }
             Some((Entry::Values(v), _)) => {
                 flux.extend(values(v, 1, patch.size).map_err(|r| field_err(format!("patch `{}`: {r}", patch.name)))?)
             }
@@ -192,6 +204,12 @@ fn patch_dict<'d>(dict: &'d Dict, name: &str) -> Option<&'d Dict> {
         (Entry::Dict(d), _) => Some(d),
         _ => None,
     }
+}
+
+/// Whether a value is `nonuniform 0()`, the empty list.
+fn is_empty_list(v: &[Value]) -> bool {
+    matches!(v, [Value::Word(u), Value::Word(zero), Value::List(items)]
+        if u == "nonuniform" && zero == "0" && items.is_empty())
 }
 
 /// `uniform v` or `nonuniform List<T> n (...)` expanded to `n * comps` finite values.

@@ -69,7 +69,7 @@ pub use frame::Precision;
 pub use locate::CellLocator;
 pub use mesh::{Patch, PolyMesh};
 pub use octree::OctreeFlow;
-pub use patch::{PatchRole, PatchSet, SetFace};
+pub use patch::{PARTICLE_PATCH_TYPES, PatchRole, PatchSet, SetFace, check_particle_patches, slab_axis};
 pub use reconstruct::Stencils;
 pub use transient::{Cycle, TransientFlow, Windowed, window_ends};
 pub use wall_layer::{WallFit, WallGeometry};

@@ -2,6 +2,7 @@
 //! patch faces indexed for nearest-face queries. The gap between a particle and these faces,
 //! and the patches as a particle boundary, are contact's (`crate::contact::mesh`).
 
+use super::error::FoamError;
 use super::mesh::PolyMesh;
 use crate::tensor::Vec3;
 use rstar::primitives::{GeomWithData, Rectangle};
@@ -17,9 +18,17 @@ pub enum PatchRole {
     Wall,
     /// Contact means the particle leaves the domain (`type patch`: inlets, outlets).
     Exit,
-    /// Not a particle boundary (`empty`, `symmetry`, `symmetryPlane`, `wedge`, `cyclic`, ...).
+    /// Not a particle boundary: `empty` (a 2-D case's front and back) and `processor` (faces
+    /// between the processors of a decomposed case, which the reassembled mesh does not have).
+    /// Types a particle could cross but that are not handled as its boundary yet (`cyclic`,
+    /// `wedge`, `symmetry`, ...) map here too; [`check_particle_patches`] refuses them.
     Constraint,
 }
+
+/// The patch types a particle can meet and that are handled as its boundary: `wall`
+/// (deposit), `patch` (exit), `empty` (2-D: the slab's faces, which particles are kept off)
+/// and `processor` (internal faces of a decomposed case).
+pub const PARTICLE_PATCH_TYPES: [&str; 4] = ["wall", "patch", "empty", "processor"];
 
 impl PatchRole {
     /// Role from the patch's geometric type in `constant/polyMesh/boundary`.
@@ -30,6 +39,58 @@ impl PatchRole {
             _ => PatchRole::Constraint,
         }
     }
+
+    /// Role of a patch type a particle can meet, `None` for a type not handled as a particle
+    /// boundary ([`PARTICLE_PATCH_TYPES`]): `cyclic`, `cyclicAMI`, `cyclicACMI`, `cyclicSlip`,
+    /// `wedge`, `symmetry`, `symmetryPlane`, `mapped*`, `processorCyclic`, `nonConformal*` and
+    /// any type unknown here. A particle crossing one of them would be tracked outside the
+    /// mesh.
+    pub fn of_particle_boundary(kind: &str) -> Option<Self> {
+        PARTICLE_PATCH_TYPES.contains(&kind).then(|| Self::of(kind))
+    }
+}
+
+/// Refuse a mesh with a patch a particle can cross but that is not handled as a particle
+/// boundary ([`PatchRole::of_particle_boundary`]): the first such patch with faces, named with
+/// its type. A patch without faces cannot be met and is let through (a decomposed case's
+/// patch that lies in other processors, a generic mesh's unused patch).
+pub fn check_particle_patches(mesh: &PolyMesh) -> Result<(), FoamError> {
+    match mesh
+        .patches()
+        .iter()
+        .find(|p| p.size > 0 && PatchRole::of_particle_boundary(&p.kind).is_none())
+    {
+        Some(p) => Err(FoamError::UnsupportedPatch {
+            patch: p.name.clone(),
+            kind: p.kind.clone(),
+            faces: p.size,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Smallest |n_k| of an `empty` face's unit normal n for the face to count as normal to axis k
+/// ([`slab_axis`]): the front and back of an extruded 2-D mesh are planes normal to the axis,
+/// their normals ±e_k up to the rounding of the points' coordinates (10⁻¹⁵ relative); a face
+/// tilted by more than 1.4·10⁻⁴ rad is no such plane's.
+pub const SLAB_NORMAL_COS: f64 = 1.0 - 1e-8;
+
+/// The axis (0, 1, 2) a 2-D mesh is extruded along: the one axis every face of every `empty`
+/// patch is normal to (within [`SLAB_NORMAL_COS`]). `None` without `empty` faces, and where
+/// they are normal to more than one axis (a 1-D case) or to none.
+pub fn slab_axis(mesh: &PolyMesh) -> Option<usize> {
+    let mut axis = None;
+    for patch in mesh.patches().iter().filter(|p| p.kind == "empty") {
+        for f in patch.start..patch.start + patch.size {
+            let n = mesh.face_areas()[f].normalize();
+            let k = n.iamax();
+            if !(n[k].abs() >= SLAB_NORMAL_COS) || axis.is_some_and(|a| a != k) {
+                return None;
+            }
+            axis = Some(k);
+        }
+    }
+    axis
 }
 
 /// One face of a [`PatchSet`].

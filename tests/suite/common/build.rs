@@ -737,3 +737,40 @@ pub fn pipe(radius: f64, length: f64, n: usize, m: usize, grading: f64, nz: usiz
         },
     )
 }
+
+/// A copy of the case `from`'s `subdirs` (plain files only) in a fresh directory `to`, to be
+/// altered.
+pub fn copy_case(from: &Path, to: &Path, subdirs: &[&str]) {
+    let _ = std::fs::remove_dir_all(to);
+    for sub in subdirs {
+        std::fs::create_dir_all(to.join(sub)).unwrap();
+        for e in std::fs::read_dir(from.join(sub)).unwrap() {
+            let e = e.unwrap();
+            if e.file_type().unwrap().is_file() {
+                std::fs::copy(e.path(), to.join(sub).join(e.file_name())).unwrap();
+            }
+        }
+    }
+}
+
+/// `tests/data/channel-2d`: a 2-D channel as simpleFoam wrote it.
+pub fn channel_2d() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/channel-2d")
+}
+
+/// A copy of the 2-D channel's mesh and solved time in a scratch directory, to be altered.
+pub fn channel_copy(name: &str) -> std::path::PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("channel_2d").join(name);
+    copy_case(&channel_2d(), &dir, &["constant/polyMesh", "117"]);
+    dir
+}
+
+/// The case `dir`'s `constant/polyMesh/boundary` with patch `patch`'s type set to `kind`.
+pub fn retype(dir: &Path, patch: &str, kind: &str) {
+    let path = dir.join("constant/polyMesh/boundary");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let at = text.find(&format!("    {patch}\n")).unwrap();
+    let ty = at + text[at..].find("type").unwrap();
+    let end = ty + text[ty..].find(';').unwrap();
+    std::fs::write(&path, format!("{}type {kind}{}", &text[..ty], &text[end..])).unwrap();
+}

@@ -1369,3 +1369,99 @@ fn auto_integrator_chooses_per_group_and_says_so() {
     // A fixed scheme has nothing to say per particle.
     assert!(scene("bifurcation.toml", &[]).integrator_log().is_empty());
 }
+
+/// A tracer scene on the case `case` with its patches as the boundary.
+fn tracer_on_case(case: &Path) -> String {
+    format!(
+        r#"[flow]
+type = "openfoam"
+case = "{}"
+[fluid]
+viscosity = 1e-5
+density = 1.0
+[boundary]
+type = "mesh"
+[particles]
+density = 1.0
+[[particles.list]]
+semi_axes = [1e-6, 1e-6, 1e-6]
+position = [1e-3, 1e-3, 0.25e-3]
+fluid_velocity = true
+material = {{ law = "rigid" }}
+[integrator]
+type = "stokesian"
+tol = 1e-8
+dt = 1e-4
+[end]
+t_end = 1.0
+[output]
+every = 0.5
+vtk = false
+"#,
+        case.display()
+    )
+}
+
+/// A 2-D case as OpenFOAM writes it is a valid scene; with a patch of a type that is not a
+/// particle boundary the scene is refused at `flow.case`, the patch and its type named, before
+/// its fields are read (a `cyclic` patch's `U` has no value to read).
+#[test]
+fn openfoam_scene_refuses_unsupported_patch_types() {
+    let text = tracer_on_case(&build::channel_2d());
+    parse_named("channel.toml", &text).unwrap();
+    for (patch, kind) in [
+        ("walls", "symmetryPlane"),
+        ("frontAndBack", "cyclic"),
+        ("inlet", "wedge"),
+    ] {
+        let dir = build::channel_copy(&format!("scene_{kind}"));
+        build::retype(&dir, patch, kind);
+        let err = parse_named("channel.toml", &tracer_on_case(&dir))
+            .err()
+            .expect("refused");
+        let message = err.to_string();
+        assert!(
+            message.contains("flow.case")
+                && message.contains(&format!("`{patch}`"))
+                && message.contains(&format!("`{kind}`"))
+                && message.contains("not yet supported as a particle boundary"),
+            "{message}"
+        );
+    }
+}
+
+/// A 2-D case holds its particles in their plane, as OpenFOAM's tracker does: a prolate
+/// (40 × 10 × 10 µm, ρ = 1000 kg/m³ in a gas of ν = 10⁻⁵ m²/s: τ_p ≈ 2 ms) tilted 45° out of
+/// the plane and launched with 0.05 m/s out of it would leave the 0.5 mm slab by itself (the
+/// launch alone carries it v τ_p ≈ 0.1 mm, the tilted drag more); held, every kept state has
+/// the start's z exactly and zero out-of-plane velocity, and it leaves through the outlet.
+#[test]
+fn a_two_d_case_keeps_its_particles_in_the_slab() {
+    let text = tracer_on_case(&build::channel_2d())
+        .replace(
+            "density = 1.0\n[[particles.list]]",
+            "density = 1000.0\n[[particles.list]]",
+        )
+        .replace("semi_axes = [1e-6, 1e-6, 1e-6]", "semi_axes = [40e-6, 10e-6, 10e-6]")
+        .replace(
+            "fluid_velocity = true",
+            "velocity = [0.05, 0.0, 0.05]\norientation = { axis = [0.0, 1.0, 0.0], angle = 0.785 }",
+        )
+        .replace("type = \"stokesian\"", "type = \"radau_iia\"")
+        .replace("dt = 1e-4", "dt = 1e-6")
+        .replace("every = 0.5", "every = 0.005");
+    let s = parse_named("channel.toml", &text).unwrap();
+    let out = run(&s, "cli_channel_2d_slab");
+    let record = &out.records[0];
+    let Fate::Escaped { patch, .. } = record.fate else {
+        panic!("{:?}", record.fate);
+    };
+    assert_eq!(out.patches[patch], "outlet");
+    assert!(record.samples.len() > 10, "{} samples", record.samples.len());
+    for st in record.samples.iter().chain(record.end.as_ref()) {
+        assert_eq!((st.x[2], st.v[2]), (0.25e-3, 0.0), "t = {}", st.t);
+    }
+    // Only the barycentre is held: the shape kept turning (its F is not the start's).
+    let (start, end) = (record.samples[0].f, record.end.unwrap().f);
+    assert!((end - start).norm() > 0.1, "F {start} to {end}");
+}

@@ -5,6 +5,7 @@
 mod block;
 mod decomposed;
 mod octree;
+mod patch;
 mod transient;
 mod wall_layer;
 
