@@ -1,30 +1,51 @@
 //! `[integrator]`, `[end]` and `[output]`: the scheme, the plan and the output times.
 use super::*;
 
+/// `auto`'s first step where the scene gives no `dt`, in units of `end.t_end`: a proposal the
+/// adaptive schemes it picks grow by their controller's factor per accepted step (or cut on
+/// rejection), so a few steps reach the particle's own scale from any start this small; the
+/// fates do not depend on it beyond the tolerance.
+pub const AUTO_FIRST_STEP: f64 = 1e-6;
+
 impl Builder<'_> {
     /// `[integrator]`: the scheme by name through the registry of integrators, the first step
-    /// `dt` and the largest step `dt_max` (the plan's).
-    pub(super) fn integrator(&self, spec: &IntegratorSpec) -> Result<(SceneIntegrator, Num, Option<Num>), SceneError> {
+    /// `dt` and the largest step `dt_max` (the plan's). `auto` may leave `dt` out
+    /// ([`AUTO_FIRST_STEP`]); every other integrator needs it.
+    pub(super) fn integrator(
+        &self,
+        spec: &IntegratorSpec,
+    ) -> Result<(SceneIntegrator, Option<Num>, Option<Num>), SceneError> {
         let keys = self.model_keys(spec, "integrator", "type", &["dt", "dt_max"])?;
         let integrator =
             crate::integrator::registry::by_name(&keys.name, &keys.values).map_err(|e| self.model_error(&keys, e))?;
-        let dt = self
-            .table_number(spec, "integrator", "dt")?
-            .ok_or_else(|| self.err(spec.span(), "integrator.dt", "`integrator` needs `dt`"))?;
+        let dt = self.table_number(spec, "integrator", "dt")?;
+        if dt.is_none() && integrator.name() != "auto" {
+            return Err(self.err(
+                spec.span(),
+                "integrator.dt",
+                format!(
+                    "`{}` needs `dt` (only `auto` chooses its own first step)",
+                    integrator.name()
+                ),
+            ));
+        }
         let dt_max = self.table_number(spec, "integrator", "dt_max")?;
         Ok((integrator, dt, dt_max))
     }
 
     pub(super) fn plan(
         &self,
-        dt: &Num,
+        dt: Option<&Num>,
         dt_max: Option<&Num>,
         end: &EndSpec,
         output: &OutputSpec,
         particles: u64,
     ) -> Result<(Plan, Vec<f64>), SceneError> {
         let t_end = self.positive(&end.t_end, "end.t_end")?;
-        let dt = self.positive(dt, "integrator.dt")?;
+        let dt = match dt {
+            Some(dt) => self.positive(dt, "integrator.dt")?,
+            None => AUTO_FIRST_STEP * t_end,
+        };
         let outputs = match &output.every {
             None => vec![t_end],
             Some(every) => {

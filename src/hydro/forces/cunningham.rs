@@ -122,14 +122,18 @@ impl ForceTerm for Cunningham {
 /// [`GAS_DENSITY`] and μ_f < [`GAS_VISCOSITY`]; a scene in shear units is not read as a gas),
 /// with the mean free path λ = μ_f/(0.499 ρ_f c̄) of kinetic theory and air's mean molecular
 /// speed c̄ = [`AIR_MOLECULAR_SPEED`] (the gas is assumed to be air-like; 66 nm for air at
-/// 1 atm); 0 in a liquid.
+/// 1 atm); 0 in a liquid. Times |1 − ρ_f/ρ_p|: the correction scales the drag, so it moves a
+/// particle by the share C_c − 1 of its slip, and the slip of a particle carried by the flow
+/// (settling, inertial lag) is proportional to 1 − ρ_f/ρ_p to first order in its response
+/// time: a tracer as dense as the gas has none to correct.
 fn omitted(rest: &Rest) -> f64 {
     let gas = rest.rho_f > 0.0 && rest.rho_f < GAS_DENSITY && rest.mu_f < GAS_VISCOSITY;
-    if !gas {
+    if !gas || !(rest.rho_p > 0.0) {
         return 0.0;
     }
     let lambda = rest.mu_f / (0.499 * rest.rho_f * AIR_MOLECULAR_SPEED);
-    Cunningham::new(lambda).map_or(0.0, |c| c.correction(rest.d_eq) - 1.0)
+    let buoyant = (1.0 - rest.rho_f / rest.rho_p).abs();
+    Cunningham::new(lambda).map_or(0.0, |c| (c.correction(rest.d_eq) - 1.0) * buoyant)
 }
 
 inventory::submit! {
