@@ -7,14 +7,14 @@
 //! $h(n) = \sqrt{\sum_a r_a^2 (n·n_a)^2}$, so against a boundary face with centre $x_f$ and
 //! outward unit normal $n_f$ the gap is $g = (x_f − x_c)·n_f − h(n_f)$; g ≤ 0 is contact.
 //! The gap to a face is measured to the face itself (its fan of triangles about the centre),
-//! not to its plane beyond its edges. Where the support point $s = x_c + b\,n_f / h(n_f)$
-//! ($b = Q^T \mathrm{diag}(r_a^2)\,Q$, the point of the ellipsoid farthest along $n_f$)
+//! not to its plane beyond its edges. Where the support point $s = x_c + b\\,n_f / h(n_f)$
+//! ($b = Q^T \mathrm{diag}(r_a^2)\\,Q$, the point of the ellipsoid farthest along $n_f$)
 //! projects into the face polygon (the face *covers* it), the plane gap is the distance to the
 //! face, exactly. Otherwise the nearest point of the face lies on its rim, and the gap is the
 //! largest of three lower bounds of the distance from the ellipsoid to the face, each ≤ 0
 //! exactly where the ellipsoid meets the face:
 //! - the plane gap (the face lies in its plane);
-//! - $(s − 1)\,r_3$, with s the distance from the origin to the face after the affine map
+//! - $(s − 1)\\,r_3$, with s the distance from the origin to the face after the affine map
 //!   $p ↦ \mathrm{diag}(r_a)^{-1} Q (p − x_c)$, which takes the ellipsoid onto the unit ball
 //!   ([`PatchSet::mapped_face_distance`]): a point at s lies on the surface of the ellipsoid
 //!   scaled by s about its centre, at least $(s − 1) r_3$ from the ellipsoid; exact for a sphere
@@ -66,7 +66,7 @@
 //!
 //! The room of a particle is that radius less its distance from the face centre, given only
 //! where the face covers the support point (the gap is then the plane's), and no more than the
-//! support point's distance to the face's *open* edges plus $r_1$ ([`open_edges`]: those where
+//! support point's distance to the face's *open* edges plus $r_1$ (`open_edges`: those where
 //! the neighbouring face falls away beyond the plane, and those no face of the set shares).
 //! Beyond such an edge the plane is no longer the wall: a particle allowed by the room to glide
 //! past the corner of a step while sinking towards the plateau touched it mid-step, yet ended

@@ -149,7 +149,7 @@ impl ParticleNumbers {
     }
 
     /// [`Self::of`] for a particle starting in `state`, whose Stokes number is at least its
-    /// launch's: $τ\,|v − u(x)|/d_{eq}$, the distance its initial slip carries it before it
+    /// launch's: $τ\\,|v − u(x)|/d_{eq}$, the distance its initial slip carries it before it
     /// relaxes, in equivalent diameters. A particle thrown into still fluid (St = 0 by the flow's
     /// rate alone) keeps its inertia; one released at the fluid's velocity is chosen as before.
     /// A state outside the flow leaves the flow's number alone (its first step fails anyway).
