@@ -298,7 +298,12 @@ impl Adequacy {
                 };
                 let failed: u64 = s.failed_in_run.iter().map(|f| f.2).sum();
                 if failed > 0 {
-                    let wall = s.failed_in_run.iter().filter(|f| f.1 == "wall").map(|f| f.2).sum::<u64>();
+                    let wall = s
+                        .failed_in_run
+                        .iter()
+                        .filter(|f| f.1 == "wall")
+                        .map(|f| f.2)
+                        .sum::<u64>();
                     lines.push(format!(
                         "warning: adequacy: {failed} of the first {} particles failed in the run and are left out \
                          of the comparison; nearest patch where they failed: {}. {}",

@@ -463,7 +463,7 @@ fn read_boundary(path: &Path) -> Result<Vec<Patch>, FoamError> {
             .word("type")
             .ok_or_else(|| p.error_at(at, format!("patch `{name}` has no `type`")))?
             .to_string();
-        let coupling = if kind.starts_with("cyclic") {
+        let coupling = if kind == "cyclic" || kind == "cyclicAMI" {
             let neighbour = dict
                 .word("neighbourPatch")
                 .ok_or_else(|| p.error_at(at, format!("{kind} patch `{name}` has no `neighbourPatch`")))?
