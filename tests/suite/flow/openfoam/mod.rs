@@ -394,6 +394,54 @@ fn a_gzip_bomb_is_refused_at_what_the_mesh_can_hold() {
     assert_eq!(limit, 265472, "{err}");
 }
 
+/// `faces.gz` is read first, before any count is known: it may inflate 32 times its compressed
+/// size plus the header's 65536 bytes (mesh label lists deflate at most ~7 fold); `boundary.gz`
+/// to one patch of 4096 bytes per boundary face plus 2 × 65536 (header, patches without
+/// faces): 24 × 4096 + 131072 = 229376 bytes for the 2³ cube. The old reader inflated all
+/// 16 MiB of each (and would go on to 8 GiB) before the parser refused the count.
+#[test]
+fn a_gzip_bomb_in_faces_or_boundary_is_refused() {
+    let raw = cube(Shape::Hex, 2);
+    let u = sampled(&raw.mesh(), |x| *x);
+    let mesh = raw.mesh();
+    let boundary_faces = mesh.n_faces() - mesh.n_internal_faces();
+
+    let dir = scratch("gzip-bomb-faces");
+    write_case(&dir, &raw, &u, "0", Format::BinaryGz);
+    let faces = dir.join("constant/polyMesh/faces.gz");
+    gzip_bomb(&faces, "faceList", "", 16 << 20);
+    let compressed = std::fs::metadata(&faces).unwrap().len();
+    let err = FoamCase::open(&dir).unwrap_err();
+    match &err {
+        FoamError::Inflated { path, limit, basis } => {
+            assert!(path.ends_with("faces.gz"), "{err}");
+            assert_eq!(*limit, compressed * 32 + 65536, "{err}");
+            assert!(*limit < 1 << 20, "{err}");
+            assert!(basis.contains(&format!("{compressed} compressed bytes")), "{err}");
+        }
+        other => panic!("expected an inflation refusal, got {other:?}"),
+    }
+
+    let dir = scratch("gzip-bomb-boundary");
+    write_case(&dir, &raw, &u, "0", Format::BinaryGz);
+    gzip_bomb(
+        &dir.join("constant/polyMesh/boundary.gz"),
+        "polyBoundaryMesh",
+        "",
+        16 << 20,
+    );
+    let err = FoamCase::open(&dir).unwrap_err();
+    match &err {
+        FoamError::Inflated { path, limit, basis } => {
+            assert!(path.ends_with("boundary.gz"), "{err}");
+            assert_eq!(*limit as usize, boundary_faces * 4096 + 2 * 65536, "{err}");
+            assert_eq!(*limit, 229376, "{err}");
+            assert!(basis.contains(&format!("{boundary_faces} patches")), "{err}");
+        }
+        other => panic!("expected an inflation refusal, got {other:?}"),
+    }
+}
+
 #[test]
 fn decomposed_case_asks_for_reconstruct_par() {
     let dir = scratch("decomposed");
