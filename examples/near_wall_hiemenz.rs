@@ -54,7 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             let flow = StagnationBox::read(&case)?;
             rows.push(WallLayerRow::measure(layers, level, &flow)?);
-            predicted.push(predicted_coefficient_ratio(&flow));
+            predicted.push(predicted_coefficient_ratio(&flow, flow.first_cell / 100.0));
         }
     }
     if rows.is_empty() {
