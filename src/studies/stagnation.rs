@@ -194,7 +194,7 @@ pub fn continuity_coefficient() -> f64 {
 /// \qquad \frac{v_o}{c\,ρ^2} = \frac{f(η_o)}{\tfrac12 f^{\prime\prime}(0)\,η_o^2} = 1 − \frac{η_o}{3 f^{\prime\prime}(0)} + O(η_o^3),
 /// ```
 /// whose δ³ term, $−δ/(3 f^{\prime\prime}(0) ℓ) + ε δ/ρ$, is the exact profile's own
-/// ($v = −\sqrt{aν}\,f(η)$ with $f = \tfrac12 f^{\prime\prime}(0)η^2 − \tfrac16 η^3 + …$) plus the
+/// ($v = −\sqrt{aν}\\,f(η)$ with $f = \tfrac12 f^{\prime\prime}(0)η^2 − \tfrac16 η^3 + …$) plus the
 /// shear's miss carried up to the centre. `delta` = 0 gives 1 − ε alone. Compared with the
 /// measured ratio in `paper-figures/near-wall/NOTES.md`.
 pub fn predicted_coefficient_ratio(flow: &StagnationBox, delta: f64) -> Option<(f64, f64)> {
