@@ -109,8 +109,8 @@ pub enum FoamError {
     /// ([`super::octree::Options::max_bytes`]): refused before the blend is sampled further.
     #[error(
         "the octree table would take {bytes} bytes ({samples} blend samples, {leaves} leaves of a budget of \
-         {budget} for {cells} cells), past its limit of {limit} bytes: loosen the tolerances or lower the \
-         leaves per cell (the blend itself needs no table)"
+         {budget} for {cells} cells), past its limit of {limit} bytes: loosen the tolerances, lower the \
+         leaves per cell or raise `max_bytes` (the blend itself needs no table)"
     )]
     TableTooLarge {
         /// Bytes the build would hold with the samples it is about to take.

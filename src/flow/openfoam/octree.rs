@@ -234,9 +234,10 @@ pub const MAX_LEVEL: u32 = 12;
 pub const LEAVES_PER_CELL: usize = 12;
 /// Most bytes an octree build may hold by default ([`Options::max_bytes`]), 1 GiB. The tables
 /// measured on the airway take 0.4–4.9 kB per cell (module docs), 0.04–0.4 GB for its 83 768
-/// cells; their build holds the blend's samples besides ([`SAMPLE_BYTES`] each, one per
+/// cells; their build holds the blend's samples besides (about 175 bytes each, one per
 /// lattice point of a leaf). A tolerance the budget cannot meet (1 000 leaves per cell) went
-/// on to 1.3–2.7 GiB until killed.
+/// on to 1.3–2.7 GiB until killed. A mesh several times the airway's may need more: the
+/// refusal names the bytes it wanted.
 pub const MAX_BUILD_BYTES: usize = 1 << 30;
 /// Bytes a blend sample takes in the build's map: its lattice point and datum, one control
 /// byte, and the map's spare room (at most 1/8 of it free when full).
