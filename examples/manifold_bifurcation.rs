@@ -224,8 +224,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let full = chosen.with_frame(frame);
             let tally = Arc::new(Tally::default());
             let manifold = match std::env::var("PSEUDORIGID_DELTA_MAX") {
-                Ok(d) => Manifold::new(full).with_delta_max(d.parse()?)?,
-                Err(_) => Manifold::new(full),
+                Ok(d) => Manifold::new(full)?.with_delta_max(d.parse()?)?,
+                Err(_) => Manifold::new(full)?,
             };
             let reduced = Tallied(manifold, tally.clone());
             let (of, cf) = run_with(&airway, kind, &full, n, seed, &times)?;

@@ -39,6 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         leaves_per_cell: arg(3, "12").parse()?,
         interpolant: arg(4, "trilinear").parse()?,
         wall_leaf: arg(6, "2").parse()?,
+        ..Options::default()
     };
     let airway = Airway::open(Airway::shipped_dir())?;
     let start = Instant::now();

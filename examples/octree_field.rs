@@ -47,6 +47,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         leaves_per_cell: tol(4, 12.0) as usize,
         wall_leaf: tol(5, 2.0),
         interpolant: std::env::args().nth(6).as_deref().unwrap_or("trilinear").parse()?,
+        ..Options::default()
     };
     let table = OctreeFlow::with_options(blend, options)?;
     let built = start.elapsed().as_secs_f64();

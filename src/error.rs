@@ -52,6 +52,18 @@ pub enum ParamError {
         /// Largest allowed value.
         max: f64,
     },
+    /// A parameter lies outside its allowed open interval (an end is itself refused).
+    #[error("parameter `{name}` must lie in ({min}, {max}), got {value}")]
+    OutsideOpen {
+        /// Parameter name.
+        name: &'static str,
+        /// Offending value.
+        value: f64,
+        /// Greatest lower bound, not allowed.
+        min: f64,
+        /// Least upper bound, not allowed.
+        max: f64,
+    },
     /// A quantity derived from valid parameters overflows, underflows or loses its sign
     /// (1/Ca, λ_s = ratio·μ_s, R², mass, Θ⁻¹, the rest geometry, ...).
     #[error("derived quantity `{name}` = {value:e} is not finite and > 0 (from {inputs:?})")]

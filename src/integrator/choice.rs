@@ -218,10 +218,10 @@ impl Chosen {
     pub fn with_norm(self, norm: ErrorNorm) -> Self {
         match self {
             Chosen::Full(full) => Chosen::Full(full.with_norm(norm)),
-            Chosen::SlowManifold(m) => Chosen::SlowManifold(Manifold {
-                full: m.full.with_norm(norm),
-                ..m
-            }),
+            Chosen::SlowManifold(mut m) => {
+                m.full = m.full.with_norm(norm);
+                Chosen::SlowManifold(m)
+            }
         }
     }
 }
@@ -331,8 +331,8 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
         norm: ErrorNorm::default(),
         frame: Frame::Lab,
     };
-    let manifold = Manifold::new(full);
-    let slow = !numbers.rigid && shape_ratio <= MANIFOLD_SHARE * manifold.delta_max;
+    let manifold = Manifold::new(full)?;
+    let slow = !numbers.rigid && shape_ratio <= MANIFOLD_SHARE * manifold.delta_max();
     let shape = if numbers.rigid {
         String::new()
     } else {
@@ -344,7 +344,7 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
                 "full shape model"
             },
             if slow { "<=" } else { ">" },
-            MANIFOLD_SHARE * manifold.delta_max
+            MANIFOLD_SHARE * manifold.delta_max()
         )
     };
     let reason = format!(

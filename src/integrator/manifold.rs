@@ -108,23 +108,32 @@ use serde::{Deserialize, Serialize};
 pub struct Manifold {
     /// The full model, and the scheme that steps the rotation on the manifold.
     pub full: Stokesian,
-    /// The largest expansion ratio δ on the manifold.
-    pub delta_max: f64,
+    /// The largest expansion ratio δ on the manifold, in (0, 1) ([`Self::with_delta_max`]).
+    delta_max: f64,
 }
 
 impl Manifold {
-    /// The manifold over `full` with δ_max = √rtol (module docs).
-    pub fn new(full: Stokesian) -> Self {
-        Self {
-            delta_max: full.tol.rtol().sqrt(),
-            full,
+    /// The manifold over `full` with δ_max = √rtol (module docs); rtol must lie in (0, 1).
+    pub fn new(full: Stokesian) -> Result<Self, ParamError> {
+        let rtol = full.tol.rtol();
+        if !(rtol > 0.0 && rtol < 1.0) {
+            return Err(ParamError::OutsideOpen {
+                name: "rtol",
+                value: rtol,
+                min: 0.0,
+                max: 1.0,
+            });
         }
+        Ok(Self {
+            delta_max: rtol.sqrt(),
+            full,
+        })
     }
 
     /// The same with another δ_max (finite, in (0, 1)).
     pub fn with_delta_max(self, delta_max: f64) -> Result<Self, ParamError> {
         if !(delta_max > 0.0 && delta_max < 1.0) {
-            return Err(ParamError::OutOfRange {
+            return Err(ParamError::OutsideOpen {
                 name: "delta_max",
                 value: delta_max,
                 min: 0.0,
@@ -132,6 +141,11 @@ impl Manifold {
             });
         }
         Ok(Self { delta_max, ..self })
+    }
+
+    /// The largest expansion ratio δ_max on the manifold, in (0, 1).
+    pub fn delta_max(&self) -> f64 {
+        self.delta_max
     }
 
     /// What the switch did for the particle with step memory `memory`.
@@ -405,8 +419,8 @@ inventory::submit! {
             .with_scheme(super::choice::scheme_for(tol))
             .with_norm(super::stokesian::error_norm(p)?);
             let manifold = match p.positive("delta_max") {
-                Err(ParamError::Missing { .. }) => Manifold::new(full),
-                Ok(delta_max) => Manifold::new(full).with_delta_max(delta_max)?,
+                Err(ParamError::Missing { .. }) => Manifold::new(full)?,
+                Ok(delta_max) => Manifold::new(full)?.with_delta_max(delta_max)?,
                 Err(e) => return Err(e),
             };
             Ok(super::SceneIntegrator::new(manifold))

@@ -94,7 +94,9 @@ impl Source<'_> {
             .and_then(|rest| rest.split_once('`'))
             .map(|(leaf, _)| leaf);
         if let Some(leaf) = missing {
-            key = if key.is_empty() {
+            // A table's missing field spans the table's header; the document's own has an
+            // empty span at 0, where the first line's key is no parent.
+            key = if key.is_empty() || span.is_empty() {
                 leaf.to_string()
             } else {
                 format!("{key}.{leaf}")

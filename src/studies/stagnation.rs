@@ -173,10 +173,10 @@ pub fn continuity_coefficient() -> f64 {
     -0.5 * STRAIN * exact.wall_curvature() / exact.length()
 }
 
-/// The ratio (v/δ²)/c that the wall fit's three-point profile leaves, over the wall faces over
-/// the middle of the wall: (smallest, largest); `None` if no face there has a cell above.
+/// The ratio (v/δ²)/c that the wall fit leaves at height `delta`, over the wall faces over the
+/// middle of the wall: (smallest, largest); `None` if no face there has a cell above.
 ///
-/// The Hiemenz profile has no cubic term: from
+/// The Hiemenz profile's slope has no cubic term: from
 /// $f^{\prime\prime\prime} + f f^{\prime\prime} + 1 − (f^{\prime})^2 = 0$ at the wall,
 /// $f^{\prime\prime\prime}(0) = −1$, $f^{(4)}(0) = 0$ and $f^{(5)}(0) = f^{\prime\prime}(0)^2$, so
 /// ```math
@@ -185,11 +185,19 @@ pub fn continuity_coefficient() -> f64 {
 /// The quadratic through the wall and the heights $η_o = ρ/ℓ$ of the wall cell's centre and
 /// $η_1 = ρ_1/ℓ$ of the cell above (`flow::openfoam::wall_layer`, Tangential) takes the
 /// quartic's slope at the wall as $−\tfrac{1}{24} f^{\prime\prime}(0)^2 η_o η_1 (η_o + η_1)$, so
-/// the shear γ and c = −½∇ₛ·γ come out low by the factor 1 − ε,
-/// $ε = \tfrac{1}{24} f^{\prime\prime}(0) η_o η_1 (η_o + η_1)$:
-/// third order in the cell size, what is left of v/δ² at the coarsest levels
-/// (`paper-figures/near-wall/NOTES.md`).
-pub fn predicted_coefficient_ratio(flow: &StagnationBox) -> Option<(f64, f64)> {
+/// the shear γ and the fit's $c_f = −½∇ₛ·γ$ come out low by the factor 1 − ε,
+/// $ε = \tfrac{1}{24} f^{\prime\prime}(0) η_o η_1 (η_o + η_1)$: third order in the cell size.
+/// The fit's cubic $e_f δ^3$ passes through the cell's value $v_o = v(ρ)$ (`wall_layer`,
+/// Normal), $e_f = (v_o − c_f ρ^2)/ρ^3$, so at height δ
+/// ```math
+/// \frac{v}{c\,δ^2} = 1 − ε + \Big(\frac{v_o}{c\,ρ^2} − 1 + ε\Big)\frac{δ}{ρ},
+/// \qquad \frac{v_o}{c\,ρ^2} = \frac{f(η_o)}{\tfrac12 f^{\prime\prime}(0)\,η_o^2} = 1 − \frac{η_o}{3 f^{\prime\prime}(0)} + O(η_o^3),
+/// ```
+/// whose δ³ term, $−δ/(3 f^{\prime\prime}(0) ℓ) + ε δ/ρ$, is the exact profile's own
+/// ($v = −\sqrt{aν}\\,f(η)$ with $f = \tfrac12 f^{\prime\prime}(0)η^2 − \tfrac16 η^3 + …$) plus the
+/// shear's miss carried up to the centre. `delta` = 0 gives 1 − ε alone. Compared with the
+/// measured ratio in `paper-figures/near-wall/NOTES.md`.
+pub fn predicted_coefficient_ratio(flow: &StagnationBox, delta: f64) -> Option<(f64, f64)> {
     let exact = hiemenz();
     let (curvature, length) = (exact.wall_curvature(), exact.length());
     let cells = &flow.cellwise;
@@ -203,8 +211,11 @@ pub fn predicted_coefficient_ratio(flow: &StagnationBox) -> Option<(f64, f64)> {
             x[1].abs() < 1e-9 && over_the_middle(&x)
         })
         .filter_map(|(k, _)| {
-            let (near, far) = (layer.depth(k) / length, layer.above_height(k)? / length);
-            Some(1.0 - curvature / 24.0 * near * far * (near + far))
+            let (rho, far) = (layer.depth(k), layer.above_height(k)?);
+            let (near, far) = (rho / length, far / length);
+            let eps = curvature / 24.0 * near * far * (near + far);
+            let centre = exact.profile(near)[0] / (0.5 * curvature * near * near);
+            Some(1.0 - eps + (centre - 1.0 + eps) * delta / rho)
         })
         .fold(None, |range, r| {
             Some(range.map_or((r, r), |(lo, hi): (f64, f64)| (lo.min(r), hi.max(r))))

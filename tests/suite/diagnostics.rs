@@ -172,7 +172,7 @@ fn validity_states_the_slow_manifolds_ratio_against_its_bound() {
         .particle(&ShearScaling::new(1e-3, 1.0, 1e3).unwrap())
         .unwrap();
     let flow = unit_shear();
-    let integ = Manifold::new(Stokesian::overdamped(1e-3).unwrap());
+    let integ = Manifold::new(Stokesian::overdamped(1e-3).unwrap()).unwrap();
     let mut monitor = Monitor::in_linear_flow(&p, &flow);
     let mut memory = Default::default();
     integrate(

@@ -105,6 +105,27 @@ pub enum FoamError {
         /// What is wrong.
         reason: String,
     },
+    /// Building an octree table would pass its memory limit
+    /// ([`super::octree::Options::max_bytes`]): refused before the blend is sampled further.
+    #[error(
+        "the octree table would take {bytes} bytes ({samples} blend samples, {leaves} leaves of a budget of \
+         {budget} for {cells} cells), past its limit of {limit} bytes: loosen the tolerances, lower the \
+         leaves per cell or raise `max_bytes` (the blend itself needs no table)"
+    )]
+    TableTooLarge {
+        /// Bytes the build would hold with the samples it is about to take.
+        bytes: usize,
+        /// The limit.
+        limit: usize,
+        /// Blend samples held and about to be taken.
+        samples: usize,
+        /// Leaves so far.
+        leaves: usize,
+        /// The leaf budget (leaves per cell × cells).
+        budget: usize,
+        /// Mesh cells.
+        cells: usize,
+    },
     /// The least-squares stencil of a cell does not determine a gradient.
     #[error("cell {cell}: gradient stencil of {points} points is degenerate (smallest/largest eigenvalue {ratio:.3e})")]
     Stencil {

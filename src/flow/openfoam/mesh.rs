@@ -9,7 +9,7 @@
 //! with apex at the average of its face centres (volume-weighted pyramid centroids).
 
 use super::error::FoamError;
-use super::parse::{Entry, Limit, Parser, Tok, Value, number, read_file};
+use super::parse::{Entry, HEADER_BYTES, Limit, Parser, Tok, Value, number, read_file};
 use crate::tensor::Vec3;
 use std::path::Path;
 
@@ -71,7 +71,7 @@ impl PolyMesh {
     /// Read `constant/polyMesh` of `case` (each file plain or `.gz`, ASCII or binary).
     pub fn read(case: &Path) -> Result<Self, FoamError> {
         let dir = case.join("constant").join("polyMesh");
-        let (path, text) = read_file(&dir.join("faces"), Limit::any())?;
+        let (path, text) = read_file(&dir.join("faces"), Limit::deflated(&dir.join("faces"), "faces"))?;
         let mut p = Parser::new(&path, &text);
         let header = p.header()?;
         let (face_offsets, face_points) = match header.class.as_str() {
@@ -126,7 +126,8 @@ impl PolyMesh {
         let n_faces = face_offsets.len().saturating_sub(1);
         let owner = read_labels(&dir.join("owner"), n_faces)?;
         let neighbour = read_labels(&dir.join("neighbour"), n_faces)?;
-        let patches = read_boundary(&dir.join("boundary"))?;
+        let boundary_faces = n_faces.saturating_sub(neighbour.len());
+        let patches = read_boundary(&dir.join("boundary"), boundary_faces)?;
         Self::new(points, face_offsets, face_points, owner, neighbour, patches)
     }
 
@@ -432,8 +433,24 @@ fn read_labels(path: &Path, n_faces: usize) -> Result<Vec<u32>, FoamError> {
     Ok(labels)
 }
 
-fn read_boundary(path: &Path) -> Result<Vec<Patch>, FoamError> {
-    let (name, text) = read_file(path, Limit::any())?;
+/// Most bytes one patch's dictionary takes in `boundary`: OpenFOAM writes a wall's (`type`,
+/// `inGroups`, `nFaces`, `startFace`) in under 150 bytes and a `cyclicAMI`'s, with its
+/// transform and tolerances, in under 1 KiB.
+const PATCH_BYTES: u64 = 4096;
+
+/// The patches of a mesh with `boundary_faces` boundary faces. A gzipped file inflates at most
+/// to one patch of [`PATCH_BYTES`] per boundary face (every patch but an empty one holds one)
+/// plus [`HEADER_BYTES`] for the patches without faces (over 400 at
+/// OpenFOAM's size).
+fn read_boundary(path: &Path, boundary_faces: usize) -> Result<Vec<Patch>, FoamError> {
+    let limit = Limit::sized(
+        boundary_faces,
+        PATCH_BYTES,
+        "patches (at most one per boundary face)",
+        HEADER_BYTES,
+        "patches without faces",
+    );
+    let (name, text) = read_file(path, limit)?;
     let mut p = Parser::new(&name, &text);
     p.header()?;
     let at = p.offset();

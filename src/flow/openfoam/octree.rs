@@ -232,6 +232,18 @@ const CHECK_SHARE: f64 = 0.25;
 pub const MAX_LEVEL: u32 = 12;
 /// Leaves allowed per mesh cell.
 pub const LEAVES_PER_CELL: usize = 12;
+/// Most bytes an octree build may hold by default ([`Options::max_bytes`]), 1 GiB. The tables
+/// measured on the airway take 0.4–4.9 kB per cell (module docs), 0.04–0.4 GB for its 83 768
+/// cells; their build holds the blend's samples besides (about 175 bytes each, one per
+/// lattice point of a leaf). A tolerance the budget cannot meet (1 000 leaves per cell) went
+/// on to 1.3–2.7 GiB until killed. A mesh several times the airway's may need more: the
+/// refusal names the bytes it wanted.
+pub const MAX_BUILD_BYTES: usize = 1 << 30;
+/// Bytes a blend sample takes in the build's map: its lattice point and datum, one control
+/// byte, and the map's spare room (at most 1/8 of it free when full).
+const SAMPLE_BYTES: usize = (size_of::<(Lattice, Datum)>() + 1) * 8 / 7;
+/// Bytes a tree entry takes in the build: the entry, its level and its lattice corner.
+const ENTRY_BYTES: usize = size_of::<u32>() * 2 + size_of::<Lattice>();
 /// Edge of a wall leaf over the smallest support $H_f$ (wall cell height) of the wall faces near it.
 pub const WALL_LEAF: f64 = 2.0;
 
@@ -314,10 +326,14 @@ pub struct Options {
     pub wall_leaf: f64,
     /// The tabulated leaves' interpolant.
     pub interpolant: Interpolant,
+    /// Most bytes the build may hold (tree and blend samples; [`MAX_BUILD_BYTES`]): a build
+    /// that would pass it is refused with [`FoamError::TableTooLarge`] before it samples more.
+    pub max_bytes: usize,
 }
 
 impl Default for Options {
-    /// [`U_TOLERANCE`], [`GRADIENT_TOLERANCE`], [`LEAVES_PER_CELL`], [`WALL_LEAF`].
+    /// [`U_TOLERANCE`], [`GRADIENT_TOLERANCE`], [`LEAVES_PER_CELL`], [`WALL_LEAF`],
+    /// [`MAX_BUILD_BYTES`].
     fn default() -> Self {
         Self {
             u_tolerance: U_TOLERANCE,
@@ -325,6 +341,7 @@ impl Default for Options {
             leaves_per_cell: LEAVES_PER_CELL,
             wall_leaf: WALL_LEAF,
             interpolant: Interpolant::Trilinear,
+            max_bytes: MAX_BUILD_BYTES,
         }
     }
 }
@@ -452,6 +469,7 @@ struct Builder<'a> {
     u_tol: f64,
     gradient_tol: f64,
     budget: usize,
+    max_bytes: usize,
     wall_leaf: f64,
     interpolant: Interpolant,
     report: BuildReport,
@@ -521,10 +539,22 @@ impl Builder<'_> {
 
     /// Evaluate the blend at every lattice point not yet sampled (in parallel where the crate
     /// has its thread pool).
-    fn sample_all(&mut self, points: Vec<Lattice>) {
+    fn sample_all(&mut self, points: Vec<Lattice>) -> Result<(), FoamError> {
         let mut fresh: Vec<Lattice> = points.into_iter().filter(|p| !self.samples.contains_key(p)).collect();
         fresh.sort_unstable();
         fresh.dedup();
+        let samples = self.samples.len() + fresh.len();
+        let bytes = samples * SAMPLE_BYTES + self.tree.len() * ENTRY_BYTES;
+        if bytes > self.max_bytes {
+            return Err(FoamError::TableTooLarge {
+                bytes,
+                limit: self.max_bytes,
+                samples,
+                leaves: self.leaves(),
+                budget: self.budget,
+                cells: self.report.cells,
+            });
+        }
         let evaluate = |p: &Lattice| {
             self.blend
                 .sample(&self.position(p), self.time)
@@ -540,6 +570,7 @@ impl Builder<'_> {
         #[cfg(not(feature = "parallel"))]
         let values: Vec<Datum> = fresh.iter().map(evaluate).collect();
         self.samples.extend(fresh.into_iter().zip(values));
+        Ok(())
     }
 
     /// The 27 points of a cube (corners, edge and face midpoints, centre).
@@ -608,7 +639,7 @@ impl Builder<'_> {
 
     /// Decide each cube of one level: split (the children are returned), a wall leaf or a
     /// tabulated leaf (module docs).
-    fn settle(&mut self, level: Vec<Cube>) -> Vec<Cube> {
+    fn settle(&mut self, level: Vec<Cube>) -> Result<Vec<Cube>, FoamError> {
         let walls: Vec<Option<f64>> = level.iter().map(|c| self.wall_support(c)).collect();
         let points: Vec<Lattice> = level
             .iter()
@@ -616,7 +647,7 @@ impl Builder<'_> {
             .filter(|(_, w)| w.is_none())
             .flat_map(|(c, _)| Self::lattice_points(c).collect::<Vec<_>>())
             .collect();
-        self.sample_all(points);
+        self.sample_all(points)?;
         let unit = self.edge / f64::from(1u32 << MAX_LEVEL);
         let mut next = Vec::new();
         for (cube, wall) in level.iter().zip(walls) {
@@ -661,7 +692,7 @@ impl Builder<'_> {
                 self.tree[cube.entry] = WALL;
             }
         }
-        next
+        Ok(next)
     }
 
     fn note_miss(&mut self, u: f64, g: f64) {
@@ -706,7 +737,7 @@ impl Builder<'_> {
     }
 
     /// Split tabulated leaves larger than a wall leaf they touch, until none is (module docs).
-    fn balance(&mut self) {
+    fn balance(&mut self) -> Result<(), FoamError> {
         for _ in 0..4 * MAX_LEVEL {
             let mut coarse: Vec<usize> = Vec::new();
             for entry in 0..self.tree.len() {
@@ -743,7 +774,7 @@ impl Builder<'_> {
             coarse.sort_unstable();
             coarse.dedup();
             if coarse.is_empty() {
-                return;
+                return Ok(());
             }
             let mut children = Vec::new();
             for entry in coarse {
@@ -759,12 +790,13 @@ impl Builder<'_> {
                 .flat_map(|c| Self::lattice_points(c).collect::<Vec<_>>())
                 .collect();
             let walls: Vec<Option<f64>> = children.iter().map(|c| self.wall_support(c)).collect();
-            self.sample_all(points);
+            self.sample_all(points)?;
             for (child, wall) in children.iter().zip(walls) {
                 let corners_inside = (0..8).all(|k| self.samples[&Self::corner(child, k)].is_some());
                 self.tree[child.entry] = if wall.is_none() && corners_inside { TABLE } else { WALL };
             }
         }
+        Ok(())
     }
 }
 
@@ -966,6 +998,7 @@ impl OctreeFlow {
             leaves_per_cell,
             wall_leaf,
             interpolant,
+            max_bytes,
         } = options;
         // A tolerance may be infinite: leaves sized by the mesh alone (module docs, Fates).
         if !([u_tolerance, gradient_tolerance].iter().all(|t| *t > 0.0)
@@ -1059,6 +1092,7 @@ impl OctreeFlow {
             u_tol: u_tolerance * u_max,
             gradient_tol: gradient_tolerance * gradient_max,
             budget: leaves_per_cell.saturating_mul(n_cells),
+            max_bytes,
             wall_leaf,
             interpolant,
             report: BuildReport {
@@ -1079,9 +1113,9 @@ impl OctreeFlow {
             if level.is_empty() {
                 break;
             }
-            level = builder.settle(level);
+            level = builder.settle(level)?;
         }
-        builder.balance();
+        builder.balance()?;
         let table = builder.finish();
         Ok(Self {
             blend,

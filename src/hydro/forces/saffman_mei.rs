@@ -131,6 +131,19 @@ impl SaffmanMei {
     }
 }
 
+/// The unit vector along `v` and its length, the length formed from `v` scaled by its largest
+/// component (finite for every finite `v`); `v` itself and its largest component for a zero
+/// or non-finite `v`, so that NaN and ∞ reach the force.
+fn direction(v: &Vec3) -> (Vec3, f64) {
+    let largest = v.amax();
+    if largest == 0.0 || !largest.is_finite() {
+        return (*v, largest);
+    }
+    let scaled = v / largest;
+    let length = scaled.norm();
+    (scaled / length, largest * length)
+}
+
 /// Vorticity ω = ∇ × u of a velocity gradient with `(l)_ij = ∂u_i/∂x_j`.
 pub fn vorticity(grad_u: &crate::tensor::Mat3) -> Vec3 {
     Vec3::new(
@@ -157,19 +170,24 @@ impl ForceTerm for SaffmanMei {
         true
     }
 
+    /// Formed as f = 1.615 d² √(ρ_f μ_f) |w| |ω|^{1/2} C (ŵ × ω̂), each norm of a vector scaled
+    /// by its largest component first: |ω| and |w| stay finite up to f64's largest number (an
+    /// unscaled norm overflowed past 1.3·10¹⁵⁴, and 0·∞ made the force NaN), so the force is
+    /// right wherever it is representable; beyond, its non-zero components are ±∞, never NaN,
+    /// and the step refuses the state.
     fn contribution(&self, ctx: &ForceContext) -> Contribution {
-        let omega = vorticity(&ctx.flow.grad_u);
-        let w = ctx.slip();
-        let magnitude = omega.norm();
-        if magnitude == 0.0 || w.norm() == 0.0 {
+        let (w_hat, w) = direction(&ctx.slip());
+        let (omega_hat, magnitude) = direction(&vorticity(&ctx.flow.grad_u));
+        if magnitude == 0.0 || w == 0.0 {
             return Contribution::default();
         }
         let d = ctx.volume_diameter();
-        let re_p = ctx.reynolds();
+        let re_p = ctx.rho_f * w * d / ctx.mu_f;
         let re_omega = ctx.rho_f * magnitude * d * d / ctx.mu_f;
         let ratio = Self::lift_ratio(re_p, re_omega);
+        let size = 1.615 * d * d * (ctx.rho_f * ctx.mu_f).sqrt() * w * magnitude.sqrt() * ratio;
         Contribution {
-            force: w.cross(&omega) * (1.615 * d * d * (ctx.rho_f * ctx.mu_f / magnitude).sqrt() * ratio),
+            force: w_hat.cross(&omega_hat).map(|c| if c == 0.0 { 0.0 } else { c * size }),
             ..Contribution::default()
         }
     }

@@ -897,3 +897,53 @@ fn holzer_sommerfeld_sphere_limit_and_shapes() {
     assert!(1.0 < along && along < across, "{along} {across}");
     assert_eq!(factor(Vec3::zeros()), 1.0);
 }
+
+/// Issue 61: the lift at shear rates and slips past 1.3·10¹⁵⁴, where |ω|² or |w|² overflows.
+/// A 20 µm sphere in water (ρ/μ = 10⁶ s/m²): the force is 1.615 d² √(ρμ) |w| √γ C(Re_p, Re_ω),
+/// formed here from the scalars directly (no norm), within 10⁻¹³ relative (a dozen roundings
+/// of 1.1·10⁻¹⁶ each, and the norm of a vector with one non-zero component is exact). At
+/// γ = 10¹⁶⁰ the unscaled norm made it NaN. A force past f64's range (γ = w = 10³⁰⁰) is +∞
+/// along the lift, 0 across it: never NaN.
+#[test]
+fn lift_past_the_overflow_of_a_norm() {
+    let (a, mu, rho) = (1e-5, 1e-3, 1000.0);
+    let d = 2.0 * a;
+    for (gamma, w) in [(1e160, 5e-6), (1.0, 1e160), (1e160, 1e140), (100.0, 5e-6)] {
+        let f = lift_on_lagging_sphere(a, gamma, mu, rho, w);
+        let re_p = rho * w * d / mu;
+        let re_omega = rho * gamma * d * d / mu;
+        let expected = 1.615 * d * d * (rho * mu).sqrt() * w * gamma.sqrt() * SaffmanMei::lift_ratio(re_p, re_omega);
+        assert!(expected.is_finite(), "γ = {gamma:e}, w = {w:e}: {expected}");
+        assert!(
+            (f[1] / expected - 1.0).abs() < 1e-13,
+            "γ = {gamma:e}, w = {w:e}: {f:?} vs {expected:e}"
+        );
+        assert!(f[0] == 0.0 && f[2] == 0.0, "γ = {gamma:e}, w = {w:e}: {f:?}");
+    }
+    let f = lift_on_lagging_sphere(a, 1e300, mu, rho, 1e300);
+    assert!(f[1] == f64::INFINITY && f[0] == 0.0 && f[2] == 0.0, "{f:?}");
+}
+
+/// McLaughlin's (1991) large-ε expansion, J(ε) = J(∞) − 0.6463/ε² with J(∞) = 2.255, i.e.
+/// J*(ε) = 1 − 0.2866/ε²: the library's J* (Mei's fit, 0.6765{1 + tanh[2.5(log₁₀ε + 0.191)]}·…)
+/// meets it within 10⁻³ on ε ∈ [5, 20] (it is off by at most 2.9·10⁻⁴; the expansion's next
+/// term, O(ε⁻⁴), is below 10⁻³ from ε = 5 on). The other printed reading of the fit,
+/// tanh[2.5 log₁₀(ε + 0.191)], misses it by 1.6·10⁻² at ε = 5 and 7.5·10⁻⁴ at ε = 20: the test
+/// tells the two apart.
+#[test]
+fn mclaughlin_large_epsilon_expansion() {
+    let other_reading =
+        |eps: f64| (1.0 + (2.5 * (eps + 0.191).log10()).tanh()) * (0.667 + (6.0 * (eps - 0.32)).tanh()) / (2.0 * 1.667);
+    let mut worst_other = 0.0_f64;
+    for i in 0..=150 {
+        let eps = 5.0 * 4.0_f64.powf(f64::from(i) / 150.0);
+        let expansion = 1.0 - 0.2866 / (eps * eps);
+        let j = SaffmanMei::mclaughlin_ratio(eps);
+        assert!(
+            (j - expansion).abs() < 1e-3,
+            "ε = {eps}: J* = {j}, expansion {expansion}"
+        );
+        worst_other = worst_other.max((other_reading(eps) - expansion).abs());
+    }
+    assert!(worst_other > 1e-2, "{worst_other}");
+}

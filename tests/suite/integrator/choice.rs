@@ -109,7 +109,7 @@ fn choice_follows_its_rules() {
         panic!("δ̄ at the bound: {}", stiff.reason)
     };
     assert_eq!(manifold.full.barycentre, BarycentreModel::Inertial);
-    assert_eq!(manifold.delta_max, loose.rtol().sqrt());
+    assert_eq!(manifold.delta_max(), loose.rtol().sqrt());
     assert!(stiff.reason.contains("on the slow manifold"), "{}", stiff.reason);
     let soft = choice::choose(elastic(1.01 * bound), loose).unwrap();
     assert!(matches!(soft.integrator, Chosen::Full(_)), "{}", soft.reason);

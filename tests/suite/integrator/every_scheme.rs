@@ -256,7 +256,7 @@ fn rigid_end_frame_is_the_projected_states() {
 #[test]
 fn manifold_and_auto_show_the_end_state() {
     let p = soft_prolate();
-    let manifold = Manifold::new(Stokesian::overdamped(1e-8).unwrap());
+    let manifold = Manifold::new(Stokesian::overdamped(1e-8).unwrap()).unwrap();
     end_evaluation(&manifold, &p, 1e-2);
     let auto = Auto {
         tol: Tolerances::new(1e-8, 1e-8, 1e-14).unwrap(),

@@ -87,6 +87,7 @@ fn manifold_sphere_in_shear_is_roscoes_steady_shape() {
     let err = |ca: f64| {
         let p = sphere(ca);
         let integ = Manifold::new(Stokesian::overdamped(1e-8).unwrap())
+            .unwrap()
             .with_delta_max(0.1)
             .unwrap();
         let (s, memory): (Vec<State>, ManifoldMemory) = states_at(&integ, &p, &unit_shear(), &[10.0]);
@@ -123,6 +124,7 @@ fn manifold_follows_the_full_model_along_a_turning_flow() {
     let err = |ca: f64| {
         let p = sphere(ca);
         let integ = Manifold::new(Stokesian::overdamped(1e-8).unwrap())
+            .unwrap()
             .with_delta_max(0.1)
             .unwrap();
         let (reduced, memory) = states_at(&integ, &p, &TurningShear, &times);
@@ -160,7 +162,7 @@ fn stiffer_particles_take_no_more_steps_on_the_manifold() {
     let cas = [1e-2, 1e-3, 1e-4, 1e-5];
     let reduced: Vec<u64> = cas
         .iter()
-        .map(|&ca| steps_of(&Manifold::new(full), &sphere(ca)))
+        .map(|&ca| steps_of(&Manifold::new(full).unwrap(), &sphere(ca)))
         .collect();
     let old: Vec<u64> = cas.iter().map(|&ca| steps_of(&full, &sphere(ca))).collect();
     let rigid = ShearShape::new(Shape::Sphere)
@@ -195,4 +197,34 @@ fn steps_of<I: TimeIntegrator, M: pseudorigid::material::Response>(integ: &I, p:
         }
     }
     n
+}
+
+/// δ_max is set only through its checks (issue 61): NaN, ±∞, 0, 1 and 2 are refused with the
+/// open interval named, and a tolerance whose √rtol would be δ_max ≥ 1 is refused as `rtol`.
+#[test]
+fn delta_max_is_refused_outside_the_open_unit_interval() {
+    let full = Stokesian::overdamped(1e-8).unwrap();
+    let manifold = Manifold::new(full).unwrap();
+    assert_eq!(manifold.delta_max(), 1e-4);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0, 1.0, 2.0, -0.5] {
+        let err = manifold.with_delta_max(bad).unwrap_err();
+        assert!(
+            matches!(err, ParamError::OutsideOpen { name: "delta_max", .. }),
+            "{bad}: {err:?}"
+        );
+        assert!(err.to_string().contains("must lie in (0, 1)"), "{err}");
+    }
+    assert_eq!(manifold.with_delta_max(0.5).unwrap().delta_max(), 0.5);
+    let err = Manifold::new(Stokesian::overdamped(4.0).unwrap()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ParamError::OutsideOpen {
+                name: "rtol",
+                value: 4.0,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
 }

@@ -137,7 +137,7 @@ fn records_carry_the_slow_manifold_switch() {
         tol: Tolerances::uniform(1e-3).unwrap(),
         norm: ErrorNorm::default(),
     };
-    let manifold = Manifold::new(Stokesian::new(1e-3).unwrap());
+    let manifold = Manifold::new(Stokesian::new(1e-3).unwrap()).unwrap();
     let delta_max = 1e-3f64.sqrt();
     let with_auto = |p: &SettlingPipe| run_pipe(&auto, p);
     let with_manifold = |p: &SettlingPipe| run_pipe(&manifold, p);

@@ -437,6 +437,9 @@ fn toml_errors_name_the_dotted_key_path() {
         ),
         ("t_end = 1.0", "t_ed = 1.0", "end.t_ed", "unknown field"),
         ("t_end = 1.0\n", "", "end.t_end", "missing field"),
+        // Issue 61: a missing table of the document is named alone, not after the file's first
+        // key (`seed = 3` made it `seed.end`).
+        ("[end]\nt_end = 1.0\nmax_steps = 1000\n", "", "end", "missing field"),
         (
             "angle = 0.3",
             "angel = 0.3",

@@ -5,7 +5,7 @@
 use crate::common::build::{layered_box, sampled};
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::octree::{Interpolant, Options};
-use pseudorigid::flow::openfoam::{BlendedFlow, FoamFlow, OctreeFlow};
+use pseudorigid::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, OctreeFlow};
 use pseudorigid::tensor::Vec3;
 
 /// A box [0, 1] × [0, 0.5] × [0, 1] with a no-slip wall at y = 0, its layers graded towards
@@ -107,6 +107,42 @@ fn bad_options_are_refused() {
         let refused = OctreeFlow::with_options(blend.clone(), options);
         assert!(refused.is_err(), "{options:?} was accepted");
     }
+}
+
+/// A table asked for more than it can meet (tolerances of 10⁻³⁰⁰, a million leaves per cell)
+/// stops at its memory limit with the numbers, here 8 MiB: every leaf misses, so the build
+/// splits to the depth limit, 8¹² leaves a root cube, and the old build ran on to GiBs. The
+/// refusal comes before the samples that would pass the limit are taken, so the bytes named
+/// exceed it by at most one level's samples and the build holds less than the limit.
+#[test]
+fn a_table_past_its_memory_is_refused_with_the_numbers() {
+    let blend = BlendedFlow::new(graded_box(|x| Vec3::new(x[1] * x[1], x[0].sin(), 0.0))).unwrap();
+    let cells = blend.cellwise().mesh().n_cells();
+    let options = Options {
+        u_tolerance: 1e-300,
+        gradient_tolerance: 1e-300,
+        leaves_per_cell: 1_000_000,
+        max_bytes: 8 << 20,
+        ..Options::default()
+    };
+    let start = std::time::Instant::now();
+    let err = OctreeFlow::with_options(blend, options).unwrap_err();
+    match &err {
+        FoamError::TableTooLarge {
+            bytes,
+            limit,
+            samples,
+            leaves,
+            budget,
+            cells: c,
+        } => {
+            assert_eq!((*limit, *budget, *c), (8 << 20, 1_000_000 * cells, cells), "{err}");
+            assert!(*bytes > *limit && *samples > 0 && *leaves > cells, "{err}");
+        }
+        other => panic!("expected a refusal for memory, got {other:?}"),
+    }
+    assert!(err.to_string().contains(&(8u64 << 20).to_string()), "{err}");
+    assert!(start.elapsed().as_secs() < 60, "{:?}", start.elapsed());
 }
 
 /// Continuity across leaf faces: at the centre and the edge midpoints of every face of every
