@@ -627,7 +627,7 @@ where
         }
         s = end;
         if let Some(c) = crossing {
-            s = c.map.state(&end);
+            s = end.mapped(&c.map);
             held(&mut s);
             *last = s;
             integrator.particle_mapped(memory);

@@ -11,6 +11,7 @@
 //! $Q x_c + Q F X$; for a reflection (det Q = −1) the image's reference configuration is relabelled
 //! by $X' = P X$ with $P = \mathrm{diag}(1, 1, −1)$, which maps the rest ellipsoid (semi-axes along
 //! the reference axes) and its inertia onto themselves and keeps det F > 0:
+//! The state's map is [`crate::particle::State::mapped`]:
 //! ```math
 //! x_c' = T(x_c),\quad v_c' = Q v_c,\quad F' = Q F P,\quad \dot F' = Q \dot F P,
 //! \qquad P = \begin{cases} 1 & \det Q = 1 \\ \mathrm{diag}(1,1,−1) & \det Q = −1. \end{cases}
@@ -19,7 +20,6 @@
 //! preferred material direction is mapped by a reflection to its mirror image, which is another
 //! material unless the direction lies along a reference axis.
 
-use crate::particle::State;
 use crate::tensor::{Mat3, Vec3};
 
 use super::FlowSample;
@@ -94,22 +94,6 @@ impl Isometry {
             grad_u: qt * s.grad_u * self.q,
             du_dt: qt * s.du_dt,
             convective: qt * s.convective,
-        }
-    }
-
-    /// The particle state mapped (module docs): barycentre, its velocity, F and Ḟ.
-    pub fn state(&self, s: &State) -> State {
-        let p = if self.q.determinant() < 0.0 {
-            Mat3::from_diagonal(&Vec3::new(1.0, 1.0, -1.0))
-        } else {
-            Mat3::identity()
-        };
-        State {
-            t: s.t,
-            x: self.point(&s.x),
-            v: self.q * s.v,
-            f: self.q * s.f * p,
-            a: self.q * s.a * p,
         }
     }
 }

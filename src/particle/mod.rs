@@ -56,6 +56,26 @@ impl State {
         }
     }
 
+    /// The state's image under an isometry of the flow (a cyclic pair, a symmetry plane, a
+    /// wedge; [`crate::flow::image`]): $x_c' = T(x_c)$, $v_c' = Q v_c$, $F' = Q F P$,
+    /// $A' = Q A P$, with P = 1 for a rotation and diag(1, 1, −1) for a reflection, which
+    /// relabels the mirrored body's reference configuration so that its rest ellipsoid and
+    /// inertia stay its own and det F' > 0.
+    pub fn mapped(&self, map: &crate::flow::Isometry) -> Self {
+        let p = if map.q.determinant() < 0.0 {
+            Mat3::from_diagonal(&Vec3::new(1.0, 1.0, -1.0))
+        } else {
+            Mat3::identity()
+        };
+        Self {
+            t: self.t,
+            x: map.point(&self.x),
+            v: map.q * self.v,
+            f: map.q * self.f * p,
+            a: map.q * self.a * p,
+        }
+    }
+
     /// Spatial velocity gradient of the solid, l_s = A F⁻¹.
     pub fn l_s(&self) -> Mat3 {
         self.a * crate::tensor::inv_transpose(&self.f).transpose()

@@ -245,7 +245,7 @@ impl PatchImages {
                 (None, "symmetry" | "symmetryPlane") => Map::Mirror,
                 (None, kind) => {
                     return Err(FoamError::Mesh {
-                        reason: format!("{kind} patch `{}` has no partner", patch.name),
+                        reason: format!("{kind} patch `{}` has no partner (`neighbourPatch`)", patch.name),
                     });
                 }
             };

@@ -480,11 +480,12 @@ fn read_boundary(path: &Path, boundary_faces: usize) -> Result<Vec<Patch>, FoamE
             .word("type")
             .ok_or_else(|| p.error_at(at, format!("patch `{name}` has no `type`")))?
             .to_string();
-        let coupling = if kind == "cyclic" || kind == "cyclicAMI" {
-            let neighbour = dict
-                .word("neighbourPatch")
-                .ok_or_else(|| p.error_at(at, format!("{kind} patch `{name}` has no `neighbourPatch`")))?
-                .to_string();
+        // A coupled patch without its partner is refused where it has faces (`images`).
+        let neighbour = dict
+            .word("neighbourPatch")
+            .filter(|_| kind == "cyclic" || kind == "cyclicAMI");
+        let coupling = if let Some(neighbour) = neighbour {
+            let neighbour = neighbour.to_string();
             let vector = |key: &str| -> Result<Option<Vec3>, FoamError> {
                 match dict.get(key) {
                     None => Ok(None),

@@ -1404,15 +1404,15 @@ vtk = false
 
 /// A 2-D case as OpenFOAM writes it is a valid scene; with a patch of a type that is not a
 /// particle boundary the scene is refused at `flow.case`, the patch and its type named, before
-/// its fields are read (a `cyclic` patch's `U` has no value to read).
+/// its fields are read.
 #[test]
 fn openfoam_scene_refuses_unsupported_patch_types() {
     let text = tracer_on_case(&build::channel_2d());
     parse_named("channel.toml", &text).unwrap();
     for (patch, kind) in [
-        ("walls", "symmetryPlane"),
-        ("frontAndBack", "cyclic"),
-        ("inlet", "wedge"),
+        ("walls", "cyclicACMI"),
+        ("frontAndBack", "mappedPatch"),
+        ("inlet", "cyclicSlip"),
     ] {
         let dir = build::channel_copy(&format!("scene_{kind}"));
         build::retype(&dir, patch, kind);
@@ -1424,7 +1424,7 @@ fn openfoam_scene_refuses_unsupported_patch_types() {
             message.contains("flow.case")
                 && message.contains(&format!("`{patch}`"))
                 && message.contains(&format!("`{kind}`"))
-                && message.contains("not yet supported as a particle boundary"),
+                && message.contains("not supported as a particle boundary"),
             "{message}"
         );
     }

@@ -299,7 +299,7 @@ fn a_mirrored_state_keeps_its_shape_and_orientation_sense() {
         f,
         a: Mat3::new(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9),
     };
-    let m = mirror.state(&s);
+    let m = s.mapped(&mirror);
     assert!(m.f.determinant() > 0.0 && (m.f.determinant() - f.determinant()).abs() <= 1e-14);
     let (sv, svm) = (f.singular_values(), m.f.singular_values());
     assert!((sv - svm).norm() <= 1e-14, "{sv} {svm}");
@@ -309,7 +309,7 @@ fn a_mirrored_state_keeps_its_shape_and_orientation_sense() {
         ((m.x + s.x) * 0.5 - Vec3::new(0.0, 0.0, 0.1)).dot(&n).abs() <= 1e-15,
         "midpoint on the plane"
     );
-    let back = mirror.state(&m);
+    let back = m.mapped(&mirror);
     assert!((back.x - s.x).norm() <= 1e-15 && (back.f - s.f).norm() <= 1e-14 && (back.a - s.a).norm() <= 1e-14);
 }
 
