@@ -22,6 +22,8 @@ CASES = {
     "planarPoiseuille": dict(fluid=OIL, nu=0.1, inject=[("disc", (0.0, 0.5, 0.0), (0, 0, 1), 0.09)], t_end=2.0, sphere=(10e-6, 2500.0),
                              why="periodic in x, no inlet: a disc in the mid-plane z = 0 (the 1-cell slab's centre)"),
     "pipeCyclic": dict(fluid=("water", 1000.0), nu=1e-6, inject=[("patch", "inlet")], t_end=50.0, sphere=(10e-6, 2500.0), why="10 m at ~1 m/s"),
+    "squareBend": dict(fluid=AIR, nu=1.5e-5, inject=[("patch", "inlet")], t_end=1.0, sphere=(10e-6, 1000.0), why="inlet 10 m/s, ~1.5 m of duct"),
+    "TJunction": dict(fluid=AIR, nu=1e-5, inject=[("patch", "inlet")], t_end=2.0, sphere=(10e-6, 1000.0), why="the field at t = 1.5 (the tutorial's end) held steady"),
     "wedgePipe": dict(fluid=AIR, nu=1e-5, inject=[("patch", "inlet")], t_end=100.0, sphere=(10e-6, 1000.0), why="0.2 m at 0.01 m/s mean"),
 }
 

@@ -8,10 +8,12 @@
 #          check.py prints the table row and exits non-zero if a target is missed;
 #   all (default): both.
 # NAMES: cavity cavityRAS elbow pitzDaily pitzDailyExptInlet backwardFacingStep2D airFoil2D
-#        planarContraction porousBlockage planarPoiseuille pipeCyclic wedgePipe
+#        planarContraction porousBlockage planarPoiseuille pipeCyclic wedgePipe squareBend
+#        TJunction
 # Changes to the tutorials (all said in docs/tutorial-sweep.md): pipeCyclic's codedFixedValue
 # swirl inlet is written as fixedValue from the face centres, and it runs serially;
-# planarPoiseuille runs the Newtonian (Stokes) model to t = 2; pisoFoam's cavity to t = 2.
+# planarPoiseuille runs the Newtonian (Stokes) model to t = 2; pisoFoam's cavity to t = 2;
+# squareBend 300 SIMPLE iterations of 500.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../.." && pwd)
@@ -43,6 +45,8 @@ solve() {
         planarPoiseuille)     src=$tut/pimpleFoam/laminar/planarPoiseuille ;;
         pipeCyclic)           src=$tut/simpleFoam/pipeCyclic ;;
         wedgePipe)            src=$here/wedgePipe ;;
+        squareBend)           src=$tut/simpleFoam/squareBend ;;
+        TJunction)            src=$tut/pimpleFoam/RAS/TJunction ;;
         *) echo "run.sh: unknown case $name" >&2; exit 2 ;;
     esac
     rm -rf "$out"
@@ -61,6 +65,11 @@ solve() {
             run blockMesh; run simpleFoam ;;
         airFoil2D)
             run simpleFoam ;;
+        squareBend)
+            # 112 k cells: 300 SIMPLE iterations instead of 500 (the sweep's 15 min budget).
+            setend system/controlDict 300; run blockMesh; run simpleFoam ;;
+        TJunction)
+            run blockMesh; run pimpleFoam ;;
         planarContraction)
             run blockMesh; run pimpleFoam ;;
         porousBlockage)
