@@ -4,7 +4,7 @@ issue 57's targets. Usage: check.py CASE_DIR KIND PSEUDORIGID
 (KIND: `tracers` or `spheres`; the run is CASE_DIR/out-KIND, the fluxes CASE_DIR/flux.txt.)
 
 Prints the fates, each exit's share of the escaped particles against its share of the
-outflow (phi summed over the patch; z in binomial standard errors), deposits on walls,
+outflow (phi summed over the patch's faces with outflow; z in binomial standard errors), deposits on walls,
 failures, and the particles seen outside the mesh (every particle still moving or suspended
 at an output time is probed; NaN is outside). Appends the row to CASE_DIR/../table.tsv.
 Exits 1 if a target is missed: any failure, any particle outside the mesh, and for tracers
@@ -15,8 +15,8 @@ case, kind, binary = sys.argv[1], sys.argv[2], sys.argv[3]
 out = os.path.join(case, f"out-{kind}")
 flux = {}
 for line in open(os.path.join(case, "flux.txt")):
-    name, ptype, q = line.split()
-    flux[name] = (ptype, float(q))
+    name, ptype, net, *outflow = line.split()
+    flux[name] = (ptype, float(outflow[0] if outflow else net))
 rows = list(csv.DictReader(open(os.path.join(out, "results.csv"))))
 n = len(rows)
 fates = collections.Counter((r["fate"], r["patch_name"]) for r in rows)

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Sum OpenFOAM's face flux phi over every patch of a case at a time (ASCII fields, .gz too).
 
-Usage: flux.py CASE TIME  -> lines `patch type flux` (outflow positive), for every patch with
+Usage: flux.py CASE TIME  -> lines `patch type net outflow`: the net flux (outflow positive)
+and the sum over the faces with outflow (a freestream patch has both), for every patch with
 faces; `empty` patches are left out. Reads constant/polyMesh/boundary for the types."""
 import gzip, os, re, sys
 
@@ -49,8 +50,8 @@ for name, d in patches.items():
     f = bf.get(name, "")
     m = re.search(r"value\s+nonuniform\s+List<scalar>\s*(\d+)\s*\((.*?)\)", f, re.S)
     if m:
-        total = sum(float(x) for x in m.group(2).split())
+        values = [float(x) for x in m.group(2).split()]
     else:
         m = re.search(r"value\s+uniform\s+([-+0-9.eE]+)", f)
-        total = float(m.group(1)) * n if m else float("nan")
-    print(f"{name} {ptype} {total:.9g}")
+        values = [float(m.group(1)) if m else float("nan")] * n
+    print(f"{name} {ptype} {sum(values):.9g} {sum(v for v in values if v > 0):.9g}")
