@@ -450,7 +450,7 @@ impl MeshBoundary {
             let rule = match PatchRole::of(&patch.kind) {
                 PatchRole::Wall => PatchRule::Stick,
                 PatchRole::Exit => PatchRule::Exit,
-                PatchRole::Constraint => continue,
+                PatchRole::Image | PatchRole::Constraint => continue,
             };
             if patch.size > 0 {
                 mesh_patches.push(p);

@@ -33,6 +33,14 @@
 //! drag. Within a step the trial stages and the dense output may leave the plane by what the
 //! out-of-plane force moves the barycentre in one step; the next accepted state is back on it.
 //!
+//! # Patches the particle passes through
+//! Where the flow maps the end state of a step back into the domain ([`FlowField::image`]: the
+//! particle crossed a cyclic patch, a symmetry plane or a wedge), the particle continues from
+//! the mapped state and the integrator is told ([`Stepper::particle_mapped`]). Events are
+//! located on the step as it was taken; an event's state is mapped as the end state is, and
+//! an event whose gap is already closed at the mapped state (a wall that continues across a
+//! cyclic pair) fires there.
+//!
 //! # Failures
 //! A run that fails keeps its record: [`integrate`] returns a [`RunFailure`] with the error, the
 //! state after the last accepted step and the [`RunStats`] of the steps taken up to the failure.
@@ -594,7 +602,27 @@ where
             step.info.dt_next
         };
         on_step(&AcceptedStep::new(&step, &context));
-        if let Some((index, mut at)) = first_event(events, &s, &step.dense, &step.state)? {
+        let fired = match first_event(events, &s, &step.dense, &step.state)? {
+            Some((index, at)) => Some((index, at)),
+            None => {
+                // Past a patch the particle passes through: continue from the image.
+                let image = flow.image(&step.state.x, step.state.t);
+                image.map(|map| {
+                    step.state = map.state(&step.state);
+                    held(&mut step.state);
+                    *last = step.state;
+                    integrator.particle_mapped(memory);
+                });
+                let touching = |index: usize| events[index].gap(&step.state) <= 0.0;
+                image
+                    .and_then(|_| (0..events.len()).find(|&k| touching(k)))
+                    .map(|index| (index, step.state))
+            }
+        };
+        if let Some((index, mut at)) = fired {
+            if let Some(map) = flow.image(&at.x, at.t) {
+                at = map.state(&at);
+            }
             held(&mut at);
             observe(&at);
             return Ok(RunEnd {

@@ -9,11 +9,13 @@
 //! the length over which ∇u changes ([`crate::diagnostics`]).
 
 pub mod analytic;
+pub mod image;
 #[cfg(feature = "mesh")]
 pub mod openfoam;
 pub mod stagnation;
 
 use crate::error::FlowError;
+pub use image::Isometry;
 use crate::tensor::{Mat3, Vec3};
 
 /// Velocity, velocity gradient and local acceleration of the undisturbed flow at one point.
@@ -72,6 +74,14 @@ pub trait FlowField: Send + Sync {
     fn strain_rate(&self) -> Option<f64> {
         None
     }
+
+    /// Where x lies outside the domain beyond a patch the particle passes through (a cyclic
+    /// patch, a symmetry plane, a wedge), the symmetry of the flow that maps it back inside
+    /// ([`image`]); `None` inside the domain and for a field without such patches (the
+    /// default). The driver maps a particle's state with it after every step.
+    fn image(&self, _x: &Vec3, _t: f64) -> Option<Isometry> {
+        None
+    }
 }
 
 /// √(2 D:D) with D = sym ∇u: the shear rate of a simple shear, the strain-rate magnitude of
@@ -88,6 +98,10 @@ impl<T: FlowField + ?Sized> FlowField for &T {
 
     fn strain_rate(&self) -> Option<f64> {
         (**self).strain_rate()
+    }
+
+    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+        (**self).image(x, t)
     }
 }
 

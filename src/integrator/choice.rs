@@ -274,6 +274,13 @@ impl TimeIntegrator for Chosen {
         }
     }
 
+    fn mapped(&self, memory: &mut ChosenMemory) {
+        match self {
+            Chosen::Full(full) => full.mapped(&mut memory.full),
+            Chosen::SlowManifold(m) => m.mapped(&mut memory.manifold),
+        }
+    }
+
     fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,
@@ -456,6 +463,12 @@ impl TimeIntegrator for Auto {
     /// The chosen integrator's report; `None` before the first step (nothing chosen yet).
     fn manifold_report(&self, memory: &AutoMemory) -> Option<ManifoldReport> {
         memory.chosen?.manifold_report(&memory.inner)
+    }
+
+    fn mapped(&self, memory: &mut AutoMemory) {
+        if let Some(chosen) = memory.chosen {
+            chosen.mapped(&mut memory.inner);
+        }
     }
 
     fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(

@@ -356,6 +356,13 @@ impl TimeIntegrator for Manifold {
         Some(self.report(memory))
     }
 
+    /// ∇u and ε₀ are kept by time alone: a mapped state at the same time needs them afresh
+    /// (the next step leaves the manifold for one full step and finds them).
+    fn mapped(&self, memory: &mut ManifoldMemory) {
+        memory.gradient = None;
+        memory.strain = None;
+    }
+
     fn describe<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
         particle: &Particle<M, D>,

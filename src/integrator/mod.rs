@@ -167,6 +167,12 @@ pub trait TimeIntegrator: Send + Sync {
         None
     }
 
+    /// The driver has mapped the particle's state by a symmetry of the flow (a cyclic pair, a
+    /// symmetry plane, a wedge: [`crate::flow::FlowField::image`]): drop from `memory` what
+    /// it keeps of the flow that is not keyed by the whole state. The default keeps everything,
+    /// right for memories whose caches are keyed by (t, y), which a mapped state misses.
+    fn mapped(&self, _memory: &mut Self::Memory) {}
+
     /// One step from a fresh memory (a first step, or a test of a single step).
     fn step<M: Response, D: DragModel, F: FlowField + ?Sized>(
         &self,
@@ -201,6 +207,9 @@ pub trait Stepper<M: Response, D: DragModel>: Send + Sync {
     /// What the slow-manifold switch did for the particle with `memory`
     /// ([`TimeIntegrator::manifold_report`]).
     fn particle_manifold_report(&self, memory: &Self::Memory) -> Option<manifold::ManifoldReport>;
+
+    /// The particle's state was mapped by a symmetry of the flow ([`TimeIntegrator::mapped`]).
+    fn particle_mapped(&self, memory: &mut Self::Memory);
 }
 
 impl<I: TimeIntegrator, M: Response, D: DragModel> Stepper<M, D> for I {
@@ -219,5 +228,9 @@ impl<I: TimeIntegrator, M: Response, D: DragModel> Stepper<M, D> for I {
 
     fn particle_manifold_report(&self, memory: &I::Memory) -> Option<manifold::ManifoldReport> {
         self.manifold_report(memory)
+    }
+
+    fn particle_mapped(&self, memory: &mut I::Memory) {
+        self.mapped(memory);
     }
 }

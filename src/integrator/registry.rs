@@ -88,6 +88,7 @@ trait SceneStep: Send + Sync + fmt::Debug {
         dt: f64,
     ) -> Result<Step, StepError>;
     fn manifold_report_scene(&self, memory: &SceneMemory) -> Option<ManifoldReport>;
+    fn mapped_scene(&self, memory: &mut SceneMemory);
 }
 
 impl<I: TimeIntegrator + fmt::Debug + 'static> SceneStep for I {
@@ -122,6 +123,11 @@ impl<I: TimeIntegrator + fmt::Debug + 'static> SceneStep for I {
         // A fresh memory (or another integrator's) holds no step of this one.
         let m = memory.0.as_ref()?.downcast_ref::<I::Memory>()?;
         self.manifold_report(m)
+    }
+    fn mapped_scene(&self, memory: &mut SceneMemory) {
+        if let Some(m) = memory.0.as_mut().and_then(|m| m.downcast_mut::<I::Memory>()) {
+            self.mapped(m);
+        }
     }
 }
 
@@ -189,5 +195,9 @@ impl Stepper<Softness<NamedLaw>, NamedDrag> for SceneIntegrator {
 
     fn particle_manifold_report(&self, memory: &SceneMemory) -> Option<ManifoldReport> {
         self.0.manifold_report_scene(memory)
+    }
+
+    fn particle_mapped(&self, memory: &mut SceneMemory) {
+        self.0.mapped_scene(memory);
     }
 }

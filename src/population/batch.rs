@@ -70,6 +70,10 @@ impl<F: FlowField + ?Sized> FlowField for Steady<'_, F> {
     fn strain_rate(&self) -> Option<f64> {
         self.0.strain_rate()
     }
+
+    fn image(&self, x: &Vec3, t: f64) -> Option<crate::flow::Isometry> {
+        self.0.image(x, t)
+    }
 }
 
 impl<F: FlowField + ?Sized> Sliding for Steady<'_, F> {

@@ -8,7 +8,7 @@ use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Plane
 use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
 use crate::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, TransientFlow, window_ends};
-use crate::flow::{FlowField, FlowSample};
+use crate::flow::{FlowField, FlowSample, Isometry};
 use crate::population::batch::Sliding;
 use crate::tensor::Vec3;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError, RwLock};
@@ -161,6 +161,13 @@ impl FlowField for SceneTransient {
             TransientField::Cellwise(f) => f.strain_rate(),
         })
     }
+
+    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+        self.with_field(|f| match f {
+            TransientField::Blended(f) => f.image(x, t),
+            TransientField::Cellwise(f) => f.image(x, t),
+        })
+    }
 }
 
 /// A scene's transient field as the batch runner slides it
@@ -175,6 +182,10 @@ impl FlowField for Windows<'_> {
 
     fn strain_rate(&self) -> Option<f64> {
         self.0.strain_rate()
+    }
+
+    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+        self.0.image(x, t)
     }
 }
 
@@ -247,6 +258,15 @@ impl FlowField for SceneFlow {
             SceneFlow::Foam(f) => f.strain_rate(),
             SceneFlow::Blended(f) => f.strain_rate(),
             SceneFlow::Transient(f) => f.strain_rate(),
+        }
+    }
+
+    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+        match self {
+            SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => None,
+            SceneFlow::Foam(f) => f.image(x, t),
+            SceneFlow::Blended(f) => f.image(x, t),
+            SceneFlow::Transient(f) => f.image(x, t),
         }
     }
 }

@@ -309,7 +309,18 @@ impl FlowField for BlendedFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         crate::flow::check_query(x, t)?;
         self.flow.check_time(t)?;
-        memo::remembered(self.id, x, t, || self.blend(x, t))
+        match self.flow.images() {
+            Some(images) => images.sample(
+                x,
+                |y| memo::remembered(self.id, y, t, || self.blend(y, t)),
+                |y| self.flow.outside(y),
+            ),
+            None => memo::remembered(self.id, x, t, || self.blend(x, t)),
+        }
+    }
+
+    fn image(&self, x: &Vec3, t: f64) -> Option<crate::flow::Isometry> {
+        self.flow.image(x, t)
     }
 
     fn strain_rate(&self) -> Option<f64> {

@@ -104,12 +104,14 @@ pub fn cavity_block(cells: usize, edge: f64) -> Result<PolyMesh, FoamError> {
             kind: "wall".into(),
             start: n_internal,
             size: n * n,
+            coupling: None,
         },
         Patch {
             name: "fixedWalls".into(),
             kind: "wall".into(),
             start: n_internal + n * n,
             size: 5 * n * n,
+            coupling: None,
         },
     ];
     PolyMesh::new(points, offsets, flat, owner, neighbour, patches)

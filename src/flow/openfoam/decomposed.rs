@@ -348,6 +348,7 @@ impl Decomposition {
                             kind: patch.kind.clone(),
                             start: 0,
                             size: 0,
+                            coupling: patch.coupling.clone(),
                         });
                     }
                     Some(p) if p.name != patch.name || p.kind != patch.kind => {

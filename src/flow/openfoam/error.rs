@@ -142,7 +142,7 @@ pub enum FoamError {
     /// ([`super::patch::check_particle_patches`]): a particle crossing it would be tracked
     /// outside the mesh.
     #[error(
-        "patch `{patch}` ({faces} faces) has type `{kind}`, which is not yet supported as a particle boundary (supported: wall, patch, empty, processor)"
+        "patch `{patch}` ({faces} faces) has type `{kind}`, which is not supported as a particle boundary (supported: wall, patch, empty, processor, cyclic, cyclicAMI, symmetry, symmetryPlane, wedge){hint}"
     )]
     UnsupportedPatch {
         /// Patch name.
@@ -151,6 +151,8 @@ pub enum FoamError {
         kind: String,
         /// Its number of faces.
         faces: usize,
+        /// What to do instead, where there is something (empty otherwise).
+        hint: &'static str,
     },
     /// Query point outside the mesh.
     #[error("point {x:?} is outside the mesh; nearest patch `{patch}` at distance {distance:.3e}")]

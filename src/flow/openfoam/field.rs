@@ -5,7 +5,8 @@
 //! `calculated`, `inletOutlet`, `pressureInletOutletVelocity`, ... all write it). Without one,
 //! the value follows from the condition and the adjacent cell, as OpenFOAM evaluates it:
 //! `noSlip` is zero, `zeroGradient` and `empty` repeat the cell value, `symmetry`,
-//! `symmetryPlane` and `slip` remove the wall-normal component of a vector. Any other condition
+//! `symmetryPlane` and `slip` remove the wall-normal component of a vector, `cyclic` and
+//! `wedge` take the cells on both sides of the pair ([`coupled_values`]). Any other condition
 //! without a stored value is an error naming it. On a patch of geometric type `empty` (a 2-D
 //! case's front and back), which holds no values in OpenFOAM, the empty list solvers write
 //! there (`value nonuniform 0();`) counts as no value.
@@ -109,7 +110,9 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
     let n_internal = mesh.n_internal_faces();
     let mut boundary = Vec::with_capacity((mesh.n_faces() - n_internal) * comps);
     let mut fixed = Vec::with_capacity(mesh.patches().len());
-    for patch in mesh.patches() {
+    // The pairs' maps, found at the first coupled patch without stored values.
+    let mut maps: Option<Vec<Option<crate::flow::Isometry>>> = None;
+    for (p, patch) in mesh.patches().iter().enumerate() {
         let entry = patch_dict(boundary_dict, &patch.name)
             .ok_or_else(|| field_err(format!("boundaryField has no entry for patch `{}`", patch.name)))?;
         let kind = entry.word("type").unwrap_or("");
@@ -125,6 +128,15 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
             _ => {}
         }
         let kind = if patch.kind == "empty" { "empty" } else { kind };
+        if matches!(kind, "cyclic" | "wedge") && patch.kind == kind {
+            maps = match maps.take() {
+                Some(m) => Some(m),
+                None => Some(super::images::pair_maps(mesh)?),
+            };
+            let map = maps.as_ref().and_then(|m| m[p]).ok_or_else(|| bad("no partner patch".into()))?;
+            boundary.extend(coupled_values(mesh, p, &map, &internal, comps).map_err(bad)?);
+            continue;
+        }
         for f in patch.start..patch.start + patch.size {
             let cell = &internal[mesh.owner(f) * comps..(mesh.owner(f) + 1) * comps];
             match kind {
@@ -150,6 +162,80 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
         boundary,
         fixed,
     })
+}
+
+/// The values OpenFOAM's coupled conditions give on patch `p` from the cells
+/// (`internal`), `map` being the patch's pair map ([`super::images::pair_maps`]):
+/// - `cyclic`: the owner cell's value and the partner face's owner cell's, mapped across the
+///   pair (position $T_p^{-1}(x_{c'})$, value $Q_p^T u_{c'}$ with $T_p$ the patch's map),
+///   interpolated linearly to the face along its normal;
+/// - `wedge`: the owner cell's value rotated about the axis from the cell centre's azimuth
+///   to the face centre's, exact for an axisymmetric field (scalars repeat the cell value).
+fn coupled_values(
+    mesh: &PolyMesh,
+    p: usize,
+    map: &crate::flow::Isometry,
+    internal: &[f64],
+    comps: usize,
+) -> Result<Vec<f64>, String> {
+    let patch = &mesh.patches()[p];
+    let cell = |c: usize| &internal[c * comps..(c + 1) * comps];
+    let mut out = Vec::with_capacity(patch.size * comps);
+    if patch.kind == "wedge" {
+        let (axis, _) = nalgebra::Rotation3::from_matrix_unchecked(map.q)
+            .axis_angle()
+            .ok_or("the wedge pair's map is not a rotation")?;
+        for f in patch.start..patch.start + patch.size {
+            let c = mesh.owner(f);
+            let flat = |x: Vec3| {
+                let r = x - map.origin;
+                r - axis.into_inner() * axis.dot(&r)
+            };
+            let (rc, rf) = (flat(mesh.cell_centres()[c]), flat(mesh.face_centres()[f]));
+            let turn = axis.dot(&rc.cross(&rf)).atan2(rc.dot(&rf));
+            match comps {
+                3 => {
+                    let u = nalgebra::Rotation3::from_axis_angle(&axis, turn) * Vec3::from_row_slice(cell(c));
+                    out.extend(u.iter());
+                }
+                _ => out.extend_from_slice(cell(c)),
+            }
+        }
+        return Ok(out);
+    }
+    let neighbour = patch.coupling.as_ref().map(|c| c.neighbour.as_str()).unwrap_or("");
+    let q = mesh
+        .patches()
+        .iter()
+        .position(|x| x.name == neighbour)
+        .ok_or_else(|| format!("partner `{neighbour}` is not in the mesh"))?;
+    let partner = &mesh.patches()[q];
+    if partner.size != patch.size {
+        return Err(format!(
+            "{} faces against its partner `{}`'s {}: a `cyclic` pair matches face by face",
+            patch.size, partner.name, partner.size
+        ));
+    }
+    // p's map takes the space beyond p onto q's side; its inverse takes the partner's cells
+    // to where they neighbour p's.
+    let back = map.inverse();
+    for k in 0..patch.size {
+        let (f, g) = (patch.start + k, partner.start + k);
+        let (c, d) = (mesh.owner(f), mesh.owner(g));
+        let n = mesh.face_areas()[f].normalize();
+        let xf = mesh.face_centres()[f];
+        let own = (xf - mesh.cell_centres()[c]).dot(&n).abs();
+        let far = (xf - back.point(&mesh.cell_centres()[d])).dot(&n).abs();
+        let w = if own + far > 0.0 { far / (own + far) } else { 0.5 };
+        match comps {
+            3 => {
+                let u = Vec3::from_row_slice(cell(c)) * w + back.vector(&Vec3::from_row_slice(cell(d))) * (1.0 - w);
+                out.extend(u.iter());
+            }
+            _ => out.extend(cell(c).iter().zip(cell(d)).map(|(a, b)| a * w + b * (1.0 - w))),
+        }
+    }
+    Ok(out)
 }
 
 /// The face flux `phi` (a `surfaceScalarField`, m³/s, positive out of each face's owner cell,

@@ -9,7 +9,7 @@
 //! with apex at the average of its face centres (volume-weighted pyramid centroids).
 
 use super::error::FoamError;
-use super::parse::{Limit, Parser, Tok, read_file};
+use super::parse::{Entry, Limit, Parser, Tok, Value, number, read_file};
 use crate::tensor::Vec3;
 use std::path::Path;
 
@@ -24,6 +24,26 @@ pub struct Patch {
     pub start: usize,
     /// Number of faces.
     pub size: usize,
+    /// A coupled patch's partner and transform, as the `boundary` file gives them (`cyclic`,
+    /// `cyclicAMI`); `None` for every other type.
+    pub coupling: Option<Coupling>,
+}
+
+/// What `constant/polyMesh/boundary` says of a coupled (`cyclic`, `cyclicAMI`) patch: its
+/// partner and, where given, its transform. What is not given is found from the two patches'
+/// geometry ([`super::images`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Coupling {
+    /// The partner patch (`neighbourPatch`).
+    pub neighbour: String,
+    /// `transform` (`translational`, `rotational`, `noOrdering`, `coincidentFullMatch`, ...).
+    pub transform: Option<String>,
+    /// `separationVector` of a translational pair.
+    pub separation: Option<Vec3>,
+    /// `rotationAxis` of a rotational pair.
+    pub rotation_axis: Option<Vec3>,
+    /// `rotationCentre` of a rotational pair.
+    pub rotation_centre: Option<Vec3>,
 }
 
 /// A polyhedral mesh with its derived geometry.
@@ -443,11 +463,42 @@ fn read_boundary(path: &Path) -> Result<Vec<Patch>, FoamError> {
             .word("type")
             .ok_or_else(|| p.error_at(at, format!("patch `{name}` has no `type`")))?
             .to_string();
+        let coupling = if kind.starts_with("cyclic") {
+            let neighbour = dict
+                .word("neighbourPatch")
+                .ok_or_else(|| p.error_at(at, format!("{kind} patch `{name}` has no `neighbourPatch`")))?
+                .to_string();
+            let vector = |key: &str| -> Result<Option<Vec3>, FoamError> {
+                match dict.get(key) {
+                    None => Ok(None),
+                    Some((Entry::Values(v), _)) => match v.as_slice() {
+                        [Value::List(items)] if items.len() == 3 => {
+                            let c: Vec<f64> = items.iter().filter_map(number).filter(|c| c.is_finite()).collect();
+                            (c.len() == 3)
+                                .then(|| Some(Vec3::new(c[0], c[1], c[2])))
+                                .ok_or_else(|| p.error_at(at, format!("patch `{name}`: `{key}` is not a finite vector")))
+                        }
+                        _ => Err(p.error_at(at, format!("patch `{name}`: `{key}` is not a vector `(x y z)`"))),
+                    },
+                    Some(_) => Err(p.error_at(at, format!("patch `{name}`: `{key}` is not a vector `(x y z)`"))),
+                }
+            };
+            Some(Coupling {
+                neighbour,
+                transform: dict.word("transform").map(str::to_string),
+                separation: vector("separationVector")?,
+                rotation_axis: vector("rotationAxis")?,
+                rotation_centre: vector("rotationCentre")?,
+            })
+        } else {
+            None
+        };
         patches.push(Patch {
             name,
             kind,
             start,
             size,
+            coupling,
         });
     }
     p.expect(b')')?;

@@ -49,6 +49,7 @@ pub mod field;
 pub mod frame;
 pub mod grid;
 pub mod hermite;
+pub mod images;
 pub mod locate;
 mod memo;
 pub mod mesh;
@@ -74,7 +75,9 @@ pub use reconstruct::Stencils;
 pub use transient::{Cycle, TransientFlow, Windowed, window_ends};
 pub use wall_layer::{WallFit, WallGeometry};
 
-use super::{FlowField, FlowSample, check_query};
+use super::{FlowField, FlowSample, Isometry, check_query};
+use images::PatchImages;
+use std::sync::Arc;
 use crate::error::FlowError;
 use crate::tensor::{Mat3, Vec3};
 use decomposed::{processor_dirs, time_dirs};
@@ -314,6 +317,8 @@ fn same_time(a: f64, b: f64) -> bool {
 #[derive(Debug, Clone)]
 pub struct FoamFlow {
     mesh: PolyMesh,
+    /// The patches particles pass through ([`images`]).
+    images: Option<Arc<PatchImages>>,
     locator: CellLocator,
     boundary: PatchSet,
     /// Faces of the no-slip walls: `wall`-type patches whose condition prescribes the velocity
@@ -435,18 +440,20 @@ impl FoamFlow {
             .map(|(time, field)| Frame::compute(&geometry, *time, field, Precision::F64))
             .collect::<Result<Vec<_>, _>>()?;
         let strain_rate = frames[0].strain_rate(&mesh);
-        Ok(Self::assemble(mesh, walls, wall_layer, frames, strain_rate))
+        Self::assemble(mesh, walls, wall_layer, frames, strain_rate)
     }
 
-    /// The field of `frames` (ascending, at least one) on `mesh`, answering at every time.
+    /// The field of `frames` (ascending, at least one) on `mesh`, answering at every time;
+    /// an error where the mesh's cyclic or wedge pairs do not fit ([`images::pair_maps`]).
     fn assemble(
         mesh: PolyMesh,
         walls: Vec<u32>,
         wall_layer: WallGeometry,
         frames: Vec<Frame>,
         strain_rate: f64,
-    ) -> Self {
-        Self {
+    ) -> Result<Self, FoamError> {
+        Ok(Self {
+            images: PatchImages::new(&mesh)?.map(Arc::new),
             locator: CellLocator::new(&mesh),
             boundary: PatchSet::all(&mesh),
             mesh,
@@ -455,7 +462,29 @@ impl FoamFlow {
             frames,
             span: (f64::NEG_INFINITY, f64::INFINITY),
             strain_rate,
-        }
+        })
+    }
+
+    /// The patches particles pass through, with their maps ([`images`]); `None` where the
+    /// mesh has none.
+    pub fn images(&self) -> Option<&PatchImages> {
+        self.images.as_deref()
+    }
+
+    /// Whether x lies outside the mesh.
+    pub(crate) fn outside(&self, x: &Vec3) -> bool {
+        self.locate(x, Some(LAST_CELL.with(Cell::get))).is_err()
+    }
+
+    /// The cellwise sample at x inside the mesh.
+    fn sample_inside(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+        let hint = LAST_CELL.with(Cell::get);
+        let cell = self.locate(x, Some(hint)).map_err(|e| match e {
+            FoamError::Outside { x, patch, distance } => FlowError::OutsideMesh { x, patch, distance },
+            _ => FlowError::outside(x),
+        })?;
+        LAST_CELL.with(|c| c.set(cell));
+        Ok(self.sample_cell(cell, x, t))
     }
 
     /// Hold `frames` (ascending, at least one) instead of the present levels, answering at
@@ -568,13 +597,14 @@ impl FlowField for FoamFlow {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         check_query(x, t)?;
         self.check_time(t)?;
-        let hint = LAST_CELL.with(Cell::get);
-        let cell = self.locate(x, Some(hint)).map_err(|e| match e {
-            FoamError::Outside { x, patch, distance } => FlowError::OutsideMesh { x, patch, distance },
-            _ => FlowError::outside(x),
-        })?;
-        LAST_CELL.with(|c| c.set(cell));
-        Ok(self.sample_cell(cell, x, t))
+        match self.images() {
+            Some(images) => images.sample(x, |y| self.sample_inside(y, t), |y| self.outside(y)),
+            None => self.sample_inside(x, t),
+        }
+    }
+
+    fn image(&self, x: &Vec3, _t: f64) -> Option<Isometry> {
+        self.images()?.image(x, |y| self.outside(y))
     }
 
     /// The volume mean of the cells' √(2 D:D) at the first time level.

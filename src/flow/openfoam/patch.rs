@@ -18,17 +18,31 @@ pub enum PatchRole {
     Wall,
     /// Contact means the particle leaves the domain (`type patch`: inlets, outlets).
     Exit,
+    /// The particle passes through it and continues from its image: `cyclic`, `cyclicAMI`,
+    /// `symmetry`, `symmetryPlane`, `wedge` ([`super::images`]).
+    Image,
     /// Not a particle boundary: `empty` (a 2-D case's front and back) and `processor` (faces
     /// between the processors of a decomposed case, which the reassembled mesh does not have).
-    /// Types a particle could cross but that are not handled as its boundary yet (`cyclic`,
-    /// `wedge`, `symmetry`, ...) map here too; [`check_particle_patches`] refuses them.
+    /// Types a particle could cross but that are not handled (`cyclicACMI`, `cyclicSlip`,
+    /// `mapped*`, `processorCyclic`, ...) map here too; [`check_particle_patches`] refuses them.
     Constraint,
 }
 
 /// The patch types a particle can meet and that are handled as its boundary: `wall`
-/// (deposit), `patch` (exit), `empty` (2-D: the slab's faces, which particles are kept off)
-/// and `processor` (internal faces of a decomposed case).
-pub const PARTICLE_PATCH_TYPES: [&str; 4] = ["wall", "patch", "empty", "processor"];
+/// (deposit), `patch` (exit), `empty` (2-D: the slab's faces, which particles are kept off),
+/// `processor` (internal faces of a decomposed case) and the types it passes through
+/// ([`super::images::IMAGE_PATCH_TYPES`]).
+pub const PARTICLE_PATCH_TYPES: [&str; 9] = [
+    "wall",
+    "patch",
+    "empty",
+    "processor",
+    "cyclic",
+    "cyclicAMI",
+    "symmetry",
+    "symmetryPlane",
+    "wedge",
+];
 
 impl PatchRole {
     /// Role from the patch's geometric type in `constant/polyMesh/boundary`.
@@ -36,15 +50,15 @@ impl PatchRole {
         match kind {
             "wall" => PatchRole::Wall,
             "patch" => PatchRole::Exit,
+            k if super::images::IMAGE_PATCH_TYPES.contains(&k) => PatchRole::Image,
             _ => PatchRole::Constraint,
         }
     }
 
     /// Role of a patch type a particle can meet, `None` for a type not handled as a particle
-    /// boundary ([`PARTICLE_PATCH_TYPES`]): `cyclic`, `cyclicAMI`, `cyclicACMI`, `cyclicSlip`,
-    /// `wedge`, `symmetry`, `symmetryPlane`, `mapped*`, `processorCyclic`, `nonConformal*` and
-    /// any type unknown here. A particle crossing one of them would be tracked outside the
-    /// mesh.
+    /// boundary ([`PARTICLE_PATCH_TYPES`]): `cyclicACMI`, `cyclicSlip`, `mapped*`,
+    /// `processorCyclic`, `nonConformal*` and any type unknown here. A particle crossing one
+    /// of them would be tracked outside the mesh.
     pub fn of_particle_boundary(kind: &str) -> Option<Self> {
         PARTICLE_PATCH_TYPES.contains(&kind).then(|| Self::of(kind))
     }
@@ -64,6 +78,10 @@ pub fn check_particle_patches(mesh: &PolyMesh) -> Result<(), FoamError> {
             patch: p.name.clone(),
             kind: p.kind.clone(),
             faces: p.size,
+            hint: match p.kind.as_str() {
+                "processorCyclic" => "; reconstruct the case (`reconstructPar`) and give the reconstructed case",
+                _ => "",
+            },
         }),
         None => Ok(()),
     }
@@ -287,10 +305,11 @@ impl PatchSet {
         Self::new(mesh, &ids)
     }
 
-    /// The particle boundaries: every wall and exit patch (constraint patches left out).
+    /// The particle boundaries: every wall and exit patch (the patches particles pass through
+    /// and constraint patches left out).
     pub fn boundaries(mesh: &PolyMesh) -> Self {
         let ids: Vec<usize> = (0..mesh.patches().len())
-            .filter(|&p| PatchRole::of(&mesh.patches()[p].kind) != PatchRole::Constraint)
+            .filter(|&p| matches!(PatchRole::of(&mesh.patches()[p].kind), PatchRole::Wall | PatchRole::Exit))
             .collect();
         Self::new(mesh, &ids)
     }
@@ -353,6 +372,11 @@ impl PatchSet {
             .locate_within_distance(p, wide * wide)
             .map(move |hit| (hit.data as usize, hit.distance_2(&p).sqrt()))
             .filter(move |&(_, d)| d <= radius)
+    }
+
+    /// The index in the set of the face whose centre is nearest to `x`.
+    pub fn nearest(&self, x: &Vec3) -> Option<usize> {
+        Some(self.tree.nearest_neighbor([x[0], x[1], x[2]])?.data as usize)
     }
 
     /// The face whose centre is nearest to `x`: (face, patch, distance).

@@ -59,7 +59,7 @@
 use super::frame::{self, Frame, Geometry, Precision};
 use super::{BlendedFlow, FoamCase, FoamError, FoamFlow, Stencils, WallGeometry, same_time};
 use crate::error::FlowError;
-use crate::flow::{FlowField, FlowSample};
+use crate::flow::{FlowField, FlowSample, Isometry};
 use crate::tensor::Vec3;
 
 /// How a transient field's levels repeat.
@@ -198,7 +198,7 @@ impl<F: Windowed> TransientFlow<F> {
         };
         // The strain rate of the first level, as for a field holding every level.
         let strain_rate = first.strain_rate(mesh);
-        let cellwise = FoamFlow::assemble(mesh.clone(), walls, wall_layer, vec![first], strain_rate);
+        let cellwise = FoamFlow::assemble(mesh.clone(), walls, wall_layer, vec![first], strain_rate)?;
         let mut flow = Self {
             fingerprint: F::describe(fingerprint),
             flow: F::over(cellwise)?,
@@ -447,6 +447,10 @@ fn one_period(levels: &mut Vec<f64>, period: f64) -> Result<(), FoamError> {
 impl<F: Windowed> FlowField for TransientFlow<F> {
     fn sample(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         self.flow.sample(x, t)
+    }
+
+    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+        self.flow.image(x, t)
     }
 
     /// The volume mean of the cells' √(2 D:D) at the first level.

@@ -446,6 +446,7 @@ fn assemble_with(
             kind: kind.to_string(),
             start,
             size: raw.owner.len() - start,
+            coupling: None,
         });
     }
     raw
