@@ -6,7 +6,7 @@ issue 57's targets. Usage: check.py CASE_DIR KIND PSEUDORIGID
 Prints the fates, each exit's share of the escaped particles against its share of the
 outflow (phi summed over the patch's faces with outflow; z in binomial standard errors), deposits on walls,
 failures, and the particles seen outside the mesh (every particle still moving or suspended
-at an output time is probed; NaN is outside). Appends the row to CASE_DIR/../table.tsv.
+at an output time is probed: `probe`'s `inside` column). Appends the row to CASE_DIR/../table.tsv.
 Exits 1 if a target is missed: any failure, any particle outside the mesh, and for tracers
 any wall deposit or an outlet share more than 3 standard errors off."""
 import collections, csv, gzip, math, os, re, subprocess, sys
@@ -55,8 +55,8 @@ try:
             f.writelines(f"{x!r},{y!r},{z!r}\n" for _, x, y, z in pts)
         subprocess.run([binary, "probe", case, "latest", pin, pout], check=True, capture_output=True)
         probed = list(csv.DictReader(open(pout)))
-        col = [k for k in probed[0] if k.startswith("u")][0]
-        bad = {pts[i][0] for i, r in enumerate(probed) if math.isnan(float(r[col]))}
+        # `inside` is the containing cell's search, which no cyclic or wedge image stands in for.
+        bad = {pts[i][0] for i, r in enumerate(probed) if r["inside"] != "1"}
         outside = len(bad)
     else:
         outside = 0
