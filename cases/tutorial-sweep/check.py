@@ -24,7 +24,8 @@ failed = [r for r in rows if r["fate"] == "failed"]
 wall_deposits = sum(v for (f, p), v in fates.items() if f == "deposited" and flux.get(p, ("?",))[0] == "wall")
 escaped = {p: v for (f, p), v in fates.items() if f == "escaped"}
 n_esc = sum(escaped.values())
-q_out = {p: q for p, (t, q) in flux.items() if t != "wall" and q > 0}
+# Exits are `patch`-type patches; a wedge or cyclic pair carries round-off flux, not an exit.
+q_out = {p: q for p, (t, q) in flux.items() if t == "patch" and q > 0}
 q_sum = sum(q_out.values())
 shares, zmax = [], 0.0
 for p in sorted(set(q_out) | set(escaped)):
