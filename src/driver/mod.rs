@@ -34,12 +34,17 @@
 //! out-of-plane force moves the barycentre in one step; the next accepted state is back on it.
 //!
 //! # Patches the particle passes through
-//! Where the flow maps the end state of a step back into the domain ([`FlowField::image`]: the
-//! particle crossed a cyclic patch, a symmetry plane or a wedge), the particle continues from
-//! the mapped state and the integrator is told ([`Stepper::particle_mapped`]). Events are
-//! located on the step as it was taken; an event's state is mapped as the end state is, and
-//! an event whose gap is already closed at the mapped state (a wall that continues across a
-//! cyclic pair) fires there.
+//! Where a step ends outside the domain beyond a patch the particle passes through (a cyclic
+//! patch, a symmetry plane, a wedge: [`FlowField::image`]), the step is cut where the
+//! barycentre crossed the patch's plane, located on the dense output as events are (to 10⁻⁹ of
+//! the step's travel), and the particle continues from the image of that state; the integrator
+//! is told ([`Stepper::particle_mapped`]). The map is a symmetry of the flow, so the image
+//! moves on as the particle would have: across a cyclic pair it is the same particle one
+//! period on; at a symmetry plane it is the mirrored partner of the full domain, which the
+//! half domain shows in its place (where a body force is not mirror-symmetric, gravity normal
+//! to the plane, the plane reflects the particle as a frictionless, elastic wall would). Events are
+//! located on the step up to the crossing; an event whose gap is already closed at the image
+//! (a wall that continues across a cyclic pair) fires there.
 //!
 //! # Failures
 //! A run that fails keeps its record: [`integrate`] returns a [`RunFailure`] with the error, the
@@ -48,7 +53,7 @@
 //! [`Dense`]: crate::integrator::Dense
 
 use crate::error::{FlowError, ParamError, StepError};
-use crate::flow::FlowField;
+use crate::flow::{Crossing, FlowField};
 use crate::hydro::DragModel;
 use crate::integrator::{Dense, StepInfo, Stepper};
 use crate::material::Response;
@@ -602,27 +607,15 @@ where
             step.info.dt_next
         };
         on_step(&AcceptedStep::new(&step, &context));
-        let fired = match first_event(events, &s, &step.dense, &step.state)? {
-            Some((index, at)) => Some((index, at)),
-            None => {
-                // Past a patch the particle passes through: continue from the image.
-                let image = flow.image(&step.state.x, step.state.t);
-                image.map(|map| {
-                    step.state = map.state(&step.state);
-                    held(&mut step.state);
-                    *last = step.state;
-                    integrator.particle_mapped(memory);
-                });
-                let touching = |index: usize| events[index].gap(&step.state) <= 0.0;
-                image
-                    .and_then(|_| (0..events.len()).find(|&k| touching(k)))
-                    .map(|index| (index, step.state))
-            }
+        // Past a patch the particle passes through: the step ends where the barycentre crossed
+        // its plane, and the particle continues from the image of that state.
+        let crossing = flow.image(&step.state.x, step.state.t);
+        let mut end = match &crossing {
+            Some(c) => crossed(c, &s, &step.dense, &step.state)?,
+            None => step.state,
         };
-        if let Some((index, mut at)) = fired {
-            if let Some(map) = flow.image(&at.x, at.t) {
-                at = map.state(&at);
-            }
+        held(&mut end);
+        if let Some((index, mut at)) = first_event(events, &s, &step.dense, &end)? {
             held(&mut at);
             observe(&at);
             return Ok(RunEnd {
@@ -632,8 +625,41 @@ where
                 dt_next: h,
             });
         }
-        s = step.state;
+        s = end;
+        if let Some(c) = crossing {
+            s = c.map.state(&end);
+            held(&mut s);
+            *last = s;
+            integrator.particle_mapped(memory);
+            // A wall that continues across a cyclic pair may already be touched there.
+            if let Some(index) = events.iter().position(|e| e.gap(&s) <= 0.0) {
+                observe(&s);
+                return Ok(RunEnd {
+                    state: s,
+                    stats: *stats,
+                    stop: Stop::Event { index },
+                    dt_next: h,
+                });
+            }
+        }
     }
+}
+
+/// The state on the step from `before` to `after` (interpolant `dense`) where the barycentre
+/// crossed the plane of `crossing`, located as events are, to 10⁻⁹ of the step's travel; the
+/// step's end if it started beyond the plane already.
+fn crossed(crossing: &Crossing, before: &State, dense: &Dense, after: &State) -> Result<State, StepError> {
+    let (g0, g1) = (crossing.gap(&before.x), crossing.gap(&after.x));
+    if !(g0 > 0.0 && g1 <= 0.0) {
+        return Ok(*after);
+    }
+    let travel = (after.x - before.x).norm();
+    let mut at = locate_root(&|s| crossing.gap(&s.x), dense, (before.t, g0), (after.t, g1), travel)?;
+    // Mapped from the domain's side the image would lie beyond the partner patch.
+    if crossing.gap(&at.x) > 0.0 {
+        at.x -= crossing.normal * crossing.gap(&at.x);
+    }
+    Ok(at)
 }
 
 /// The earliest event that fires within the step from `before` to `after`, located on `dense`.

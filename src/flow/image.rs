@@ -113,3 +113,23 @@ impl Isometry {
         }
     }
 }
+
+/// Where a particle's barycentre crossed a patch it passes through: the patch's plane (of its
+/// nearest face, for a patch that is not planar) and the map that brings it back inside.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Crossing {
+    /// The map back inside.
+    pub map: Isometry,
+    /// A point of the crossed plane.
+    pub point: Vec3,
+    /// The plane's outward unit normal.
+    pub normal: Vec3,
+}
+
+impl Crossing {
+    /// The signed distance of x from the crossed plane, positive on the domain's side: the
+    /// gap whose root the driver locates to map the particle where it crossed.
+    pub fn gap(&self, x: &Vec3) -> f64 {
+        (self.point - x).dot(&self.normal)
+    }
+}

@@ -15,8 +15,8 @@ pub mod openfoam;
 pub mod stagnation;
 
 use crate::error::FlowError;
-pub use image::Isometry;
 use crate::tensor::{Mat3, Vec3};
+pub use image::{Crossing, Isometry};
 
 /// Velocity, velocity gradient and local acceleration of the undisturbed flow at one point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,10 +76,11 @@ pub trait FlowField: Send + Sync {
     }
 
     /// Where x lies outside the domain beyond a patch the particle passes through (a cyclic
-    /// patch, a symmetry plane, a wedge), the symmetry of the flow that maps it back inside
-    /// ([`image`]); `None` inside the domain and for a field without such patches (the
-    /// default). The driver maps a particle's state with it after every step.
-    fn image(&self, _x: &Vec3, _t: f64) -> Option<Isometry> {
+    /// patch, a symmetry plane, a wedge), the plane crossed and the symmetry of the flow that
+    /// maps x back inside ([`image`]); `None` inside the domain and for a field without such
+    /// patches (the default). The driver maps a particle's state with it where its barycentre
+    /// crossed the plane.
+    fn image(&self, _x: &Vec3, _t: f64) -> Option<Crossing> {
         None
     }
 }
@@ -100,7 +101,7 @@ impl<T: FlowField + ?Sized> FlowField for &T {
         (**self).strain_rate()
     }
 
-    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+    fn image(&self, x: &Vec3, t: f64) -> Option<Crossing> {
         (**self).image(x, t)
     }
 }

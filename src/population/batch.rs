@@ -71,7 +71,7 @@ impl<F: FlowField + ?Sized> FlowField for Steady<'_, F> {
         self.0.strain_rate()
     }
 
-    fn image(&self, x: &Vec3, t: f64) -> Option<crate::flow::Isometry> {
+    fn image(&self, x: &Vec3, t: f64) -> Option<crate::flow::Crossing> {
         self.0.image(x, t)
     }
 }

@@ -39,7 +39,9 @@
 //! particles, sets the deposition. A re-track may take [`RETRACK_STEP_FACTOR`] times the
 //! particle's steps in the run (plus [`RETRACK_STEP_FLOOR`]); one that needs more is sliding
 //! along a face of the cellwise field and is left out of the pairing as *undecided*, counted
-//! in the log.
+//! in the log. A particle that failed in the run itself is left out too, and the log names the
+//! patches nearest to where the run's failures happened: a failure at an inlet, an outlet or a
+//! coupled patch is not the wall mesh's doing, and is not blamed on it.
 //!
 //! Measured on OpenFOAM's own cases and the repository's T-junction at three resolutions
 //! (300 spheres of a = 0.4 mm, 2 500 kg/m³, τ_p U/D ≈ 0.09; 200 re-tracked):
@@ -199,6 +201,10 @@ pub struct Sensitivity {
     /// Re-tracked particles whose re-track did not finish (beyond [`RETRACK_STEP_FACTOR`]
     /// times their steps in the run, or failed): left out of the pairing.
     pub undecided: u64,
+    /// Sampled particles that failed in the run itself, by the patch nearest to where they
+    /// failed (name, type, count; most first): left out of the pairing, and not the wall
+    /// mesh's doing where the patch is not a wall.
+    pub failed_in_run: Vec<(String, String, u64)>,
     /// Deposition fraction of the sample in the run.
     pub run_fraction: f64,
     /// Deposition fraction of the sample on the other field.
@@ -290,11 +296,31 @@ impl Adequacy {
                 } else {
                     String::new()
                 };
+                let failed: u64 = s.failed_in_run.iter().map(|f| f.2).sum();
+                if failed > 0 {
+                    let wall = s.failed_in_run.iter().filter(|f| f.1 == "wall").map(|f| f.2).sum::<u64>();
+                    lines.push(format!(
+                        "warning: adequacy: {failed} of the first {} particles failed in the run and are left out \
+                         of the comparison; nearest patch where they failed: {}. {}",
+                        p.n() + s.undecided + failed,
+                        s.failed_in_run
+                            .iter()
+                            .map(|(name, kind, n)| format!("`{name}` ({kind}) {n}"))
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        if wall < failed {
+                            "A failure at a patch that is not a wall is not the wall mesh's doing: see the run's \
+                             failure messages"
+                        } else {
+                            "See the run's failure messages"
+                        }
+                    ));
+                }
                 lines.push(format!(
                     "note: adequacy: the first {} particles re-tracked on the {} field{undecided}: deposited {} ({}) \
                      against {} ({}); {} by the {} field only, {} by the {} field only: difference {:+.4} ± {:.4} \
                      (paired standard error; the run's own binomial error {:.4})",
-                    p.n() + s.undecided,
+                    p.n() + s.undecided + failed,
                     s.other_field,
                     p.both + p.only_ours,
                     s.run_field,
@@ -451,6 +477,7 @@ pub fn sensitivity(
     chosen.truncate(usize::try_from(sample).unwrap_or(usize::MAX));
     let deposited_in_run = records.iter().filter(|r| deposited(&r.fate)).count() as u64;
     let run_stderr = binomial::stderr(deposited_in_run, records.len() as u64);
+    let failed_in_run = failures_by_patch(scene, &chosen);
     let pair = |run_field, other_field, other: Vec<Fate>| {
         let mut pairing = Pairing::default();
         let mut undecided = 0;
@@ -458,7 +485,9 @@ pub fn sensitivity(
             .iter()
             .zip(&other)
             .map(|(r, o)| {
-                if matches!(o, Fate::Failed { .. }) {
+                if matches!(r.fate, Fate::Failed { .. }) {
+                    // Counted in `failed_in_run`.
+                } else if matches!(o, Fate::Failed { .. }) {
                     undecided += 1;
                 } else {
                     pairing.add(deposited(&r.fate), deposited(o));
@@ -476,6 +505,7 @@ pub fn sensitivity(
             other_field,
             pairing,
             undecided,
+            failed_in_run: failed_in_run.clone(),
             run_fraction: binomial::fraction(pairing.both + pairing.only_ours, pairing.n()),
             other_fraction: binomial::fraction(pairing.both + pairing.only_peer, pairing.n()),
             run_stderr,
@@ -492,6 +522,31 @@ pub fn sensitivity(
             Some(pair("cellwise", "blended", retrack(scene, &blended, &chosen)))
         }
         SceneFlow::Transient(_) | SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => None,
+    })
+}
+
+/// The run's failures among `chosen`, by the patch of the mesh nearest to where each failed
+/// (its last accepted state), most first.
+fn failures_by_patch(scene: &Scene, chosen: &[&ParticleRecord<NamedLaw>]) -> Vec<(String, String, u64)> {
+    scene.flow.with_cellwise(|cells| {
+        let Some(cells) = cells else { return Vec::new() };
+        let mesh = cells.mesh();
+        let set = crate::flow::openfoam::PatchSet::all(mesh);
+        let mut counts: Vec<(String, String, u64)> = Vec::new();
+        for r in chosen.iter().filter(|r| matches!(r.fate, Fate::Failed { .. })) {
+            let (name, kind) = r
+                .end
+                .and_then(|end| set.nearest_face(&end.x))
+                .map_or(("(not started)".to_string(), "-".to_string()), |(_, p, _)| {
+                    (mesh.patches()[p].name.clone(), mesh.patches()[p].kind.clone())
+                });
+            match counts.iter_mut().find(|(n, _, _)| *n == name) {
+                Some(c) => c.2 += 1,
+                None => counts.push((name, kind, 1)),
+            }
+        }
+        counts.sort_by(|a, b| b.2.cmp(&a.2));
+        counts
     })
 }
 

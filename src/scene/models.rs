@@ -8,7 +8,7 @@ use crate::contact::{Approach, Boundary, Extent, Gap, PatchRule, PipeWall, Plane
 use crate::error::FlowError;
 use crate::flow::analytic::{LinearFlow, Poiseuille, Quiescent};
 use crate::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, TransientFlow, window_ends};
-use crate::flow::{FlowField, FlowSample, Isometry};
+use crate::flow::{Crossing, FlowField, FlowSample};
 use crate::population::batch::Sliding;
 use crate::tensor::Vec3;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError, RwLock};
@@ -162,7 +162,7 @@ impl FlowField for SceneTransient {
         })
     }
 
-    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+    fn image(&self, x: &Vec3, t: f64) -> Option<Crossing> {
         self.with_field(|f| match f {
             TransientField::Blended(f) => f.image(x, t),
             TransientField::Cellwise(f) => f.image(x, t),
@@ -184,7 +184,7 @@ impl FlowField for Windows<'_> {
         self.0.strain_rate()
     }
 
-    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+    fn image(&self, x: &Vec3, t: f64) -> Option<Crossing> {
         self.0.image(x, t)
     }
 }
@@ -261,7 +261,7 @@ impl FlowField for SceneFlow {
         }
     }
 
-    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+    fn image(&self, x: &Vec3, t: f64) -> Option<Crossing> {
         match self {
             SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => None,
             SceneFlow::Foam(f) => f.image(x, t),

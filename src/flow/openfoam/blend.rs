@@ -113,7 +113,7 @@ use super::memo;
 use super::walls::WallFaces;
 use super::{FoamError, FoamFlow};
 use crate::error::FlowError;
-use crate::flow::{FlowField, FlowSample};
+use crate::flow::{FlowField, FlowSample, Isometry};
 use crate::tensor::{Mat3, Vec3};
 
 /// [`FoamFlow`] blended into a continuous field (module docs).
@@ -319,7 +319,7 @@ impl FlowField for BlendedFlow {
         }
     }
 
-    fn image(&self, x: &Vec3, t: f64) -> Option<crate::flow::Isometry> {
+    fn image(&self, x: &Vec3, t: f64) -> Option<crate::flow::Crossing> {
         self.flow.image(x, t)
     }
 
@@ -329,22 +329,48 @@ impl FlowField for BlendedFlow {
 }
 
 impl BlendedFlow {
-    /// The blend at (x, t) (module docs).
+    /// The blend at (x, t) (module docs), with the supports seen across the patches particles
+    /// pass through ([`super::images`]): where x lies within a support's reach of a cyclic
+    /// patch, a symmetry plane or a wedge, the cells and wall faces whose supports hold its
+    /// image beyond that patch join the blend with their fits pulled back, so that the blend
+    /// near the patch is the periodic (or mirrored) continuation's.
     fn blend(&self, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
         let mut blend = Blend::default();
-        self.balls.for_each_containing(x, |c, centre, _| {
-            let offset = x - centre;
+        self.gather(&mut blend, x, None, t);
+        if let Some(images) = self.flow.images() {
+            let reach = self.balls.largest_radius().max(self.walls.reach());
+            for map in images.near(x, reach) {
+                self.gather(&mut blend, &map.point(x), Some(&map), t);
+            }
+        }
+        match blend.finish() {
+            Some(sample) => Ok(sample),
+            // No support contains x: outside the mesh (refused with the nearest patch), or
+            // inside on the edge of its cell's support (that cell's fit).
+            None => self.flow.sample(x, t),
+        }
+    }
+
+    /// Add to `blend` the supports that hold y, with their fits and weight gradients pulled
+    /// back by `map` where y is a point's image ($∇_x w = Q^T ∇_y w$).
+    fn gather(&self, blend: &mut Blend, y: &Vec3, map: Option<&Isometry>, t: f64) {
+        let mut add = |w: f64, grad_w: Vec3, fit: FlowSample| match map {
+            None => blend.add(w, grad_w, fit),
+            Some(m) => blend.add(w, m.q.transpose() * grad_w, m.pull(&fit)),
+        };
+        self.balls.for_each_containing(y, |c, centre, _| {
+            let offset = y - centre;
             let metric_offset = self.metrics[c] * offset;
             let s = offset.dot(&metric_offset).sqrt();
             let w = weight(s);
             if w > 0.0 {
                 // ∇φ(s) = φ'(s) ∇s with φ'(s) = −20 s (1 − s)³ and ∇s = M_c (x − x_c)/s.
                 let t3 = (1.0 - s) * (1.0 - s) * (1.0 - s);
-                blend.add(w, metric_offset * (-20.0 * t3), self.cell_fit(c, x, t));
+                add(w, metric_offset * (-20.0 * t3), self.cell_fit(c, y, t));
             }
         });
         let layer = self.flow.wall_layer();
-        self.walls.for_each_within(x, |k, away, height| {
+        self.walls.for_each_within(y, |k, away, height| {
             let d = away.norm();
             let floor = MIN_WALL_DISTANCE * height;
             let s = d.max(floor) / height;
@@ -370,15 +396,9 @@ impl BlendedFlow {
                 false => (1.0, Vec3::zeros()),
             };
             if h > 0.0 {
-                blend.add(w * h, grad_w * h + grad_h * w, self.flow.sample_wall(k, x, t));
+                add(w * h, grad_w * h + grad_h * w, self.flow.sample_wall(k, y, t));
             }
         });
-        match blend.finish() {
-            Some(sample) => Ok(sample),
-            // No support contains x: outside the mesh (refused with the nearest patch), or
-            // inside on the edge of its cell's support (that cell's fit).
-            None => self.flow.sample(x, t),
-        }
     }
 }
 

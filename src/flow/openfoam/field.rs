@@ -133,7 +133,10 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
                 Some(m) => Some(m),
                 None => Some(super::images::pair_maps(mesh)?),
             };
-            let map = maps.as_ref().and_then(|m| m[p]).ok_or_else(|| bad("no partner patch".into()))?;
+            let map = maps
+                .as_ref()
+                .and_then(|m| m[p])
+                .ok_or_else(|| bad("no partner patch".into()))?;
             boundary.extend(coupled_values(mesh, p, &map, &internal, comps).map_err(bad)?);
             continue;
         }

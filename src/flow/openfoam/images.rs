@@ -19,9 +19,14 @@
 //! ([`sample`]); after the step the driver maps the particle's state with $T_p$
 //! ([`crate::flow::FlowField::image`]).
 //!
+//! The blended field's supports see across the patches too ([`PatchImages::near`]): near a
+//! patch, the cells and wall faces whose supports hold the point's image join the blend.
+//!
 //! # What the images do not reach
-//! Only the flow is seen across a patch. Wall contact, the wall layer and the clearance grid
-//! stay those of the walls inside the mesh: a wall that continues across a cyclic pair is
+//! The wall layer's fits ([`super::wall_layer`]) are made from the cells on the wall face's
+//! side of the patch: in a periodic channel the sampled velocity near a wall varies along the
+//! axis by a few 10⁻⁴ of itself next to the pair. Wall contact and the clearance grid stay
+//! those of the walls inside the mesh: a wall that continues across a cyclic pair is
 //! measured up to the pair's plane, so a particle whose extent reaches across the plane onto
 //! the wall beyond touches it one step later, once it has been mapped. A particle crossing
 //! a wedge's axis (r → 0) is not mapped.
@@ -30,7 +35,7 @@ use super::error::FoamError;
 use super::mesh::PolyMesh;
 use super::patch::PatchSet;
 use crate::error::FlowError;
-use crate::flow::{FlowSample, Isometry};
+use crate::flow::{Crossing, FlowSample, Isometry};
 use crate::tensor::Vec3;
 
 /// Patch types a particle passes through ([module docs](self)).
@@ -141,7 +146,9 @@ fn pair_map(
             None => np.cross(&nq).normalize(),
         };
         if !axis.iter().all(|a| a.is_finite()) {
-            return Err(bad("the normals are parallel: neither a translation nor a rotation".into()));
+            return Err(bad(
+                "the normals are parallel: neither a translation nor a rotation".into()
+            ));
         }
         let centre = match centre {
             Some(c) => c,
@@ -183,7 +190,10 @@ pub fn pair_maps(mesh: &PolyMesh) -> Result<Vec<Option<Isometry>>, FoamError> {
         }
         if let (true, Some(c)) = (IMAGE_PATCH_TYPES.contains(&patch.kind.as_str()), &patch.coupling) {
             let q = find(&c.neighbour).ok_or_else(|| FoamError::Mesh {
-                reason: format!("{} patch `{}`: its `neighbourPatch` `{}` is not in the mesh", patch.kind, patch.name, c.neighbour),
+                reason: format!(
+                    "{} patch `{}`: its `neighbourPatch` `{}` is not in the mesh",
+                    patch.kind, patch.name, c.neighbour
+                ),
             })?;
             let rotational = c.transform.as_deref() == Some("rotational") || c.rotation_axis.is_some();
             maps[p] = Some(pair_map(
@@ -210,7 +220,10 @@ pub fn pair_maps(mesh: &PolyMesh) -> Result<Vec<Option<Isometry>>, FoamError> {
                 reason: format!(
                     "{} `wedge` patches with faces ({}): an axisymmetric mesh has two",
                     more.len(),
-                    more.iter().map(|&p| patches[p].name.as_str()).collect::<Vec<_>>().join(", ")
+                    more.iter()
+                        .map(|&p| patches[p].name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             });
         }
@@ -267,11 +280,11 @@ impl PatchImages {
 
     /// The map of the patch x lies beyond, if any (module docs). Of several, the one x lies
     /// farthest beyond.
-    fn beyond(&self, x: &Vec3) -> Option<Isometry> {
-        let mut best: Option<(f64, Isometry)> = None;
-        let mut consider = |depth: f64, map: Isometry| {
+    fn beyond(&self, x: &Vec3) -> Option<Crossing> {
+        let mut best: Option<(f64, Crossing)> = None;
+        let mut consider = |depth: f64, map: Isometry, point: Vec3, normal: Vec3| {
             if depth > 0.0 && best.is_none_or(|(d, _)| depth > d) {
-                best = Some((depth, map));
+                best = Some((depth, Crossing { map, point, normal }));
             }
         };
         let mut curved = false;
@@ -283,28 +296,60 @@ impl PatchImages {
             let depth = (x - c).dot(&n);
             let on = x - depth * n;
             if depth > 0.0 && (0..3).all(|k| on[k] >= patch.lo[k] && on[k] <= patch.hi[k]) {
-                consider(
-                    depth,
-                    match patch.map {
-                        Map::Pair(map) => map,
-                        Map::Mirror => Isometry::reflection(c, &n),
-                    },
-                );
+                let map = match patch.map {
+                    Map::Pair(map) => map,
+                    Map::Mirror => Isometry::reflection(c, &n),
+                };
+                consider(depth, map, c, n);
             }
         }
         if curved && let Some(face) = self.set.nearest(x).map(|i| self.set.face(i)) {
             let patch = self.patches.iter().find(|i| i.patch == face.patch)?;
             if patch.plane.is_none() {
-                consider(
-                    (x - face.centre).dot(&face.normal),
-                    match patch.map {
-                        Map::Pair(map) => map,
-                        Map::Mirror => Isometry::reflection(face.centre, &face.normal),
-                    },
-                );
+                let map = match patch.map {
+                    Map::Pair(map) => map,
+                    Map::Mirror => Isometry::reflection(face.centre, &face.normal),
+                };
+                consider((x - face.centre).dot(&face.normal), map, face.centre, face.normal);
             }
         }
         best.map(|(_, map)| map)
+    }
+
+    /// The maps of the patches within `reach` of x on the domain's side (a planar patch's plane
+    /// within reach, x projecting onto its extent; the nearest face's plane of the others): the
+    /// images by which a field whose supports reach that far sees across them
+    /// ([`super::BlendedFlow`]). A mirror maps about the patch's (or face's) plane.
+    pub fn near(&self, x: &Vec3, reach: f64) -> Vec<Isometry> {
+        let mut maps = Vec::new();
+        let mut curved = false;
+        for patch in &self.patches {
+            let Some((c, n)) = patch.plane else {
+                curved = true;
+                continue;
+            };
+            let depth = (x - c).dot(&n);
+            let on = x - depth * n;
+            if depth <= 0.0 && depth > -reach && (0..3).all(|k| on[k] >= patch.lo[k] && on[k] <= patch.hi[k]) {
+                maps.push(match patch.map {
+                    Map::Pair(map) => map,
+                    Map::Mirror => Isometry::reflection(c, &n),
+                });
+            }
+        }
+        if curved && let Some(face) = self.set.nearest(x).map(|i| self.set.face(i)) {
+            let depth = (x - face.centre).dot(&face.normal);
+            if let Some(patch) = self.patches.iter().find(|i| i.patch == face.patch && i.plane.is_none())
+                && depth <= 0.0
+                && depth > -reach
+            {
+                maps.push(match patch.map {
+                    Map::Pair(map) => map,
+                    Map::Mirror => Isometry::reflection(face.centre, &face.normal),
+                });
+            }
+        }
+        maps
     }
 
     /// The flow at x from `inside` (a sample of the mesh's field): where x is outside the mesh
@@ -316,28 +361,29 @@ impl PatchImages {
         outside: impl Fn(&Vec3) -> bool,
     ) -> Result<FlowSample, FlowError> {
         match self.image(x, outside) {
-            Some(map) => inside(&map.point(x)).map(|s| map.pull(&s)),
+            Some(Crossing { map, .. }) => inside(&map.point(x)).map(|s| map.pull(&s)),
             None => inside(x),
         }
     }
 
-    /// The map that brings x back inside the mesh, where x is outside it beyond one of the
-    /// patches (`outside` says whether a point is outside the mesh; it is asked only beyond a
-    /// patch's plane). `None` inside, or outside elsewhere.
-    pub fn image(&self, x: &Vec3, outside: impl Fn(&Vec3) -> bool) -> Option<Isometry> {
+    /// The plane crossed and the map that brings x back inside the mesh, where x is outside
+    /// it beyond one of the patches (`outside` says whether a point is outside the mesh; it is
+    /// asked only beyond a patch's plane): the plane is the first patch's, the map composes
+    /// up to [`MAX_MAPS`] patches' (a corner). `None` inside, or outside elsewhere.
+    pub fn image(&self, x: &Vec3, outside: impl Fn(&Vec3) -> bool) -> Option<Crossing> {
         let first = self.beyond(x)?;
         if !outside(x) {
             return None;
         }
-        let mut map = first;
+        let mut map = first.map;
         for _ in 1..MAX_MAPS {
             let y = map.point(x);
             let Some(next) = self.beyond(&y).filter(|_| outside(&y)) else {
-                return Some(map);
+                break;
             };
-            map = compose(&next, &map);
+            map = compose(&next.map, &map);
         }
-        Some(map)
+        Some(Crossing { map, ..first })
     }
 }
 

@@ -476,7 +476,9 @@ fn read_boundary(path: &Path) -> Result<Vec<Patch>, FoamError> {
                             let c: Vec<f64> = items.iter().filter_map(number).filter(|c| c.is_finite()).collect();
                             (c.len() == 3)
                                 .then(|| Some(Vec3::new(c[0], c[1], c[2])))
-                                .ok_or_else(|| p.error_at(at, format!("patch `{name}`: `{key}` is not a finite vector")))
+                                .ok_or_else(|| {
+                                    p.error_at(at, format!("patch `{name}`: `{key}` is not a finite vector"))
+                                })
                         }
                         _ => Err(p.error_at(at, format!("patch `{name}`: `{key}` is not a vector `(x y z)`"))),
                     },

@@ -75,16 +75,16 @@ pub use reconstruct::Stencils;
 pub use transient::{Cycle, TransientFlow, Windowed, window_ends};
 pub use wall_layer::{WallFit, WallGeometry};
 
-use super::{FlowField, FlowSample, Isometry, check_query};
-use images::PatchImages;
-use std::sync::Arc;
+use super::{Crossing, FlowField, FlowSample, check_query};
 use crate::error::FlowError;
 use crate::tensor::{Mat3, Vec3};
 use decomposed::{processor_dirs, time_dirs};
 use frame::{Frame, Geometry};
+use images::PatchImages;
 use std::cell::Cell;
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::sync::OnceLock;
 
 /// Relative tolerance when matching a requested time to a time directory's name.
@@ -603,7 +603,7 @@ impl FlowField for FoamFlow {
         }
     }
 
-    fn image(&self, x: &Vec3, _t: f64) -> Option<Isometry> {
+    fn image(&self, x: &Vec3, _t: f64) -> Option<Crossing> {
         self.images()?.image(x, |y| self.outside(y))
     }
 

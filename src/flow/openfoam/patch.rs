@@ -309,7 +309,12 @@ impl PatchSet {
     /// and constraint patches left out).
     pub fn boundaries(mesh: &PolyMesh) -> Self {
         let ids: Vec<usize> = (0..mesh.patches().len())
-            .filter(|&p| matches!(PatchRole::of(&mesh.patches()[p].kind), PatchRole::Wall | PatchRole::Exit))
+            .filter(|&p| {
+                matches!(
+                    PatchRole::of(&mesh.patches()[p].kind),
+                    PatchRole::Wall | PatchRole::Exit
+                )
+            })
             .collect();
         Self::new(mesh, &ids)
     }

@@ -59,7 +59,7 @@
 use super::frame::{self, Frame, Geometry, Precision};
 use super::{BlendedFlow, FoamCase, FoamError, FoamFlow, Stencils, WallGeometry, same_time};
 use crate::error::FlowError;
-use crate::flow::{FlowField, FlowSample, Isometry};
+use crate::flow::{Crossing, FlowField, FlowSample};
 use crate::tensor::Vec3;
 
 /// How a transient field's levels repeat.
@@ -449,7 +449,7 @@ impl<F: Windowed> FlowField for TransientFlow<F> {
         self.flow.sample(x, t)
     }
 
-    fn image(&self, x: &Vec3, t: f64) -> Option<Isometry> {
+    fn image(&self, x: &Vec3, t: f64) -> Option<Crossing> {
         self.flow.image(x, t)
     }
 

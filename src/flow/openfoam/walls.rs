@@ -87,6 +87,12 @@ impl WallFaces {
 }
 
 impl WallFaces {
+    /// The farthest a face's term reaches from its centre: its support plus its circumradius,
+    /// the largest of the faces'.
+    pub fn reach(&self) -> f64 {
+        self.balls.largest_radius()
+    }
+
     /// The number of faces.
     pub fn len(&self) -> usize {
         self.supports.len()

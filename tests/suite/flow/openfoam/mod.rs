@@ -4,6 +4,7 @@
 
 mod block;
 mod decomposed;
+mod images;
 mod octree;
 mod patch;
 mod transient;

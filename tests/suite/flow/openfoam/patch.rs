@@ -62,7 +62,8 @@ fn an_empty_list_elsewhere_is_refused() {
     );
 }
 
-/// Every patch type: `wall`, `patch`, `empty` and `processor` are particle boundaries with
+/// Every patch type: `wall`, `patch`, `empty`, `processor` and the types particles pass through
+/// (`cyclic`, `cyclicAMI`, `symmetry`, `symmetryPlane`, `wedge`) are particle boundaries with
 /// their roles; every other type OpenFOAM has (and one it has not) is refused with the patch,
 /// its type and its faces named, whichever patch carries it (the 80 faces of `frontAndBack`,
 /// the 20 of `walls`).
@@ -73,6 +74,8 @@ fn every_patch_type_is_handled_or_refused_by_name() {
         ("patch", PatchRole::Exit),
         ("empty", PatchRole::Constraint),
         ("processor", PatchRole::Constraint),
+        ("symmetry", PatchRole::Image),
+        ("symmetryPlane", PatchRole::Image),
     ];
     for (kind, role) in handled {
         assert_eq!(PatchRole::of_particle_boundary(kind), Some(role), "{kind}");
@@ -80,14 +83,13 @@ fn every_patch_type_is_handled_or_refused_by_name() {
         retype(&dir, "frontAndBack", kind);
         check_particle_patches(FoamCase::open(&dir).unwrap().mesh()).unwrap();
     }
+    // Pairs need their partner in the boundary file (`tests/suite/flow/openfoam/images.rs`).
+    for kind in ["cyclic", "cyclicAMI", "wedge"] {
+        assert_eq!(PatchRole::of_particle_boundary(kind), Some(PatchRole::Image), "{kind}");
+    }
     let refused = [
-        "cyclic",
-        "cyclicAMI",
         "cyclicACMI",
         "cyclicSlip",
-        "wedge",
-        "symmetry",
-        "symmetryPlane",
         "mappedPatch",
         "mappedWall",
         "processorCyclic",
@@ -106,6 +108,7 @@ fn every_patch_type_is_handled_or_refused_by_name() {
                     patch: p,
                     kind: k,
                     faces: n,
+                    ..
                 }) => {
                     assert_eq!((p.as_str(), k.as_str(), n), (patch, kind, faces));
                 }
@@ -115,14 +118,15 @@ fn every_patch_type_is_handled_or_refused_by_name() {
     }
     let message = FoamError::UnsupportedPatch {
         patch: "side1".into(),
-        kind: "cyclic".into(),
+        kind: "cyclicACMI".into(),
         faces: 3,
+        hint: "",
     }
     .to_string();
     assert!(
         message.contains("`side1`")
-            && message.contains("`cyclic`")
-            && message.contains("not yet supported as a particle boundary"),
+            && message.contains("`cyclicACMI`")
+            && message.contains("not supported as a particle boundary"),
         "{message}"
     );
 }
