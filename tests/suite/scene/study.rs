@@ -1,0 +1,130 @@
+//! `pseudorigid study` (`scene::study`, issue 58 item 1): a reduced Pich case. Point particles
+//! settle out of Poiseuille flow (written exactly into the cells) in a horizontal pipe meshed
+//! as three O-grids of increasing resolution; the study pairs their fates across the meshes.
+//! Pich's (1972) fraction at ε = 0.3 is 0.4341 (`flow::openfoam::pich_formula_limits`).
+
+use crate::common::build;
+use pseudorigid::population::Progress;
+use pseudorigid::population::Shard;
+use pseudorigid::population::mesh_study::MeshStudy;
+use pseudorigid::scene::load_study;
+use pseudorigid::scene::study::{FORMAL_ORDER, StudyOptions, run_study};
+use pseudorigid::tensor::Vec3;
+use std::path::Path;
+
+/// Pich's deposited fraction (J. Aerosol Sci. 3 (1972) 351) at ε = (3/4)(L/d)(v_s/Ū).
+fn pich(epsilon: f64) -> f64 {
+    let c = epsilon.cbrt();
+    let root = (1.0 - c * c).max(0.0).sqrt();
+    2.0 / std::f64::consts::PI * (2.0 * epsilon * root - c * root + c.min(1.0).asin())
+}
+
+/// 240 point particles (a = 0.01, ρ_s = 2, fluid ρ = 1, μ = 1) injected through the inlet by
+/// its inflow, settling at v_s = 2Δρ g a²/(9μ) = 0.2 (ε = 3 L v_s/(8 R Ū) = 0.3) in the pipe
+/// R = 1, L = 4, Ū = 1 on three O-grids; the study's files and numbers.
+#[test]
+fn reduced_pich_study() {
+    let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("reduced_pich_study");
+    let _ = std::fs::remove_dir_all(&root);
+    let (radius, length) = (1.0, 4.0);
+    let mut cases = Vec::new();
+    for (k, (n, m, nz)) in [(6, 8, 16), (4, 5, 10), (3, 4, 8)].into_iter().enumerate() {
+        let raw = build::pipe(radius, length, n, m, 1.0, nz);
+        let mut u = build::sampled(&raw.mesh(), |x| {
+            let r2 = (x[0] * x[0] + x[1] * x[1]) / (radius * radius);
+            Vec3::new(0.0, 0.0, 2.0 * (1.0 - r2).max(0.0))
+        });
+        let mesh = raw.mesh();
+        let wall = mesh.patches().iter().find(|p| p.name == "wall").unwrap().clone();
+        let first = wall.start - mesh.n_internal_faces();
+        u.boundary[3 * first..3 * (first + wall.size)].fill(0.0);
+        let dir = root.join(format!("pipe{k}"));
+        build::write_case(&dir, &raw, &u, "0", build::Format::Ascii);
+        cases.push(format!("\"pipe{k}\""));
+    }
+    let g = 0.2 * 9.0 / (2.0 * 1e-4);
+    let scene = root.join("study.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            r#"seed = 7
+[flow]
+type = "openfoam"
+cases = [{}]
+[fluid]
+viscosity = 1.0
+density = 1.0
+gravity = [0.0, {}, 0.0]
+[boundary]
+type = "mesh"
+contact_radius = 0.0
+[particles]
+density = 2.0
+[particles.inject]
+count = 240
+semi_axes = [0.01, 0.01, 0.01]
+region = {{ type = "patch", name = "inlet" }}
+material = {{ law = "rigid" }}
+[integrator]
+type = "radau_iia"
+overdamped = true
+tol = 1e-7
+dt = 1e-3
+[end]
+t_end = 200.0
+[output]
+vtk = false
+adequacy_sample = 0
+"#,
+            cases.join(", "),
+            -g
+        ),
+    )
+    .unwrap();
+    let meshes = load_study(&scene).unwrap();
+    assert_eq!(meshes.len(), 3);
+    let out = root.join("out");
+    let options = StudyOptions {
+        checkpoint_every: 30.0,
+        resume: false,
+        progress: Progress::Quiet,
+        threads: None,
+        csv: false,
+        formal_order: FORMAL_ORDER,
+    };
+    let log = run_study(&meshes, &out, Shard::ALL, &options).unwrap();
+    eprintln!("{log}");
+    let study: MeshStudy = serde_json::from_slice(&std::fs::read(out.join("study.json")).unwrap()).unwrap();
+    assert_eq!(study.particles, 240);
+    assert!(study.meshes.windows(2).all(|w| w[0].cells > w[1].cells), "finest first");
+    let deposited = study.outcomes.iter().find(|o| o.outcome == "deposited:wall").unwrap();
+    let escaped = study.outcomes.iter().find(|o| o.outcome == "escaped:outlet").unwrap();
+    let exact = pich(0.3);
+    for k in 0..3 {
+        assert_eq!(
+            deposited.counts[k] + escaped.counts[k],
+            240,
+            "mesh {k}: every particle deposits or escapes"
+        );
+        let se = (exact * (1.0 - exact) / 240.0).sqrt();
+        assert!(
+            (deposited.values[k] - exact).abs() < 3.0 * se,
+            "mesh {k}: {} against Pich {exact:.4} ± {se:.4}",
+            deposited.values[k]
+        );
+    }
+    // The increments are paired: their errors are at most the two binomial errors combined.
+    for (k, inc) in deposited.increments.iter().enumerate() {
+        let independent = deposited.stderr[k].hypot(deposited.stderr[k + 1]);
+        assert!(
+            inc.paired_stderr <= independent + 1e-12,
+            "{inc:?} against {independent}"
+        );
+        let d = deposited.values[k] - deposited.values[k + 1];
+        assert!((inc.difference - d).abs() < 1e-12);
+    }
+    assert!(!deposited.verdict.is_empty());
+    let csv = std::fs::read_to_string(out.join("study.csv")).unwrap();
+    assert!(csv.starts_with("outcome,cells_1,count_1,value_1,stderr_1,"), "{csv}");
+    assert_eq!(csv.lines().count(), 1 + study.outcomes.len());
+}
