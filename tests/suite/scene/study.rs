@@ -128,3 +128,49 @@ adequacy_sample = 0
     assert!(csv.starts_with("outcome,cells_1,count_1,value_1,stderr_1,"), "{csv}");
     assert_eq!(csv.lines().count(), 1 + study.outcomes.len());
 }
+
+/// A scene naming `flow.cases` is a study: `run` and `validate` refuse it at the key, and
+/// `load_study` refuses one case, five cases, or `case` beside `cases`.
+#[test]
+fn cases_belong_to_a_study() {
+    use pseudorigid::scene::SceneError;
+    use pseudorigid::scene::error::Source;
+    let text = |flow: &str| {
+        format!(
+            "[flow]\ntype = \"openfoam\"\n{flow}\n[fluid]\nviscosity = 1.0\ndensity = 1.0\n[boundary]\ntype = \"mesh\"\n[particles]\ndensity = 1.0\n[[particles.list]]\nsemi_axes = [0.1, 0.1, 0.1]\nposition = [0.5, 0.5, 0.5]\nmaterial = {{ law = \"rigid\" }}\n[integrator]\ntype = \"radau_iia\"\ntol = 1e-6\ndt = 1e-3\n[end]\nt_end = 1.0\n"
+        )
+    };
+    let plain = text("cases = [\"a\", \"b\"]");
+    let err = pseudorigid::scene::parse(
+        &Source {
+            file: "study.toml",
+            text: &plain,
+        },
+        Path::new("."),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&err, SceneError::Invalid { key, message, .. } if key == "flow.cases" && message.contains("pseudorigid study")),
+        "{err}"
+    );
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cases_belong_to_a_study");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (flow, key, says) in [
+        ("cases = [\"a\"]", "flow.cases", "two to four"),
+        (
+            "cases = [\"a\", \"b\", \"c\", \"d\", \"e\"]",
+            "flow.cases",
+            "two to four",
+        ),
+        ("case = \"a\"\ncases = [\"a\", \"b\"]", "flow.case", "not both"),
+        ("case = \"a\"", "flow.cases", "names its meshes"),
+    ] {
+        let path = dir.join("study.toml");
+        std::fs::write(&path, text(flow)).unwrap();
+        let err = load_study(&path).unwrap_err();
+        assert!(
+            matches!(&err, SceneError::Invalid { key: k, message, .. } if k == key && message.contains(says)),
+            "{flow}: {err}"
+        );
+    }
+}
