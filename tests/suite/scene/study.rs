@@ -1,7 +1,7 @@
 //! `pseudorigid study` (`scene::study`, issue 58 item 1): a reduced Pich case. Point particles
 //! settle out of Poiseuille flow (written exactly into the cells) in a horizontal pipe meshed
 //! as three O-grids of increasing resolution; the study pairs their fates across the meshes.
-//! Pich's (1972) fraction at ε = 0.3 is 0.4341 (`flow::openfoam::pich_formula_limits`).
+//! Pich's (1972) fraction at ε = 0.3 is 0.4341 (`pseudorigid::reference::pich_deposition`).
 
 use crate::common::build;
 use pseudorigid::population::Progress;
@@ -12,16 +12,13 @@ use pseudorigid::scene::study::{FORMAL_ORDER, StudyOptions, run_study};
 use pseudorigid::tensor::Vec3;
 use std::path::Path;
 
-/// Pich's deposited fraction (J. Aerosol Sci. 3 (1972) 351) at ε = (3/4)(L/d)(v_s/Ū).
+/// Pich's deposited fraction ([`pseudorigid::reference::pich_deposition`]).
 fn pich(epsilon: f64) -> f64 {
-    let c = epsilon.cbrt();
-    let root = (1.0 - c * c).max(0.0).sqrt();
-    2.0 / std::f64::consts::PI * (2.0 * epsilon * root - c * root + c.min(1.0).asin())
+    pseudorigid::reference::pich_deposition(epsilon).unwrap()
 }
 
-/// 240 point particles (a = 0.01, ρ_s = 2, fluid ρ = 1, μ = 1) injected through the inlet by
-/// its inflow, settling at v_s = 2Δρ g a²/(9μ) = 0.2 (ε = 3 L v_s/(8 R Ū) = 0.3) in the pipe
-/// R = 1, L = 4, Ū = 1 on three O-grids; the study's files and numbers.
+/// 240 point particles of `studies::pich` at ε = 0.3 in the pipe R = 1, L = 4, Ū = 1 on three
+/// O-grids; the study's files and numbers.
 #[test]
 fn reduced_pich_study() {
     let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("reduced_pich_study");
@@ -40,47 +37,10 @@ fn reduced_pich_study() {
         u.boundary[3 * first..3 * (first + wall.size)].fill(0.0);
         let dir = root.join(format!("pipe{k}"));
         build::write_case(&dir, &raw, &u, "0", build::Format::Ascii);
-        cases.push(format!("\"pipe{k}\""));
+        cases.push(format!("pipe{k}"));
     }
-    let g = 0.2 * 9.0 / (2.0 * 1e-4);
     let scene = root.join("study.toml");
-    std::fs::write(
-        &scene,
-        format!(
-            r#"seed = 7
-[flow]
-type = "openfoam"
-cases = [{}]
-[fluid]
-viscosity = 1.0
-density = 1.0
-gravity = [0.0, {}, 0.0]
-[boundary]
-type = "mesh"
-contact_radius = 0.0
-[particles]
-density = 2.0
-[particles.inject]
-count = 240
-semi_axes = [0.01, 0.01, 0.01]
-region = {{ type = "patch", name = "inlet" }}
-material = {{ law = "rigid" }}
-[integrator]
-type = "radau_iia"
-overdamped = true
-tol = 1e-7
-dt = 1e-3
-[end]
-t_end = 200.0
-[output]
-vtk = false
-adequacy_sample = 0
-"#,
-            cases.join(", "),
-            -g
-        ),
-    )
-    .unwrap();
+    std::fs::write(&scene, pseudorigid::studies::pich::scene(&cases, 0.3, 240, 7)).unwrap();
     let meshes = load_study(&scene).unwrap();
     assert_eq!(meshes.len(), 3);
     let out = root.join("out");
@@ -124,6 +84,24 @@ adequacy_sample = 0
         assert!((inc.difference - d).abs() < 1e-12);
     }
     assert!(!deposited.verdict.is_empty());
+    // The reduced dataset, rounded: counts per mesh and the estimate where one was made.
+    let rounded: String = study
+        .outcomes
+        .iter()
+        .map(|o| {
+            let e = o.estimate.as_ref();
+            format!(
+                "{}: counts {:?}, cells {:?}, p {}, extrapolated {}, band {}\n",
+                o.outcome,
+                o.counts,
+                study.meshes.iter().map(|m| m.cells).collect::<Vec<_>>(),
+                e.and_then(|e| e.p_apparent).map_or("-".into(), |p| format!("{p:.2}")),
+                e.map_or("-".into(), |e| format!("{:.3}", e.extrapolated)),
+                e.map_or("-".into(), |e| format!("{:.3}", e.band)),
+            )
+        })
+        .collect();
+    insta::assert_snapshot!(rounded);
     let csv = std::fs::read_to_string(out.join("study.csv")).unwrap();
     assert!(csv.starts_with("outcome,cells_1,count_1,value_1,stderr_1,"), "{csv}");
     assert_eq!(csv.lines().count(), 1 + study.outcomes.len());
