@@ -5,6 +5,7 @@
 //! pseudorigid validate SCENE.toml
 //! pseudorigid run SCENE.toml [--out DIR] [--shard k/N] [--resume] [--checkpoint-every S] [--threads N] [--quiet] [--csv]
 //! pseudorigid merge SCENE.toml [--out DIR] [--csv]
+//! pseudorigid study STUDY.toml [--out DIR] [--shard k/N] [--resume] [--merge] [--order P] [...]
 //! pseudorigid probe CASE_DIR TIME|latest POINTS.csv OUT.csv
 //! ```
 //!
@@ -14,7 +15,8 @@
 pub mod probe;
 
 use crate::population::{CHECKPOINT_INTERVAL, Progress, Shard};
-use crate::scene::{Scene, SceneError, adequacy, load, run};
+use crate::scene::study::{FORMAL_ORDER, StudyOptions, merge_study, run_study};
+use crate::scene::{Scene, SceneError, adequacy, load, load_study, run};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
@@ -71,6 +73,40 @@ pub enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         /// Write the tables as CSV too (always, without the feature `parquet`).
+        #[arg(long)]
+        csv: bool,
+    },
+    /// A mesh study: a scene whose `flow.cases` names two to four solutions of one geometry,
+    /// run on each (`OUT/mesh-<k>/`, each as `run` would), every outcome paired across them
+    /// with the GCI of the finest (`OUT/study.csv`, `OUT/study.json`; `pseudorigid::scene::study`).
+    Study {
+        /// Scene file (TOML) with `flow.cases`.
+        scene: PathBuf,
+        /// Output folder (default: `<scene name>-out` in the current folder).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Run shard k of N of every mesh (then `study --merge`).
+        #[arg(long)]
+        shard: Option<Shard>,
+        /// Continue from the checkpoints in the output folder.
+        #[arg(long)]
+        resume: bool,
+        /// Merge every mesh's shards and write the study's tables, instead of running.
+        #[arg(long)]
+        merge: bool,
+        /// The formal order of the chain, capping the order the GCI uses.
+        #[arg(long, default_value_t = FORMAL_ORDER)]
+        order: f64,
+        /// Seconds between checkpoints.
+        #[arg(long, default_value_t = CHECKPOINT_INTERVAL.as_secs_f64())]
+        checkpoint_every: f64,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// No progress report.
+        #[arg(long)]
+        quiet: bool,
+        /// Write the tables as CSV too.
         #[arg(long)]
         csv: bool,
     },
@@ -159,6 +195,37 @@ pub fn execute(cli: Cli) -> Result<String, SceneError> {
         Command::Merge { scene, out, csv } => {
             let s = load(&scene)?;
             run::merge(&s, &out.unwrap_or_else(|| default_out(&scene)), csv)
+        }
+        Command::Study {
+            scene,
+            out,
+            shard,
+            resume,
+            merge,
+            order,
+            checkpoint_every,
+            threads,
+            quiet,
+            csv,
+        } => {
+            let meshes = load_study(&scene)?;
+            let out = out.unwrap_or_else(|| default_out(&scene));
+            if merge {
+                return merge_study(&meshes, &out, csv, order);
+            }
+            let shard = match shard {
+                Some(k) => k,
+                None => Shard::from_env()?.unwrap_or(Shard::ALL),
+            };
+            let options = StudyOptions {
+                checkpoint_every,
+                resume,
+                progress: if quiet { Progress::Quiet } else { Progress::Auto },
+                threads,
+                csv,
+                formal_order: order,
+            };
+            run_study(&meshes, &out, shard, &options)
         }
         Command::Probe {
             case,

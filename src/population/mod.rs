@@ -35,6 +35,10 @@
 //! - [`runner`]: [`run`] with [`RunOptions`] (parallel or serial, progress, checkpoints);
 //! - [`progress`], [`checkpoint`], [`shard`], [`output`]: progress reports, checkpoint files,
 //!   shards `k/N`, result files, their standard paths and their merge;
+//! - [`gci`]: Richardson extrapolation and the grid convergence index of a quantity on two
+//!   or three meshes (Celik et al. 2008), the arithmetic of a mesh study;
+//! - [`mesh_study`]: the same particles on two to four meshes, every outcome paired, with its
+//!   sampling errors, GCI and verdict;
 //! - [`settling_pipe`]: a cheap population with a closed-form answer (tests, benches).
 //!
 //! # Determinism
@@ -51,6 +55,8 @@ pub mod binomial;
 pub mod case;
 pub mod checkpoint;
 pub mod columns;
+pub mod gci;
+pub mod mesh_study;
 pub mod observe;
 pub mod output;
 pub mod packed;

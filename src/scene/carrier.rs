@@ -4,6 +4,17 @@ use super::*;
 impl Builder<'_> {
     pub(super) fn flow(&self, spec: &FlowSpec, base: &Path) -> Result<SceneFlow, SceneError> {
         let at = spec.kind.span();
+        // A study's scenes are built one case at a time (`load_study`), with `cases` cleared.
+        if let Some(cases) = &spec.cases {
+            return Err(self.err(
+                cases.span(),
+                "flow.cases",
+                format!(
+                    "names a mesh study of {} cases: run it with `pseudorigid study` (or give one `flow.case`)",
+                    cases.get_ref().len()
+                ),
+            ));
+        }
         let rate = ("flow.rate", spec.rate.is_some());
         let pipe = [
             ("flow.radius", spec.radius.is_some()),

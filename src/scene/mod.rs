@@ -17,6 +17,7 @@
 //! | `flow.rate` | γ̇ or ε̇ of the linear flows |
 //! | `flow.radius`, `flow.mean_velocity` | Poiseuille pipe along e₁: R and Ū (centreline 2Ū) |
 //! | `flow.case`, `flow.time` | OpenFOAM case folder (relative to the scene file; an absolute path or one climbing with `..` is read as given: the command reads what the scene names, and writes nothing but under `--out`; every patch with faces must be of type `wall`, `patch`, `empty` or `processor`: a case with a `cyclic`, `wedge`, `symmetry`, ... patch is refused with the patch named, as not yet a particle boundary; in a 2-D case, every `empty` face normal to one axis, each particle's barycentre is held in its plane: `driver::Plan::with_hold`) and time: a number or `"latest"` (the default), a steady field (one that is zero in every cell is refused unless `flow.still = true`); a list of times or a range `{ start, end, period }`, a transient field (see *Transient fields*) |
+//! | `flow.cases` | instead of `flow.case`: two to four OpenFOAM cases of one geometry, a mesh study (`pseudorigid study`, [`study`]): the scene runs on each with the same seed, and every outcome's fraction is reported per mesh with the GCI of the finest |
 //! | `flow.precision`, `flow.window` | transient fields only: `"f64"` (default) or `"f32"` storage of the levels; the length of the run's time windows (default: the smallest spacing of the levels) |
 //! | `flow.still` | `openfoam` only: `true` reads a case whose U is zero in every cell as still fluid (settling in a closed box, particles thrown into still air), and refuses one whose U is not; default `false`, where a zero field is refused as a likely initial condition |
 //! | `flow.blend` | `true` (default): the continuous field with the second-order no-slip wall layer (`flow::openfoam::BlendedFlow`); `false`: each cell's linear fit (discontinuous at faces, no wall-normal velocity near walls) |
@@ -122,6 +123,7 @@ pub mod parquet;
 mod particles;
 pub mod run;
 pub mod schema;
+pub mod study;
 mod timing;
 
 pub use error::{SceneError, Source};
@@ -405,6 +407,53 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         },
         base,
     )
+}
+
+/// Read and validate the mesh study at `path`: a scene whose `flow.cases` names two to four
+/// OpenFOAM cases of one geometry; one scene per case, in the order given, each the scene with
+/// `flow.case` set to that case (the same seed, particles and integrator on every mesh).
+pub fn load_study(path: &Path) -> Result<Vec<(String, Scene)>, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let file = path.display().to_string();
+    let src = Source {
+        file: &file,
+        text: &text,
+    };
+    let base = path.parent().unwrap_or(Path::new("."));
+    let raw: Document = toml::from_str(&text).map_err(|e| src.parse_error(&e))?;
+    let at = raw.flow.kind.span();
+    let Some(cases) = raw.flow.cases.as_ref() else {
+        return Err(src.error(at, "flow.cases", "a mesh study names its meshes' cases in `flow.cases`"));
+    };
+    if let Some(case) = &raw.flow.case {
+        return Err(src.error(case.span(), "flow.case", "give `flow.case` or `flow.cases`, not both"));
+    }
+    if !(2..=4).contains(&cases.get_ref().len()) {
+        return Err(src.error(
+            cases.span(),
+            "flow.cases",
+            format!("{} cases: a mesh study takes two to four", cases.get_ref().len()),
+        ));
+    }
+    cases
+        .get_ref()
+        .iter()
+        .map(|case| {
+            // Each scene from its own parse of the text, its case in place of the list.
+            let mut one: Document = toml::from_str(&text).map_err(|e| src.parse_error(&e))?;
+            one.flow.cases = None;
+            one.flow.case = Some(case.clone());
+            let scene = Builder {
+                src: &src,
+                boundary_flux: std::cell::OnceCell::new(),
+            }
+            .scene(one, base)?;
+            Ok((case.get_ref().clone(), scene))
+        })
+        .collect()
 }
 
 /// Validate a scene's text; relative paths in it are relative to `base`.

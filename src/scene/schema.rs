@@ -64,6 +64,9 @@ pub struct FlowSpec {
     pub mean_velocity: Option<Num>,
     /// Case folder, relative to the scene file (`openfoam`).
     pub case: Option<Spanned<String>>,
+    /// Two to four case folders of one geometry, finest or coarsest first (`openfoam`, instead
+    /// of `case`): a mesh study, run by `pseudorigid study` (`scene::study`).
+    pub cases: Option<Spanned<Vec<Spanned<String>>>>,
     /// Time directories to read (`openfoam`): a time or `"latest"` (the default), a steady
     /// field; a list of times or a range `{ start, end, period }`, a transient field read
     /// window by window (`flow::openfoam::TransientFlow`).

@@ -6,6 +6,7 @@ mod checkpoint;
 #[cfg(feature = "parquet")]
 mod columns;
 mod common;
+mod gci;
 mod injection;
 mod release;
 mod runner;

@@ -7,6 +7,7 @@ mod adequacy;
 mod command;
 mod parse;
 mod run;
+mod study;
 mod transient;
 
 use crate::common::build;

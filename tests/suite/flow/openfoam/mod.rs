@@ -999,16 +999,9 @@ fn hiemenz_sphere_reaches_the_wall_when_the_exact_flow_says() {
 // ---------------------------------------------------------------------------------------
 // Gravitational deposition from laminar pipe flow (Pich 1972), on meshed pipes
 
-/// Pich's (1972) fraction of the particle flow deposited by settling (speed v_s) from laminar
-/// flow (mean speed Ū) in a horizontal circular tube of diameter d and length L:
-/// P = (2/π)[2ε√(1 − ε^{2/3}) − ε^{1/3}√(1 − ε^{2/3}) + arcsin ε^{1/3}], ε = (3/4) L v_s/(d Ū)
-/// (J. Aerosol Sci. 3, 351–361; Heyder & Gebhart 1977 eq. 5). Its limits are checked by hand:
-/// P(1) = 1 (every particle reaches the floor), and P ≈ 16ε/(3π) = 2Lv_s/(πRŪ) for small ε,
-/// the flux argument (settling flux v_s × projected wall 2RL over the particle flow πR²Ū).
+/// Pich's (1972) deposited fraction ([`pseudorigid::reference::pich_deposition`]).
 fn pich(epsilon: f64) -> f64 {
-    let c = epsilon.cbrt();
-    let root = (1.0 - c * c).max(0.0).sqrt();
-    2.0 / std::f64::consts::PI * (2.0 * epsilon * root - c * root + c.min(1.0).asin())
+    pseudorigid::reference::pich_deposition(epsilon).unwrap()
 }
 
 #[test]
