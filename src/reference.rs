@@ -135,6 +135,23 @@ pub fn zhang_deposition_efficiency(stokes: f64, reynolds: f64, theta: f64) -> Re
     Ok(shape * reynolds.cbrt() * theta.sin())
 }
 
+/// Pich's (1972, J. Aerosol Sci. 3, 351–361) fraction of the particle flow deposited by
+/// gravitational settling (speed v_s) from fully developed laminar flow (mean speed Ū) in a
+/// horizontal circular tube of diameter d and length L, the particles entering uniformly
+/// mixed (flux-weighted):
+/// ```math
+/// P = \frac{2}{\pi}\Big[2\varepsilon\sqrt{1 - \varepsilon^{2/3}} - \varepsilon^{1/3}\sqrt{1 - \varepsilon^{2/3}} + \arcsin\varepsilon^{1/3}\Big],
+/// \qquad \varepsilon = \frac{3}{4}\frac{L}{d}\frac{v_s}{\bar U}
+/// ```
+/// (also Heyder & Gebhart 1977, eq. 5); P = 1 for ε ≥ 1, and P ≈ 16ε/(3π) for small ε (the
+/// settling flux v_s over the projected wall 2RL against the particle flow πR²Ū).
+pub fn pich_deposition(epsilon: f64) -> Result<f64, ParamError> {
+    let epsilon = crate::error::positive("Pich's epsilon", epsilon)?;
+    let c = epsilon.cbrt().min(1.0);
+    let root = (1.0 - c * c).sqrt();
+    Ok(2.0 / PI * (2.0 * epsilon.min(1.0) * root - c * root + c.asin()))
+}
+
 /// Inertial deposition efficiency of a bend of circular cross-section in laminar flow, the fit
 /// of Pui, Romay-Novas & Liu (Aerosol Sci. Technol. 7 (1987) 301–315) to their Re = 1000
 /// measurements (curvature ratio R_o/a = 5.6 and 5.7), which agree with the theory of Cheng &

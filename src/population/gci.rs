@@ -129,12 +129,14 @@ pub struct GridConvergence {
     pub order_used: f64,
     /// φ_ext²¹ (eq. 4) with [`Self::order_used`].
     pub extrapolated: f64,
-    /// e_a²¹ (eq. 5): relative change from the medium to the fine mesh.
-    pub e_a: f64,
-    /// e_ext²¹ (eq. 6): relative distance of the fine value from the extrapolated one.
-    pub e_ext: f64,
-    /// GCI_fine²¹ (eq. 7), relative to φ₁.
-    pub gci_fine: f64,
+    /// e_a²¹ (eq. 5): relative change from the medium to the fine mesh (None where φ₁ = 0,
+    /// an outcome no particle met on the finest mesh).
+    pub e_a: Option<f64>,
+    /// e_ext²¹ (eq. 6): relative distance of the fine value from the extrapolated one (None
+    /// where φ_ext = 0).
+    pub e_ext: Option<f64>,
+    /// GCI_fine²¹ (eq. 7), relative to φ₁ (None where φ₁ = 0; [`Self::band`] is then the bar).
+    pub gci_fine: Option<f64>,
     /// The same index in the quantity's units: F_s |φ₁ − φ₂| / (r₂₁^p − 1).
     pub band: f64,
     /// F_s: 1.25 with three meshes, 3 with two.
@@ -298,7 +300,8 @@ impl GridConvergence {
         let gain = r21.powf(order_used) - 1.0;
         let extrapolated = (r21.powf(order_used) * phi1 - phi2) / gain;
         let band = safety * (phi1 - phi2).abs() / gain;
-        let e_a = ((phi1 - phi2) / phi1).abs();
+        let relative = |x: f64, of: f64| (of != 0.0).then(|| (x / of).abs());
+        let e_a = relative(phi1 - phi2, phi1);
         Self {
             r21,
             r32,
@@ -306,8 +309,8 @@ impl GridConvergence {
             order_used,
             extrapolated,
             e_a,
-            e_ext: ((extrapolated - phi1) / extrapolated).abs(),
-            gci_fine: safety * e_a / gain,
+            e_ext: relative(extrapolated - phi1, extrapolated),
+            gci_fine: e_a.map(|e| safety * e / gain),
             band,
             safety,
             convergence,

@@ -307,7 +307,7 @@ impl MeshStudy {
                 opt(e.map(|e| e.order_used)),
                 opt(e.map(|e| e.extrapolated)),
                 opt(e.map(|e| e.band)),
-                opt(e.map(|e| e.gci_fine)),
+                opt(e.and_then(|e| e.gci_fine)),
                 e.map_or(String::new(), |e| {
                     serde_json::to_value(e.convergence)
                         .ok()

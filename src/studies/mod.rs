@@ -57,6 +57,7 @@ pub mod particles;
 pub mod peer;
 pub mod phase_boundary;
 pub mod phase_map;
+pub mod pich;
 pub mod pipe;
 pub mod scipy_peer;
 pub mod section;
