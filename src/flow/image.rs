@@ -9,7 +9,7 @@
 //! maps with them: its image is a solution of the same equations (the model is objective and,
 //! for a reflection, its laws are isotropic). A material point $x = x_c + F X$ of the image is
 //! $Q x_c + Q F X$; for a reflection (det Q = −1) the image's reference configuration is relabelled
-//! by $X' = P X$ with $P = \mathrm{diag}(1, 1, −1)$, which maps the rest ellipsoid (semi-axes along
+//! by $X^\prime = P X$ with $P = \mathrm{diag}(1, 1, −1)$, which maps the rest ellipsoid (semi-axes along
 //! the reference axes) and its inertia onto themselves and keeps det F > 0:
 //! The state's map is [`crate::particle::State::mapped`]:
 //! ```math

@@ -57,8 +57,8 @@ impl State {
     }
 
     /// The state's image under an isometry of the flow (a cyclic pair, a symmetry plane, a
-    /// wedge; [`crate::flow::image`]): $x_c' = T(x_c)$, $v_c' = Q v_c$, $F' = Q F P$,
-    /// $A' = Q A P$, with P = 1 for a rotation and diag(1, 1, −1) for a reflection, which
+    /// wedge; [`crate::flow::image`]): $x_c^\prime = T(x_c)$, $v_c^\prime = Q v_c$, $F^\prime = Q F P$,
+    /// $A^\prime = Q A P$, with P = 1 for a rotation and diag(1, 1, −1) for a reflection, which
     /// relabels the mirrored body's reference configuration so that its rest ellipsoid and
     /// inertia stay its own and det F' > 0.
     pub fn mapped(&self, map: &crate::flow::Isometry) -> Self {

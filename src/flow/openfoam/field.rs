@@ -169,8 +169,8 @@ pub fn read_vol_field(dir: &Path, name: &str, mesh: &PolyMesh, comps: usize) -> 
 
 /// The values OpenFOAM's coupled conditions give on patch `p` from the cells
 /// (`internal`), `map` being the patch's pair map ([`super::images::pair_maps`]):
-/// - `cyclic`: the owner cell's value and the partner face's owner cell's, mapped across the
-///   pair (position $T_p^{-1}(x_{c'})$, value $Q_p^T u_{c'}$ with $T_p$ the patch's map),
+/// - `cyclic`: the owner cell's value and the partner face's owner cell d's, mapped across the
+///   pair (position $T_p^{-1}(x_{d})$, value $Q_p^T u_{d}$ with $T_p$ the patch's map),
 ///   interpolated linearly to the face along its normal;
 /// - `wedge`: the owner cell's value rotated about the axis from the cell centre's azimuth
 ///   to the face centre's, exact for an axisymmetric field (scalars repeat the cell value).
