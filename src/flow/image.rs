@@ -10,8 +10,8 @@
 //! for a reflection, its laws are isotropic). A material point $x = x_c + F X$ of the image is
 //! $Q x_c + Q F X$; for a reflection (det Q = −1) the image's reference configuration is relabelled
 //! by $X^\prime = P X$ with $P = \mathrm{diag}(1, 1, −1)$, which maps the rest ellipsoid (semi-axes along
-//! the reference axes) and its inertia onto themselves and keeps det F > 0:
-//! The state's map is [`crate::particle::State::mapped`]:
+//! the reference axes) and its inertia onto themselves and keeps det F > 0. The state's map
+//! ([`crate::particle::State::mapped`]) is
 //! ```math
 //! x_c' = T(x_c),\quad v_c' = Q v_c,\quad F' = Q F P,\quad \dot F' = Q \dot F P,
 //! \qquad P = \begin{cases} 1 & \det Q = 1 \\ \mathrm{diag}(1,1,−1) & \det Q = −1. \end{cases}
