@@ -78,6 +78,17 @@ struct ImagePatch {
     map: Map,
 }
 
+impl ImagePatch {
+    /// The patch's map; a mirror's about the plane through `point` with unit normal `normal`
+    /// (the patch's plane, or its nearest face's where it is not planar).
+    fn map_at(&self, point: Vec3, normal: &Vec3) -> Isometry {
+        match self.map {
+            Map::Pair(map) => map,
+            Map::Mirror => Isometry::reflection(point, normal),
+        }
+    }
+}
+
 /// The patches of a mesh a particle passes through, with their maps ([module docs](self)).
 #[derive(Debug, Clone)]
 pub struct PatchImages {
@@ -296,21 +307,14 @@ impl PatchImages {
             let depth = (x - c).dot(&n);
             let on = x - depth * n;
             if depth > 0.0 && (0..3).all(|k| on[k] >= patch.lo[k] && on[k] <= patch.hi[k]) {
-                let map = match patch.map {
-                    Map::Pair(map) => map,
-                    Map::Mirror => Isometry::reflection(c, &n),
-                };
-                consider(depth, map, c, n);
+                consider(depth, patch.map_at(c, &n), c, n);
             }
         }
         if curved && let Some(face) = self.set.nearest(x).map(|i| self.set.face(i)) {
             let patch = self.patches.iter().find(|i| i.patch == face.patch)?;
             if patch.plane.is_none() {
-                let map = match patch.map {
-                    Map::Pair(map) => map,
-                    Map::Mirror => Isometry::reflection(face.centre, &face.normal),
-                };
-                consider((x - face.centre).dot(&face.normal), map, face.centre, face.normal);
+                let depth = (x - face.centre).dot(&face.normal);
+                consider(depth, patch.map_at(face.centre, &face.normal), face.centre, face.normal);
             }
         }
         best.map(|(_, map)| map)
@@ -331,10 +335,7 @@ impl PatchImages {
             let depth = (x - c).dot(&n);
             let on = x - depth * n;
             if depth <= 0.0 && depth > -reach && (0..3).all(|k| on[k] >= patch.lo[k] && on[k] <= patch.hi[k]) {
-                maps.push(match patch.map {
-                    Map::Pair(map) => map,
-                    Map::Mirror => Isometry::reflection(c, &n),
-                });
+                maps.push(patch.map_at(c, &n));
             }
         }
         if curved && let Some(face) = self.set.nearest(x).map(|i| self.set.face(i)) {
@@ -343,10 +344,7 @@ impl PatchImages {
                 && depth <= 0.0
                 && depth > -reach
             {
-                maps.push(match patch.map {
-                    Map::Pair(map) => map,
-                    Map::Mirror => Isometry::reflection(face.centre, &face.normal),
-                });
+                maps.push(patch.map_at(face.centre, &face.normal));
             }
         }
         maps
