@@ -6,7 +6,7 @@
 //! the value follows from the condition and the adjacent cell, as OpenFOAM evaluates it:
 //! `noSlip` is zero, `zeroGradient` and `empty` repeat the cell value, `symmetry`,
 //! `symmetryPlane` and `slip` remove the wall-normal component of a vector, `cyclic` and
-//! `wedge` take the cells on both sides of the pair ([`coupled_values`]). Any other condition
+//! `wedge` take the cells on both sides of the pair (`coupled_values`). Any other condition
 //! without a stored value is an error naming it. On a patch of geometric type `empty` (a 2-D
 //! case's front and back), which holds no values in OpenFOAM, the empty list solvers write
 //! there (`value nonuniform 0();`) counts as no value.

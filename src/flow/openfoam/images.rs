@@ -16,7 +16,7 @@
 //! its nearest face for a patch that is not planar) and projects onto the patch's extent. The
 //! flow there is $u(x) = Q^T u(T_p x)$, so a particle's integration stages may step across p
 //! and see the flow on the other side of the pair or of the mirror
-//! ([`sample`]); after the step the driver maps the particle's state with $T_p$
+//! ([`PatchImages::sample`]); after the step the driver maps the particle's state with $T_p$
 //! ([`crate::flow::FlowField::image`]).
 //!
 //! The blended field's supports see across the patches too ([`PatchImages::near`]): near a
@@ -187,7 +187,7 @@ fn pair_map(
     Ok(map)
 }
 
-/// Each patch's pair isometry ([`pair_map`]), `None` for a patch that is not one of a cyclic
+/// Each patch's pair isometry (module docs), `None` for a patch that is not one of a cyclic
 /// pair or of a wedge pair. An error names a pair whose transform cannot be found or does not
 /// take one patch onto the other, a cyclic patch whose partner is missing, and a wedge case
 /// with other than two `wedge` patches.
@@ -367,7 +367,7 @@ impl PatchImages {
     /// The plane crossed and the map that brings x back inside the mesh, where x is outside
     /// it beyond one of the patches (`outside` says whether a point is outside the mesh; it is
     /// asked only beyond a patch's plane): the plane is the first patch's, the map composes
-    /// up to [`MAX_MAPS`] patches' (a corner). `None` inside, or outside elsewhere.
+    /// up to three patches' (a corner). `None` inside, or outside elsewhere.
     pub fn image(&self, x: &Vec3, outside: impl Fn(&Vec3) -> bool) -> Option<Crossing> {
         let first = self.beyond(x)?;
         if !outside(x) {
