@@ -79,6 +79,17 @@ struct ImagePatch {
 }
 
 impl ImagePatch {
+    /// The signed distance of x beyond the patch's plane, where the patch is planar and x
+    /// projects onto its extent (the box of its points widened by its largest face).
+    fn depth(&self, x: &Vec3) -> Option<f64> {
+        let (c, n) = self.plane?;
+        let depth = (x - c).dot(&n);
+        let on = x - depth * n;
+        (0..3)
+            .all(|k| on[k] >= self.lo[k] && on[k] <= self.hi[k])
+            .then_some(depth)
+    }
+
     /// The patch's map; a mirror's about the plane through `point` with unit normal `normal`
     /// (the patch's plane, or its nearest face's where it is not planar).
     fn map_at(&self, point: Vec3, normal: &Vec3) -> Isometry {
@@ -298,15 +309,9 @@ impl PatchImages {
                 best = Some((depth, Crossing { map, point, normal }));
             }
         };
-        let mut curved = false;
-        for patch in &self.patches {
-            let Some((c, n)) = patch.plane else {
-                curved = true;
-                continue;
-            };
-            let depth = (x - c).dot(&n);
-            let on = x - depth * n;
-            if depth > 0.0 && (0..3).all(|k| on[k] >= patch.lo[k] && on[k] <= patch.hi[k]) {
+        let curved = self.patches.iter().any(|p| p.plane.is_none());
+        for (patch, (c, n)) in self.patches.iter().filter_map(|p| Some((p, p.plane?))) {
+            if let Some(depth) = patch.depth(x) {
                 consider(depth, patch.map_at(c, &n), c, n);
             }
         }
@@ -326,15 +331,9 @@ impl PatchImages {
     /// ([`super::BlendedFlow`]). A mirror maps about the patch's (or face's) plane.
     pub fn near(&self, x: &Vec3, reach: f64) -> Vec<Isometry> {
         let mut maps = Vec::new();
-        let mut curved = false;
-        for patch in &self.patches {
-            let Some((c, n)) = patch.plane else {
-                curved = true;
-                continue;
-            };
-            let depth = (x - c).dot(&n);
-            let on = x - depth * n;
-            if depth <= 0.0 && depth > -reach && (0..3).all(|k| on[k] >= patch.lo[k] && on[k] <= patch.hi[k]) {
+        let curved = self.patches.iter().any(|p| p.plane.is_none());
+        for (patch, (c, n)) in self.patches.iter().filter_map(|p| Some((p, p.plane?))) {
+            if patch.depth(x).is_some_and(|d| d <= 0.0 && d > -reach) {
                 maps.push(patch.map_at(c, &n));
             }
         }
