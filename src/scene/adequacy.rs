@@ -72,6 +72,7 @@
 
 use crate::driver::Budget;
 use crate::flow::FlowField;
+use crate::flow::openfoam::wall_layer::StrainedWall;
 use crate::flow::openfoam::{BlendedFlow, FoamFlow};
 use crate::integrator::choice::ParticleNumbers;
 use crate::material::NamedLaw;
@@ -175,6 +176,9 @@ pub struct Resolution {
     pub speed: f64,
     /// Each list entry and injection group.
     pub particles: Vec<ParticleScales>,
+    /// The no-slip walls where the wall layer is not exact for a linear field: a prescribed
+    /// velocity straining along a curved wall (`flow::openfoam::wall_layer`, *What is exact*).
+    pub strained_walls: Vec<StrainedWall>,
 }
 
 /// One re-tracked particle: its fate in the run and on the other field.
@@ -282,6 +286,16 @@ impl Adequacy {
                         .into_iter()
                         .map(|l| format!("note: adequacy: {l}")),
                 );
+                lines.extend(r.strained_walls.iter().map(|w| {
+                    format!(
+                        "warning: adequacy: wall patch `{}`: its prescribed velocity strains along the curved wall on {} \
+                         of its {} faces (surface strain rate up to {:.3e}, curvature up to {:.3e}): the wall layer \
+                         extends only a rigid wall motion exactly on a curved wall, so u and ∇u within the first \
+                         cells there miss by O(κδ) of that strain; the cellwise field (`flow.blend = false`) has no \
+                         such term",
+                        w.patch, w.faces, w.of, w.strain, w.curvature
+                    )
+                }));
             }
         }
         match (&self.sensitivity, self.skipped) {
@@ -465,6 +479,7 @@ pub fn resolution(scene: &Scene) -> Option<Option<Resolution>> {
             walls,
             speed,
             particles,
+            strained_walls: cells.strained_walls(),
         }))
     })
 }

@@ -561,6 +561,42 @@ impl FoamFlow {
         &self.wall_layer
     }
 
+    /// The no-slip wall patches whose prescribed velocity strains along a curved wall, at any
+    /// held level: where the wall layer is not exact for a linear field ([`wall_layer`], *What
+    /// is exact*), in the patches' order.
+    pub fn strained_walls(&self) -> Vec<wall_layer::StrainedWall> {
+        let mut found: Vec<wall_layer::StrainedWall> = Vec::new();
+        for patch in self.mesh.patches() {
+            let faces = patch.start..patch.start + patch.size;
+            let (from, to) = (
+                self.walls.partition_point(|&f| (f as usize) < faces.start),
+                self.walls.partition_point(|&f| (f as usize) < faces.end),
+            );
+            let mut wall = wall_layer::StrainedWall {
+                patch: patch.name.clone(),
+                faces: 0,
+                of: to - from,
+                strain: 0.0,
+                curvature: 0.0,
+            };
+            for k in from..to {
+                let mut strained = false;
+                for frame in &self.frames {
+                    if let Some((strain, curvature)) = self.wall_layer.strain_on_curvature(k, &frame.wall_fits[k]) {
+                        strained = true;
+                        wall.strain = wall.strain.max(strain);
+                        wall.curvature = wall.curvature.max(curvature);
+                    }
+                }
+                wall.faces += usize::from(strained);
+            }
+            if wall.faces > 0 {
+                found.push(wall);
+            }
+        }
+        found
+    }
+
     /// The fit of wall face k of [`FoamFlow::walls`] at x and time t: the near-wall expansion
     /// to second order, with the wall-normal velocity continuity demands ([`wall_layer`]).
     pub fn sample_wall(&self, k: usize, x: &Vec3, t: f64) -> FlowSample {

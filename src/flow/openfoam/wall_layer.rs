@@ -114,6 +114,15 @@
 //! to a no-slip wall is discretisation error as large as the δ² term); a wall velocity whose
 //! tangential variation is linear over a face (W is constant on it: a quadratic wall velocity
 //! leaves ∇u first order, as in the cellwise fits, with a larger constant on uniform boxes).
+//! What is not exact: a curved wall whose prescribed velocity strains along it (a linear field
+//! imposed on a sphere's faces, a deforming or transpiring curved wall). Its extension $U_f$ is
+//! the rigid motion's and its surface divergence enters the normal profile over the face's
+//! plane, so the fit misses such a field by $O(κδ)$ relative to the strain: on the snapped
+//! sphere of the tests with u = c + Bx (|B| = 4) on every patch, at half the first cell 3e-4
+//! in u and 0.3 in ∇u at the sphere, 1.4e-4 and 0.026 at the box walls (snapped to within 0.5°
+//! of their planes), where the cellwise field is exact. Such faces are found by
+//! [`WallGeometry::strain_on_curvature`] and their patches named in the run's warnings
+//! (`FoamFlow::strained_walls`).
 //!
 //! # Edges and corners
 //! Where two walls meet at a concave edge (a duct's corner: wall faces sharing a vertex, turned
@@ -591,7 +600,52 @@ impl WallGeometry {
     pub fn owners(&self) -> &[usize] {
         &self.owners
     }
+
+    /// Where the fit of face k is not exact for a linear field (module docs, *What is exact*):
+    /// a curved wall whose velocity strains along it. Returns $(|S|, |K|)$ with
+    /// $S = \operatorname{sym}\big((I − nn^T) W (I − nn^T)\big)$ the surface strain rate of the
+    /// wall's velocity and |K| the largest principal curvature, or `None` where either is nil.
+    ///
+    /// A rigid motion $V + Ω × x$ has $W = [Ω]_× (I − nn^T)$, whose tangential block is
+    /// skew, so S = 0 is the condition for the rigid extension $U_f$ to be the motion's own;
+    /// the normal row of W (a transpiring wall's) is free in a rigid motion too, and on a flat
+    /// wall every W is extended exactly. Floors: K is a least-squares difference of unit
+    /// normals, so a flat wall's is round-off of $1/h$: curvature counts from
+    /// $|K|\\,ρ >$ [`STRAIN_FLOOR`]; W of a rigid motion is recovered to round-off times the
+    /// stencil's conditioning, so strain counts from $|S| >$ [`STRAIN_FLOOR`] $|W|$.
+    pub fn strain_on_curvature(&self, k: usize, fit: &WallFit) -> Option<(f64, f64)> {
+        let n = self.normals[k];
+        let planar = Mat3::identity() - n * n.transpose();
+        let tangential = planar * fit.velocity_gradient * planar;
+        let strain = ((tangential + tangential.transpose()) * 0.5).norm();
+        let curvature = self.shapes[k].symmetric_eigenvalues().amax();
+        (strain > STRAIN_FLOOR * fit.velocity_gradient.norm() && curvature * self.depths[k] > STRAIN_FLOOR)
+            .then_some((strain, curvature))
+    }
 }
+
+/// A no-slip wall patch with faces where the wall layer is not exact for a linear field
+/// ([`WallGeometry::strain_on_curvature`]): its velocity strains along a curved wall.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StrainedWall {
+    /// The patch's name.
+    pub patch: String,
+    /// Its faces where the wall strains and curves (at some held time level).
+    pub faces: usize,
+    /// Its wall faces.
+    pub of: usize,
+    /// Largest surface strain rate |S| there.
+    pub strain: f64,
+    /// Largest principal curvature |K| there.
+    pub curvature: f64,
+}
+
+/// Relative floor below which a wall's surface strain rate and curvature are round-off
+/// ([`WallGeometry::strain_on_curvature`]): both are differences over a face's neighbours
+/// divided by their spacing, exact to about 1e-13 relative on the meshes of the tests (the
+/// stencil's conditioning ≲ 1e3 times ε), so 1e-8 is far above round-off and far below any
+/// strain that moves the field measurably.
+pub const STRAIN_FLOOR: f64 = 1e-8;
 
 /// The cell above wall cell `owner` (centre at depth `depth` over the face of inward normal
 /// `n`, centre `centre`, foot `foot`): of its face neighbours at least [`MIN_ABOVE`] times as
