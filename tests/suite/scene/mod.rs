@@ -370,6 +370,36 @@ fn openfoam_scene_with_mesh_patches() {
     assert!((time - 0.85).abs() < 1e-9, "t = {time}");
 }
 
+/// Point contact (`contact_radius = 0`) at an exit, on both reconstructions: a point tracer
+/// in the solved 2-D channel leaves through `outlet`. The contact fires only after a step that
+/// ends on or past the outlet's plane; the cellwise field refused every point beyond it, so
+/// the steps shrank towards the plane until they underflowed and the tracer failed short of it
+/// (as 197 of 200 did on OpenFOAM's pitzDaily, 5e-12 m before its outlet; issue 57 item 5). It
+/// now answers just past a boundary face with the owner cell's fit, as the blend does.
+#[test]
+fn a_point_tracer_leaves_through_an_exit_on_either_reconstruction() {
+    let text = tracer_on_case(&build::channel_2d())
+        .replace("type = \"mesh\"", "type = \"mesh\"\ncontact_radius = 0.0")
+        .replace("type = \"stokesian\"", "type = \"radau_iia\"\noverdamped = true")
+        .replace("tol = 1e-8\ndt = 1e-4", "tol = 1e-6\ndt = 1e-6")
+        // Off the cell faces y = 1 mm (the cellwise field is discontinuous across them, and a
+        // tracer on one slides along it), and a bound that fails fast.
+        .replace(
+            "position = [1e-3, 1e-3, 0.25e-3]",
+            "position = [1.3e-3, 0.8e-3, 0.25e-3]",
+        )
+        .replace("t_end = 1.0", "t_end = 1.0\nmax_steps = 100000");
+    for blend in ["true", "false"] {
+        let text = text.replace("[fluid]", &format!("blend = {blend}\n[fluid]"));
+        let s = parse_named("channel.toml", &text).unwrap();
+        let out = run(&s, &format!("cli_channel_point_exit_{blend}"));
+        let Fate::Escaped { patch, .. } = out.records[0].fate else {
+            panic!("blend = {blend}: {:?}", out.records[0].fate);
+        };
+        assert_eq!(out.patches[patch], "outlet");
+    }
+}
+
 /// Settling in still fluid on a case whose U is zero everywhere: refused as a likely initial
 /// condition unless the scene says `still = true`; with it, a rigid sphere (a = 0.05,
 /// ρ_p = 2, ρ_f = 1, μ = 1, g = 1) released at rest at the centre of the cube falls onto its
