@@ -228,3 +228,66 @@ fn delta_max_is_refused_outside_the_open_unit_interval() {
         "{err:?}"
     );
 }
+
+/// A prolate of aspect ratio `lambda` whose long axis starts along `axis` (unit), at `ca`.
+fn prolate(lambda: f64, ca: f64, axis: Vec3) -> Particle<NeoHooke> {
+    let helper = if axis[2].abs() < 0.9 { Vec3::z() } else { Vec3::x() };
+    let second = helper.cross(&axis).normalize();
+    let third = axis.cross(&second);
+    ShearScaling::new(ca, 1.0, 1e3)
+        .unwrap()
+        .particle([lambda, 1.0, 1.0], Mat3::from_columns(&[axis, second, third]))
+        .unwrap()
+}
+
+/// Angle between the long material lines of the manifold and of the full model (rtol 10⁻¹⁰)
+/// after `periods` Jeffery periods in unit shear, with the manifold's report.
+fn orbit_error(
+    lambda: f64,
+    ca: f64,
+    axis: Vec3,
+    periods: f64,
+) -> (f64, pseudorigid::integrator::manifold::ManifoldReport) {
+    let p = prolate(lambda, ca, axis);
+    let t_end = periods * 2.0 * std::f64::consts::PI * (lambda + 1.0 / lambda);
+    let integ = Manifold::new(Stokesian::overdamped(1e-10).unwrap())
+        .unwrap()
+        .with_delta_max(0.3)
+        .unwrap();
+    let (reduced, memory) = states_at(&integ, &p, &unit_shear(), &[t_end]);
+    let (full, _) = states_at(&Stokesian::overdamped(1e-10).unwrap(), &p, &unit_shear(), &[t_end]);
+    let line = |s: &State| pseudorigid::particle::lines::material_line(p.shape(), &s.f, 0).normalize();
+    let cos = line(&reduced[0]).dot(&line(&full[0])).abs().min(1.0);
+    (cos.acos(), integ.report(&memory))
+}
+
+/// Issue 61 measurement: the manifold's orientation error against the full model for stiff
+/// prolates, and its ratio over a halving of Ca.
+#[test]
+#[ignore = "measurement (minutes): cargo test --test suite manifold_prolate_orientation_table -- --ignored --nocapture"]
+fn manifold_prolate_orientation_table() {
+    let quarter = std::f64::consts::FRAC_PI_4;
+    let in_plane = Vec3::new(quarter.cos(), quarter.sin(), 0.0);
+    let out_of_plane = Vec3::new(0.5, 0.5, std::f64::consts::FRAC_1_SQRT_2);
+    for (name, axis) in [("in plane", in_plane), ("out of plane", out_of_plane)] {
+        // λ = 20 relaxes 15× slower (δ ≈ 59 Ca against 4 Ca): on the manifold from Ca ≤ 2.5e-3.
+        for (lambda, cas) in [
+            (3.0, &[1e-2, 5e-3, 2.5e-3][..]),
+            (20.0, &[1e-2, 5e-3, 2.5e-3, 1.25e-3, 6.25e-4, 3.125e-4][..]),
+        ] {
+            let mut last: Option<f64> = None;
+            for &ca in cas {
+                let (e, r) = orbit_error(lambda, ca, axis, 5.0);
+                println!(
+                    "{name}, lambda {lambda}, Ca {ca:.1e}: error {e:.3e}, ratio {:.2}, delta {:.3e}, steps {} on / {} off, left {}",
+                    last.map_or(f64::NAN, |l| l / e),
+                    r.max_ratio,
+                    r.manifold_steps,
+                    r.full_steps,
+                    r.left
+                );
+                last = Some(e);
+            }
+        }
+    }
+}
