@@ -14,9 +14,12 @@
 //!
 //! # The switch
 //! The expansion parameter δ = max(|∇u|, |d∇u/dt|^½)/k ([`SlowManifold::ratio`]) is measured
-//! on every step, d∇u/dt as the change of ∇u over the step. The dropped terms are O(δ²) in F;
-//! the full model holds F to its relative tolerance rtol, so the manifold is used where
-//! δ ≤ δ_max = √rtol ([`Manifold::new`]): its error is then of the full model's own size. A
+//! on every step, d∇u/dt as the change of ∇u over the step. The dropped terms are O(δ²) in F
+//! at a given rotation, and for an isotropic sphere, whose shape does not depend on its
+//! rotation, O(δ²) in F along the path; the full model holds F to its relative tolerance rtol,
+//! so the manifold is used where δ ≤ δ_max = √rtol ([`Manifold::new`]): its error is then of
+//! the full model's own size. A non-sphere's rotation is first order in δ (section
+//! Non-spheres), so `auto` keeps non-spheres off the manifold. A
 //! manifold step whose δ exceeds δ_max is discarded and taken again by the full model from
 //! the same state (F = V R is a valid state of it); the full model hands back when δ ≤ δ_max/2
 //! (a factor of two of hysteresis, so the switch does not chatter at the boundary) and,
@@ -34,9 +37,41 @@
 //! command's summary line (the share of steps on the manifold).
 //!
 //! `auto` and the studies' integrator ([`super::choice`]) take this model for an elastic
-//! particle whose δ at the flow's mean strain rate is at most
+//! sphere of an isotropic law whose δ at the flow's mean strain rate is at most
 //! [`MANIFOLD_SHARE`](super::choice::MANIFOLD_SHARE) of δ_max, where it was measured to pay
 //! (the table there); a scene may also name it (`slow_manifold`).
+//!
+//! # Non-spheres
+//! R is stepped as the rigid twin's: Jeffery's spin Ω of the rest shape turned by R. A deformed
+//! particle spins otherwise. From F = V R, Ṙ Rᵀ = skw l_s + O(δ² |∇u|), and the torque balance
+//! skw σ̃ = 0 of σ̃ (paper eq. 12; [`crate::hydro::traction`]) gives in the principal frame of
+//! the current ellipsoid, with x_i its squared semi-axes, (ω_f − ω_s)_ij =
+//! (x_i − x_j)/(x_i + x_j) (d_f − d_s)_ij (Jeffery 1922 for d_s = 0; Roscoe 1967 for a surface
+//! that deforms): the spin is [`crate::hydro::jeffery_spin`] of the deformed ellipsoid
+//! F S = V R S in the gradient l_f − d_s, with the particle's own strain rate d_s = ε̊. Both
+//! the deformed axes (ε₀ = O(δ)) and d_s = ε̊₀ = O(δ |∇u|) move it off Ω by O(δ |∇u|); for a
+//! sphere x_i = x_j and the spin is the vorticity whatever the shape. The rotation error of a
+//! non-sphere is therefore O(δ) per unit strain, and Jeffery's orbits are neutrally stable:
+//! nothing pulls it back. Measured (`tests/suite/integrator/manifold.rs`,
+//! `manifold_prolate_orientation_table`, ignored; neo-Hookean prolates of aspect ratio λ in unit
+//! shear from rest, the angle between the long material lines on the manifold (δ_max = 0.3)
+//! and of the full model at rtol 10⁻¹⁰ after 5 Jeffery periods; ratio: over the previous Ca):
+//!
+//! | λ | Ca | δ | long axis 45° in the shear plane: error, ratio | 45° out of it: error, ratio |
+//! |---|---|---|---|---|
+//! | 3 | 1e-2 | 0.040 | 1.37e-2 | 8.66e-2 |
+//! | 3 | 5e-3 | 0.020 | 3.41e-3, 4.03 | 4.33e-2, 2.00 |
+//! | 3 | 2.5e-3 | 0.010 | 8.51e-4, 4.00 | 2.16e-2, 2.00 |
+//! | 20 | 1.25e-3 | 0.074 | 1.83e-2 | 6.58e-2 |
+//! | 20 | 6.25e-4 | 0.037 | 4.52e-3, 4.06 | 3.44e-2, 1.91 |
+//! | 20 | 3.125e-4 | 0.019 | 1.13e-3, 4.02 | 1.77e-2, 1.95 |
+//!
+//! (λ = 20 relaxes 15× slower than λ = 3: at Ca ≥ 5·10⁻³, δ > δ_max/2 and it never enters the
+//! manifold.) In the shear plane the phase error is second order; out of it the orbit drifts
+//! at first order, 0.09 rad at δ = 0.04. A correction would step R at the spin above, with
+//! ε₀ and ε̊₀ from the quasi-static point; until then `auto` ([`super::choice`]) puts only
+//! spheres on the manifold, and a scene that names `slow_manifold` for a non-sphere gets the
+//! first-order rotation.
 //!
 //! # Measured (`examples/manifold_bifurcation`, 1 000 spheres at Stk 0.1, one thread)
 //! The airway bifurcation's spheres, the studies' integrator (Rosenbrock-W 2(3), rtol 10⁻³,

@@ -31,8 +31,10 @@
 //! ```math
 //! \delta = \frac{\max\left(|\nabla u|,\ |\mathrm{d}\nabla u/\mathrm{d}t|^{1/2}\right)}{k}
 //! ```
-//! ([`SlowManifold::ratio`]). The terms dropped are O(δ²) in F: the elastic and geometric
-//! nonlinearities O(ε₀²) and the next term of the expansion O(ε₀ (ω/k)²). For a sphere in
+//! ([`SlowManifold::ratio`]). The terms dropped are O(δ²) in F at the given rotation: the
+//! elastic and geometric nonlinearities O(ε₀²) and the next term of the expansion
+//! O(ε₀ (ω/k)²). The rotation itself is the rigid body's, which a deformed non-sphere's spin
+//! leaves by O(δ |∇u|) ([`crate::integrator::manifold`], section Non-spheres). For a sphere in
 //! simple shear (Ca = μ_f γ̇/μ_s, k = 2/(3 Ca) γ̇, Ω the vorticity) ε₀ = (5 Ca/2) E/γ̇ and the
 //! correction tilts it by −3Ca/4: Taylor's deformation D = 5Ca/4 and the inclination
 //! θ = π/4 − 3Ca/4, the small-Ca limit of Roscoe's (1967) steady state (Gao, Hu & Ponte
