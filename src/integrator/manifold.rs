@@ -49,10 +49,10 @@
 //! (x_i − x_j)/(x_i + x_j) (d_f − d_s)_ij (Jeffery 1922 for d_s = 0; Roscoe 1967 for a surface
 //! that deforms): the spin is [`crate::hydro::jeffery_spin`] of the deformed ellipsoid
 //! F S = V R S in the gradient l_f − d_s, with the particle's own strain rate d_s = ε̊. Both
-//! the deformed axes (ε₀ = O(δ)) and d_s = ε̊₀ = O(δ |∇u|) move it off Ω by O(δ |∇u|); for a
-//! sphere x_i = x_j and the spin is the vorticity whatever the shape. The rotation error of a
-//! non-sphere is therefore O(δ) per unit strain, and Jeffery's orbits are neutrally stable:
-//! nothing pulls it back. Measured (`tests/suite/integrator/manifold.rs`,
+//! the deformed axes (ε₀ = O(δ)) and d_s = ε̊₀ = O(δ |∇u|) move it off Ω by O(δ |∇u|). For an
+//! isotropic sphere this R enters nothing (B = V², section below); a non-sphere's rotation
+//! error is O(δ) per unit strain, and Jeffery's orbits are neutrally stable: nothing pulls it
+//! back. Measured (`tests/suite/integrator/manifold.rs`,
 //! `manifold_prolate_orientation_table`, ignored; neo-Hookean prolates of aspect ratio λ in unit
 //! shear from rest, the angle between the long material lines on the manifold (δ_max = 0.3)
 //! and of the full model at rtol 10⁻¹⁰ after 5 Jeffery periods; ratio: over the previous Ca):
