@@ -258,6 +258,9 @@ pub struct ManifoldMemory {
     gradient: Option<(f64, Mat3)>,
     /// ε₀ at the last accepted state on the manifold, with its time.
     strain: Option<(f64, Mat3)>,
+    /// d∇u/dt over the last accepted step, with the time it ended.
+    #[serde(default)]
+    gradient_rate: Option<(f64, Mat3)>,
     /// The switch's record; its `delta_max` is the integrator's, filled in by
     /// [`Manifold::report`].
     report: ManifoldReport,
@@ -285,7 +288,11 @@ impl Manifold {
             Some((t, e)) if t == state.t => e,
             _ => manifold.quasi_static(particle, &r_0, &l_0, state.t)?.strain,
         };
-        let twin = particle.rigid_twin();
+        let gradient_rate = match memory.gradient_rate {
+            Some((t, rate)) if t == state.t => rate,
+            _ => Mat3::zeros(),
+        };
+        let twin = particle.manifold_twin(&gradient_rate);
         let rigid_state = State { f: r_0, ..*state };
         let inner = self.full.step_with(&twin, &rigid_state, &mut memory.rigid, flow, dt)?;
         let Some((t_1, l_1)) = memory.rigid.end_gradient() else {
@@ -311,6 +318,7 @@ impl Manifold {
         };
         next.validate()?;
         memory.gradient = Some((t_1, l_1));
+        memory.gradient_rate = Some((t_1, (l_1 - l_0) / h));
         memory.strain = Some((t_1, q_1.strain));
         memory.report.manifold_steps += 1;
         memory.report.max_ratio = memory.report.max_ratio.max(ratio);
@@ -387,8 +395,9 @@ impl TimeIntegrator for Manifold {
             unreachable!("an accepted Stokesian step records its end gradient")
         };
         let ratio = memory.gradient.filter(|(t, _)| *t == state.t).map(|(t_0, l_0)| {
-            let rate = (l_1 - l_0).norm() / (t_1 - t_0);
-            manifold.ratio(&l_0, rate).max(manifold.ratio(&l_1, rate))
+            let rate = (l_1 - l_0) / (t_1 - t_0);
+            memory.gradient_rate = Some((t_1, rate));
+            manifold.ratio(&l_0, rate.norm()).max(manifold.ratio(&l_1, rate.norm()))
         });
         memory.gradient = Some((t_1, l_1));
         let relaxed = t_1 - released >= self.initial_layer(&manifold);
@@ -409,6 +418,7 @@ impl TimeIntegrator for Manifold {
     /// (the next step leaves the manifold for one full step and finds them).
     fn mapped(&self, memory: &mut ManifoldMemory) {
         memory.gradient = None;
+        memory.gradient_rate = None;
         memory.strain = None;
     }
 

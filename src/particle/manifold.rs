@@ -40,9 +40,10 @@
 //! θ = π/4 − 3Ca/4, the small-Ca limit of Roscoe's (1967) steady state (Gao, Hu & Ponte
 //! Castañeda 2011 for neo-Hookean spheres), which the tests check against the closed form.
 
-use super::Particle;
+use super::{Geometry, Particle};
+use crate::ellipsoid::PrincipalFrame;
 use crate::error::{ParamError, StepError};
-use crate::hydro::{DragModel, InertialessSolver, jeffery_spin};
+use crate::hydro::{DragModel, InertialessSolver, VolumetricTraction, jeffery_spin};
 use crate::material::{Response, StressLaw};
 use crate::tensor::{Mat3, dev, sym};
 use nalgebra::{SMatrix, SVector};
@@ -192,5 +193,52 @@ impl SlowManifold {
             return Err(StepError::Inverted { det_f: det, t });
         }
         Ok(v / det.cbrt())
+    }
+}
+
+/// The spin of the deformed particle on the manifold, to first order in δ, for the rigid twin
+/// that turns it ([`Particle::manifold_twin`]). With F = V R, Ṙ Rᵀ = skw l_s + O(δ² |∇u|), and
+/// the torque balance skw σ̃ = 0 of eq. 12 ([`crate::hydro::traction`]: in the principal frame
+/// s_ij − s_ji = (c^d_ij − c^d_ji) d_ij + (c^w_ij + c^w_ji) w_ij with g = l_f − l_s) gives
+/// (ω_f − ω_s)_ij = (x_i − x_j)/(x_i + x_j) (d_f − d_s)_ij, x_i the squared semi-axes of the
+/// current ellipsoid (Jeffery 1922 for d_s = 0; Roscoe 1967 for a deforming surface):
+/// ```math
+/// W = \operatorname{Jeffery}\big(V_0 R S,\; l_f - \mathring\varepsilon_0\big), \qquad
+/// \mathring\varepsilon_0 = \varepsilon_0\big(R,\; \dot l_f + l_f\,\Omega - \Omega\, l_f\big),
+/// ```
+/// [`jeffery_spin`] of the ellipsoid F S with F = V₀ R, V₀ = 1 + ε₀, in the gradient less
+/// the particle's own strain rate d_s = ε̊ (module docs). At a fixed R the quasi-static strain
+/// ε₀ = dev σ̃(Ω, l_f)/(2μ_s) is linear in l_f (Ω is), and it turns with R, so its corotational
+/// rate is ε₀ of the corotational rate of l_f. Dropped: ε − ε₀ and ε̊ − ε̊₀, O(δ²), so
+/// W − skw l_s = O(δ² |∇u|). For a sphere the rest axes are equal and only the deformation
+/// makes W differ from the vorticity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeformedSpin {
+    /// The small-strain shear modulus μ_s.
+    pub mu_s: f64,
+    /// d∇u/dt along the path, held over the step.
+    pub gradient_rate: Mat3,
+}
+
+impl DeformedSpin {
+    /// The spin W at the rotation `rotation` whose rest geometry turned is `geo`, for the shape
+    /// tensor `shape` (S) in the flow gradient `l_f`, fluid viscosity `mu_f`.
+    pub fn spin(
+        &self,
+        geo: &Geometry,
+        rotation: &Mat3,
+        shape: &Mat3,
+        l_f: &Mat3,
+        mu_f: f64,
+        vol: VolumetricTraction,
+    ) -> Mat3 {
+        let strain = |l: &Mat3| {
+            let w = jeffery_spin(&geo.frame, l);
+            dev(&geo.traction.sigma_tilde(&w, l, mu_f, vol)) / (2.0 * self.mu_s)
+        };
+        let omega = jeffery_spin(&geo.frame, l_f);
+        let own = strain(&(self.gradient_rate + l_f * omega - omega * l_f));
+        let deformed = (Mat3::identity() + strain(l_f)) * rotation * shape;
+        jeffery_spin(&PrincipalFrame::from_total_distortion(&deformed), &(l_f - own))
     }
 }

@@ -240,8 +240,10 @@ fn prolate(lambda: f64, ca: f64, axis: Vec3) -> Particle<NeoHooke> {
         .unwrap()
 }
 
-/// Angle between the long material lines of the manifold and of the full model (rtol 10⁻¹⁰)
-/// after `periods` Jeffery periods in unit shear, with the manifold's report.
+/// The largest angle between the long material lines of the manifold and of the full model
+/// (rtol 10⁻¹⁰) over `periods` Jeffery periods in unit shear (sampled 20 times a period from
+/// the second half of the first: a first-order phase error that is periodic returns to zero
+/// at whole periods), with the manifold's report.
 fn orbit_error(
     lambda: f64,
     ca: f64,
@@ -249,16 +251,23 @@ fn orbit_error(
     periods: f64,
 ) -> (f64, pseudorigid::integrator::manifold::ManifoldReport) {
     let p = prolate(lambda, ca, axis);
-    let t_end = periods * 2.0 * std::f64::consts::PI * (lambda + 1.0 / lambda);
+    let period = 2.0 * std::f64::consts::PI * (lambda + 1.0 / lambda);
+    let times: Vec<f64> = (10..=(20.0 * periods) as usize)
+        .map(|i| period * i as f64 / 20.0)
+        .collect();
     let integ = Manifold::new(Stokesian::overdamped(1e-10).unwrap())
         .unwrap()
         .with_delta_max(0.3)
         .unwrap();
-    let (reduced, memory) = states_at(&integ, &p, &unit_shear(), &[t_end]);
-    let (full, _) = states_at(&Stokesian::overdamped(1e-10).unwrap(), &p, &unit_shear(), &[t_end]);
+    let (reduced, memory) = states_at(&integ, &p, &unit_shear(), &times);
+    let (full, _) = states_at(&Stokesian::overdamped(1e-10).unwrap(), &p, &unit_shear(), &times);
     let line = |s: &State| pseudorigid::particle::lines::material_line(p.shape(), &s.f, 0).normalize();
-    let cos = line(&reduced[0]).dot(&line(&full[0])).abs().min(1.0);
-    (cos.acos(), integ.report(&memory))
+    let angle = reduced
+        .iter()
+        .zip(&full)
+        .map(|(a, b)| line(a).dot(&line(b)).abs().min(1.0).acos())
+        .fold(0.0, f64::max);
+    (angle, integ.report(&memory))
 }
 
 /// Issue 61 measurement: the manifold's orientation error against the full model for stiff
