@@ -22,13 +22,8 @@
 //!   where the expansion does not hold) where the flow's mean expansion ratio
 //!   δ̄ = γ̇/k ([`ParticleNumbers::shape_ratio`], k the slowest elastic relaxation rate) is at
 //!   most [`MANIFOLD_SHARE`] of the manifold's δ_max = √rtol; the full model elsewhere.
-//!   Spheres of an isotropic law only: the manifold turns the particle at the rigid rest
-//!   shape's Jeffery rate, while a deformed non-sphere spins differently by O(δ̄ γ̇), and on
-//!   Jeffery's neutrally stable orbits that error accumulates: first order in δ̄ out of the
-//!   shear plane (a λ = 3 prolate started 45° out of it is 0.087 rad off the full model after
-//!   5 periods at Ca = 10⁻², halving with Ca; [`super::manifold`], section Non-spheres). An
-//!   isotropic sphere's shape does not depend on its rotation, so there the manifold holds to
-//!   O(δ²).
+//!   Non-spheres too: the manifold turns them at the deformed particle's spin, second order
+//!   in δ along Jeffery's orbits as the shape is ([`super::manifold`], section Non-spheres).
 //!
 //! The user can still force any integrator: this is a default, not a restriction. Scene files
 //! and Python name it `auto` ([`Auto`]: the choice made per particle at its first step, from
@@ -112,10 +107,9 @@ pub struct ParticleNumbers {
     /// δ̄ = γ̇/k: the slow-manifold expansion ratio ([`SlowManifold::ratio`]) at the flow's
     /// mean strain rate, k the particle's slowest elastic relaxation rate
     /// ([`SlowManifold::relaxation_rate`]); 0 for a rigid particle, ∞ where the flow has no
-    /// rate, the law is not isotropic ([`crate::material::Hyperelastic::is_isotropic`]: the
-    /// manifold's quasi-static stretch is the isotropic small-strain one) or the rest shape is
-    /// not a sphere (the manifold's rotation is the rigid rest shape's, first order in δ̄ off
-    /// the deformed one's: module docs), so such a particle keeps the full shape model.
+    /// rate or the law is not isotropic ([`crate::material::Hyperelastic::is_isotropic`]: the
+    /// manifold's quasi-static stretch is the isotropic small-strain one, so such a particle
+    /// keeps the full shape model).
     pub shape_ratio: f64,
 }
 
@@ -143,10 +137,8 @@ impl ParticleNumbers {
         let rate = flow.strain_rate().unwrap_or(f64::INFINITY);
         let d_eq = 2.0 * particle.shape().semi_axes().product().cbrt();
         let isotropic = particle.elastic().is_none_or(|law| law.is_isotropic());
-        let axes = particle.shape().semi_axes();
-        let sphere = axes.max() == axes.min();
         let shape_ratio = match SlowManifold::of(particle)? {
-            Some(m) if isotropic && sphere => rate / m.relaxation_rate(),
+            Some(m) if isotropic => rate / m.relaxation_rate(),
             Some(_) => f64::INFINITY,
             None => 0.0,
         };
@@ -345,8 +337,6 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
     let slow = !numbers.rigid && shape_ratio <= MANIFOLD_SHARE * manifold.delta_max();
     let shape = if numbers.rigid {
         String::new()
-    } else if shape_ratio == f64::INFINITY {
-        ", full shape model: no slow manifold (not an isotropic sphere, or a flow without a rate)".to_string()
     } else {
         format!(
             ", {}: gamma/k = {shape_ratio:.3e} {} {MANIFOLD_SHARE} delta_max = {:.3e}",
@@ -385,9 +375,7 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
 }
 
 /// The integrator chosen per particle ([`choose`] on [`ParticleNumbers::of`]) at tolerances
-/// `tol`, at the particle's first step. Only an isotropic elastic sphere may go on the slow
-/// manifold: a non-sphere's rotation there is the rigid one's, whose phase drifts off the
-/// deformed particle's at first order in Ca (module docs, Rules).
+/// `tol`, at the particle's first step.
 #[derive(Debug, Clone, Copy)]
 pub struct Auto {
     /// Error tolerances.

@@ -273,7 +273,7 @@ fn orbit_error(
 /// Issue 61 measurement: the manifold's orientation error against the full model for stiff
 /// prolates, and its ratio over a halving of Ca.
 #[test]
-#[ignore = "measurement (10 s): cargo test --test suite manifold_prolate_orientation_table -- --ignored --nocapture"]
+#[ignore = "measurement (15 s): cargo test --test suite manifold_prolate_orientation_table -- --ignored --nocapture"]
 fn manifold_prolate_orientation_table() {
     let quarter = std::f64::consts::FRAC_PI_4;
     let in_plane = Vec3::new(quarter.cos(), quarter.sin(), 0.0);
@@ -301,41 +301,33 @@ fn manifold_prolate_orientation_table() {
     }
 }
 
-/// Issue 61: `auto` puts a stiff isotropic sphere on the slow manifold but keeps stiff prolates
-/// (λ = 3, 20) on the full model, however stiff: the manifold turns them at the rigid rest
-/// shape's rate, whose phase drifts off the deformed particle's at first order in Ca
-/// (`manifold_prolate_orientation_table`). At Ca = 10⁻⁴ in unit shear δ̄ = γ̇/k is far below
-/// `choice::MANIFOLD_SHARE` √rtol = 6.3·10⁻³ (rtol 10⁻³) for the sphere (δ̄ = 1.5·10⁻⁴ by
-/// k = 2/(3 Ca)), so only the shape decides.
+/// Issue 61: a stiff prolate (λ = 3) on the manifold follows the full model's orientation to
+/// second order in δ, in the shear plane and 45° out of it. The manifold turns it at the
+/// deformed particle's spin (`particle::manifold::DeformedSpin`), whose dropped terms are
+/// O(δ² |∇u|); Jeffery's orbits neither damp nor amplify a rotation error, so over a strain
+/// γ̇t it adds up to O(δ² γ̇t): the largest angle over 5 periods (γ̇t = 105) stays below
+/// γ̇t δ², and falls at least 3× per halving of Ca. Order 2 gives 4 (observed 4.00 in plane,
+/// 4.15 out of it, so the next order moves it by under 8 %); the rigid twin's spin, first
+/// order out of the plane, gave 2.04 there and 2.72 in the plane (`manifold_prolate_orientation_table`).
 #[test]
-fn auto_takes_the_manifold_for_spheres_only() {
-    use pseudorigid::integrator::choice::{self, Auto, Chosen, ParticleNumbers};
-    use pseudorigid::integrator::{ErrorNorm, Tolerances};
-    let auto = Auto {
-        tol: Tolerances::uniform(1e-3).unwrap(),
-        norm: ErrorNorm::default(),
-    };
-    let ca = 1e-4;
-    let flow = unit_shear();
-    let round = sphere(ca);
-    let choice = auto.choice(&round, &flow).unwrap();
-    assert!(
-        matches!(choice.integrator, Chosen::SlowManifold(_)),
-        "{}",
-        choice.reason
-    );
-    let bound = choice::MANIFOLD_SHARE * auto.tol.rtol().sqrt();
-    assert!(ParticleNumbers::of(&round, &flow).unwrap().shape_ratio <= 0.1 * bound);
+fn manifold_prolate_orientation_is_second_order() {
     let quarter = std::f64::consts::FRAC_PI_4;
-    for lambda in [3.0, 20.0] {
-        let p = prolate(lambda, ca, Vec3::new(quarter.cos(), quarter.sin(), 0.0));
-        assert_eq!(ParticleNumbers::of(&p, &flow).unwrap().shape_ratio, f64::INFINITY);
-        let choice = auto.choice(&p, &flow).unwrap();
-        assert!(
-            matches!(choice.integrator, Chosen::Full(_)),
-            "λ = {lambda}: {}",
-            choice.reason
-        );
-        assert!(choice.reason.contains("not an isotropic sphere"), "{}", choice.reason);
+    let period = 2.0 * std::f64::consts::PI * (3.0 + 1.0 / 3.0);
+    for axis in [
+        Vec3::new(quarter.cos(), quarter.sin(), 0.0),
+        Vec3::new(0.5, 0.5, std::f64::consts::FRAC_1_SQRT_2),
+    ] {
+        let errs: Vec<_> = [5e-3, 2.5e-3]
+            .iter()
+            .map(|&ca| orbit_error(3.0, ca, axis, 5.0))
+            .collect();
+        for (e, report) in &errs {
+            assert!(
+                report.left == 0 && report.manifold_steps > 20 * report.full_steps,
+                "{report:?}"
+            );
+            assert!(*e <= 5.0 * period * report.max_ratio.powi(2), "{axis}: {errs:?}");
+        }
+        assert!(errs[0].0 >= 3.0 * errs[1].0, "{axis}: {errs:?}");
     }
 }
