@@ -8,9 +8,10 @@
 //! bifurcation 1 000 soft spheres at Stk 0.1 took 276 k, 310 k, 320 k and 437 k Rosenbrock-W
 //! steps for μ_s = 0.5, 5, 50 and 500 Pa against 164 k rigid. On the manifold the integrated
 //! state is the rigid body's (R, x, v), stepped by the same scheme as a rigid particle
-//! ([`crate::particle::Particle::rigid_twin`]: the rest geometry turned, no eigen-decomposition
-//! or Carlson integrals), and the stretch V(R, ∇u, d∇u/dt) is evaluated once per step at its
-//! end: F = V R.
+//! ([`crate::particle::Particle::manifold_twin`]: the rest geometry turned, no Carlson
+//! integrals, and for a sphere no eigen-decomposition; a non-sphere's twin spins as the
+//! deformed particle, one eigen-decomposition per evaluation, section Non-spheres), and the
+//! stretch V(R, ∇u, d∇u/dt) is evaluated once per step at its end: F = V R.
 //!
 //! # The switch
 //! The expansion parameter δ = max(|∇u|, |d∇u/dt|^½)/k ([`SlowManifold::ratio`]) is measured

@@ -359,9 +359,9 @@ impl<M: Response, D: DragModel> Particle<M, D> {
 
     /// The same particle made rigid (the limit Ca → 0): shape, drag, fluid, density, gravity,
     /// traction and force terms shared, the material replaced by [`Rigid`], the rest geometry
-    /// reused. The slow-manifold model ([`crate::integrator::manifold`]) turns it as the
-    /// stiff elastic particle's rotation. No allocation: the drag is borrowed and the force
-    /// terms are shared.
+    /// reused. The slow-manifold model ([`crate::integrator::manifold`]) turns it as a
+    /// stiff elastic sphere's rotation ([`Self::manifold_twin`]). No allocation: the drag is
+    /// borrowed and the force terms are shared.
     pub fn rigid_twin(&self) -> Particle<Rigid, &D> {
         Particle {
             shape: self.shape,
