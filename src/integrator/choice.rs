@@ -22,6 +22,8 @@
 //!   where the expansion does not hold) where the flow's mean expansion ratio
 //!   δ̄ = γ̇/k ([`ParticleNumbers::shape_ratio`], k the slowest elastic relaxation rate) is at
 //!   most [`MANIFOLD_SHARE`] of the manifold's δ_max = √rtol; the full model elsewhere.
+//!   Non-spheres too: the manifold turns them at the deformed particle's spin, second order
+//!   in δ along Jeffery's orbits as the shape is ([`super::manifold`], section Non-spheres).
 //!
 //! The user can still force any integrator: this is a default, not a restriction. Scene files
 //! and Python name it `auto` ([`Auto`]: the choice made per particle at its first step, from

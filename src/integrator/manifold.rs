@@ -8,15 +8,20 @@
 //! bifurcation 1 000 soft spheres at Stk 0.1 took 276 k, 310 k, 320 k and 437 k Rosenbrock-W
 //! steps for μ_s = 0.5, 5, 50 and 500 Pa against 164 k rigid. On the manifold the integrated
 //! state is the rigid body's (R, x, v), stepped by the same scheme as a rigid particle
-//! ([`crate::particle::Particle::rigid_twin`]: the rest geometry turned, no eigen-decomposition
-//! or Carlson integrals), and the stretch V(R, ∇u, d∇u/dt) is evaluated once per step at its
-//! end: F = V R.
+//! ([`crate::particle::Particle::manifold_twin`]: the rest geometry turned, no Carlson
+//! integrals, and for a sphere no eigen-decomposition; a non-sphere's twin spins as the
+//! deformed particle, one eigen-decomposition per evaluation, section Non-spheres), and the
+//! stretch V(R, ∇u, d∇u/dt) is evaluated once per step at its end: F = V R.
 //!
 //! # The switch
 //! The expansion parameter δ = max(|∇u|, |d∇u/dt|^½)/k ([`SlowManifold::ratio`]) is measured
-//! on every step, d∇u/dt as the change of ∇u over the step. The dropped terms are O(δ²) in F;
-//! the full model holds F to its relative tolerance rtol, so the manifold is used where
-//! δ ≤ δ_max = √rtol ([`Manifold::new`]): its error is then of the full model's own size. A
+//! on every step, d∇u/dt as the change of ∇u over the step. The dropped terms are O(δ²) in F
+//! at a given rotation, and O(δ² |∇u|) in the rotation's rate (section Non-spheres; an
+//! isotropic sphere's shape does not depend on its rotation at all). The full model holds F
+//! to its relative tolerance rtol, so the manifold is used where δ ≤ δ_max = √rtol
+//! ([`Manifold::new`]): its error is then of the full model's own size per unit strain (a
+//! non-sphere's orientation on Jeffery's neutral orbits gathers it along the path, as the
+//! full model's own error does). A
 //! manifold step whose δ exceeds δ_max is discarded and taken again by the full model from
 //! the same state (F = V R is a valid state of it); the full model hands back when δ ≤ δ_max/2
 //! (a factor of two of hysteresis, so the switch does not chatter at the boundary) and,
@@ -37,6 +42,38 @@
 //! particle whose δ at the flow's mean strain rate is at most
 //! [`MANIFOLD_SHARE`](super::choice::MANIFOLD_SHARE) of δ_max, where it was measured to pay
 //! (the table there); a scene may also name it (`slow_manifold`).
+//!
+//! # Non-spheres
+//! The rigid twin of a non-sphere ([`crate::particle::Particle::manifold_twin`]) does not turn
+//! at Jeffery's spin Ω of its rest shape: a deformed particle spins otherwise, by O(δ |∇u|),
+//! and on Jeffery's neutrally stable orbits nothing pulls that error back, so it would grow
+//! along the path at first order in δ. It turns at the deformed particle's spin
+//! ([`crate::particle::manifold::DeformedSpin`]: Jeffery's torque-free spin of the deformed
+//! ellipsoid V R S in the gradient less the particle's own strain rate, from the torque balance
+//! of σ̃, paper eq. 12), whose dropped terms are O(δ² |∇u|). d∇u/dt is the last step's, held
+//! over the step (exact in a steady linear flow). For an isotropic sphere R enters nothing
+//! (B = V², section below) and the twin is the rigid one. Measured
+//! (`tests/suite/integrator/manifold.rs`, `manifold_prolate_orientation_table`, ignored, 15 s):
+//! neo-Hookean prolates of aspect ratio λ in unit shear from rest, long axis at 45° in the shear
+//! plane or 45° out of it; the largest angle between the long material lines on the manifold
+//! (δ_max = 0.3) and of the full model at rtol 10⁻¹⁰, sampled 20 times a period over 5 Jeffery
+//! periods; the ratio is to the previous Ca's. Rigid spin: the twin at Ω (before issue 61).
+//!
+//! | λ | Ca | δ | in plane: rigid spin | in plane: deformed spin | out of plane: rigid spin | out of plane: deformed spin |
+//! |---|---|---|---|---|---|---|
+//! | 3 | 1e-2 | 0.040 | 3.51e-2 | 6.73e-2 | 1.02e-1 | 3.48e-2 |
+//! | 3 | 5e-3 | 0.020 | 1.15e-2, 3.06 | 1.68e-2, 4.00 | 4.93e-2, 2.08 | 8.11e-3, 4.30 |
+//! | 3 | 2.5e-3 | 0.010 | 4.23e-3, 2.72 | 4.21e-3, 4.00 | 2.42e-2, 2.04 | 1.95e-3, 4.15 |
+//! | 20 | 1.25e-3 | 0.074 | 1.83e-2 | 6.78e-2 | 6.58e-2 | 6.02e-2 |
+//! | 20 | 6.25e-4 | 0.037 | 4.52e-3, 4.06 | 1.74e-2, 3.90 | 3.44e-2, 1.91 | 1.49e-2, 4.03 |
+//! | 20 | 3.125e-4 | 0.019 | 1.13e-3, 4.02 | 4.37e-3, 3.98 | 1.77e-2, 1.95 | 3.70e-3, 4.03 |
+//!
+//! With the deformed spin the error is second order everywhere; the rigid spin is first order
+//! out of the plane (an orbit drift) and in the plane of λ = 3 (a phase error that is periodic,
+//! so it vanishes at whole periods). In the plane of λ = 20 the rigid spin's first-order error
+//! is too small to show and its second-order constant is 4× smaller than the deformed spin's.
+//! λ = 20 relaxes 15× slower than λ = 3: at Ca ≥ 5·10⁻³, δ > δ_max/2 and it never enters the
+//! manifold.
 //!
 //! # Measured (`examples/manifold_bifurcation`, 1 000 spheres at Stk 0.1, one thread)
 //! The airway bifurcation's spheres, the studies' integrator (Rosenbrock-W 2(3), rtol 10⁻³,
@@ -223,6 +260,9 @@ pub struct ManifoldMemory {
     gradient: Option<(f64, Mat3)>,
     /// ε₀ at the last accepted state on the manifold, with its time.
     strain: Option<(f64, Mat3)>,
+    /// d∇u/dt over the last accepted step, with the time it ended.
+    #[serde(default)]
+    gradient_rate: Option<(f64, Mat3)>,
     /// The switch's record; its `delta_max` is the integrator's, filled in by
     /// [`Manifold::report`].
     report: ManifoldReport,
@@ -250,7 +290,11 @@ impl Manifold {
             Some((t, e)) if t == state.t => e,
             _ => manifold.quasi_static(particle, &r_0, &l_0, state.t)?.strain,
         };
-        let twin = particle.rigid_twin();
+        let gradient_rate = match memory.gradient_rate {
+            Some((t, rate)) if t == state.t => rate,
+            _ => Mat3::zeros(),
+        };
+        let twin = particle.manifold_twin(&gradient_rate);
         let rigid_state = State { f: r_0, ..*state };
         let inner = self.full.step_with(&twin, &rigid_state, &mut memory.rigid, flow, dt)?;
         let Some((t_1, l_1)) = memory.rigid.end_gradient() else {
@@ -276,6 +320,7 @@ impl Manifold {
         };
         next.validate()?;
         memory.gradient = Some((t_1, l_1));
+        memory.gradient_rate = Some((t_1, (l_1 - l_0) / h));
         memory.strain = Some((t_1, q_1.strain));
         memory.report.manifold_steps += 1;
         memory.report.max_ratio = memory.report.max_ratio.max(ratio);
@@ -352,8 +397,9 @@ impl TimeIntegrator for Manifold {
             unreachable!("an accepted Stokesian step records its end gradient")
         };
         let ratio = memory.gradient.filter(|(t, _)| *t == state.t).map(|(t_0, l_0)| {
-            let rate = (l_1 - l_0).norm() / (t_1 - t_0);
-            manifold.ratio(&l_0, rate).max(manifold.ratio(&l_1, rate))
+            let rate = (l_1 - l_0) / (t_1 - t_0);
+            memory.gradient_rate = Some((t_1, rate));
+            manifold.ratio(&l_0, rate.norm()).max(manifold.ratio(&l_1, rate.norm()))
         });
         memory.gradient = Some((t_1, l_1));
         let relaxed = t_1 - released >= self.initial_layer(&manifold);
@@ -374,6 +420,7 @@ impl TimeIntegrator for Manifold {
     /// (the next step leaves the manifold for one full step and finds them).
     fn mapped(&self, memory: &mut ManifoldMemory) {
         memory.gradient = None;
+        memory.gradient_rate = None;
         memory.strain = None;
     }
 

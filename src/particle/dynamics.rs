@@ -214,7 +214,12 @@ impl<'a, M: Response, D: DragModel, F: FlowField + ?Sized> Model<'a, M, D, F> {
         t: f64,
     ) -> Result<(Mat3, Option<InertialessSolver>), StepError> {
         let Some(law) = self.particle.elastic() else {
-            return Ok((jeffery_spin(&geo.frame, l_f), None));
+            let p = self.particle;
+            let spin = match p.deformed_spin() {
+                Some(d) => d.spin(geo, f, p.shape_tensor(), l_f, p.fluid().mu, p.volumetric()),
+                None => jeffery_spin(&geo.frame, l_f),
+            };
+            return Ok((spin, None));
         };
         let solver = geo
             .traction

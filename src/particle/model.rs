@@ -8,6 +8,7 @@
 //! ρ_t = ρ₀/J and the buoyancy factor β_t (eqs. 13, 17) follow the volume.
 
 use super::dynamics::Geometry;
+use super::manifold::DeformedSpin;
 use crate::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use crate::error::{ParamError, derived, finite, positive};
 use crate::hydro::{Brenner, DragModel, ForceTerms, JefferyRoscoe, VolumetricTraction};
@@ -105,6 +106,8 @@ pub struct Particle<M, D = Brenner> {
     /// its rotation stands for the elastic particle's, which the law's material directions
     /// need, so it is never passive ([`Particle::orientation_is_passive`]).
     anisotropic_twin: bool,
+    /// A rigid twin that turns at the deformed particle's spin ([`Particle::manifold_twin`]).
+    deformed_spin: Option<DeformedSpin>,
 }
 
 impl<M: Response> Particle<M, Brenner> {
@@ -144,6 +147,7 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             volume0,
             theta_inv,
             anisotropic_twin: false,
+            deformed_spin: None,
         };
         particle.check_rest_geometry()?;
         let rest = Geometry::try_of_total_distortion(&s)?;
@@ -355,9 +359,9 @@ impl<M: Response, D: DragModel> Particle<M, D> {
 
     /// The same particle made rigid (the limit Ca → 0): shape, drag, fluid, density, gravity,
     /// traction and force terms shared, the material replaced by [`Rigid`], the rest geometry
-    /// reused. The slow-manifold model ([`crate::integrator::manifold`]) turns it as the
-    /// stiff elastic particle's rotation. No allocation: the drag is borrowed and the force
-    /// terms are shared.
+    /// reused. The slow-manifold model ([`crate::integrator::manifold`]) turns it as a
+    /// stiff elastic sphere's rotation ([`Self::manifold_twin`]). No allocation: the drag is
+    /// borrowed and the force terms are shared.
     pub fn rigid_twin(&self) -> Particle<Rigid, &D> {
         Particle {
             shape: self.shape,
@@ -375,7 +379,33 @@ impl<M: Response, D: DragModel> Particle<M, D> {
             volume0: self.volume0,
             theta_inv: self.theta_inv,
             anisotropic_twin: self.anisotropic_twin || self.elastic().is_some_and(|law| !law.is_isotropic()),
+            deformed_spin: None,
         }
+    }
+
+    /// The rigid twin that the slow manifold turns ([`crate::integrator::manifold`]): for an
+    /// elastic non-sphere it spins as the deformed particle does to first order in δ
+    /// ([`DeformedSpin`]), with the flow gradient changing along the path at `gradient_rate`
+    /// (d∇u/dt, held over the step); otherwise [`Self::rigid_twin`] (a sphere's rotation
+    /// enters nothing on the manifold).
+    pub fn manifold_twin(&self, gradient_rate: &Mat3) -> Particle<Rigid, &D> {
+        let r = self.shape.semi_axes();
+        let deformed_spin = match self.elastic() {
+            Some(law) if r.max() != r.min() => Some(DeformedSpin {
+                mu_s: law.shear_modulus(),
+                gradient_rate: *gradient_rate,
+            }),
+            _ => None,
+        };
+        Particle {
+            deformed_spin,
+            ..self.rigid_twin()
+        }
+    }
+
+    /// The deformed particle's spin a rigid twin turns at ([`Self::manifold_twin`]), if any.
+    pub fn deformed_spin(&self) -> Option<&DeformedSpin> {
+        self.deformed_spin.as_ref()
     }
 
     /// Whether the particle's orientation enters none of its equations: a rigid sphere whose

@@ -228,3 +228,106 @@ fn delta_max_is_refused_outside_the_open_unit_interval() {
         "{err:?}"
     );
 }
+
+/// A prolate of aspect ratio `lambda` whose long axis starts along `axis` (unit), at `ca`.
+fn prolate(lambda: f64, ca: f64, axis: Vec3) -> Particle<NeoHooke> {
+    let helper = if axis[2].abs() < 0.9 { Vec3::z() } else { Vec3::x() };
+    let second = helper.cross(&axis).normalize();
+    let third = axis.cross(&second);
+    ShearScaling::new(ca, 1.0, 1e3)
+        .unwrap()
+        .particle([lambda, 1.0, 1.0], Mat3::from_columns(&[axis, second, third]))
+        .unwrap()
+}
+
+/// The largest angle between the long material lines of the manifold and of the full model
+/// (rtol 10⁻¹⁰) over `periods` Jeffery periods in unit shear (sampled 20 times a period from
+/// the second half of the first: a first-order phase error that is periodic returns to zero
+/// at whole periods), with the manifold's report.
+fn orbit_error(
+    lambda: f64,
+    ca: f64,
+    axis: Vec3,
+    periods: f64,
+) -> (f64, pseudorigid::integrator::manifold::ManifoldReport) {
+    let p = prolate(lambda, ca, axis);
+    let period = 2.0 * std::f64::consts::PI * (lambda + 1.0 / lambda);
+    let times: Vec<f64> = (10..=(20.0 * periods) as usize)
+        .map(|i| period * i as f64 / 20.0)
+        .collect();
+    let integ = Manifold::new(Stokesian::overdamped(1e-10).unwrap())
+        .unwrap()
+        .with_delta_max(0.3)
+        .unwrap();
+    let (reduced, memory) = states_at(&integ, &p, &unit_shear(), &times);
+    let (full, _) = states_at(&Stokesian::overdamped(1e-10).unwrap(), &p, &unit_shear(), &times);
+    let line = |s: &State| pseudorigid::particle::lines::material_line(p.shape(), &s.f, 0).normalize();
+    let angle = reduced
+        .iter()
+        .zip(&full)
+        .map(|(a, b)| line(a).dot(&line(b)).abs().min(1.0).acos())
+        .fold(0.0, f64::max);
+    (angle, integ.report(&memory))
+}
+
+/// Issue 61 measurement: the manifold's orientation error against the full model for stiff
+/// prolates, and its ratio over a halving of Ca.
+#[test]
+#[ignore = "measurement (15 s): cargo test --test suite manifold_prolate_orientation_table -- --ignored --nocapture"]
+fn manifold_prolate_orientation_table() {
+    let quarter = std::f64::consts::FRAC_PI_4;
+    let in_plane = Vec3::new(quarter.cos(), quarter.sin(), 0.0);
+    let out_of_plane = Vec3::new(0.5, 0.5, std::f64::consts::FRAC_1_SQRT_2);
+    for (name, axis) in [("in plane", in_plane), ("out of plane", out_of_plane)] {
+        // λ = 20 relaxes 15× slower (δ ≈ 59 Ca against 4 Ca): on the manifold from Ca ≤ 2.5e-3.
+        for (lambda, cas) in [
+            (3.0, &[1e-2, 5e-3, 2.5e-3][..]),
+            (20.0, &[1e-2, 5e-3, 2.5e-3, 1.25e-3, 6.25e-4, 3.125e-4][..]),
+        ] {
+            let mut last: Option<f64> = None;
+            for &ca in cas {
+                let (e, r) = orbit_error(lambda, ca, axis, 5.0);
+                println!(
+                    "{name}, lambda {lambda}, Ca {ca:.1e}: error {e:.3e}, ratio {:.2}, delta {:.3e}, steps {} on / {} off, left {}",
+                    last.map_or(f64::NAN, |l| l / e),
+                    r.max_ratio,
+                    r.manifold_steps,
+                    r.full_steps,
+                    r.left
+                );
+                last = Some(e);
+            }
+        }
+    }
+}
+
+/// Issue 61: a stiff prolate (λ = 3) on the manifold follows the full model's orientation to
+/// second order in δ, in the shear plane and 45° out of it. The manifold turns it at the
+/// deformed particle's spin (`particle::manifold::DeformedSpin`), whose dropped terms are
+/// O(δ² |∇u|); Jeffery's orbits neither damp nor amplify a rotation error, so over a strain
+/// γ̇t it adds up to O(δ² γ̇t): the largest angle over 5 periods (γ̇t = 105) stays below
+/// γ̇t δ², and falls at least 3× per halving of Ca. Order 2 gives 4 (observed 4.00 in plane,
+/// 4.15 out of it, so the next order moves it by under 8 %); the rigid twin's spin, first
+/// order out of the plane, gave 2.04 there and 2.72 in the plane (`manifold_prolate_orientation_table`).
+#[test]
+fn manifold_prolate_orientation_is_second_order() {
+    let quarter = std::f64::consts::FRAC_PI_4;
+    let period = 2.0 * std::f64::consts::PI * (3.0 + 1.0 / 3.0);
+    for axis in [
+        Vec3::new(quarter.cos(), quarter.sin(), 0.0),
+        Vec3::new(0.5, 0.5, std::f64::consts::FRAC_1_SQRT_2),
+    ] {
+        let errs: Vec<_> = [5e-3, 2.5e-3]
+            .iter()
+            .map(|&ca| orbit_error(3.0, ca, axis, 5.0))
+            .collect();
+        for (e, report) in &errs {
+            assert!(
+                report.left == 0 && report.manifold_steps > 20 * report.full_steps,
+                "{report:?}"
+            );
+            assert!(*e <= 5.0 * period * report.max_ratio.powi(2), "{axis}: {errs:?}");
+        }
+        assert!(errs[0].0 >= 3.0 * errs[1].0, "{axis}: {errs:?}");
+    }
+}
