@@ -58,8 +58,14 @@
 //! in Stk whose place depends on the sphere's size only logarithmically. This is the plug-flow
 //! argument of Yeh (1974) and Cheng & Wang (1975) carried out with the local speed along the
 //! sphere's path; it was derived here, not checked against a published formula for this flow.
-//! The corrections are again of relative order Stk·a/(R_b θ) (the entry lag, now of the
-//! angle, Δφ = τf/ρ ≤ 2 Stk a/(R_b − a)).
+//!
+//! The closed form is first order in τ against the flow's times along the path. The next
+//! order, all ∝ a/R_b, holds the entry lag (the phase falls short by Δφ = τf/ρ ≤
+//! 2 Stk a/(R_b − a)), and, absent for the plug, the sphere's radial inertia and the lag of its
+//! azimuthal speed behind f as it crosses the profile: each changes the drift by up to
+//! 2τ²f|∂f/∂r|/ρ ≤ 6.2 Stk² a/(R_b − a), max f|∂f/∂r| = 3.08 U²/a at r = a/√3. Near the onset
+//! η is steep in the phase, so these matter early: at R_b/a = 5.7 the closed form holds to
+//! Stk ≈ 0.3 (`paper-figures/bend/NOTES.md`).
 
 use crate::contact::{Composite, PatchRule, Plane, Planes, TorusWall};
 use crate::driver::{Budget, Plan};
