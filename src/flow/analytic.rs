@@ -53,7 +53,7 @@ impl TryFrom<LinearFlowRaw> for LinearFlow {
 }
 
 /// `Ok(sample)` when u and ∇u are finite, else the typed error with the numbers.
-fn finite_sample(sample: FlowSample, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
+pub(super) fn finite_sample(sample: FlowSample, x: &Vec3, t: f64) -> Result<FlowSample, FlowError> {
     if sample.u.iter().chain(sample.grad_u.iter()).all(|c| c.is_finite()) {
         Ok(sample)
     } else {

@@ -9,6 +9,7 @@
 //! the length over which ∇u changes ([`crate::diagnostics`]).
 
 pub mod analytic;
+pub mod bend_poiseuille;
 pub mod image;
 #[cfg(feature = "mesh")]
 pub mod openfoam;

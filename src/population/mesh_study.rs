@@ -182,7 +182,7 @@ impl MeshStudy {
             return Err(MeshStudyError::Meshes { meshes: runs.len() });
         }
         let mut runs: Vec<&MeshRun<'_, L>> = runs.iter().collect();
-        runs.sort_by(|a, b| b.cells.cmp(&a.cells));
+        runs.sort_by_key(|r| std::cmp::Reverse(r.cells));
         let first = runs[0];
         for w in runs.windows(2) {
             if w[0].cells == w[1].cells {

@@ -565,7 +565,7 @@ fn failures_by_patch(scene: &Scene, chosen: &[&ParticleRecord<NamedLaw>]) -> Vec
                 None => counts.push((name, kind, 1)),
             }
         }
-        counts.sort_by(|a, b| b.2.cmp(&a.2));
+        counts.sort_by_key(|c| std::cmp::Reverse(c.2));
         counts
     })
 }

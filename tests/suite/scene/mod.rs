@@ -1447,9 +1447,7 @@ fn openfoam_scene_refuses_unsupported_patch_types() {
     ] {
         let dir = build::channel_copy(&format!("scene_{kind}"));
         build::retype(&dir, patch, kind);
-        let err = parse_named("channel.toml", &tracer_on_case(&dir))
-            .err()
-            .expect("refused");
+        let err = parse_named("channel.toml", &tracer_on_case(&dir)).expect_err("refused");
         let message = err.to_string();
         assert!(
             message.contains("flow.case")
