@@ -627,7 +627,7 @@ where
         }
         s = end;
         if let Some(c) = crossing {
-            s = end.mapped(&c.map);
+            s = end.mapped(&c.map, &particle.shape().axes());
             held(&mut s);
             *last = s;
             integrator.particle_mapped(memory);

@@ -58,12 +58,17 @@ impl State {
 
     /// The state's image under an isometry of the flow (a cyclic pair, a symmetry plane, a
     /// wedge; [`crate::flow::image`]): $x_c^\prime = T(x_c)$, $v_c^\prime = Q v_c$, $F^\prime = Q F P$,
-    /// $A^\prime = Q A P$, with P = 1 for a rotation and diag(1, 1, −1) for a reflection, which
-    /// relabels the mirrored body's reference configuration so that its rest ellipsoid and
-    /// inertia stay its own and det F' > 0.
-    pub fn mapped(&self, map: &crate::flow::Isometry) -> Self {
+    /// $A^\prime = Q A P$, with P = 1 for a rotation and, for a reflection, the reflection
+    /// $P = R_0 \operatorname{diag}(1, 1, −1) R_0^T$ through a principal plane of the rest ellipsoid
+    /// (principal axes `rest_axes` $= R_0$, [`crate::ellipsoid::Ellipsoid::axes`]). P maps the
+    /// rest ellipsoid, its inertia and an isotropic law onto themselves, so it relabels the
+    /// mirrored body's reference configuration: the deformed ellipsoid $F^\prime B_0 = Q F B_0$
+    /// is the mirror image of $F B_0$, and det F' > 0. (The reflection diag(1, 1, −1) of the
+    /// reference coordinates alone maps a rest ellipsoid onto itself only where its axes are
+    /// those coordinates' or e₃ is one of them.)
+    pub fn mapped(&self, map: &crate::flow::Isometry, rest_axes: &Mat3) -> Self {
         let p = if map.q.determinant() < 0.0 {
-            Mat3::from_diagonal(&Vec3::new(1.0, 1.0, -1.0))
+            rest_axes * Mat3::from_diagonal(&Vec3::new(1.0, 1.0, -1.0)) * rest_axes.transpose()
         } else {
             Mat3::identity()
         };
