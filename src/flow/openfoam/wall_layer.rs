@@ -606,8 +606,9 @@ impl WallGeometry {
     /// $S = \operatorname{sym}\big((I − nn^T) W (I − nn^T)\big)$ the surface strain rate of the
     /// wall's velocity and |K| the largest principal curvature, or `None` where either is nil.
     ///
-    /// A rigid motion $V + Ω × x$ has $W = [Ω]_× (I − nn^T)$, whose tangential block is
-    /// skew, so S = 0 is the condition for the rigid extension $U_f$ to be the motion's own;
+    /// A rigid motion $V + Ω × x$ has $W = Ω_× (I − nn^T)$ (Ω_× the cross-product matrix of
+    /// Ω), whose tangential block is skew, so S = 0 is the condition for the rigid extension
+    /// $U_f$ to be the motion's own;
     /// the normal row of W (a transpiring wall's) is free in a rigid motion too, and on a flat
     /// wall every W is extended exactly. Floors: K is a least-squares difference of unit
     /// normals, so a flat wall's is round-off of $1/h$: curvature counts from
