@@ -2,7 +2,7 @@
 
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::analytic::Cellular;
-use pseudorigid::tensor::{Mat3, Vec3};
+use pseudorigid::tensor::Vec3;
 
 /// The cellular flow's ∇u is the derivative of its u (fourth-order central differences over
 /// h = 10⁻³ L: truncation h⁴|∂⁵u|/30 ≈ 3·10⁻¹⁴ U/L, round-off 18·10⁻¹⁶ U/(12h) ≈ 1.5·10⁻¹³ U/L,
@@ -21,12 +21,7 @@ fn the_cellular_flow_gradient_is_the_derivative_of_its_velocity_and_traceless() 
             0.05 * f64::from(n * n % 17),
         );
         let s = at(x);
-        let mut fd = Mat3::zeros();
-        for j in 0..3 {
-            let e = Vec3::ith(j, h);
-            let d = (at(x - 2.0 * e).u - 8.0 * at(x - e).u + 8.0 * at(x + e).u - at(x + 2.0 * e).u) / (12.0 * h);
-            fd.set_column(j, &d);
-        }
+        let fd = crate::common::gradient_by_differences(&field, &x, h);
         assert!((s.grad_u - fd).amax() < 1e-11 * u / l, "{x}: {} against {fd}", s.grad_u);
         assert!(
             s.grad_u.trace().abs() < 1e-14 * u / l,

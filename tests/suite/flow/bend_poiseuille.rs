@@ -3,7 +3,7 @@
 use pseudorigid::error::FlowError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::bend_poiseuille::BendPoiseuille;
-use pseudorigid::tensor::{Mat3, Vec3};
+use pseudorigid::tensor::Vec3;
 
 /// ∇u is the derivative of u (fourth-order central differences over h = 10⁻³ a: truncation
 /// h⁴|∂⁵u| is nil for the quadratic f and ~10⁻¹³ U/a for the 1/ρ of e_φ, round-off ~10⁻¹³ U/a,
@@ -22,12 +22,7 @@ fn the_bend_poiseuille_gradient_is_the_derivative_of_its_velocity_and_traceless(
         let rho = rb + r * psi.cos();
         let x = Vec3::new(rho * phi.cos(), rho * phi.sin(), r * psi.sin());
         let s = at(x);
-        let mut fd = Mat3::zeros();
-        for j in 0..3 {
-            let e = Vec3::ith(j, h);
-            let d = (at(x - 2.0 * e).u - 8.0 * at(x - e).u + 8.0 * at(x + e).u - at(x + 2.0 * e).u) / (12.0 * h);
-            fd.set_column(j, &d);
-        }
+        let fd = crate::common::gradient_by_differences(&field, &x, h);
         assert!(
             (s.grad_u - fd).amax() < 1e-10 * mean / a,
             "{x}: {} against {fd}",
