@@ -16,7 +16,6 @@
 use pseudorigid::output::{Csv, Figure, Panel, Series};
 use pseudorigid::population::mesh_study::MeshStudy;
 use pseudorigid::population::{Progress, Shard};
-use pseudorigid::reference::pich_deposition;
 use pseudorigid::scene::load_study;
 use pseudorigid::scene::study::{FORMAL_ORDER, StudyOptions, run_study};
 use pseudorigid::studies::pich;
@@ -76,7 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .iter()
             .find(|o| o.outcome == "deposited:wall")
             .ok_or("no particle deposited on the wall")?;
-        let exact = pich_deposition(epsilon)?;
+        let exact = pich::exact(epsilon)?;
         let e = o.estimate.as_ref();
         let cell = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.6}"));
         let mut row = vec![epsilon.to_string()];
@@ -110,7 +109,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     for k in 1..=60 {
         let epsilon = k as f64 / 60.0 * 0.7;
-        exact_curve.push((epsilon, pich_deposition(epsilon)?));
+        exact_curve.push((epsilon, pich::exact(epsilon)?));
     }
     csv.write(out.join("pich.csv"))?;
     Figure::single(

@@ -1,4 +1,4 @@
-//! Draws that injection rules share: points uniform on a disc, rotations uniform on SO(3).
+//! Draws that injection rules share: points on a disc (by area or by pipe flux), rotations uniform on SO(3).
 
 use super::spec::ParticleRng;
 use crate::error::{ParamError, positive};
@@ -7,11 +7,39 @@ use nalgebra::{Quaternion, UnitQuaternion};
 use rand::RngExt;
 use std::f64::consts::PI;
 
+/// How points are spread over an injection disc.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DiscWeight {
+    /// Uniform by area.
+    #[default]
+    Area,
+    /// By the flux of fully developed laminar pipe flow through the disc, u ∝ 1 − r²/R²: the
+    /// particles of a uniformly mixed suspension entering a pipe of radius R (Pich 1972's
+    /// inlet). Unlike injection through a mesh's patch, which weights each face by that mesh's
+    /// own flux, particle k starts at the same point on every mesh of a study.
+    Poiseuille,
+}
+
 /// A point uniform (by area) on the disc of `radius` (> 0) about `centre` normal to `normal`
-/// (non-zero): radius ρ = R√u and angle φ = 2πw for u, w uniform on [0, 1), so that the area
-/// element ρ dρ dφ has constant density. The in-plane angle is measured from the unit vector
-/// along the component of e₁ (or e₂, when `normal` is nearer e₁) normal to `normal`.
+/// (non-zero): [`disc_point`] with [`DiscWeight::Area`].
 pub fn uniform_disc(rng: &mut ParticleRng, centre: &Vec3, normal: &Vec3, radius: f64) -> Result<Vec3, ParamError> {
+    disc_point(rng, centre, normal, radius, DiscWeight::Area)
+}
+
+/// A point on the disc of `radius` R (> 0) about `centre` normal to `normal` (non-zero),
+/// spread by `weight`: angle φ = 2πw and radius ρ from u, for u, w uniform on [0, 1). By area
+/// ρ = R√u, so that the area element ρ dρ dφ has constant density. By Poiseuille flux the
+/// density is ∝ ρ(1 − ρ²/R²), whose distribution 2s − s² (s = ρ²/R²) inverts to
+/// $\rho = R\sqrt{1 - \sqrt{1 - u}}$. The in-plane angle is measured from the unit vector
+/// along the component of e₁ (or e₂, when `normal` is nearer e₁) normal to `normal`.
+pub fn disc_point(
+    rng: &mut ParticleRng,
+    centre: &Vec3,
+    normal: &Vec3,
+    radius: f64,
+    weight: DiscWeight,
+) -> Result<Vec3, ParamError> {
     let radius = positive("disc radius", radius)?;
     let n = normal
         .try_normalize(0.0)
@@ -24,7 +52,11 @@ pub fn uniform_disc(rng: &mut ParticleRng, centre: &Vec3, normal: &Vec3, radius:
     let e1 = (seed - n * n.dot(&seed)).normalize();
     let e2 = n.cross(&e1);
     let (u, w): (f64, f64) = (rng.random(), rng.random());
-    let (rho, phi) = (radius * u.sqrt(), 2.0 * PI * w);
+    let s = match weight {
+        DiscWeight::Area => u,
+        DiscWeight::Poiseuille => 1.0 - (1.0 - u).sqrt(),
+    };
+    let (rho, phi) = (radius * s.sqrt(), 2.0 * PI * w);
     Ok(centre + rho * (phi.cos() * e1 + phi.sin() * e2))
 }
 

@@ -3,13 +3,13 @@
 //! (particle k of the scene, in whichever group, draws from stream k).
 
 use crate::ellipsoid::Ellipsoid;
-use crate::error::{ParamError, StepError};
+use crate::error::{FlowError, ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::drag::NamedDrag;
 use crate::material::NamedLaw;
 use crate::material::Softness;
 use crate::particle::Particle;
-use crate::population::sampling::{WeightedTriangles, haar_rotation, uniform_disc};
+use crate::population::sampling::{DiscWeight, WeightedTriangles, disc_point, haar_rotation};
 use crate::population::{Injector, ParticleRng, ParticleSpec, ParticleTemplate};
 use crate::scene::models::SceneFlow;
 use crate::tensor::{Mat3, Vec3};
@@ -56,7 +56,9 @@ impl Placement {
 pub enum Region {
     /// All at one point.
     Point(Vec3),
-    /// Uniform by area on a disc.
+    /// On a disc, uniform by area or by pipe flux. A drawn point outside the flow's mesh
+    /// fails its particle (possible only for the pipe-flux weight, whose rim the scene does not
+    /// require inside a faceted wall: on a mesh of a pipe the wall's facets cut the disc's rim).
     Disc {
         /// Centre.
         centre: Vec3,
@@ -64,6 +66,8 @@ pub enum Region {
         normal: Vec3,
         /// Radius.
         radius: f64,
+        /// How the points spread over it.
+        weight: DiscWeight,
     },
     /// On a patch, weighted by the inflow (the triangles already moved inside the mesh).
     Patch(WeightedTriangles),
@@ -171,7 +175,18 @@ impl Injector for SceneInjector<'_> {
                 // on its stream alone.
                 let position = match region {
                     Region::Point(p) => *p,
-                    Region::Disc { centre, normal, radius } => uniform_disc(rng, centre, normal, *radius)?,
+                    Region::Disc {
+                        centre,
+                        normal,
+                        radius,
+                        weight,
+                    } => {
+                        let p = disc_point(rng, centre, normal, *radius, *weight)?;
+                        self.flow.with_cellwise(|cells| match cells {
+                            Some(cells) if cells.locate(&p, None).is_err() => Err(FlowError::outside(&p)),
+                            _ => Ok(p),
+                        })?
+                    }
                     Region::Patch(triangles) => triangles.draw(rng),
                 };
                 let mut placement = placement.clone();

@@ -1,6 +1,6 @@
 //! `[fluid]` and `[particles]`: what the particles share, their shapes, laws and starts.
 use super::*;
-use crate::population::sampling::WeightedTriangles;
+use crate::population::sampling::{DiscWeight, WeightedTriangles};
 
 /// Points on an injection disc's rim checked to lie in the mesh.
 const RIM_POINTS: usize = 64;
@@ -336,9 +336,10 @@ impl Builder<'_> {
     }
 
     /// On an OpenFOAM flow, every point of the injection region lies in a cell: the point, or
-    /// the disc's centre and 64 points on its rim (a disc whose rim stays inside a convex
-    /// cross-section lies inside; a rim point outside means particles would start outside the
-    /// mesh and count as deposited or escaped at t = 0).
+    /// the disc's centre and, weighted by area, 64 points on its rim (a disc whose rim stays
+    /// inside a convex cross-section lies inside). A disc weighted by pipe flux needs only its
+    /// centre inside: its weight vanishes at the rim, and a particle drawn outside the mesh
+    /// fails alone rather than starting outside.
     fn region_in_mesh(
         &self,
         region: &crate::scene::inject::Region,
@@ -364,7 +365,19 @@ impl Builder<'_> {
             crate::scene::inject::Region::Point(p) => vec![*p],
             // Inside by construction (the patch's faces moved inwards).
             crate::scene::inject::Region::Patch(_) => return Ok(()),
-            &crate::scene::inject::Region::Disc { centre, normal, radius } => {
+            // Pipe flux vanishes at the rim, which a faceted wall cuts: the centre must lie
+            // inside, and a particle drawn outside fails alone (`Region::Disc`).
+            &crate::scene::inject::Region::Disc {
+                centre,
+                weight: DiscWeight::Poiseuille,
+                ..
+            } => vec![centre],
+            &crate::scene::inject::Region::Disc {
+                centre,
+                normal,
+                radius,
+                weight: DiscWeight::Area,
+            } => {
                 let n = normal.normalize();
                 let helper = if n[0].abs() < 0.9 { Vec3::x() } else { Vec3::y() };
                 let e1 = n.cross(&helper).normalize();
@@ -400,13 +413,14 @@ impl Builder<'_> {
         let k = |name: &str| format!("{key}.{name}");
         match r.kind.get_ref() {
             RegionKind::Point => {
-                let (c, n, rr, nm) = (k("centre"), k("normal"), k("radius"), k("name"));
+                let (c, n, rr, nm, w) = (k("centre"), k("normal"), k("radius"), k("name"), k("weight"));
                 self.refuse(
                     &[
                         (&c, r.centre.is_some()),
                         (&n, r.normal.is_some()),
                         (&rr, r.radius.is_some()),
                         (&nm, r.name.is_some()),
+                        (&w, r.weight.is_some()),
                     ],
                     at.clone(),
                     "point",
@@ -428,16 +442,18 @@ impl Builder<'_> {
                     centre: self.vec3(centre, &k("centre"))?,
                     normal: n,
                     radius: self.positive(radius, &k("radius"))?,
+                    weight: r.weight.as_ref().map_or(DiscWeight::Area, |w| *w.get_ref()),
                 })
             }
             RegionKind::Patch => {
-                let (a, c, n, rr) = (k("at"), k("centre"), k("normal"), k("radius"));
+                let (a, c, n, rr, w) = (k("at"), k("centre"), k("normal"), k("radius"), k("weight"));
                 self.refuse(
                     &[
                         (&a, r.at.is_some()),
                         (&c, r.centre.is_some()),
                         (&n, r.normal.is_some()),
                         (&rr, r.radius.is_some()),
+                        (&w, r.weight.is_some()),
                     ],
                     at.clone(),
                     "patch",

@@ -421,6 +421,8 @@ pub struct RegionSpec {
     pub normal: Option<Num3>,
     /// Radius (`disc`).
     pub radius: Option<Num>,
+    /// How points spread over the disc (`disc`): `"area"` (default) or `"poiseuille"`.
+    pub weight: Option<Spanned<crate::population::sampling::DiscWeight>>,
     /// The OpenFOAM patch particles enter through (`patch`).
     pub name: Option<Spanned<String>>,
 }

@@ -497,6 +497,58 @@ fn progress_log_lines() {
     assert!(progress_line("run", 0, 0, 0, Duration::ZERO).contains("(100.0 %)"));
 }
 
+/// A disc weighted by Poiseuille flux: s = ρ²/R² has density 2(1 − s) (the flux ∝ 1 − s
+/// through the annulus ds, which holds area ∝ ds), so E s = 1/3, Var s = 1/18, and the
+/// fraction inside half the disc's area is 2·½ − ¼ = ¾ (binomial variance 3/16). Each checked
+/// to 5 standard errors of its estimate (fixed seeds). The same u gives a smaller radius than by
+/// area (√(1 − √(1 − u)) ≤ √u), at the same angle, so the two draws of one particle share a
+/// direction.
+#[test]
+fn a_disc_weighted_by_pipe_flux_has_poiseuilles_moments() {
+    use pseudorigid::population::sampling::{DiscWeight, disc_point};
+    use pseudorigid::tensor::Vec3;
+    let n = 20_000;
+    let (centre, normal, radius) = (Vec3::new(1.0, -2.0, 0.5), Vec3::new(0.0, 1.0, 1.0), 2.0);
+    let unit = normal.normalize();
+    let (mut s1, mut s2, mut inner) = (0.0, 0.0, 0.0);
+    for k in 0..n {
+        let p = disc_point(
+            &mut particle_rng(5, k),
+            &centre,
+            &normal,
+            radius,
+            DiscWeight::Poiseuille,
+        )
+        .unwrap();
+        let q = disc_point(&mut particle_rng(5, k), &centre, &normal, radius, DiscWeight::Area).unwrap();
+        let (d, e) = (p - centre, q - centre);
+        assert!(d.dot(&unit).abs() <= 1e-14 * radius && d.norm() <= e.norm() * (1.0 + 1e-15));
+        assert!(d.norm() == 0.0 || (d.normalize() - e.normalize()).norm() <= 1e-12);
+        let s = d.norm_squared() / (radius * radius);
+        s1 += s;
+        s2 += (s - 1.0 / 3.0).powi(2);
+        inner += f64::from(u8::from(s <= 0.5));
+    }
+    let n_f = n as f64;
+    assert!(
+        (s1 / n_f - 1.0 / 3.0).abs() <= 5.0 * (1.0 / 18.0 / n_f).sqrt(),
+        "{}",
+        s1 / n_f
+    );
+    // Var s = 1/18; (s − 1/3)² has variance E(s − 1/3)⁴ − 1/18² = 1/135 − 1/324 (density 2(1 − s)).
+    let var4 = 1.0 / 135.0 - 1.0 / 324.0;
+    assert!(
+        (s2 / n_f - 1.0 / 18.0).abs() <= 5.0 * (var4 / n_f).sqrt(),
+        "{}",
+        s2 / n_f
+    );
+    assert!(
+        (inner / n_f - 0.75).abs() <= 5.0 * (3.0 / 16.0 / n_f).sqrt(),
+        "{}",
+        inner / n_f
+    );
+}
+
 /// The injection draws: disc points lie on the disc with ρ²/R² uniform on [0, 1) and no
 /// preferred direction; rotations are rotations with the moments of the Haar measure (each
 /// entry Q_ij is a coordinate of a uniform unit vector: mean 0, E[Q_ij²] = 1/3, E[Q_ij⁴] = 1/5).

@@ -815,6 +815,47 @@ t_end = 0.1
         key == "particles.inject.region" && message.contains("leaves the mesh"),
         "{key}: {message}"
     );
+    // The same disc weighted by pipe flux is accepted (its weight vanishes at the rim), and
+    // a particle drawn outside the unit cube fails alone with the outside-domain error, never
+    // starting outside. A point at radius ρ of this disc leaves the cube where ρ > 0.5 in some
+    // direction: s = ρ²/R² > 0.69, drawn with probability (1 − 0.69)² ≈ 0.09 at the worst angle,
+    // so some of 4 000 fail and most start; every start lies in the cube.
+    let flux_wide =
+        r#"{ type = "disc", centre = [0.2, 0.5, 0.5], normal = [1.0, 0.0, 0.0], radius = 0.6, weight = "poiseuille" }"#;
+    let s = scene(&moving, "", flux_wide, "").unwrap();
+    let injector = s.injector();
+    let (mut started, mut outside) = (0, 0);
+    for k in 0..4000 {
+        match injector.draw(k, &mut particle_rng(1, k)) {
+            Ok(spec) => {
+                assert!(
+                    spec.position.iter().all(|c| (0.0..=1.0).contains(c)),
+                    "{:?}",
+                    spec.position
+                );
+                started += 1;
+            }
+            Err(pseudorigid::error::StepError::Flow(pseudorigid::error::FlowError::OutsideDomain { x })) => {
+                assert!(
+                    x.iter().any(|c| !(0.0..=1.0).contains(c)),
+                    "{x:?} refused inside the cube"
+                );
+                outside += 1;
+            }
+            Err(e) => panic!("particle {k}: {e}"),
+        }
+    }
+    assert!(started > 3000 && outside > 0, "{started} started, {outside} outside");
+    for region in [
+        r#"{ type = "point", at = [0.5, 0.5, 0.5], weight = "poiseuille" }"#,
+        r#"{ type = "patch", name = "inlet", weight = "area" }"#,
+    ] {
+        let (key, message) = key_of(scene(&moving, "", region, ""));
+        assert!(
+            key == "particles.inject.region.weight" && message.contains("does not take"),
+            "{key}: {message}"
+        );
+    }
     let outside = r#"{ type = "point", at = [1.5, 0.5, 0.5] }"#;
     let (key, _) = key_of(scene(&moving, "", outside, ""));
     assert_eq!(key, "particles.inject.region");

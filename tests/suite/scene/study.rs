@@ -1,6 +1,7 @@
 //! `pseudorigid study` (`scene::study`, issue 58 item 1): a reduced Pich case. Point particles
 //! settle out of Poiseuille flow (written exactly into the cells) in a horizontal pipe meshed
-//! as three O-grids of increasing resolution; the study pairs their fates across the meshes.
+//! as three O-grids of increasing resolution, entering at the same points on every mesh; the
+//! study pairs their fates across the meshes.
 //! Pich's (1972) fraction at ε = 0.3 is 0.4341 (`pseudorigid::reference::pich_deposition`).
 
 use crate::common::build;
@@ -73,13 +74,18 @@ fn reduced_pich_study() {
             deposited.values[k]
         );
     }
-    // The increments are paired: their errors are at most the two binomial errors combined.
+    // The increments are paired, and particle k starts at the same point on every mesh (the
+    // disc weighted by pipe flux, `studies::pich`): only particles whose start lies within the
+    // meshes' velocity difference of the deposition boundary change fate. These meshes' flows
+    // differ by a few per cent of Ū near the wall (the faceted wall's cell layer), so a few per
+    // cent of the particles at most are discordant, and McNemar's error sqrt(d)/n is below
+    // half the two binomial errors combined (sqrt(2 f(1 − f)/n) ≈ 0.045 here) unless more
+    // than ~25 % of the particles change fate: a per-mesh injection (patch faces weighted by
+    // each mesh's own flux) moves every start and fails this.
     for (k, inc) in deposited.increments.iter().enumerate() {
         let independent = deposited.stderr[k].hypot(deposited.stderr[k + 1]);
-        assert!(
-            inc.paired_stderr <= independent + 1e-12,
-            "{inc:?} against {independent}"
-        );
+        eprintln!("increment {k}: {inc:?}, independent {independent:.4}");
+        assert!(inc.paired_stderr <= 0.5 * independent, "{inc:?} against {independent}");
         let d = deposited.values[k] - deposited.values[k + 1];
         assert!((inc.difference - d).abs() < 1e-12);
     }
