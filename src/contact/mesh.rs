@@ -74,18 +74,14 @@
 //! of their radius from the edge passed through at 1–10 m/s). Near an open edge the full-speed
 //! cap holds, whose slack shrinks with the gap ([`super::event`], Grazing contact). It is computed on
 //! first use per face: one query of the faces' boxes within the largest ball, and the heights
-//! of their points (kept in three coordinate arrays) over each plane. Measured on the 90°
-//! bend (callgrind, 300 spheres, `openfoam_race --integrator auto --no-soft`): the tracking
-//! took 2 239 M instructions with the faces fetched one by one by the incremental nearest
-//! search and each face's points in its own allocation, 2 133 M now (−4.7 %), with the same
-//! steps, rejections and fates to the particle (1 000 spheres: 111 598 steps, 3 729 rejected,
-//! 719 deposited either way). A saddle (the inner wall of a bend, the flanks of a carina) passes
+//! of their points (kept in three coordinate arrays) over each plane (its cost on the 90° bend:
+//! `paper-figures/bend/NOTES.md`, History). A saddle (the inner wall of a bend, the flanks of a carina) passes
 //! neither test and keeps the full-speed cap. The tests see each face as its plane, within its
 //! warp, as the gap does (a covered face's gap is the distance to its plane, not to its fan of
 //! triangles); warps measured: median 0.07 µm, largest 1.1 µm on the 90° bend's wall (faces of
 //! circumradius 0.32 mm), median 0.14 µm, largest 28 µm on the shipped bifurcation. Checked
 //! against the fans themselves by brute force on the shipped bifurcation
-//! (`tests/suite/contact.rs`: a segment–triangle test against every face).
+//! (`tests/suite/contact/mod.rs`: a segment–triangle test against every face).
 
 use super::{Approach, Boundary, Extent, Gap, PatchRule};
 use crate::ellipsoid::frame::support_distance;

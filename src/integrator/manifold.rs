@@ -107,25 +107,10 @@
 //! ([`crate::particle::Particle::orientation_is_passive`]); F = V R still carries R, integrated
 //! but not controlled. A law that does not say it is isotropic never goes on the manifold
 //! ([`super::choice`]): the quasi-static stretch here is the isotropic small-strain one.
-//! Measured 2 Dec 2026 with the studies' integrator (`examples/population_scaling --bifurcation
-//! 0.1 --mu-s MU_S --records`/`--pair`, 1 000 spheres, rtol 10⁻², one thread; rigid: 108 914
-//! steps, 1.15 s CPU): 5 Pa 177 k → 125 k steps, 2.59 → 1.48 s (1.29× rigid); 50 Pa 163 k →
-//! 109 249, 2.09 → 1.20 s (1.04×); 500 Pa 163 k → 109 245, 2.25 → 1.32 s (1.15×); 0.5 Pa (the
-//! full model) unchanged, 271 k steps, 2.78 s (2.4×). Fates paired with the tested rotation:
-//! none changed at any modulus. Against the Radau IIA reference (`manifold_bifurcation 300 7
-//! 5,50,500`, rtol 10⁻³): ΔB median, max 1.7e-5, 1.1e-2 (5 Pa), 4.3e-7, 9.7e-4 (50 Pa), 6.5e-8,
-//! 8.3e-5 (500 Pa), no fate changed; the table's numbers or below. Callgrind, 200 of the
-//! 50 Pa spheres on one thread (`--toggle-collect='pseudorigid::driver::integrate*'`, the
-//! clearance grid's one-off fill subtracted), instructions per accepted step:
-//!
-//! | stage | R tested (33 690 steps) | R untested (22 545 steps) |
-//! |---|---|---|
-//! | blended flow samples | 17.5 k | 15.0 k |
-//! | quasi-static point and stretch | 5.7 k | 5.7 k |
-//! | contact event | 4.7 k | 5.2 k |
-//! | twin's right-hand sides, Rosenbrock algebra, driver | 19.6 k | 17.7 k |
-//! | **per step** | **47.5 k** | **43.6 k** |
-//! | **per particle** | **8.0 M** | **4.9 M** |
+//! Measured on the airway bifurcation's spheres with the studies' integrator: with R untested
+//! the manifold takes 1.04–1.29× a rigid sphere's CPU from 5 to 500 Pa, and no fate changed
+//! (steps, reference errors and a callgrind breakdown: `paper-figures/peer-race/NOTES.md`,
+//! History).
 
 use super::dense::Knot;
 use super::stokesian::StokesianMemory;

@@ -23,17 +23,11 @@
 //! ([`Particle::orientation_is_passive`]) has an orientation that enters none of its
 //! equations: F ∈ SO(3) turns nothing its drag, spin, contact or forces see. The Rosenbrock-W
 //! step still integrates F (and projects it onto SO(3)) but measures only x and v in its error
-//! test, so the steps follow the barycentre alone. Measured on the airway bifurcation
-//! (`examples/population_scaling --bifurcation STK --records`/`--pair`, 2 000 rigid spheres, the
-//! studies' integrator, one thread): at Stk 0.1, 320 k steps and 228 k rejected attempts became
-//! 212 k and 91 k (right-hand sides 1.10 M → 0.61 M), at Stk 0.4 166 k and 70 k became 123 k and
-//! 13 k (0.47 M → 0.27 M), CPU 2.48 → 1.69 s and 1.28 → 0.89 s; fates paired with the step
-//! that tested F: none changed at Stk 0.1 (165 deposited), 1 of 2 000 at 0.4 (1 647 → 1 646).
-//! Callgrind, 200 of them at Stk 0.1 (`driver::integrate`, the clearance grid's fill left
-//! out): 6.24 M → 3.74 M instructions per particle, 37.1 k → 33.4 k per accepted step.
-//! The closed form of a heavy sphere in solid-body rotation checks the barycentre
-//! (`tests/suite/integrator/passive_orientation.rs`). Radau IIA keeps F in its weighted norm:
-//! its Newton iteration measures convergence in the same norm.
+//! test, so the steps follow the barycentre alone: a quarter to a third fewer steps for the
+//! airway's rigid spheres, fates unchanged but for one in 2 000 (measured in
+//! `paper-figures/fig17/NOTES.md`, History). The closed form of a heavy sphere in solid-body
+//! rotation checks the barycentre (`tests/suite/integrator/passive_orientation.rs`). Radau IIA
+//! keeps F in its weighted norm: its Newton iteration measures convergence in the same norm.
 //!
 //! The same holds for the rigid twin that turns a stiff elastic sphere on the slow manifold
 //! ([`super::manifold`]) when its law is isotropic

@@ -65,151 +65,14 @@
 //! the blend, as a wall leaf, and [`BuildReport`] counts them), the root cubes at most one per
 //! mesh cell. Only the balance next to the wall leaves may split beyond the budget.
 //!
-//! # Measured on the airway bifurcation: not the default
-//! `cargo run --release --example octree_field -- - U_TOL GRAD_TOL LEAVES_PER_CELL WALL_LEAF`
-//! on the shipped 0.3 mm field (83 768 cells), 20 000 points spread over the mesh, wall time
-//! per sample on those of them the table answers alone (cache-cold points, shared machine):
-//!
-//! | tolerances u, ∇u | leaves per cell | bytes per cell | leaves left to the blend | table alone | miss u, ∇u | sample: table, blend |
-//! |---|---|---|---|---|---|---|
-//! | 10⁻⁴, 10⁻³ | 12 | 84 | 732 k of 735 k | 0 % | — | — |
-//! | 10⁻³, 10⁻² | 12 | 286 | 683 k | 1.4 % | 3.3·10⁻⁴, 1.1·10⁻³ | 190, 600 ns |
-//! | 10⁻³, 10⁻² | 60 | 4 883 | 3.6 M | 6.3 % | 3.9·10⁻⁴, 1.6·10⁻³ | 370, 640 ns |
-//! | none (leaves ≤ the smallest support) | 12 | 447 | 0 | 75 % | 5.6·10⁻², 7.3·10⁻² | 450, 1 900 ns |
-//!
-//! The blend has structure finer than its cells: each cell's fit takes over from its
-//! neighbours' within (σ − 1) = 0.2 of a cell ([`super::blend::OVERLAP`]), so ∇u steps by the
-//! fits' difference O(h|∇²u|) over about 60 µm here, and u by O(h²|∇²u|). Within 10⁻³ of the
-//! maxima that takes leaves of 34 µm and less (about 700 per cell, far beyond the 2 kB per cell
-//! a table may take); within the memory, the table misses by 5 %. So the blend stays the field
-//! the scenes sample, and this table is a measured alternative, exact and continuous, for
-//! fields smooth on the scale of their leaves.
-//!
-//! # Fates: a table fast enough to pay is not the blend (issue 36)
-//! `cargo run --release --example octree_fates -- N STK U_TOL 12`: Fig. 18's rigid λ = 20
-//! prolates (the datasets' seed) on the blend and on the table, one thread each, fates paired
-//! (DE table − blend ± McNemar's paired standard error), ∇u tolerance infinite:
-//!
-//! | N, Stk | u tolerance | bytes per cell | left to the blend | time blend → table | steps blend → table | DE table − blend |
-//! |---|---|---|---|---|---|---|
-//! | 10⁴, 0.1 | none | 447 | 0 | 11.6 → 8.3 s | 1.57 M → 1.33 M | +0.0000 ± 0.0003 |
-//! | 10⁴, 0.3 | none | 447 | 0 | 10.3 → 8.0 s | 1.35 M → 1.16 M | −0.0043 ± 0.0008 |
-//! | 4 000, 0.5 | none | 447 | 0 | 4.6 → 3.5 s | 534 k → 481 k | −0.0075 ± 0.0015 |
-//! | 4 000, 0.5 | 10⁻¹ | 634 | 0 | 4.3 → 3.3 s | 534 k → 488 k | −0.0065 ± 0.0014 |
-//! | 4 000, 0.5 | 3·10⁻² | 2 121 | 61.5 k leaves | 4.9 → 4.6 s | 534 k → 518 k | −0.0030 ± 0.0011 |
-//! | 4 000, 0.5 | 10⁻² | 1 549 | 336 k leaves | 4.3 → 4.2 s | 534 k → 534 k | +0.0000 ± 0.0007 |
-//!
-//! - Mesh-sized leaves make a tracked step 1.3–1.4× faster (fewer rejected steps: the table is
-//!   smoother than the blend on a fifth of a cell), and a sample that falls in a tabulated leaf
-//!   costs about 1 k instructions against the blend's 4 k. But 35 % of the samples on the way
-//!   fall in wall leaves and pay the blend (callgrind, 200 particles at Stk 0.1: 38.6 k
-//!   instructions per step on the blend, 33 k on the table).
-//! - From Stk 0.3 the table deposits fewer particles, by 5–6 paired standard errors at these N
-//!   (about 17 at the paper's 10⁵). It is its u, not its ∇u: with the table's u and the blend's ∇u
-//!   the shift stays, with the blend's u and the table's ∇u it goes (a scratch variant of the
-//!   example, seed 7, Stk 0.5, 4 000 particles: −0.0060 ± 0.0013 and −0.0005 ± 0.0011). Mesh-sized
-//!   leaves miss the blend's u by 1.7·10⁻³ of its maximum at the median of 20 000 points, 10⁻²
-//!   at the 90th percentile, most near the inlet's thin entrance layer; the blend and the cellwise
-//!   fits differ by 6·10⁻⁴ and 4·10⁻³ there.
-//! - Neither the wall band nor the leaves' size next to the walls is the cause. Wall leaves two
-//!   or three first-cell heights deep leave the shift (−0.0043 and −0.0037 ± 0.0012, the scratch
-//!   variant, seed 7). Leaves no larger than the thinnest support at their centre (the prism
-//!   layers resolved, 1 732 bytes per cell) leave it too: −0.0047 ± 0.0013 (the datasets' seed).
-//!   Only a tolerance on u removes it, which refines the table down to the blend's fine structure
-//!   everywhere. At 10⁻² every fate is kept, and no time is saved.
-//! - So at Stk ≥ 0.3 deposition depends on the field's structure below a fifth of a cell, by
-//!   about half a percentage point: two reconstructions, each O(h²) in u, do not agree on it.
-//!   That is a discretisation uncertainty of Fig. 18's upper points on this mesh. Which of the
-//!   two is nearer the converged answer: the blend, at three of four Stokes numbers, and the
-//!   mesh's own error is several times larger than either's difference (measured on finer
-//!   meshes below, "Against the mesh's own error").
-//!
-//! So tabulating the blend cannot make tracking cheaper at the accuracy the datasets need: the
-//! table must resolve the blend's own fine structure. A faster field has to be one whose
-//! structure a table resolves, or one sampled without a table.
-//!
-//! # Hermite leaves measured (issue 36, 2026-12-03)
-//! Leaves sized by the mesh (tolerances infinite, 12 leaves per cell, wall leaves 2 H_f) on the
-//! shipped 0.3 mm airway: 650 bytes per cell (448 trilinear), built in 7 s on two threads.
-//!
-//! *Against an exact field.* `cargo run --release --example octree_field -- cellular inf inf 12 2
-//! INTERPOLANT` writes the divergence-free cellular flow ([`crate::flow::analytic::Cellular`],
-//! U = 1 m/s, L = 1.5 mm) into the mesh's cells and patches and compares the blend and both
-//! tables with the exact u and ∇u at 20 000 points spread over the mesh (relative to the
-//! maxima; 50th, 90th, 99th percentiles):
-//!
-//! | field | u − u_exact | ∇u − ∇u_exact |
-//! |---|---|---|
-//! | blend | 1.9e-3, 4.2e-3, 6.8e-3 | 2.8e-2, 4.5e-2, 6.5e-2 |
-//! | trilinear table | 1.7e-3, 3.5e-3, 6.2e-3 | 2.8e-2, 4.4e-2, 6.5e-2 |
-//! | Hermite table | 2.0e-3, 4.3e-3, 6.8e-3 | 1.5e-2, 3.4e-2, 6.4e-2 |
-//!
-//! (the largest errors, 1.2e-2 and 0.37, are the same for all three: points where the table is
-//! the blend). So on a field smooth on the scale of the cells both tables are as accurate as
-//! the blend they tabulate, and the Hermite table's ∇u is nearer the exact one: the issue's
-//! tolerance against the blend (10⁻⁴ of |u|max) is twenty times below the blend's own error
-//! here. On the solved field the tables differ from the blend by (u; 50th, 90th, 99th
-//! percentiles) 1.7e-3, 1.1e-2, 2.6e-2 (trilinear) and 1.0e-3, 5.7e-3, 1.5e-2 (Hermite): near the
-//! inlet's thin entrance layer, which neither the mesh nor a leaf resolves.
-//!
-//! *Fates* (`octree_fates N STK inf 12 hermite`, the Fig. 18 prolates, paired with the blend):
-//!
-//! | Stk | N | DE Hermite − blend | discordant (table only / blend only) | trilinear (N) |
-//! |---|---|---|---|---|
-//! | 0.1 | 10⁵ | +0.0004 ± 0.0001 | 94 / 55 | +0.0000 ± 0.0003 (10⁴) |
-//! | 0.2 | 10⁵ | −0.0003 ± 0.0002 | 129 / 158 | — |
-//! | 0.3 | 10⁵ | −0.0010 ± 0.0002 | 214 / 317 | −0.0043 ± 0.0008 (10⁴) |
-//! | 0.5 | 10⁵ | −0.0019 ± 0.0003 | 350 / 545 | −0.0075 ± 0.0015 (4 000) |
-//!
-//! The Hermite table moves Fig. 18's upper points four times less than the trilinear one, but
-//! still by 3–6 paired standard errors at 10⁵ (within 2 only at Stk 0.2): the issue's fate
-//! target against the blend is not met.
-//!
-//! *Against the mesh's own error* (`octree_fates … FINE_CASE`: the same 10⁵ prolates on the
-//! blend of `cases/bifurcation/Allrun H` solutions, H = 0.4, 0.3 (shipped), 0.2 and 0.15 mm;
-//! `paper-figures/fig18/NOTES.md`, "Four meshes"):
-//!
-//! | Stk | DE 0.4 mm | DE 0.3 mm | DE 0.2 mm | DE 0.15 mm | blend 0.3 − 0.15 mm, paired | Hermite table − blend (0.3 mm) |
-//! |---|---|---|---|---|---|---|
-//! | 0.1 | 0.0261 | 0.0134 | 0.0079 | 0.0072 | +0.0062 ± 0.0003 | +0.0004 ± 0.0001 |
-//! | 0.2 | 0.0837 | 0.0730 | 0.0685 | 0.0686 | +0.0044 ± 0.0003 | −0.0003 ± 0.0002 |
-//! | 0.3 | 0.1846 | 0.1810 | 0.1829 | 0.1875 | −0.0065 ± 0.0003 | −0.0010 ± 0.0002 |
-//! | 0.5 | 0.4299 | 0.4347 | 0.4491 | 0.4520 | −0.0173 ± 0.0005 | −0.0019 ± 0.0003 |
-//!
-//! The table moves DE by 7–15 % of the shipped mesh's distance from the finest one, further
-//! from the finest answer at three of the four Stokes numbers. A fate target of two paired
-//! standard errors (2–6·10⁻⁴) against the blend asks a faster field to reproduce the shipped
-//! mesh's discretisation error to a tenth of its size or better.
-//!
-//! *Cost* (callgrind, 200 prolates at Stk 0.1, one thread, tracking only): a sample costs
-//! 4.28 k instructions on the Hermite table against 4.84 k on the blend; of those, 38 % of the
-//! samples fall in a wall leaf or next to one (χ > 0) and pay the blend (6.4 k each, 2.4 k per
-//! sample on average), the others the octree descent (0.3 k), χ (0.15 k) and the interpolant
-//! (about 1.2 k). Wall leaves of 1 or 0.5 H_f (40 leaves per cell, 2.4 and 3.9 kB per cell)
-//! cut the tracked time by 3 % more. Tracked time on one idle thread (10⁴ particles): Stk 0.1
-//! 7.3 → 6.7 s, Stk 0.3 7.0 → 6.8 s; rigid spheres at Stk 0.1 (4 000) 2.4 → 1.9 s. At 10⁵
-//! (the runs of "Against the mesh's own error", one thread each, two processes side by side,
-//! nothing else running) the table's run took 0.94–1.03× the blend's time at Stk 0.1–0.5: the
-//! fewer instructions per sample do not show in the time at the paper's N. A flow
-//! sample was 40 % of a step; what is left of a step is the right-hand side, the algebra and
-//! the contact event, so no field alone makes the step several times cheaper. The criterion
-//! bench (`benches/openfoam.rs`, `blended_sample`/`tabulated_sample` at 1 000 points near cell
-//! centres, which on this mesh are mostly the prism layers' cells, so mostly the wall band):
-//! blend 0.95 µs, trilinear table 0.81 µs, Hermite table 0.88 µs per sample.
-//!
-//! *A case not made here*: OpenFOAM's `TJunction` tutorial (`cases/tjunction`, blockMesh,
-//! 5 120 cells, simpleFoam; `octree_field cases/tjunction/ci inf inf 12 2 INTERPOLANT`) builds
-//! in 0.3 s (590 bytes per cell Hermite, 407 trilinear), but its ducts are a few cells across,
-//! so the wall band holds 85 % of 20 000 spread points and the table answers alone at 15 %;
-//! against the blend (90th, 99th percentiles) u 3.0e-3, 1.1e-2 (Hermite) and 3.9e-3, 1.2e-2
-//! (trilinear), ∇u 3.5e-2, 9.8e-2 and 1.9e-2, 4.7e-2: on cells this coarse the Hermite
-//! leaves' ∇u is further from the blend's than the trilinear one.
-//!
-//! *Soft spheres* (μ_s = 0.5 and 1 Pa, Stk 0.1, 4 000, the full shape model): 1.04 M and
-//! 1.12 M steps on the blend, 0.97 M and 1.04 M on the Hermite table (−7 %), against 0.42 M
-//! for rigid spheres. A C¹ field with a smooth ∇u inside each leaf leaves a soft sphere's steps
-//! at 2.4× the rigid one's: they are set by the shape's own dynamics under the error test, not
-//! by the blend's sub-cell structure (the hypothesis of `paper-figures/peer-race/NOTES.md`).
+//! # Measured: not the default
+//! On the shipped airway bifurcation the table is not the field the scenes sample. The blend
+//! has structure finer than its cells (each fit takes over from its neighbours' within
+//! (σ − 1) = 0.2 of a cell, [`super::blend::OVERLAP`]), which a table must resolve to keep the
+//! datasets' fates: mesh-sized leaves shift Fig. 18's deposition at Stk ≥ 0.3, and a
+//! tolerance on u that removes the shift saves no time. The measurements (sizes, errors
+//! against the blend and an exact field, paired fates, cost; `examples/octree_field`,
+//! `examples/octree_fates`) are in `paper-figures/fig18/NOTES.md`, History, "Octree table".
 
 use super::FoamError;
 use super::blend::BlendedFlow;
@@ -233,11 +96,11 @@ pub const MAX_LEVEL: u32 = 12;
 /// Leaves allowed per mesh cell.
 pub const LEAVES_PER_CELL: usize = 12;
 /// Most bytes an octree build may hold by default ([`Options::max_bytes`]), 1 GiB. The tables
-/// measured on the airway take 0.4–4.9 kB per cell (module docs), 0.04–0.4 GB for its 83 768
-/// cells; their build holds the blend's samples besides (about 175 bytes each, one per
-/// lattice point of a leaf). A tolerance the budget cannot meet (1 000 leaves per cell) went
-/// on to 1.3–2.7 GiB until killed. A mesh several times the airway's may need more: the
-/// refusal names the bytes it wanted.
+/// measured on the airway take 0.4–4.9 kB per cell (`paper-figures/fig18/NOTES.md`, History),
+/// 0.04–0.4 GB for its 83 768 cells; their build holds the blend's samples besides (about 175
+/// bytes each, one per lattice point of a leaf). A tolerance the budget cannot meet (1 000
+/// leaves per cell) went on to 1.3–2.7 GiB until killed. A mesh several times the airway's may
+/// need more: the refusal names the bytes it wanted.
 pub const MAX_BUILD_BYTES: usize = 1 << 30;
 /// Bytes a blend sample takes in the build's map: its lattice point and datum, one control
 /// byte, and the map's spare room (at most 1/8 of it free when full).
@@ -1000,7 +863,8 @@ impl OctreeFlow {
             interpolant,
             max_bytes,
         } = options;
-        // A tolerance may be infinite: leaves sized by the mesh alone (module docs, Fates).
+        // A tolerance may be infinite: leaves sized by the mesh alone (the fates measured in
+        // `paper-figures/fig18/NOTES.md`, History).
         if !([u_tolerance, gradient_tolerance].iter().all(|t| *t > 0.0)
             && wall_leaf.is_finite()
             && wall_leaf > 0.0
