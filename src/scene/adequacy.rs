@@ -43,6 +43,21 @@
 //! patches nearest to where the run's failures happened: a failure at an inlet, an outlet or a
 //! coupled patch is not the wall mesh's doing, and is not blamed on it.
 //!
+//! # How large a sample
+//! The first `output.adequacy_sample` particles are one look; while no difference shows, the
+//! sample doubles (the next particles by index) until one of: the difference exceeds the
+//! warning bound; the sample could have detected a shift of [`RESOLVE`] with 80 % power
+//! ([`detectable`]); every particle is in; or the next look would take the re-track past
+//! [`STEP_BUDGET`] times the run's own accepted steps (predicted from the last look's steps per
+//! particle). Steps, not seconds, so the result does not depend on the machine. The warning
+//! bound is Bonferroni's over the most looks the run's size allows ([`warn_sigmas`]), so the
+//! chance of a false alarm over all looks stays ≤ 5 % (the suite measures it by simulation of
+//! the rule, `adequacy_rule_keeps_false_alarms_and_reaches_its_power`). The log prints the
+//! smallest shift the sample it used detects with 80 % power: a silence means "no shift that
+//! large", not "no shift". A shift of 0.01 needs about (z + 0.84)²·d/0.01² pairs at a discordant
+//! share d: ~10 000 at d = 0.1 with three looks (z = 2.39), so on a run of fewer particles the check is
+//! bounded by the run's size, and the log says so.
+//!
 //! Measured on OpenFOAM's own cases and the repository's T-junction at three resolutions
 //! (300 spheres of a = 0.4 mm, 2 500 kg/m³, τ_p U/D ≈ 0.09; 200 re-tracked):
 //!
@@ -105,6 +120,68 @@ pub const RETRACK_STEP_FACTOR: u64 = 10;
 /// Steps a re-tracked particle may take on top of [`RETRACK_STEP_FACTOR`] times its own: room
 /// for a particle that failed or stopped early in the run.
 pub const RETRACK_STEP_FLOOR: u64 = 1_000;
+
+/// The shift in deposition fraction the re-track tries to resolve: it grows its sample until
+/// it could have detected this difference with 80 % power ([`detectable`]), or until a
+/// difference shows, or its budget is spent (module docs, *How large a sample*). One per cent
+/// is the size of the sampling error of a 10⁴-particle run's fraction near 0.1–0.5.
+pub const RESOLVE: f64 = 0.01;
+
+/// The re-track's budget: its accepted steps may reach this multiple of the run's own (summed
+/// over every particle of the run), so the diagnostic at most doubles a run's tracking cost. The
+/// first sample is re-tracked whatever it costs.
+pub const STEP_BUDGET: f64 = 1.0;
+
+/// One-sided normal quantile of 80 % power, Φ⁻¹(0.8).
+const POWER_QUANTILE: f64 = 0.841_621_233_572_914_3;
+
+/// Φ⁻¹(1 − 0.025/K) for K = 1, 2, …, 16 (SciPy's `norm.ppf`, to 6 decimals): the two-sided
+/// 5 % Bonferroni bound over K looks.
+const BONFERRONI: [f64; 16] = [
+    1.959_964, 2.241_403, 2.393_980, 2.497_705, 2.575_829, 2.638_257, 2.690_110, 2.734_369, 2.772_921, 2.807_034,
+    2.837_597, 2.865_260, 2.890_512, 2.913_726, 2.935_199, 2.955_167,
+];
+
+/// Paired standard errors beyond which a re-track of at most `looks` looks warns: [`WARN_SIGMAS`]
+/// for one, Bonferroni's Φ⁻¹(1 − 0.025/K) over K looks beyond (the false-alarm rate of the
+/// whole sequence stays ≤ 5 % whichever look stops it; the looks double the sample, so
+/// they are less correlated than equally spaced ones and Pocock's tighter bounds do not hold).
+pub fn warn_sigmas(looks: u32) -> f64 {
+    let k = usize::try_from(looks.max(1)).unwrap_or(usize::MAX);
+    BONFERRONI
+        .get(k - 1)
+        .copied()
+        .unwrap_or(BONFERRONI[15])
+        .max(WARN_SIGMAS)
+}
+
+/// The smallest shift δ in deposition fraction a re-track with `pairing` would detect with 80 %
+/// power at `sigmas` paired standard errors: δ = (z + z₀.₈)·σ(δ), σ(δ) = √(max(d, δ)/n)
+/// with d the discordant share (b + c)/n: a shift δ needs at least δn discordant pairs, so
+/// δ = max((z + z₀.₈)√(d/n), (z + z₀.₈)²/n); ∞ with nothing paired.
+pub fn detectable(pairing: &Pairing, sigmas: f64) -> f64 {
+    let n = pairing.n() as f64;
+    if n == 0.0 {
+        return f64::INFINITY;
+    }
+    let z = sigmas + POWER_QUANTILE;
+    let d = (pairing.only_ours + pairing.only_peer) as f64 / n;
+    (z * (d / n).sqrt()).max(z * z / n)
+}
+
+/// Why the re-track stopped growing its sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stop {
+    /// The difference exceeded the warning bound: a warning.
+    Resolved,
+    /// It could have detected a shift of [`RESOLVE`]: none is there.
+    Bounded,
+    /// Every particle of the run is re-tracked.
+    AllParticles,
+    /// The next sample would pass [`STEP_BUDGET`].
+    Budget,
+}
 
 /// The file of the diagnostic in a run's output folder.
 pub const FILE: &str = "adequacy.json";
@@ -219,8 +296,19 @@ pub struct Sensitivity {
     pub difference: f64,
     /// Its paired (McNemar) standard error.
     pub stderr: f64,
-    /// |difference| > [`WARN_SIGMAS`] · stderr, with at least one discordant pair.
+    /// The warning bound in paired standard errors ([`warn_sigmas`] of the most looks the
+    /// run's size allows).
+    pub sigmas: f64,
+    /// |difference| > `sigmas` · stderr, with at least one discordant pair.
     pub warning: bool,
+    /// The smallest shift this sample would have detected with 80 % power ([`detectable`]).
+    pub detectable: f64,
+    /// Looks taken (the sample doubled between them).
+    pub looks: u32,
+    /// Why the sample stopped growing.
+    pub stop: Stop,
+    /// Accepted steps of the re-track against the run's own.
+    pub steps: (u64, u64),
     /// The particles, by index.
     pub particles: Vec<Retracked>,
 }
@@ -353,12 +441,31 @@ impl Adequacy {
                     s.stderr,
                     s.run_stderr
                 ));
+                let stop = match s.stop {
+                    Stop::Resolved => "the difference is resolved".to_string(),
+                    Stop::Bounded => format!("a shift of {RESOLVE} would have shown"),
+                    Stop::AllParticles => "every particle of the run is in".to_string(),
+                    Stop::Budget => format!(
+                        "a larger sample would pass the budget of {STEP_BUDGET}× the run's steps (spent {} of {})",
+                        s.steps.0, s.steps.1
+                    ),
+                };
+                lines.push(format!(
+                    "note: adequacy: {} look{} doubling the sample, stopped because {stop}; the smallest shift this \
+                     sample detects with 80 % power is {:.4} (a difference beyond {:.2} paired standard errors warns, 5 % false \
+                     alarms over the looks)",
+                    s.looks,
+                    if s.looks == 1 { "" } else { "s" },
+                    s.detectable,
+                    s.sigmas
+                ));
                 if s.warning {
                     // The paired standard error vanishes when every pair is discordant one way.
                     let sigmas = if s.stderr > 0.0 {
                         format!(
-                            "{:.1} paired standard errors, more than {WARN_SIGMAS}",
-                            s.difference.abs() / s.stderr
+                            "{:.1} paired standard errors, more than {:.2}",
+                            s.difference.abs() / s.stderr,
+                            s.sigmas
                         )
                     } else {
                         format!("all {} pairs that differ, one way", p.only_ours + p.only_peer)
@@ -373,6 +480,12 @@ impl Adequacy {
                         s.other_field
                     ));
                 }
+                lines.push(
+                    "note: adequacy: both fields interpolate the same solution, so this cannot see the solver's own \
+                     discretisation error: for that, solve the case on two to four meshes and run them as a mesh \
+                     study (`flow.cases = [...]`, `pseudorigid study SCENE.toml`)"
+                        .to_string(),
+                );
             }
             (None, Some(Skipped::Off)) => {
                 lines.push("note: adequacy: no re-track (`output.adequacy_sample = 0`)".to_string());
@@ -484,65 +597,187 @@ pub fn resolution(scene: &Scene) -> Option<Option<Resolution>> {
     })
 }
 
-/// The first min(N, `sample`) particles of `records` (by index) re-tracked on the other
-/// reconstruction of `scene`'s steady OpenFOAM field and paired with their fates in `records`
-/// (module docs); `None` on an analytic or transient flow.
+/// The particles of `records` (by index) re-tracked on the other reconstruction of `scene`'s
+/// steady OpenFOAM field and paired with their fates in `records` (module docs): the first
+/// min(N, `sample`), then twice as many at each look until the difference is resolved, a shift
+/// of [`RESOLVE`] is bounded, every particle is in, or [`STEP_BUDGET`] would be passed; `None`
+/// on an analytic or transient flow.
 pub fn sensitivity(
     scene: &Scene,
     records: &[ParticleRecord<NamedLaw>],
     sample: u64,
 ) -> Result<Option<Sensitivity>, SceneError> {
-    let mut chosen: Vec<&ParticleRecord<NamedLaw>> = records.iter().collect();
-    chosen.sort_by_key(|r| r.index);
-    chosen.truncate(usize::try_from(sample).unwrap_or(usize::MAX));
+    let (run_field, other_field, other): (_, _, Box<dyn Fn(&[&ParticleRecord<NamedLaw>]) -> Vec<(Fate, u64)>>) =
+        match &scene.flow {
+            SceneFlow::Blended(blended) => (
+                "blended",
+                "cellwise",
+                Box::new(|runs| retrack(scene, blended.cellwise(), runs)),
+            ),
+            SceneFlow::Foam(cells) => {
+                let blended = BlendedFlow::new((**cells).clone())?;
+                (
+                    "cellwise",
+                    "blended",
+                    Box::new(move |runs| retrack(scene, &blended, runs)),
+                )
+            }
+            SceneFlow::Transient(_) | SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => {
+                return Ok(None);
+            }
+        };
+    let mut sorted: Vec<&ParticleRecord<NamedLaw>> = records.iter().collect();
+    sorted.sort_by_key(|r| r.index);
+    let run_steps: u64 = records.iter().map(|r| r.stats.steps).sum();
+    let mut fates: Vec<Fate> = Vec::new();
+    let grown = grow(
+        usize::try_from(sample).unwrap_or(usize::MAX),
+        sorted.len(),
+        STEP_BUDGET * run_steps as f64,
+        |range| {
+            let runs = &sorted[range];
+            let other_fates = other(runs);
+            let looked = runs
+                .iter()
+                .zip(&other_fates)
+                .map(|(r, (o, steps))| {
+                    // A failure in the run is counted in `failed_in_run`; one in the re-track
+                    // is undecided.
+                    let pair = match (&r.fate, o) {
+                        (Fate::Failed { .. }, _) => Look::FailedInRun,
+                        (_, Fate::Failed { .. }) => Look::Undecided,
+                        (run, other) => Look::Paired(deposited(run), deposited(other)),
+                    };
+                    (pair, *steps)
+                })
+                .collect();
+            fates.extend(other_fates.into_iter().map(|(o, _)| o));
+            looked
+        },
+    );
+    let chosen = &sorted[..grown.sample];
     let deposited_in_run = records.iter().filter(|r| deposited(&r.fate)).count() as u64;
-    let run_stderr = binomial::stderr(deposited_in_run, records.len() as u64);
-    let failed_in_run = failures_by_patch(scene, &chosen);
-    let pair = |run_field, other_field, other: Vec<Fate>| {
-        let mut pairing = Pairing::default();
-        let mut undecided = 0;
-        let particles = chosen
+    let pairing = grown.pairing;
+    let (difference, stderr) = pairing.difference();
+    Ok(Some(Sensitivity {
+        run_field,
+        other_field,
+        pairing,
+        undecided: grown.undecided,
+        failed_in_run: failures_by_patch(scene, chosen),
+        run_fraction: binomial::fraction(pairing.both + pairing.only_ours, pairing.n()),
+        other_fraction: binomial::fraction(pairing.both + pairing.only_peer, pairing.n()),
+        run_stderr: binomial::stderr(deposited_in_run, records.len() as u64),
+        difference,
+        stderr,
+        sigmas: grown.sigmas,
+        warning: grown.stop == Stop::Resolved,
+        detectable: grown.detectable,
+        looks: grown.looks,
+        stop: grown.stop,
+        steps: (grown.steps, run_steps),
+        particles: chosen
             .iter()
-            .zip(&other)
-            .map(|(r, o)| {
-                if matches!(r.fate, Fate::Failed { .. }) {
-                    // Counted in `failed_in_run`.
-                } else if matches!(o, Fate::Failed { .. }) {
-                    undecided += 1;
-                } else {
-                    pairing.add(deposited(&r.fate), deposited(o));
-                }
-                Retracked {
-                    index: r.index,
-                    run: r.fate.label(),
-                    other: o.label(),
-                }
+            .zip(&fates)
+            .map(|(r, o)| Retracked {
+                index: r.index,
+                run: r.fate.label(),
+                other: o.label(),
             })
-            .collect();
-        let (difference, stderr) = pairing.difference();
-        Sensitivity {
-            run_field,
-            other_field,
-            pairing,
-            undecided,
-            failed_in_run: failed_in_run.clone(),
-            run_fraction: binomial::fraction(pairing.both + pairing.only_ours, pairing.n()),
-            other_fraction: binomial::fraction(pairing.both + pairing.only_peer, pairing.n()),
-            run_stderr,
-            difference,
-            stderr,
-            warning: pairing.only_ours + pairing.only_peer > 0 && difference.abs() > WARN_SIGMAS * stderr,
-            particles,
-        }
+            .collect(),
+    }))
+}
+
+/// One re-tracked particle as the sequential rule sees it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Look {
+    /// Deposited in the run, deposited on the other field.
+    Paired(bool, bool),
+    /// The re-track did not finish: left out of the pairing.
+    Undecided,
+    /// The particle failed in the run: left out of the pairing.
+    FailedInRun,
+}
+
+/// Where the sequential re-track stopped ([`grow`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grown {
+    /// Particles re-tracked (the first, by index).
+    pub sample: usize,
+    /// Their pairing.
+    pub pairing: Pairing,
+    /// Re-tracks that did not finish.
+    pub undecided: u64,
+    /// Looks taken.
+    pub looks: u32,
+    /// The warning bound in paired standard errors.
+    pub sigmas: f64,
+    /// The smallest shift detected with 80 % power ([`detectable`]).
+    pub detectable: f64,
+    /// Why it stopped.
+    pub stop: Stop,
+    /// Accepted steps of the re-track.
+    pub steps: u64,
+}
+
+/// The sequential rule (module docs, *How large a sample*) over `total` particles: `retrack`
+/// gives the particles of an index range as [`Look`]s with their accepted steps; the first
+/// look takes min(`first`, `total`), each next one doubles the sample, within `budget` steps.
+/// At most ⌈log₂(total/first)⌉ + 1 looks, so the loop is bounded by the run's size.
+pub fn grow(
+    first: usize,
+    total: usize,
+    budget: f64,
+    mut retrack: impl FnMut(std::ops::Range<usize>) -> Vec<(Look, u64)>,
+) -> Grown {
+    let mut sizes = vec![first.min(total)];
+    while let Some(&n) = sizes.last().filter(|&&n| n > 0 && n < total) {
+        sizes.push(n.saturating_mul(2).min(total));
+    }
+    let sigmas = warn_sigmas(u32::try_from(sizes.len()).unwrap_or(u32::MAX));
+    let mut grown = Grown {
+        sample: 0,
+        pairing: Pairing::default(),
+        undecided: 0,
+        looks: 0,
+        sigmas,
+        detectable: f64::INFINITY,
+        stop: Stop::AllParticles,
+        steps: 0,
     };
-    Ok(match &scene.flow {
-        SceneFlow::Blended(blended) => Some(pair("blended", "cellwise", retrack(scene, blended.cellwise(), &chosen))),
-        SceneFlow::Foam(cells) => {
-            let blended = BlendedFlow::new((**cells).clone())?;
-            Some(pair("cellwise", "blended", retrack(scene, &blended, &chosen)))
+    for (k, &n) in sizes.iter().enumerate() {
+        for (look, s) in retrack(grown.sample..n) {
+            grown.steps = grown.steps.saturating_add(s);
+            match look {
+                Look::Paired(run, other) => grown.pairing.add(run, other),
+                Look::Undecided => grown.undecided += 1,
+                Look::FailedInRun => {}
+            }
         }
-        SceneFlow::Transient(_) | SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => None,
-    })
+        grown.sample = n;
+        grown.looks = u32::try_from(k + 1).unwrap_or(u32::MAX);
+        grown.detectable = detectable(&grown.pairing, sigmas);
+        let (difference, stderr) = grown.pairing.difference();
+        // The next look's cost, predicted from this one's steps per particle.
+        let over_budget = sizes
+            .get(k + 1)
+            .is_some_and(|&m| grown.steps as f64 * m as f64 / n.max(1) as f64 > budget);
+        let discordant = grown.pairing.only_ours + grown.pairing.only_peer;
+        let stop = if discordant > 0 && difference.abs() > sigmas * stderr {
+            Some(Stop::Resolved)
+        } else if grown.detectable <= RESOLVE {
+            Some(Stop::Bounded)
+        } else if over_budget {
+            Some(Stop::Budget)
+        } else {
+            None
+        };
+        if let Some(stop) = stop {
+            return Grown { stop, ..grown };
+        }
+    }
+    // Every look taken: every particle is in.
+    grown
 }
 
 /// The run's failures among `chosen`, by the patch of the mesh nearest to where each failed
@@ -585,12 +820,16 @@ fn deposited(fate: &Fate) -> bool {
     matches!(fate, Fate::Deposited { .. })
 }
 
-/// The fates of the particles of `runs` on `flow` instead of the scene's: the same injection
+/// The fates (and accepted steps) of the particles of `runs` on `flow` instead of the scene's: the same injection
 /// (drawn and started on the scene's field, so each starts where it started in the run),
 /// integrator, boundary, contact and plan, with at most [`RETRACK_STEP_FACTOR`] times the
 /// particle's steps in the run plus [`RETRACK_STEP_FLOOR`] (beyond: `Failed`, undecided), in
 /// parallel on the current rayon pool.
-fn retrack<F: FlowField + Sync + ?Sized>(scene: &Scene, flow: &F, runs: &[&ParticleRecord<NamedLaw>]) -> Vec<Fate> {
+fn retrack<F: FlowField + Sync + ?Sized>(
+    scene: &Scene,
+    flow: &F,
+    runs: &[&ParticleRecord<NamedLaw>],
+) -> Vec<(Fate, u64)> {
     let injector = scene.injector();
     let budget = scene.plan.budget();
     runs.par_iter()
@@ -604,10 +843,10 @@ fn retrack<F: FlowField + Sync + ?Sized>(scene: &Scene, flow: &F, runs: &[&Parti
                 max_steps: steps.min(budget.max_steps),
                 ..budget
             });
-            Case::new(&scene.integrator, flow, &scene.boundary, &injector, plan)
+            let record = Case::new(&scene.integrator, flow, &scene.boundary, &injector, plan)
                 .with_contact(scene.contact)
-                .run_particle(scene.seed, r.index)
-                .fate
+                .run_particle(scene.seed, r.index);
+            (record.fate, record.stats.steps)
         })
         .collect()
 }

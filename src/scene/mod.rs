@@ -36,7 +36,7 @@
 //! | `integrator.norm` | how the local error is measured (`radau_iia`, `rosenbrock_w23`, `auto`): `"componentwise"` (the default) or `"tensor"`, F, x and v each by its norm, independent of the frame's orientation (`crate::integrator::ErrorNorm`; cost against accuracy on the bifurcation: `paper-figures/work-precision/NOTES.md`) |
 //! | `[end] t_end`, `max_steps` | end time of every particle's run; accepted steps allowed per particle |
 //! | `[output] every`, `vtk` | output interval (default: the end only); write ParaView files (default true) |
-//! | `output.adequacy_sample` | particles of the mesh-adequacy diagnostic's re-track (`scene::adequacy`): the first min(N, n) by index run again on the other reconstruction of the field (cellwise for a blended run, blended for `flow.blend = false`) and paired with the run; default 200 on a steady OpenFOAM field, 0 (none) elsewhere; refused above 0 on an analytic flow and on a transient field |
+//! | `output.adequacy_sample` | particles of the mesh-adequacy diagnostic's first look (`scene::adequacy`; the sample doubles while no difference shows, until a shift of 0.01 is bounded or the run's own steps are spent): the first min(N, n) by index run again on the other reconstruction of the field (cellwise for a blended run, blended for `flow.blend = false`) and paired with the run; default 200 on a steady OpenFOAM field, 0 (none) elsewhere; refused above 0 on an analytic flow and on a transient field |
 //!
 //! # Transient fields
 //! `flow.time = [t0, t1, ...]` (times of the case's time directories, ascending, at least two)
@@ -82,9 +82,12 @@
 //! which models the flow there rather than resolving it). A whole run on a steady field then
 //! re-tracks the first `output.adequacy_sample` particles on the other reconstruction of the
 //! same solution and pairs their fates with the run's (McNemar's paired difference of the
-//! deposition fractions and its standard error); a `warning: adequacy:` line says when the
-//! deposition moves by more than two paired standard errors: the near-wall resolution, not
-//! the particles, sets the answer. The numbers and every pair go to `adequacy.json`. The
+//! deposition fractions and its standard error), doubling the sample while nothing shows until
+//! it could detect a shift of 0.01 or its budget (the run's own steps) ends; a
+//! `warning: adequacy:` line says when the deposition moves by more than the warning bound
+//! (two paired standard errors for one look, Bonferroni's over several): the near-wall
+//! resolution, not the particles, sets the answer. The log gives the smallest shift the
+//! sample could detect. The numbers and every pair go to `adequacy.json`. The
 //! re-track runs after the run from its records: records, tables, checkpoints and `--resume`
 //! are unchanged by it. A shard prints the ratios only; `merge` re-tracks the whole run's first
 //! particles (the same sample however the run was split). A transient field gets the ratios
@@ -157,8 +160,8 @@ use std::path::Path;
 use std::sync::Arc;
 use toml::Spanned;
 
-/// Particles the mesh-adequacy diagnostic ([`crate::scene::adequacy`]) re-tracks by default
-/// (`output.adequacy_sample`): the paired standard error of a deposition fraction near f over
+/// Particles the mesh-adequacy diagnostic ([`crate::scene::adequacy`]) re-tracks first by
+/// default (`output.adequacy_sample`; the sample then doubles while nothing is resolved): the paired standard error of a deposition fraction near f over
 /// n pairs is at most √(f(1 − f)·2/n), 0.07 at f = 0.5 and n = 200, so a shift of a tenth of
 /// the particles' fates is seen; 200 particles cost a fifth of the TJunction tutorial's
 /// 1 000-tracer run. Here, with the key it defaults, so that the diagnostic imports the scene
