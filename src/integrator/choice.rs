@@ -33,7 +33,7 @@
 
 use super::control::ErrorNorm;
 use super::manifold::{Manifold, ManifoldMemory, ManifoldReport};
-use super::stokesian::StokesianMemory;
+use super::stokesian::{ROSENBROCK_RTOL, StokesianMemory};
 use super::{BarycentreModel, Frame, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
@@ -55,13 +55,6 @@ use serde::{Deserialize, Serialize};
 /// shorter than the volume mean 1/γ̇. 0.06 lies between the last passing and the first failing
 /// measurement.
 pub const EQUILIBRIUM_STOKES: f64 = 0.06;
-
-/// Smallest rtol at which the Rosenbrock-W pair is chosen. At rtol 10⁻² (the deposition
-/// studies) it costs half of Radau's CPU time on the bifurcation's rigid prolates (1.6 s against
-/// 3.1 s at Stk 0.005, equilibrium barycentre; 2.4 s against 3.7 s at Stk 0.1, inertial; 1 000
-/// particles, `examples/population_scaling`); at 10⁻³ the two cost the same (soft sphere,
-/// [`Scheme`]'s table), and from 10⁻⁶ down Radau costs 2–20× less.
-pub const ROSENBROCK_RTOL: f64 = 1e-3;
 
 /// ρ* above which the reason states that the shape's inertia is neglected. The shape's
 /// inertia relaxes on the time ρ_p d_eq²/μ_f = ρ*/γ̇, so the inertialess shape departs from the
@@ -174,18 +167,6 @@ impl ParticleNumbers {
             },
             ..numbers
         })
-    }
-}
-
-/// The scheme for relative tolerance `rtol`: the Rosenbrock-W 2(3) pair at rtol ≥
-/// [`ROSENBROCK_RTOL`], Radau IIA(5) below (module docs). Every integrator that wraps an
-/// inertialess full model by tolerance alone takes its scheme from here (`auto`, and the
-/// slow manifold's full model).
-pub fn scheme_for(rtol: f64) -> Scheme {
-    if rtol >= ROSENBROCK_RTOL {
-        Scheme::Rosenbrock23
-    } else {
-        Scheme::Radau5
     }
 }
 
@@ -320,7 +301,7 @@ pub fn choose(numbers: ParticleNumbers, tol: Tolerances) -> Result<Choice, Param
         });
     }
     let equilibrium = stokes <= EQUILIBRIUM_STOKES;
-    let scheme = scheme_for(tol.rtol());
+    let scheme = Scheme::for_rtol(tol.rtol());
     let rosenbrock = scheme == Scheme::Rosenbrock23;
     let full = Stokesian {
         tol,

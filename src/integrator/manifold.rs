@@ -40,7 +40,7 @@
 //!
 //! `auto` and the studies' integrator ([`super::choice`]) take this model for an elastic
 //! particle whose δ at the flow's mean strain rate is at most
-//! [`MANIFOLD_SHARE`](super::choice::MANIFOLD_SHARE) of δ_max, where it was measured to pay
+//! `MANIFOLD_SHARE` (`integrator::choice`) of δ_max, where it was measured to pay
 //! (the table there); a scene may also name it (`slow_manifold`).
 //!
 //! # Non-spheres
@@ -434,7 +434,7 @@ impl TimeIntegrator for Manifold {
 // Selectable by name: `[integrator] type = "slow_manifold"` with `tol` (rtol = atol of the full
 // model), `overdamped` and `norm` as for `radau_iia`, and `delta_max` (default √tol, in (0, 1)).
 // The full model's scheme is the one `auto` takes at that tolerance
-// ([`super::choice::scheme_for`]: Rosenbrock-W 2(3) at tol ≥ 10⁻³, Radau IIA below), so that a
+// ([`Scheme::for_rtol`](super::Scheme::for_rtol): Rosenbrock-W 2(3) at tol ≥ 10⁻³, Radau IIA below), so that a
 // particle off the manifold, and a rigid one, costs what it costs under `auto`.
 inventory::submit! {
     super::IntegratorRegistration {
@@ -448,7 +448,7 @@ inventory::submit! {
             } else {
                 Stokesian::new(tol)
             }?
-            .with_scheme(super::choice::scheme_for(tol))
+            .with_scheme(super::Scheme::for_rtol(tol))
             .with_norm(super::stokesian::error_norm(p)?);
             let manifold = match p.positive("delta_max") {
                 Err(ParamError::Missing { .. }) => Manifold::new(full)?,

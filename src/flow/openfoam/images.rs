@@ -33,13 +33,10 @@
 
 use super::error::FoamError;
 use super::mesh::PolyMesh;
-use super::patch::PatchSet;
+use super::patch::{IMAGE_PATCH_TYPES, PatchSet};
 use crate::error::FlowError;
 use crate::flow::{Crossing, FlowSample, Isometry};
 use crate::tensor::Vec3;
-
-/// Patch types a particle passes through ([module docs](self)).
-pub const IMAGE_PATCH_TYPES: [&str; 5] = ["cyclic", "cyclicAMI", "symmetry", "symmetryPlane", "wedge"];
 
 /// Largest |n_f − n̄| of a patch's face normals about their mean, and largest distance of its
 /// face centres from the mean plane relative to the patch's extent, for the patch to count as

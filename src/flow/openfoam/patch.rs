@@ -19,7 +19,7 @@ pub enum PatchRole {
     /// Contact means the particle leaves the domain (`type patch`: inlets, outlets).
     Exit,
     /// The particle passes through it and continues from its image: `cyclic`, `cyclicAMI`,
-    /// `symmetry`, `symmetryPlane`, `wedge` ([`super::images`]).
+    /// `symmetry`, `symmetryPlane`, `wedge` (`flow::openfoam::images`).
     Image,
     /// Not a particle boundary: `empty` (a 2-D case's front and back) and `processor` (faces
     /// between the processors of a decomposed case, which the reassembled mesh does not have).
@@ -28,10 +28,14 @@ pub enum PatchRole {
     Constraint,
 }
 
+/// Patch types a particle passes through, as the image of itself across the patch
+/// (`flow::openfoam::images`): periodic pairs and mirror planes.
+pub const IMAGE_PATCH_TYPES: [&str; 5] = ["cyclic", "cyclicAMI", "symmetry", "symmetryPlane", "wedge"];
+
 /// The patch types a particle can meet and that are handled as its boundary: `wall`
 /// (deposit), `patch` (exit), `empty` (2-D: the slab's faces, which particles are kept off),
 /// `processor` (internal faces of a decomposed case) and the types it passes through
-/// ([`super::images::IMAGE_PATCH_TYPES`]).
+/// ([`IMAGE_PATCH_TYPES`]).
 pub const PARTICLE_PATCH_TYPES: [&str; 9] = [
     "wall",
     "patch",
@@ -50,7 +54,7 @@ impl PatchRole {
         match kind {
             "wall" => PatchRole::Wall,
             "patch" => PatchRole::Exit,
-            k if super::images::IMAGE_PATCH_TYPES.contains(&k) => PatchRole::Image,
+            k if IMAGE_PATCH_TYPES.contains(&k) => PatchRole::Image,
             _ => PatchRole::Constraint,
         }
     }
