@@ -234,7 +234,7 @@ pub const MAX_LEVEL: u32 = 12;
 pub const LEAVES_PER_CELL: usize = 12;
 /// Most bytes an octree build may hold by default ([`Options::max_bytes`]), as a multiple of
 /// the mesh's own bytes ([`default_max_bytes`]). A mesh takes about 290 bytes per cell (the
-/// airway's 83 768 cells 24.6 MB: points, faces, owners, neighbours, face centres and areas,
+/// airway's 83 768 cells 24.5 MB: points, faces, owners, neighbours, face centres and areas,
 /// cell centres and volumes). The tables measured on the airway take 0.4–4.9 kB per cell
 /// (module docs), and their build holds the blend's samples besides (about 175 bytes each, one
 /// per lattice point of a leaf, against 128 bytes per tabulated node): at most 2.4 times the
