@@ -242,9 +242,10 @@ pub const LEAVES_PER_CELL: usize = 12;
 /// to spare. A tolerance the budget cannot meet (1 000 leaves per cell) went on to 1.3–2.7 GiB
 /// until killed; the refusal names the bytes it wanted.
 pub const MESH_BYTES_MULTIPLE: usize = 64;
-/// Least default bound on an octree build's bytes (16 MiB), so that meshes of a few hundred
-/// cells, whose wall leaves are many per cell, are not refused at the default tolerances.
-pub const MIN_BUILD_BYTES: usize = 16 << 20;
+/// Least default bound on an octree build's bytes (64 MiB): a small mesh's table may take many
+/// leaves per cell (its wall leaves, or a budget raised to resolve a front) at a memory no
+/// machine is short of.
+pub const MIN_BUILD_BYTES: usize = 64 << 20;
 
 /// The default bound on an octree build's bytes for `mesh` ([`Options::max_bytes`] `None`):
 /// [`MESH_BYTES_MULTIPLE`] times the mesh's own bytes, at least [`MIN_BUILD_BYTES`]. The mesh's
