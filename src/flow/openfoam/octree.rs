@@ -74,10 +74,10 @@
 //! against the blend and an exact field, paired fates, cost; `examples/octree_field`,
 //! `examples/octree_fates`) are in `paper-figures/fig18/NOTES.md`, History, "Octree table".
 
-use super::FoamError;
 use super::blend::BlendedFlow;
 use super::hermite;
 use super::memo;
+use super::{FoamError, PolyMesh};
 use crate::error::FlowError;
 use crate::flow::{FlowField, FlowSample};
 use crate::tensor::{Mat3, Vec3};
@@ -95,13 +95,30 @@ const CHECK_SHARE: f64 = 0.25;
 pub const MAX_LEVEL: u32 = 12;
 /// Leaves allowed per mesh cell.
 pub const LEAVES_PER_CELL: usize = 12;
-/// Most bytes an octree build may hold by default ([`Options::max_bytes`]), 1 GiB. The tables
-/// measured on the airway take 0.4–4.9 kB per cell (`paper-figures/fig18/NOTES.md`, History),
-/// 0.04–0.4 GB for its 83 768 cells; their build holds the blend's samples besides (about 175
-/// bytes each, one per lattice point of a leaf). A tolerance the budget cannot meet (1 000
-/// leaves per cell) went on to 1.3–2.7 GiB until killed. A mesh several times the airway's may
-/// need more: the refusal names the bytes it wanted.
-pub const MAX_BUILD_BYTES: usize = 1 << 30;
+/// Most bytes an octree build may hold by default ([`Options::max_bytes`]), as a multiple of
+/// the mesh's own bytes ([`default_max_bytes`]). A mesh takes about 290 bytes per cell (the
+/// airway's 83 768 cells 24.5 MB: points, faces, owners, neighbours, face centres and areas,
+/// cell centres and volumes). The tables measured on the airway take 0.4–4.9 kB per cell
+/// (`paper-figures/fig18/NOTES.md`, History), and their build holds the blend's samples besides (about 175 bytes each, one
+/// per lattice point of a leaf, against 128 bytes per tabulated node): at most 2.4 times the
+/// table, 12 kB per cell. 64 times the mesh's bytes, about 19 kB per cell, holds that with room
+/// to spare. A tolerance the budget cannot meet (1 000 leaves per cell) went on to 1.3–2.7 GiB
+/// until killed; the refusal names the bytes it wanted.
+pub const MESH_BYTES_MULTIPLE: usize = 64;
+/// Least default bound on an octree build's bytes (64 MiB): a small mesh's table may take many
+/// leaves per cell (its wall leaves, or a budget raised to resolve a front) at a memory no
+/// machine is short of.
+pub const MIN_BUILD_BYTES: usize = 64 << 20;
+
+/// The default bound on an octree build's bytes for `mesh` ([`Options::max_bytes`] `None`):
+/// [`MESH_BYTES_MULTIPLE`] times the mesh's own bytes, at least [`MIN_BUILD_BYTES`]. The mesh's
+/// bytes: 24 per point, 4 per face vertex, 60 per face (its offset, owner, neighbour, centre
+/// and area vector) and 32 per cell (its centre and volume).
+pub fn default_max_bytes(mesh: &PolyMesh) -> usize {
+    let vertices: usize = (0..mesh.n_faces()).map(|f| mesh.face(f).len()).sum();
+    let own = mesh.points().len() * 24 + vertices * 4 + mesh.n_faces() * 60 + mesh.n_cells() * 32;
+    own.saturating_mul(MESH_BYTES_MULTIPLE).max(MIN_BUILD_BYTES)
+}
 /// Bytes a blend sample takes in the build's map: its lattice point and datum, one control
 /// byte, and the map's spare room (at most 1/8 of it free when full).
 const SAMPLE_BYTES: usize = (size_of::<(Lattice, Datum)>() + 1) * 8 / 7;
@@ -189,14 +206,15 @@ pub struct Options {
     pub wall_leaf: f64,
     /// The tabulated leaves' interpolant.
     pub interpolant: Interpolant,
-    /// Most bytes the build may hold (tree and blend samples; [`MAX_BUILD_BYTES`]): a build
-    /// that would pass it is refused with [`FoamError::TableTooLarge`] before it samples more.
-    pub max_bytes: usize,
+    /// Most bytes the build may hold (tree and blend samples), `None` for the bound derived from
+    /// the mesh ([`default_max_bytes`]): a build that would pass it is refused with
+    /// [`FoamError::TableTooLarge`] before it samples more.
+    pub max_bytes: Option<usize>,
 }
 
 impl Default for Options {
-    /// [`U_TOLERANCE`], [`GRADIENT_TOLERANCE`], [`LEAVES_PER_CELL`], [`WALL_LEAF`],
-    /// [`MAX_BUILD_BYTES`].
+    /// [`U_TOLERANCE`], [`GRADIENT_TOLERANCE`], [`LEAVES_PER_CELL`], [`WALL_LEAF`], the bytes
+    /// bound derived from the mesh ([`default_max_bytes`]).
     fn default() -> Self {
         Self {
             u_tolerance: U_TOLERANCE,
@@ -204,7 +222,7 @@ impl Default for Options {
             leaves_per_cell: LEAVES_PER_CELL,
             wall_leaf: WALL_LEAF,
             interpolant: Interpolant::Trilinear,
-            max_bytes: MAX_BUILD_BYTES,
+            max_bytes: None,
         }
     }
 }
@@ -890,6 +908,7 @@ impl OctreeFlow {
             });
         }
         let mesh = cellwise.mesh();
+        let max_bytes = max_bytes.unwrap_or_else(|| default_max_bytes(mesh));
         let (lo, hi) = mesh.points().iter().fold(
             (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
             |(lo, hi), p| (lo.inf(p), hi.sup(p)),

@@ -4,7 +4,7 @@
 
 use crate::common::build::{layered_box, sampled};
 use pseudorigid::flow::FlowField;
-use pseudorigid::flow::openfoam::octree::{Interpolant, Options};
+use pseudorigid::flow::openfoam::octree::{Interpolant, Options, default_max_bytes};
 use pseudorigid::flow::openfoam::{BlendedFlow, FoamError, FoamFlow, OctreeFlow};
 use pseudorigid::tensor::Vec3;
 
@@ -122,7 +122,7 @@ fn a_table_past_its_memory_is_refused_with_the_numbers() {
         u_tolerance: 1e-300,
         gradient_tolerance: 1e-300,
         leaves_per_cell: 1_000_000,
-        max_bytes: 8 << 20,
+        max_bytes: Some(8 << 20),
         ..Options::default()
     };
     let start = std::time::Instant::now();
@@ -143,6 +143,43 @@ fn a_table_past_its_memory_is_refused_with_the_numbers() {
     }
     assert!(err.to_string().contains(&(8u64 << 20).to_string()), "{err}");
     assert!(start.elapsed().as_secs() < 60, "{:?}", start.elapsed());
+}
+
+/// The default memory bound follows the mesh (`octree::default_max_bytes`): the same
+/// unmeetable request on a uniform 20³ box (8 000 cells, a mesh of about 2.4 MB) is refused at
+/// 64 times the mesh's bytes, restated here from the mesh (24 per point, 4 per face vertex, 60
+/// per face, 32 per cell), above the 64 MiB floor and far below the 1 GiB the default was for
+/// every mesh (which this fails: that build runs on to 1 GiB and names it).
+#[test]
+fn the_default_memory_bound_follows_the_mesh() {
+    let xs: Vec<f64> = (0..=20).map(|i| f64::from(i) / 20.0).collect();
+    let mesh = layered_box(&xs, &xs, &xs, false).mesh();
+    let vertices: usize = (0..mesh.n_faces()).map(|f| mesh.face(f).len()).sum();
+    let own = mesh.points().len() * 24 + vertices * 4 + mesh.n_faces() * 60 + mesh.n_cells() * 32;
+    let cells = FoamFlow::new(
+        mesh.clone(),
+        vec![(0.0, sampled(&mesh, |x| Vec3::new(x[1] * x[1], x[0].sin(), 0.0)))],
+    );
+    let blend = BlendedFlow::new(cells.unwrap()).unwrap();
+    let options = Options {
+        u_tolerance: 1e-300,
+        gradient_tolerance: 1e-300,
+        leaves_per_cell: 1_000_000,
+        ..Options::default()
+    };
+    let start = std::time::Instant::now();
+    match OctreeFlow::with_options(blend, options).unwrap_err() {
+        FoamError::TableTooLarge { limit, bytes, .. } => {
+            eprintln!(
+                "20³ box: mesh {own} bytes, refused at {bytes} bytes against {limit} in {:?}",
+                start.elapsed()
+            );
+            assert_eq!(limit, 64 * own);
+            assert_eq!(limit, default_max_bytes(&mesh));
+            assert!(limit > 64 << 20 && limit < 1 << 30, "{limit}");
+        }
+        other => panic!("expected a refusal for memory, got {other:?}"),
+    }
 }
 
 /// Continuity across leaf faces: at the centre and the edge midpoints of every face of every
@@ -172,9 +209,11 @@ fn continuous_across_every_leaf_face(interpolant: Interpolant) {
             x[1] * x[0] * x[2],
         )
     };
-    // A budget the table does not reach, so it refines where the field asks.
+    // A budget the table does not reach, so it refines where the field asks, and the memory for
+    // it (past the default bound derived from this 448-cell mesh, 64 MiB).
     let options = Options {
         leaves_per_cell: 1000,
+        max_bytes: Some(1 << 30),
         interpolant,
         ..Options::default()
     };

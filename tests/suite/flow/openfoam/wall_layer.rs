@@ -416,6 +416,104 @@ fn convective_acceleration_is_the_derivative_of_u_at_a_convex_edge() {
     eprintln!("convex edge: largest |(u·∇)u − difference| / scale {worst:.2e}");
 }
 
+/// The convex fade's cosines measured against others (`flow::openfoam::blend`, Convex edges)
+/// at the convex edge of the L-shaped channel (16 cells per unit, h = 1/16, the edge along
+/// (½, ½, z)), in the field that flows along a convex edge with no slip on both its faces:
+/// u = r^{2/3} sin(2θ/3) ẑ, θ measured from the wall y = ½ (x > ½) through the fluid to the
+/// wall x = ½ (y < ½) at 3π/2. It is harmonic and divergence-free, the leading term of a duct's
+/// Poiseuille flow at a re-entrant edge, whose shear r^{−1/3} grows towards the edge: there the
+/// faces next to the edge carry the largest shear, which their fits reverse behind their planes
+/// (the failure the fade exists for). Sampled at cell centres and boundary faces (the far walls
+/// then move along z), so every error is the blend's. Errors |u − u_exact|/r^{2/3} (the field's
+/// size on the circle) on rings r = 0.1 … 1.3 h about the edge at z = ½, θ = 1° … 269°.
+///
+/// The bound: the blend is a weighted mean of fits, and a fade that keeps the fits valid in
+/// front of their faces and drops the reversed ones should leave the blend no worse near the
+/// edge than the cellwise-linear field it smooths (the containing cell's fit, [`FoamFlow`]),
+/// whose own error there is that of one linear fit of r^{2/3} at the distance of its cell's
+/// centre: the shipped fade's largest error must lie below the cellwise field's largest error
+/// on the same points, over all of them and over those behind a face's plane. Printed besides:
+/// full weight to 7° and none beyond 15° behind a face's plane, the shipped 14.5°/30°, 25°/45°,
+/// and no fade; the shipped fade must lower the rms error behind the planes below no fade's
+/// (a comparison, no tolerance).
+#[test]
+fn convex_fade_is_measured_against_an_exact_field_at_a_convex_edge() {
+    let angle = |x: &Vec3| {
+        let theta = (x[1] - 0.5).atan2(x[0] - 0.5);
+        // The solid quadrant is −π/2 < θ < 0: points below it (x < ½, y < ½) continue past π.
+        if theta < -std::f64::consts::FRAC_PI_4 {
+            theta + 2.0 * std::f64::consts::PI
+        } else {
+            theta
+        }
+    };
+    let exact = |x: &Vec3| {
+        let r = (x[0] - 0.5).hypot(x[1] - 0.5);
+        Vec3::new(0.0, 0.0, r.powf(2.0 / 3.0) * (2.0 * angle(x) / 3.0).sin())
+    };
+    let n = 16;
+    let h = 1.0 / n as f64;
+    let mesh = build::l_channel(n).mesh();
+    let cells = FoamFlow::new(mesh.clone(), vec![(0.0, build::sampled(&mesh, exact))]).unwrap();
+    let shipped = BlendedFlow::new(cells.clone()).unwrap();
+    let behind = |full: f64, none: f64| Some((-none.to_radians().sin(), -full.to_radians().sin()));
+    let variants = [
+        ("7°/15°", behind(7.0, 15.0)),
+        ("14.5°/30° (shipped)", None),
+        ("25°/45°", behind(25.0, 45.0)),
+        ("no fade", None),
+    ];
+    let mut points = Vec::new();
+    for fraction in [0.1, 0.3, 0.6, 0.9, 1.3] {
+        for degrees in (1..270).step_by(2) {
+            let (s, c) = (degrees as f64).to_radians().sin_cos();
+            points.push(Vec3::new(0.5 + fraction * h * c, 0.5 + fraction * h * s, 0.5));
+        }
+    }
+    // Largest and rms error over all points, then over those behind a face's plane (θ < π/2
+    // behind the faces on x = ½, θ > π behind those on y = ½), where the fade acts.
+    let errors = |field: &dyn FlowField| -> [f64; 4] {
+        let (mut all, mut behind) = (Vec::new(), Vec::new());
+        for x in &points {
+            let r = (x[0] - 0.5).hypot(x[1] - 0.5);
+            let e = (field.sample(x, 0.0).unwrap().u - exact(x)).norm() / r.powf(2.0 / 3.0);
+            all.push(e);
+            if !(std::f64::consts::FRAC_PI_2..=std::f64::consts::PI).contains(&angle(x)) {
+                behind.push(e);
+            }
+        }
+        let rms = |e: &[f64]| (e.iter().map(|e| e * e).sum::<f64>() / e.len() as f64).sqrt();
+        let largest = |e: &[f64]| e.iter().copied().fold(0.0, f64::max);
+        [largest(&all), rms(&all), largest(&behind), rms(&behind)]
+    };
+    let cellwise = errors(&cells);
+    eprintln!("convex edge, u = r^(2/3) sin(2θ/3) ẑ, h = 1/{n}: |u − u_exact|/r^(2/3), largest and rms, all / behind");
+    let show = |name: &str, e: &[f64; 4]| {
+        eprintln!("  {name:<22} {:.3} {:.3} / {:.3} {:.3}", e[0], e[1], e[2], e[3]);
+    };
+    show("cellwise-linear", &cellwise);
+    let mut measured = Vec::new();
+    for (name, fade) in variants {
+        let blend = match name {
+            "14.5°/30° (shipped)" => shipped.clone(),
+            _ => BlendedFlow::new(cells.clone()).unwrap().with_convex_fade(fade).unwrap(),
+        };
+        let e = errors(&blend);
+        show(name, &e);
+        measured.push(e);
+    }
+    let (shipped, unfaded) = (measured[1], measured[3]);
+    assert!(
+        shipped[0] < cellwise[0] && shipped[2] < cellwise[2],
+        "shipped fade {shipped:?} against the cellwise field {cellwise:?}"
+    );
+    // The fade acts where it should: behind the planes it lowers the blend's rms error.
+    assert!(
+        shipped[3] < unfaded[3],
+        "shipped fade {shipped:?} against none {unfaded:?}"
+    );
+}
+
 /// The blend's largest errors (u, ∇u) against the linear field `u = c + Bx` at half the first
 /// cell over the wall faces of each patch, and the patches `strained_walls` names, for that
 /// field imposed on the cells and every patch of the snapped sphere (box walls snapped to a
