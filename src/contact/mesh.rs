@@ -34,6 +34,30 @@
 //! wall and exit patches as a [`Boundary`], so [`super::ContactEvent`] detects deposition and
 //! escape on any mesh.
 //!
+//! # Rims
+//! The lower bounds above are distances, unsigned: they say how far the particle is from a
+//! face, not on which side of the wall. Where the support point projects into a face, the plane
+//! gap carries the side. Where it projects into none, the sign needs the neighbouring faces.
+//! Beyond an edge where the fluid's side is convex (the wall of a pipe meshed as a polygon,
+//! whose inner angle at each vertex line is below 180°), the wall side holds a wedge between
+//! the two faces' normals that projects into neither face: a point particle that crossed one
+//! face within a step's slack of the edge (a point particle's slack is half its rest radius,
+//! not its contact radius) ended the step in that wedge, at a positive distance from both
+//! faces, and was tracked outside the mesh until its step failed. Point particles settling onto
+//! a pipe's bottom passed through within 4·10⁻⁴ of its vertex lines that way. For a sphere
+//! (a point particle is one of radius δ), whose positive gaps are its centre's distances to
+//! the faces less δ, the face with the smallest gap holds the nearest point q of the boundary;
+//! where q lies on that face's rim, the centre lies on the wall's side exactly where
+//! (x_c − q)·N > 0, with N the angle-weighted pseudo-normal at q: the sum of the normals of
+//! the faces through q, each weighted by its polygon's angle at q, π on an edge (Bærentzen and
+//! Aanæs, IEEE TVCG 11, 2005, for closed triangle meshes; the ball about x_c of radius
+//! |x_c − q| holds no face, so the side at x_c is the side next to q). The gap is then the
+//! overlap, −|x_c − q| − δ. This holds at a convex ridge (a step's corner: the centre in the
+//! fluid beyond both planes keeps its positive distance), a concave one and a saddle vertex
+//! alike. An ellipsoid's uncovered gaps keep their lower bounds: a step moves it at most half
+//! its smallest rest semi-axis past a face, so it still meets the face at the step's end
+//! unless it has thinned below that.
+//!
 //! # Clearance
 //! A nearest-face query visits every face whose bounding box lies within the gap of the
 //! particle, dozens in a tube. Far from the walls a bound does: the distance $d_c$ from the
@@ -178,8 +202,50 @@ impl PatchGap for PatchSet {
                 best = Some(candidate);
             }
         }
+        // A sphere's positive gaps are its centre's distances to the faces less its radius, so
+        // the best face holds the boundary's nearest point q. Where q lies on the face's rim,
+        // the distance alone does not say on which side of the wall the centre lies (module
+        // docs, Rims).
+        if r1 == r3
+            && let Some(b) = best.as_mut()
+            && !b.covered
+            && b.gap > 0.0
+        {
+            let offset = self.face_offset(b.index, centre);
+            if beyond_rim(self, &(centre - offset), &offset) {
+                b.gap = -offset.norm() - r1;
+            }
+        }
         best
     }
+}
+
+/// Whether x lies on the wall's side of the boundary, where q = x − `offset` is the nearest
+/// point of the set's faces to x and lies on a face's rim (module docs, Rims): whether
+/// (x − q)·N > 0 for N the angle-weighted pseudo-normal at q, the sum of the normals of the
+/// faces through q, each weighted by its polygon's angle at q (π on an edge). A rim no other
+/// face shares (towards a constraint patch) has no side of its own: `false` there.
+fn beyond_rim(set: &PatchSet, q: &Vec3, offset: &Vec3) -> bool {
+    let tolerance = 1e-9 * set.circumradius();
+    let mut normal = Vec3::zeros();
+    let mut faces = 0;
+    for (j, _) in set.within_box_distance(q, tolerance) {
+        if set.face_offset(j, q).norm() > tolerance {
+            continue;
+        }
+        let polygon = set.polygon(j);
+        let n = polygon.len();
+        let angle = match polygon.iter().position(|v| (v - q).norm() <= tolerance) {
+            Some(k) => {
+                let (before, after) = (polygon[(k + n - 1) % n] - polygon[k], polygon[(k + 1) % n] - polygon[k]);
+                before.angle(&after)
+            }
+            None => std::f64::consts::PI,
+        };
+        normal += set.face(j).normal * angle;
+        faces += 1;
+    }
+    faces > 1 && offset.dot(&normal) > 0.0
 }
 
 /// The wall and exit patches of a mesh as a contact boundary: walls deposit
