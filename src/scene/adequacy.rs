@@ -597,6 +597,9 @@ pub fn resolution(scene: &Scene) -> Option<Option<Resolution>> {
     })
 }
 
+/// A re-track of some of a run's records on the other field: their fates and accepted steps.
+type Retrack<'a> = Box<dyn Fn(&[&ParticleRecord<NamedLaw>]) -> Vec<(Fate, u64)> + 'a>;
+
 /// The particles of `records` (by index) re-tracked on the other reconstruction of `scene`'s
 /// steady OpenFOAM field and paired with their fates in `records` (module docs): the first
 /// min(N, `sample`), then twice as many at each look until the difference is resolved, a shift
@@ -607,25 +610,24 @@ pub fn sensitivity(
     records: &[ParticleRecord<NamedLaw>],
     sample: u64,
 ) -> Result<Option<Sensitivity>, SceneError> {
-    let (run_field, other_field, other): (_, _, Box<dyn Fn(&[&ParticleRecord<NamedLaw>]) -> Vec<(Fate, u64)>>) =
-        match &scene.flow {
-            SceneFlow::Blended(blended) => (
-                "blended",
+    let (run_field, other_field, other): (_, _, Retrack<'_>) = match &scene.flow {
+        SceneFlow::Blended(blended) => (
+            "blended",
+            "cellwise",
+            Box::new(|runs| retrack(scene, blended.cellwise(), runs)),
+        ),
+        SceneFlow::Foam(cells) => {
+            let blended = BlendedFlow::new((**cells).clone())?;
+            (
                 "cellwise",
-                Box::new(|runs| retrack(scene, blended.cellwise(), runs)),
-            ),
-            SceneFlow::Foam(cells) => {
-                let blended = BlendedFlow::new((**cells).clone())?;
-                (
-                    "cellwise",
-                    "blended",
-                    Box::new(move |runs| retrack(scene, &blended, runs)),
-                )
-            }
-            SceneFlow::Transient(_) | SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => {
-                return Ok(None);
-            }
-        };
+                "blended",
+                Box::new(move |runs| retrack(scene, &blended, runs)),
+            )
+        }
+        SceneFlow::Transient(_) | SceneFlow::Quiescent | SceneFlow::Linear(_) | SceneFlow::Poiseuille(_) => {
+            return Ok(None);
+        }
+    };
     let mut sorted: Vec<&ParticleRecord<NamedLaw>> = records.iter().collect();
     sorted.sort_by_key(|r| r.index);
     let run_steps: u64 = records.iter().map(|r| r.stats.steps).sum();

@@ -232,7 +232,8 @@ fn adequacy_sample_on_an_analytic_flow_is_refused() {
 ///   looks keeps the whole sequence's false-alarm rate at or below 5 %.
 /// - δ = 0.01: the share that warns (the power) is at least 80 % less three standard errors
 ///   (0.02): the sample grows until a shift of 0.01 is detected with 80 % power or the budget
-///   ends, and N = 10⁴ at d = 0.05 reaches that bound (~5 000 pairs at z = 2.69) within it.
+///   ends, and N = 10⁴ at d = 0.05 reaches that bound (~6 200 pairs at z = 2.69, seven looks) within it.
+///
 /// The seeds are fixed, so the test is deterministic; the margins hold for any seed.
 #[test]
 fn adequacy_rule_keeps_false_alarms_and_reaches_its_power() {
