@@ -184,24 +184,38 @@ fn first_touch(x0: &Vec3, u: &Vec3, a: f64, reach: f64, distance: impl Fn(&Vec3)
 /// air, drag only, Radau IIA at tol 1e-8: where it deposits, or `None` if it does not.
 fn flight(boundary: &MeshBoundary, start: Vec3, u: Vec3, speed: f64) -> Option<Vec3> {
     let a = 10e-6;
+    // Five relaxation times ρ_p d²/(18 μ) = 1.2 ms: the sphere has stopped or left.
+    let plan = Plan::new(6e-3, 1e-7).unwrap();
+    launch(boundary, a, ContactModel::Extent, &plan, start, u * speed).map(|(x, _)| x)
+}
+
+/// A rigid sphere of radius `a` (1 000 kg/m³) in still air, drag only, Radau IIA at tol 1e-8,
+/// started at `start` with velocity `v` and tracked by `plan` until contact by `model`: where it
+/// deposits and on which patch, or `None` if it does not.
+fn launch(
+    boundary: &MeshBoundary,
+    a: f64,
+    model: ContactModel,
+    plan: &Plan,
+    start: Vec3,
+    v: Vec3,
+) -> Option<(Vec3, String)> {
     let shape = Ellipsoid::new([a; 3], Mat3::identity()).unwrap();
     let particle = Particle::new(shape, Rigid, Fluid::new(1.8e-5, 1.2).unwrap(), 1000.0).unwrap();
     let integrator = Stokesian::new(1e-8).unwrap();
-    let contact = ContactEvent::new(boundary, &particle, &Quiescent, ContactModel::Extent);
-    // Five relaxation times ρ_p d²/(18 μ) = 1.2 ms: the sphere has stopped or left.
-    let plan = Plan::new(6e-3, 1e-7).unwrap();
+    let contact = ContactEvent::new(boundary, &particle, &Quiescent, model);
     let mut state = State::at_rest(start);
-    state.v = u * speed;
+    state.v = v;
     let out = until_event(
         Problem::new(&integrator, &particle, &Quiescent),
         state,
-        &plan,
+        plan,
         &[&contact],
     )
     .unwrap();
-    let deposited =
-        out.stop == Stop::Event { index: 0 } && boundary.rule(contact.nearest(&out.state).patch) == PatchRule::Stick;
-    deposited.then_some(out.state.x)
+    let patch = contact.nearest(&out.state).patch;
+    (out.stop == Stop::Event { index: 0 } && boundary.rule(patch) == PatchRule::Stick)
+        .then(|| (out.state.x, boundary.patch_name(patch).to_string()))
 }
 
 /// The tolerance of a deposit's position: the event is located to |g| ≤ 10⁻⁹ of the diameter
@@ -305,28 +319,16 @@ fn flights_into_a_concave_corner_deposit_where_they_first_touch() {
 /// (a = 10 mm, 1 000 kg/m³ in air) relaxes over ρ_p d²/(18 μ) ≈ 1.2·10³ s, so its path is
 /// straight and its speed 1 m/s to 10⁻⁴ over the 0.5 it flies.
 fn point_drop(boundary: &MeshBoundary, x: f64, z: f64) -> Option<(Vec3, String)> {
-    let shape = Ellipsoid::new([0.01; 3], Mat3::identity()).unwrap();
-    let particle = Particle::new(shape, Rigid, Fluid::new(1.8e-5, 1.2).unwrap(), 1000.0).unwrap();
-    let integrator = Stokesian::new(1e-8).unwrap();
-    let contact = ContactEvent::new(
-        boundary,
-        &particle,
-        &Quiescent,
-        ContactModel::Barycentre { radius: 0.0 },
-    );
     let plan = Plan::new(1.0, 1e-4).unwrap();
-    let mut state = State::at_rest(Vec3::new(x, -0.5, z));
-    state.v = Vec3::new(0.0, -1.0, 0.0);
-    let out = until_event(
-        Problem::new(&integrator, &particle, &Quiescent),
-        state,
+    let model = ContactModel::Barycentre { radius: 0.0 };
+    launch(
+        boundary,
+        0.01,
+        model,
         &plan,
-        &[&contact],
+        Vec3::new(x, -0.5, z),
+        Vec3::new(0.0, -1.0, 0.0),
     )
-    .unwrap();
-    let patch = contact.nearest(&out.state).patch;
-    (out.stop == Stop::Event { index: 0 } && boundary.rule(patch) == PatchRule::Stick)
-        .then(|| (out.state.x, boundary.patch_name(patch).to_string()))
 }
 
 /// Point particles falling onto or beside a vertex line of a faceted pipe wall, where the
