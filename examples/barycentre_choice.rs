@@ -16,8 +16,9 @@
 use pseudorigid::integrator::BarycentreModel;
 use pseudorigid::output::Csv;
 use pseudorigid::population::RunOptions;
+use pseudorigid::population::binomial::Pairing;
 use pseudorigid::population::progress::process_cpu_seconds;
-use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures, study};
+use pseudorigid::studies::bifurcation::{Airway, Kind, Material, study};
 use pseudorigid::studies::cavity::Shape;
 use std::path::Path;
 
@@ -61,7 +62,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
             runs.push((out, steps, cpu));
         }
-        let (lost, gained) = figures::deposit_changes(&runs[0].0, &runs[1].0);
+        let pairing = Pairing::of_records(&runs[0].0.records, &runs[1].0.records)?;
+        let (lost, gained) = (pairing.only_ours, pairing.only_peer);
         let cpu_ratio = match (runs[0].2, runs[1].2) {
             (Some(a), Some(b)) if b > 0.0 => format!("{:.2}", a / b),
             _ => String::new(),

@@ -12,7 +12,7 @@
 
 use pseudorigid::hydro::ForceTerms;
 use pseudorigid::hydro::forces::{Cunningham, SchillerNaumann};
-use pseudorigid::population::binomial::PairedFates;
+use pseudorigid::population::binomial::Pairing;
 use pseudorigid::studies::bifurcation::{Efficiency, StudyRun, figures};
 use std::sync::Arc;
 
@@ -28,8 +28,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for kind in figures::softness_kinds(&[1.0], &[1e5], &[0.1, 0.4]) {
         let paper = figures::run_cached(StudyRun::new(&airway, kind, n))?.output;
         let with = figures::run_cached(StudyRun::new(&airway, kind, n).forces(&forces))?.output;
-        let (lost, gained) = figures::deposit_changes(&paper, &with);
-        let fates = PairedFates::new(gained, lost, paper.records.len() as u64)?;
+        let pairing = Pairing::of_records(&with.records, &paper.records)?;
+        let (gained, lost) = (pairing.only_ours, pairing.only_peer);
+        let fates = pairing.fates().ok_or("no particles paired")?;
         let (a, b) = (Efficiency::of(kind, &paper), Efficiency::of(kind, &with));
         println!(
             "Stk {}: DE {:.4} ± {:.4} (paper's model) -> {:.4} ± {:.4} (slip + finite-Re drag); \

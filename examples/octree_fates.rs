@@ -123,10 +123,7 @@ fn fates(
 /// The paired difference of DE, `ours` − `reference`, over the same particles (McNemar's
 /// standard error), printed with the counts deposited by one only.
 fn paired(ours: &[bool], reference: &[bool], label: &str) {
-    let mut pairing = Pairing::default();
-    for (a, b) in ours.iter().zip(reference) {
-        pairing.add(*a, *b);
-    }
+    let pairing: Pairing = ours.iter().copied().zip(reference.iter().copied()).collect();
     let (difference, se) = pairing.difference();
     println!(
         "paired: {label} {difference:+.4} ± {se:.4} ({} / {} deposited by one only)",

@@ -23,42 +23,18 @@
 //! the same results (`sha256sum`). `--pair PATH` pairs each run's fates particle by particle
 //! with the records PATH.N.T of an earlier run (another build) and prints the deposits of
 //! either only and the paired difference of the deposited fractions with its standard error
-//! (`population::binomial::PairedFates`).
+//! (`population::binomial::Pairing`).
 
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
-use pseudorigid::population::binomial::PairedFates;
+use pseudorigid::population::binomial::Pairing;
 use pseudorigid::population::progress::{process_cpu_seconds, process_resident_bytes};
 use pseudorigid::population::settling_pipe::SettlingPipe;
-use pseudorigid::population::{Case, Fate, ParticleRecord, RunConfig, RunOptions, RunOutput, Shard, run};
+use pseudorigid::population::{Case, ParticleRecord, RunConfig, RunOptions, RunOutput, Shard, run};
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, study};
 use pseudorigid::studies::cavity::Shape;
 use std::time::Instant;
-
-/// The deposits of `first` only and of `second` only, paired by particle index.
-fn paired_fates(
-    first: &[ParticleRecord<NeoHooke>],
-    second: &[ParticleRecord<NeoHooke>],
-) -> Result<PairedFates, Box<dyn std::error::Error>> {
-    if first.len() != second.len() || first.iter().zip(second).any(|(a, b)| a.index != b.index) {
-        return Err(format!(
-            "the runs hold different particles ({} and {} records)",
-            first.len(),
-            second.len()
-        )
-        .into());
-    }
-    let deposited = |r: &ParticleRecord<NeoHooke>| matches!(r.fate, Fate::Deposited { .. });
-    let only = |a: &[ParticleRecord<NeoHooke>], b: &[ParticleRecord<NeoHooke>]| {
-        a.iter().zip(b).filter(|(x, y)| deposited(x) && !deposited(y)).count() as u64
-    };
-    Ok(PairedFates::new(
-        only(first, second),
-        only(second, first),
-        first.len() as u64,
-    )?)
-}
 
 /// One timed run of N particles; its records are dropped before the next.
 type Runner<'a> = Box<dyn Fn(u64) -> Result<RunOutput<NeoHooke>, String> + Sync + 'a>;
@@ -164,7 +140,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             if let Some(path) = &pair {
                 let earlier: Vec<ParticleRecord<NeoHooke>> =
                     serde_json::from_slice(&std::fs::read(format!("{path}.{n}.{threads}"))?)?;
-                let paired = paired_fates(&earlier, &out.records)?;
+                let paired = Pairing::of_records(&earlier, &out.records)?.fates_or_zero();
                 println!(
                     "paired with {path}: deposited by it only {}, by this run only {}, difference {:+.2e} ± {:.2e}",
                     paired.first_only(),

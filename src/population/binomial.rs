@@ -22,6 +22,7 @@
 //! same fate in both runs.
 
 use crate::error::ParamError;
+use crate::population::{Fate, ParticleRecord};
 
 /// f = k/n, 0 if n = 0.
 pub fn fraction(k: u64, n: u64) -> f64 {
@@ -134,5 +135,104 @@ mod tests {
         assert!((stderr(30, 120) - (0.25f64 * 0.75 / 120.0).sqrt()).abs() < 1e-17);
         assert_eq!((fraction(0, 0), stderr(0, 0)), (0.0, 0.0));
         assert_eq!(stderr(120, 120), 0.0);
+    }
+}
+
+/// The 2×2 table of deposition in two runs of the same particles: the first run (`ours`) and
+/// the second (`peer`: another tracker, field, model or mesh). The one place pairs are
+/// counted: from booleans ([`Pairing::add`], or collected from `(first, second)` pairs) or
+/// from two runs' records ([`Pairing::of_records`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Pairing {
+    /// Deposited by both.
+    pub both: u64,
+    /// Deposited by us only (b).
+    pub only_ours: u64,
+    /// Deposited by the peer only (c).
+    pub only_peer: u64,
+    /// Deposited by neither.
+    pub neither: u64,
+}
+
+impl Pairing {
+    /// The two runs' records of the same particles, paired by index: deposited
+    /// ([`Fate::Deposited`]) in the first, in the second. An error unless both hold the same
+    /// particles in the same order.
+    pub fn of_records<M>(first: &[ParticleRecord<M>], second: &[ParticleRecord<M>]) -> Result<Self, ParamError> {
+        if first.len() != second.len() {
+            return Err(ParamError::OutOfRange {
+                name: "records of the second run (the first run's count)",
+                value: second.len() as f64,
+                min: first.len() as f64,
+                max: first.len() as f64,
+            });
+        }
+        let deposited = |r: &ParticleRecord<M>| matches!(r.fate, Fate::Deposited { .. });
+        first
+            .iter()
+            .zip(second)
+            .map(|(a, b)| {
+                if a.index == b.index {
+                    Ok((deposited(a), deposited(b)))
+                } else {
+                    Err(ParamError::OutOfRange {
+                        name: "particle index of the second run (the first run's)",
+                        value: b.index as f64,
+                        min: a.index as f64,
+                        max: a.index as f64,
+                    })
+                }
+            })
+            .collect()
+    }
+
+    /// Add one particle: deposited by us, by the peer.
+    pub fn add(&mut self, ours: bool, peer: bool) {
+        match (ours, peer) {
+            (true, true) => self.both += 1,
+            (true, false) => self.only_ours += 1,
+            (false, true) => self.only_peer += 1,
+            (false, false) => self.neither += 1,
+        }
+    }
+
+    /// Particles paired.
+    pub fn n(&self) -> u64 {
+        self.both + self.only_ours + self.only_peer + self.neither
+    }
+
+    /// The discordant pairs, b = us only and c = the peer only over [`Self::n`]; `None` if no
+    /// particle is paired (b + c ≤ n holds by construction, so that is the only refusal).
+    pub fn fates(&self) -> Option<PairedFates> {
+        PairedFates::new(self.only_ours, self.only_peer, self.n()).ok()
+    }
+
+    /// [`Self::fates`], or 0 ± 0 (b = c = 0 over one pair) where no particle is paired.
+    pub fn fates_or_zero(&self) -> PairedFates {
+        self.fates().unwrap_or(PairedFates { b: 0, c: 0, n: 1 })
+    }
+
+    /// Paired difference DE_ours − DE_peer over the paired particles and its (McNemar) standard
+    /// error √(b + c − (b − c)²/n)/n ([`PairedFates::difference`], [`PairedFates::stderr`]);
+    /// (0, 0) if none.
+    pub fn difference(&self) -> (f64, f64) {
+        self.fates().map_or((0.0, 0.0), |f| (f.difference(), f.stderr()))
+    }
+
+    /// McNemar's χ² = (b − c)²/(b + c) without continuity correction ([`PairedFates::chi2`]; 0 if
+    /// b + c = 0).
+    pub fn mcnemar_chi2(&self) -> f64 {
+        self.fates().map_or(0.0, |f| f.chi2())
+    }
+}
+
+impl FromIterator<(bool, bool)> for Pairing {
+    /// The table of `(deposited in the first run, in the second)` pairs.
+    fn from_iter<I: IntoIterator<Item = (bool, bool)>>(pairs: I) -> Self {
+        let mut table = Self::default();
+        for (first, second) in pairs {
+            table.add(first, second);
+        }
+        table
     }
 }

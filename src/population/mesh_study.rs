@@ -22,7 +22,7 @@
 //! four, the three finest give the estimate and the coarsest one's value and increment are
 //! reported beside it; with two, the formal order is assumed and F_s = 3.
 
-use super::binomial::{PairedFates, fraction, stderr};
+use super::binomial::{Pairing, fraction, stderr};
 use super::gci::{Convergence, GciError, GridConvergence};
 use super::{Fate, RunOutput};
 use crate::output::{Csv, OutputError};
@@ -329,10 +329,9 @@ fn outcome(name: &str, has: &[Vec<bool>], n: u64, cells: &[f64], dimension: u32,
     let increments: Vec<Increment> = has
         .windows(2)
         .map(|w| {
-            let finer_only = w[0].iter().zip(&w[1]).filter(|(f, c)| **f && !**c).count() as u64;
-            let coarser_only = w[0].iter().zip(&w[1]).filter(|(f, c)| !**f && **c).count() as u64;
-            let paired = PairedFates::new(finer_only, coarser_only, n.max(1))
-                .expect("discordant pairs of n particles are at most n");
+            let pairing: Pairing = w[0].iter().copied().zip(w[1].iter().copied()).collect();
+            let (finer_only, coarser_only) = (pairing.only_ours, pairing.only_peer);
+            let paired = pairing.fates_or_zero();
             Increment {
                 difference: paired.difference(),
                 paired_stderr: paired.stderr(),

@@ -5,9 +5,10 @@
 //! `not_injected`). Pairing particle by particle: b = deposited by us only, c = by the peer
 //! only; the paired (McNemar) standard error of DE_ours − DE_peer is √(b + c − (b − c)²/n)/n and
 //! the statistic (b − c)²/(b + c) is χ²₁ under "both deposit with the same probability"
-//! (McNemar 1947; [`PairedFates`], the one place these are computed).
+//! (McNemar 1947; [`Pairing`] and its [`crate::population::binomial::PairedFates`], the one
+//! place these are counted and computed).
 
-use crate::population::binomial::PairedFates;
+pub use crate::population::binomial::Pairing;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -79,53 +80,4 @@ pub fn read_peer_fates(path: &Path) -> Result<HashMap<u64, PeerFate>, PeerError>
         );
     }
     Ok(out)
-}
-
-/// The 2×2 table of deposition by us and by the peer over the same particles.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-pub struct Pairing {
-    /// Deposited by both.
-    pub both: u64,
-    /// Deposited by us only (b).
-    pub only_ours: u64,
-    /// Deposited by the peer only (c).
-    pub only_peer: u64,
-    /// Deposited by neither.
-    pub neither: u64,
-}
-
-impl Pairing {
-    /// Add one particle: deposited by us, by the peer.
-    pub fn add(&mut self, ours: bool, peer: bool) {
-        match (ours, peer) {
-            (true, true) => self.both += 1,
-            (true, false) => self.only_ours += 1,
-            (false, true) => self.only_peer += 1,
-            (false, false) => self.neither += 1,
-        }
-    }
-
-    /// Particles paired.
-    pub fn n(&self) -> u64 {
-        self.both + self.only_ours + self.only_peer + self.neither
-    }
-
-    /// The discordant pairs, b = us only and c = the peer only over [`Self::n`]; `None` if no
-    /// particle is paired (b + c ≤ n holds by construction, so that is the only refusal).
-    pub fn fates(&self) -> Option<PairedFates> {
-        PairedFates::new(self.only_ours, self.only_peer, self.n()).ok()
-    }
-
-    /// Paired difference DE_ours − DE_peer over the paired particles and its (McNemar) standard
-    /// error √(b + c − (b − c)²/n)/n ([`PairedFates::difference`], [`PairedFates::stderr`]);
-    /// (0, 0) if none.
-    pub fn difference(&self) -> (f64, f64) {
-        self.fates().map_or((0.0, 0.0), |f| (f.difference(), f.stderr()))
-    }
-
-    /// McNemar's χ² = (b − c)²/(b + c) without continuity correction ([`PairedFates::chi2`]; 0 if
-    /// b + c = 0).
-    pub fn mcnemar_chi2(&self) -> f64 {
-        self.fates().map_or(0.0, |f| f.chi2())
-    }
 }

@@ -18,13 +18,12 @@
 use super::observe::{Generations, Reached};
 use super::tree::Tree;
 use super::{AirwayTree, AirwayTreeError};
-use crate::error::ParamError;
 use crate::material::NeoHooke;
 use crate::output::{Csv, Figure, Panel, Series};
-use crate::population::binomial::PairedFates;
+use crate::population::binomial::{PairedFates, Pairing};
 use crate::population::{Computed, Fate, ParticleRecord, RunOptions, RunOutput};
 use crate::studies::bifurcation::injection::Material;
-use crate::studies::bifurcation::{BifurcationError, Kind, StudyRun};
+use crate::studies::bifurcation::{Kind, StudyRun};
 use std::path::PathBuf;
 
 /// `run` (through the tree's airway: [`AirwayTree::study`]) with each particle watched by
@@ -133,23 +132,34 @@ pub struct PairedGeneration {
     pub reference: GenerationCounts,
     /// The soft run's counts.
     pub soft: GenerationCounts,
-    /// Particles finished in both runs.
-    pub n: u64,
-    /// Deposited in this generation by the reference run only.
-    pub reference_only: u64,
-    /// Deposited in this generation by the soft run only.
-    pub soft_only: u64,
+    /// The particles finished in both runs, paired: deposited in this generation by the soft
+    /// run (first) and by the reference run (second).
+    pub pairing: Pairing,
 }
 
 impl PairedGeneration {
+    /// Particles finished in both runs.
+    pub fn n(&self) -> u64 {
+        self.pairing.n()
+    }
+
+    /// Deposited in this generation by the reference run only.
+    pub fn reference_only(&self) -> u64 {
+        self.pairing.only_peer
+    }
+
+    /// Deposited in this generation by the soft run only.
+    pub fn soft_only(&self) -> u64 {
+        self.pairing.only_ours
+    }
+
     /// The generation's discordant pairs: b = deposited in it by the soft run only, c = by the
-    /// reference run only, over the n pairs (at least one: without pairs b = c = 0 and the
-    /// difference is 0 ± 0). Its [`PairedFates::difference`] is the change of the fraction of
-    /// all particles deposited in the generation, soft − reference; the tables give it McNemar's
-    /// standard error [`PairedFates::stderr_under_null`]. An error if the counts are
-    /// inconsistent (b + c > n).
-    pub fn fates(&self) -> Result<PairedFates, ParamError> {
-        PairedFates::new(self.soft_only, self.reference_only, self.n.max(1))
+    /// reference run only, over the n pairs (without pairs, 0 ± 0). Its
+    /// [`PairedFates::difference`] is the change of the fraction of all particles deposited in
+    /// the generation, soft − reference; the tables give it McNemar's standard error
+    /// [`PairedFates::stderr_under_null`].
+    pub fn fates(&self) -> PairedFates {
+        self.pairing.fates_or_zero()
     }
 
     /// DE_soft − DE_reference.
@@ -176,9 +186,7 @@ pub fn paired(
         .map(|(reference, soft)| PairedGeneration {
             reference,
             soft,
-            n: 0,
-            reference_only: 0,
-            soft_only: 0,
+            pairing: Pairing::default(),
         })
         .collect();
     for (a, b) in reference.records.iter().zip(&soft.records) {
@@ -187,12 +195,7 @@ pub fn paired(
         };
         for row in &mut rows {
             let g = Some(row.reference.generation);
-            row.n += 1;
-            match (oa.deposited == g, ob.deposited == g) {
-                (true, false) => row.reference_only += 1,
-                (false, true) => row.soft_only += 1,
-                _ => {}
-            }
+            row.pairing.add(ob.deposited == g, oa.deposited == g);
         }
     }
     Ok(rows)
@@ -259,16 +262,16 @@ pub fn paired_table(rows: &[(Kind, Kind, Vec<PairedGeneration>)]) -> Result<Csv,
     ]);
     for (reference, soft, gens) in rows {
         for p in gens {
-            let fates = p.fates().map_err(BifurcationError::from)?;
+            let fates = p.fates();
             csv.push(vec![
                 reference.shape.label(),
                 reference.stokes.to_string(),
                 mu_s_label(reference.material),
                 mu_s_label(soft.material),
                 p.reference.generation.to_string(),
-                p.n.to_string(),
-                p.reference_only.to_string(),
-                p.soft_only.to_string(),
+                p.n().to_string(),
+                p.reference_only().to_string(),
+                p.soft_only().to_string(),
                 format!("{:.5}", fates.difference()),
                 format!("{:.5}", fates.stderr_under_null()),
                 format!("{:.5}", p.reference.de()),

@@ -13,7 +13,7 @@ use crate::output::paper_figure_path;
 use crate::output::vtk::{PointValues, PolyData};
 use crate::output::{Figure, Panel, Series};
 use crate::population::RunOptions;
-use crate::population::binomial::PairedFates;
+use crate::population::binomial::Pairing;
 use crate::population::{Computed, RunOutput};
 use std::path::{Path, PathBuf};
 
@@ -41,21 +41,6 @@ pub fn cache_dir() -> Result<PathBuf, crate::output::OutputError> {
 /// `run` (parallel, progress on stderr) from [`cache_dir`] if an example ran it before.
 pub fn run_cached(run: StudyRun<'_, '_>) -> Result<Computed<NeoHooke>, BifurcationError> {
     run.cache(&cache_dir()?).run_timed(&RunOptions::default())
-}
-
-/// The same particles in two runs: how many only the first deposits (lost) and only the
-/// second (gained).
-pub fn deposit_changes(a: &RunOutput<NeoHooke>, b: &RunOutput<NeoHooke>) -> (u64, u64) {
-    let deposited = |f: &crate::population::Fate| matches!(f, crate::population::Fate::Deposited { .. });
-    let (mut lost, mut gained) = (0u64, 0u64);
-    for (ra, rb) in a.records.iter().zip(&b.records) {
-        match (deposited(&ra.fate), deposited(&rb.fate)) {
-            (true, false) => lost += 1,
-            (false, true) => gained += 1,
-            _ => {}
-        }
-    }
-    (lost, gained)
 }
 
 /// Run `n` particles of each kind (parallel, progress on stderr) and count their fates.
@@ -257,7 +242,7 @@ pub fn deposits_vtp(runs: &[(Kind, u64, Vec<Deposit>)]) -> Result<PolyData, Bifu
 /// fates_changed,deposits_gained,deposits_lost,paired_z` where `fates_changed` counts the
 /// particles whose fate (deposited, escaped, suspended) differs from the first case's,
 /// `deposits_gained` those deposited here but not there, `deposits_lost` the reverse, and
-/// `paired_z` = (gained − lost)/√(gained + lost), McNemar's statistic ([`PairedFates::z`];
+/// `paired_z` = (gained − lost)/√(gained + lost), McNemar's statistic ([`crate::population::binomial::PairedFates::z`];
 /// |z| > 3: the DE moved beyond what the particles' randomness explains).
 pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate::output::Csv, BifurcationError> {
     let mut csv = crate::output::Csv::new(&[
@@ -279,24 +264,19 @@ pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate
     for (name, airway) in cases {
         let out = StudyRun::new(airway, kind, n).run(&RunOptions::default())?;
         let row = Efficiency::of(kind, &out);
-        let pairs = |keep: &dyn Fn(&str, &str) -> bool| {
-            first.as_ref().map_or(0, |f| {
-                f.records
-                    .iter()
-                    .zip(&out.records)
-                    .filter(|(a, b)| keep(a.fate.label(), b.fate.label()))
-                    .count()
-            })
-        };
-        let paired = pairs(&|_, _| true);
-        let changed = pairs(&|a, b| a != b);
-        let gained = pairs(&|a, b| a != "deposited" && b == "deposited");
-        let lost = pairs(&|a, b| a == "deposited" && b != "deposited");
-        let z = if paired > 0 {
-            PairedFates::new(gained as u64, lost as u64, paired as u64)?.z()
-        } else {
-            0.0
-        };
+        let changed = first.as_ref().map_or(0, |f| {
+            f.records
+                .iter()
+                .zip(&out.records)
+                .filter(|(a, b)| a.fate.label() != b.fate.label())
+                .count()
+        });
+        // This mesh's run first, the first mesh's second: b = gained, c = lost.
+        let pairing = first.as_ref().map_or(Ok(Pairing::default()), |f| {
+            Pairing::of_records(&out.records, &f.records)
+        })?;
+        let (gained, lost) = (pairing.only_ours, pairing.only_peer);
+        let z = pairing.fates().map_or(0.0, |f| f.z());
         csv.push(vec![
             (*name).to_string(),
             airway.flow().cellwise().mesh().n_cells().to_string(),
@@ -335,7 +315,7 @@ pub fn write_validity(figure: &str, airway: &Airway, kinds: &[Kind]) -> Result<(
 /// and soft kinds. A row per pair `shape,stk,reference,soft,n,dep_to_esc,esc_to_dep,delta_de,
 /// delta_de_stderr`: the particles whose deposition changes either way, ΔDE = (esc→dep −
 /// dep→esc)/n and its standard error √(dep→esc + esc→dep)/n (McNemar's test: under no effect the
-/// discordant particles split evenly; [`PairedFates::stderr_under_null`]). Far tighter than
+/// discordant particles split evenly; [`crate::population::binomial::PairedFates::stderr_under_null`]). Far tighter than
 /// comparing two independent DEs, because most particles meet the same fate either way.
 pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<crate::output::Csv, BifurcationError> {
     let mut csv = crate::output::Csv::new(&[
@@ -354,9 +334,10 @@ pub fn paired_table(pairs: &[(Kind, Kind)], n: u64, airway: &Airway) -> Result<c
             run_cached(StudyRun::new(airway, *reference, n))?.output,
             run_cached(StudyRun::new(airway, *soft, n))?.output,
         );
-        let (lost, gained) = deposit_changes(&a, &b);
-        // Over at least one pair: without any, 0 ± 0.
-        let fates = PairedFates::new(gained, lost, a.records.len().max(1) as u64)?;
+        // The soft run first: b = gained (esc→dep), c = lost; without any pair, 0 ± 0.
+        let pairing = Pairing::of_records(&b.records, &a.records)?;
+        let (gained, lost) = (pairing.only_ours, pairing.only_peer);
+        let fates = pairing.fates_or_zero();
         csv.push(vec![
             reference.shape.label(),
             reference.stokes.to_string(),

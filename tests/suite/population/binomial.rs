@@ -143,3 +143,63 @@ fn the_datasets_formulas_bit_for_bit() {
         }
     }
 }
+
+/// A record of particle `index`, deposited or suspended.
+fn record(index: u64, deposited: bool) -> pseudorigid::population::ParticleRecord<()> {
+    use pseudorigid::driver::RunStats;
+    use pseudorigid::population::{Fate, ParticleRecord};
+    ParticleRecord {
+        index,
+        spec: None,
+        fate: if deposited {
+            Fate::Deposited {
+                patch: 0,
+                position: Default::default(),
+                time: 0.0,
+            }
+        } else {
+            Fate::Suspended
+        },
+        end: None,
+        stats: RunStats::default(),
+        manifold: None,
+        samples: Vec::new(),
+        observed: serde_json::Value::Null,
+    }
+}
+
+proptest! {
+    /// The one pairing: the table collected from (first, second) pairs, and from two runs'
+    /// records, holds the four cells counted by hand, and its fates are those of the counts.
+    #[test]
+    fn pairs_are_counted_into_the_two_by_two_table(pairs in prop::collection::vec((any::<bool>(), any::<bool>()), 1..200)) {
+        let cell = |x: bool, y: bool| pairs.iter().filter(|p| **p == (x, y)).count() as u64;
+        let expected = Pairing { both: cell(true, true), only_ours: cell(true, false), only_peer: cell(false, true), neither: cell(false, false) };
+        let collected: Pairing = pairs.iter().copied().collect();
+        prop_assert_eq!(collected, expected);
+        let (first, second): (Vec<_>, Vec<_>) =
+            pairs.iter().enumerate().map(|(k, (x, y))| (record(k as u64, *x), record(k as u64, *y))).unzip();
+        prop_assert_eq!(Pairing::of_records(&first, &second).unwrap(), expected);
+        prop_assert_eq!(
+            collected.fates_or_zero(),
+            PairedFates::new(expected.only_ours, expected.only_peer, pairs.len() as u64).unwrap()
+        );
+    }
+}
+
+/// Records of different particles, or of different counts, are not paired; no pair is 0 ± 0.
+#[test]
+fn records_of_other_particles_are_not_paired() {
+    let first = [record(0, true), record(1, false)];
+    assert!(Pairing::of_records(&first, &[record(0, true), record(2, false)]).is_err());
+    assert!(Pairing::of_records(&first, &[record(0, true)]).is_err());
+    let none = Pairing::of_records::<()>(&[], &[]).unwrap();
+    assert_eq!(
+        (
+            none.n(),
+            none.fates_or_zero().difference(),
+            none.fates_or_zero().stderr()
+        ),
+        (0, 0.0, 0.0)
+    );
+}

@@ -279,7 +279,9 @@ fn spheres_at_stokes_0_4_snapshot() {
         .map(|p| {
             format!(
                 "G{}: rigid only {}, soft only {}",
-                p.reference.generation, p.reference_only, p.soft_only
+                p.reference.generation,
+                p.reference_only(),
+                p.soft_only()
             )
         })
         .collect();

@@ -5,7 +5,7 @@
 use super::{Inhaled, Waveform};
 use crate::error::ParamError;
 use crate::material::NeoHooke;
-use crate::population::binomial::PairedFates;
+use crate::population::binomial::Pairing;
 use crate::population::{Fate, RunOutput};
 use crate::studies::bifurcation::BifurcationError;
 use crate::studies::bifurcation::injection::Kind;
@@ -64,25 +64,10 @@ impl BreathingPair {
         })
     }
 
-    /// Particles deposited steady but not inhaled (`.0`) and inhaled but not steady (`.1`).
-    pub fn discordant(&self) -> (u64, u64) {
-        let mut d = (0, 0);
-        for (a, b) in self.steady.records.iter().zip(&self.cyclic.records) {
-            match (deposited(&a.fate), deposited(&b.fate)) {
-                (true, false) => d.0 += 1,
-                (false, true) => d.1 += 1,
-                _ => {}
-            }
-        }
-        d
-    }
-
-    /// The discordant pairs, b = deposited inhaled only and c = steady only, over the particles
-    /// (at least one: without any, 0 ± 0): ΔDE = DE_cyclic − DE_steady is its
-    /// [`PairedFates::difference`].
-    pub fn fates(&self) -> Result<PairedFates, ParamError> {
-        let (lost, gained) = self.discordant();
-        PairedFates::new(gained, lost, self.steady.records.len().max(1) as u64)
+    /// The pairs, the inhaled run first: b = deposited inhaled only, c = steady only;
+    /// ΔDE = DE_cyclic − DE_steady is its [`crate::population::binomial::PairedFates::difference`].
+    pub fn pairing(&self) -> Result<Pairing, ParamError> {
+        Pairing::of_records(&self.cyclic.records, &self.steady.records)
     }
 }
 

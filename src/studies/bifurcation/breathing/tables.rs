@@ -53,7 +53,7 @@ pub fn de_table(pairs: &[BreathingPair]) -> Result<Csv, BifurcationError> {
 
 /// `shape,mu_s,stk,n,steady_only,cyclic_only,delta_de,delta_de_stderr,paired_z`: the same
 /// particles steady and inhaled, ΔDE = (cyclic_only − steady_only)/n with McNemar's standard
-/// error √(steady_only + cyclic_only)/n and z = ΔDE over it ([`BreathingPair::fates`]).
+/// error √(steady_only + cyclic_only)/n and z = ΔDE over it ([`BreathingPair::pairing`]).
 pub fn paired_table(pairs: &[BreathingPair]) -> Result<Csv, BifurcationError> {
     let mut csv = Csv::new(&[
         "shape",
@@ -67,8 +67,9 @@ pub fn paired_table(pairs: &[BreathingPair]) -> Result<Csv, BifurcationError> {
         "paired_z",
     ]);
     for p in pairs {
-        let (lost, gained) = p.discordant();
-        let fates = p.fates()?;
+        let pairing = p.pairing()?;
+        let (gained, lost) = (pairing.only_ours, pairing.only_peer);
+        let fates = pairing.fates_or_zero();
         csv.push(vec![
             p.kind.shape.label(),
             mu_s(p.kind),
