@@ -38,33 +38,7 @@ pub enum Command {
         scene: PathBuf,
     },
     /// Run a scene (or one shard of it).
-    Run {
-        /// Scene file (TOML).
-        scene: PathBuf,
-        /// Output folder (default: `<scene name>-out` in the current folder).
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Run shard k of N (`k/N`, 0 ≤ k < N); default: from SLURM_ARRAY_TASK_ID and
-        /// SLURM_ARRAY_TASK_COUNT if set, else the whole run.
-        #[arg(long)]
-        shard: Option<Shard>,
-        /// Continue from the checkpoint in the output folder.
-        #[arg(long)]
-        resume: bool,
-        /// Seconds between checkpoints.
-        #[arg(long, default_value_t = CHECKPOINT_INTERVAL.as_secs_f64())]
-        checkpoint_every: f64,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// No progress report.
-        #[arg(long)]
-        quiet: bool,
-        /// Write the tables as CSV too (`results.csv`, `frames.csv`, `trajectories.csv`;
-        /// always, without the feature `parquet`).
-        #[arg(long)]
-        csv: bool,
-    },
+    Run(RunArgs),
     /// Merge the shard files of a run into the whole run's files.
     Merge {
         /// Scene file (TOML) of the sharded run.
@@ -80,35 +54,15 @@ pub enum Command {
     /// run on each (`OUT/mesh-<k>/`, each as `run` would), every outcome paired across them
     /// with the GCI of the finest (`OUT/study.csv`, `OUT/study.json`; `pseudorigid::scene::study`).
     Study {
-        /// Scene file (TOML) with `flow.cases`.
-        scene: PathBuf,
-        /// Output folder (default: `<scene name>-out` in the current folder).
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Run shard k of N of every mesh (then `study --merge`).
-        #[arg(long)]
-        shard: Option<Shard>,
-        /// Continue from the checkpoints in the output folder.
-        #[arg(long)]
-        resume: bool,
+        /// The scene (with `flow.cases`) and its run's options, as for `run`, each mesh's.
+        #[command(flatten)]
+        run: RunArgs,
         /// Merge every mesh's shards and write the study's tables, instead of running.
         #[arg(long)]
         merge: bool,
         /// The formal order of the chain, capping the order the GCI uses.
         #[arg(long, default_value_t = FORMAL_ORDER)]
         order: f64,
-        /// Seconds between checkpoints.
-        #[arg(long, default_value_t = CHECKPOINT_INTERVAL.as_secs_f64())]
-        checkpoint_every: f64,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// No progress report.
-        #[arg(long)]
-        quiet: bool,
-        /// Write the tables as CSV too.
-        #[arg(long)]
-        csv: bool,
     },
     /// u and ∇u of an OpenFOAM case at listed points.
     Probe {
@@ -124,6 +78,56 @@ pub enum Command {
         #[arg(long)]
         cellwise: bool,
     },
+}
+
+/// A scene file and how to run it: `run`'s arguments, and `study`'s for each of its meshes.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// Output folder (default: `<scene name>-out` in the current folder).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Run shard k of N (`k/N`, 0 ≤ k < N; of every mesh in a study, then `study --merge`);
+    /// default: from SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT if set, else the whole run.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Continue from the checkpoints in the output folder.
+    #[arg(long)]
+    pub resume: bool,
+    /// Seconds between checkpoints.
+    #[arg(long, default_value_t = CHECKPOINT_INTERVAL.as_secs_f64())]
+    pub checkpoint_every: f64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress report.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Write the tables as CSV too (`results.csv`, `frames.csv`, `trajectories.csv`;
+    /// always, without the feature `parquet`).
+    #[arg(long)]
+    pub csv: bool,
+}
+
+impl RunArgs {
+    /// The output folder: `--out`, else `<scene stem>-out`.
+    fn out(&self) -> PathBuf {
+        self.out.clone().unwrap_or_else(|| default_out(&self.scene))
+    }
+
+    /// The shard: `--shard`, else the job array's from the environment, else the whole run.
+    fn shard(&self) -> Result<Shard, SceneError> {
+        match self.shard {
+            Some(k) => Ok(k),
+            None => Ok(Shard::from_env()?.unwrap_or(Shard::ALL)),
+        }
+    }
+
+    /// The progress report `--quiet` asks for.
+    fn progress(&self) -> Progress {
+        if self.quiet { Progress::Quiet } else { Progress::Auto }
+    }
 }
 
 /// `<scene stem>-out` in the current folder.
@@ -169,25 +173,11 @@ pub fn execute(cli: Cli) -> Result<String, SceneError> {
                 ),
             ))
         }
-        Command::Run {
-            scene,
-            out,
-            shard,
-            resume,
-            checkpoint_every,
-            threads,
-            quiet,
-            csv,
-        } => {
-            let s = load(&scene)?;
-            let out = out.unwrap_or_else(|| default_out(&scene));
-            let shard = match shard {
-                Some(k) => k,
-                None => Shard::from_env()?.unwrap_or(Shard::ALL),
-            };
-            let progress = if quiet { Progress::Quiet } else { Progress::Auto };
-            let options = run::run_options(&out, checkpoint_every, resume, progress)?;
-            run::run_on(&s, &out, shard, options, threads, csv).map(|done| {
+        Command::Run(args) => {
+            let s = load(&args.scene)?;
+            let out = args.out();
+            let options = run::run_options(&out, args.checkpoint_every, args.resume, args.progress())?;
+            run::run_on(&s, &out, args.shard()?, options, args.threads, args.csv).map(|done| {
                 let adequacy = done.adequacy.as_ref().map_or(String::new(), adequacy::Adequacy::log);
                 with_advice(&s, adequacy + &done.summary)
             })
@@ -196,36 +186,21 @@ pub fn execute(cli: Cli) -> Result<String, SceneError> {
             let s = load(&scene)?;
             run::merge(&s, &out.unwrap_or_else(|| default_out(&scene)), csv)
         }
-        Command::Study {
-            scene,
-            out,
-            shard,
-            resume,
-            merge,
-            order,
-            checkpoint_every,
-            threads,
-            quiet,
-            csv,
-        } => {
-            let meshes = load_study(&scene)?;
-            let out = out.unwrap_or_else(|| default_out(&scene));
+        Command::Study { run, merge, order } => {
+            let meshes = load_study(&run.scene)?;
+            let out = run.out();
             if merge {
-                return merge_study(&meshes, &out, csv, order);
+                return merge_study(&meshes, &out, run.csv, order);
             }
-            let shard = match shard {
-                Some(k) => k,
-                None => Shard::from_env()?.unwrap_or(Shard::ALL),
-            };
             let options = StudyOptions {
-                checkpoint_every,
-                resume,
-                progress: if quiet { Progress::Quiet } else { Progress::Auto },
-                threads,
-                csv,
+                checkpoint_every: run.checkpoint_every,
+                resume: run.resume,
+                progress: run.progress(),
+                threads: run.threads,
+                csv: run.csv,
                 formal_order: order,
             };
-            run_study(&meshes, &out, shard, &options)
+            run_study(&meshes, &out, run.shard()?, &options)
         }
         Command::Probe {
             case,
