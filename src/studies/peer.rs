@@ -33,7 +33,9 @@
 //!   tracking process up to the start of its time loop (reading the mesh, U, phi and the
 //!   cloud) and after it (`run.sh` measures both from outside the process: `/proc/<pid>/stat`
 //!   when the log says `Starting time loop`, the rusage at exit). The loading is the fixed
-//!   cost of a run; the tracking's cost per particle is what more particles cost.
+//!   cost of a run; the tracking's cost per particle is what more particles cost. OpenFOAM's
+//!   two parts add up to more than its `ExecutionTime` (the race's `cpu_s`): that clock starts
+//!   after the process has loaded its libraries (about 0.08 s) and stops at the last time step.
 //! - **DE** = deposited / finished (particles neither failed nor left uninjected), with the
 //!   binomial standard error √(DE(1 − DE)/n); what counts as deposited is the scene's (the
 //!   bend: on `wall_bend`).
