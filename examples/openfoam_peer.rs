@@ -64,9 +64,8 @@
 //! `tracker,n,cpu_load_s,cpu_track_s,cpu_track_per_particle_ms,threads` (one row per tracker and
 //! N, CPU times as above), and `marginal_fit.csv`,
 //! `tracker,fixed_s,marginal_ms_per_particle,ratio_to_openfoam`: per tracker the line
-//! cpu_track = fixed + N × marginal through its rows by least squares with weights 1/N (the
-//! variance of a sum of N particles' costs grows as N, so no row outweighs the small ones), and
-//! the marginal cost as a fraction of OpenFOAM's. No fates are compared (their DEs are printed).
+//! cpu_track = fixed + N × marginal through its rows ([`marginal_fit`]: least squares with
+//! weights 1/N), and the marginal cost as a fraction of OpenFOAM's. No fates are compared (their DEs are printed).
 //!
 //! `--check` (CI, `cases/openfoam-peer-ci.sh`) fails unless every particle deposited or escaped
 //! in both trackers (none failed, suspended or left uninjected) and the records' injection
@@ -86,7 +85,7 @@ use pseudorigid::studies::airway_tree::{self, AirwayTree, Generations};
 use pseudorigid::studies::bifurcation::setup::{GRAVITY, NU, RHO_FLUID, rho_particle};
 use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, StudyRun, figures, study};
 use pseudorigid::studies::cavity::Shape;
-use pseudorigid::studies::peer::{CpuSplit, OpenFoamTracker, PeerParticle, timed};
+use pseudorigid::studies::peer::{CpuSplit, OpenFoamTracker, PeerParticle, marginal_fit, timed};
 use pseudorigid::tensor::Vec3;
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -480,27 +479,6 @@ struct ScanRow {
     cpu: CpuSplit,
 }
 
-/// cpu_track = fixed + N × marginal by least squares with weights 1/N (module docs): (fixed s,
-/// marginal s per particle). `None` unless two distinct N.
-fn marginal_fit(rows: &[&ScanRow]) -> Option<(f64, f64)> {
-    let (mut s, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for r in rows {
-        let (x, y, w) = (r.n as f64, r.cpu.track_seconds, 1.0 / r.n as f64);
-        s += w;
-        sx += w * x;
-        sy += w * y;
-        sxx += w * x * x;
-        sxy += w * x * y;
-    }
-    let det = s * sxx - sx * sx;
-    // Relative to the scale of the N: one distinct N leaves det at round-off.
-    if rows.is_empty() || !(det > 1e-9 * s * sxx) {
-        return None;
-    }
-    let marginal = (s * sxy - sx * sy) / det;
-    Some(((sy - marginal * sx) / s, marginal))
-}
-
 /// `--scan`: both trackers on particles 0..N of `stk` for each N, their CPU times, and the
 /// fixed and marginal cost per tracker (module docs).
 /// `setup` (the case as first opened) draws the particles; ours track on a fresh one per N.
@@ -573,8 +551,12 @@ fn scan(
         )?;
     }
     let fit = |tracker: &str| {
-        let of: Vec<&ScanRow> = rows.iter().filter(|r| r.tracker == tracker).collect();
-        marginal_fit(&of).ok_or("--scan: at least two distinct N")
+        let points: Vec<(u64, f64)> = rows
+            .iter()
+            .filter(|r| r.tracker == tracker)
+            .map(|r| (r.n, r.cpu.track_seconds))
+            .collect();
+        marginal_fit(&points).ok_or("--scan: at least two distinct N")
     };
     let (_, marginal_of) = fit("openfoam")?;
     let mut fits = String::from("tracker,fixed_s,marginal_ms_per_particle,ratio_to_openfoam\n");

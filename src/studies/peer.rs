@@ -371,6 +371,32 @@ pub fn timed<T>(work: impl FnOnce() -> T) -> (T, Cost) {
     )
 }
 
+/// The line cost = fixed + N × marginal through the points `(N, cost)` by least squares with
+/// weights 1/N (the variance of a sum of N particles' costs grows as N, so the runs of many
+/// particles do not drown the few-particle ones that fix the intercept): `(fixed, marginal)`.
+/// `None` unless the points hold two distinct N, every N > 0.
+pub fn marginal_fit(points: &[(u64, f64)]) -> Option<(f64, f64)> {
+    if points.iter().any(|&(n, _)| n == 0) {
+        return None;
+    }
+    let (mut s, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &(n, y) in points {
+        let (x, w) = (n as f64, 1.0 / n as f64);
+        s += w;
+        sx += w * x;
+        sy += w * y;
+        sxx += w * x * x;
+        sxy += w * x * y;
+    }
+    let det = s * sxx - sx * sx;
+    // Relative to the scale of the N: one distinct N leaves det at round-off.
+    if points.is_empty() || !(det > 1e-9 * s * sxx) {
+        return None;
+    }
+    let marginal = (s * sxy - sx * sy) / det;
+    Some(((sy - marginal * sx) / s, marginal))
+}
+
 /// One tracker's line of the race (module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct RaceRow {

@@ -9,7 +9,7 @@ use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Fate, ParticleRecord, RunOutput, Shard};
 use pseudorigid::studies::peer::{
     Cost, CpuSplit, Entrant, OpenFoamRun, OpenFoamTracker, PeerParticle, PeerRunError, RACE_COLUMNS, RaceRow,
-    TrackerSummary, TrackerSummaryError, particles_csv, race_csv, race_markdown, timed,
+    TrackerSummary, TrackerSummaryError, marginal_fit, particles_csv, race_csv, race_markdown, timed,
 };
 use pseudorigid::tensor::Vec3;
 use std::collections::HashMap;
@@ -237,6 +237,31 @@ fn costs_add_and_split() {
     };
     assert_eq!(load.then(unmeasured).cpu_seconds, None);
     assert_eq!(CpuSplit::of(unmeasured, track), None);
+}
+
+/// Points on a line give it back, whatever the weights; noise on the largest run moves the
+/// intercept less than an unweighted fit would; one N, or N = 0, gives no line.
+#[test]
+fn marginal_fit_by_hand() {
+    let line = |n: u64| 0.5 + 4e-4 * n as f64;
+    let points: Vec<(u64, f64)> = [100, 10_000, 100_000].into_iter().map(|n| (n, line(n))).collect();
+    let (fixed, marginal) = marginal_fit(&points).unwrap();
+    assert!(
+        (fixed - 0.5).abs() < 1e-9 && (marginal - 4e-4).abs() < 1e-12,
+        "{fixed} {marginal}"
+    );
+    // Two points: the line through them. 0.6 at 100, 40.5 at 100 000 → slope 39.9/99 900.
+    let (fixed, marginal) = marginal_fit(&[(100, 0.6), (100_000, 40.5)]).unwrap();
+    let slope = 39.9 / 99_900.0;
+    assert!((marginal - slope).abs() < 1e-12 && (fixed - (0.6 - 100.0 * slope)).abs() < 1e-9);
+    // 1 % too much at 10⁵ (0.4 s): the weighted intercept moves by 0.0007 s (unweighted: 0.02 s).
+    let mut noisy = points.clone();
+    noisy[2].1 *= 1.01;
+    let (fixed, _) = marginal_fit(&noisy).unwrap();
+    assert!((fixed - 0.5).abs() < 0.002, "{fixed}");
+    assert_eq!(marginal_fit(&[(1000, 1.0), (1000, 1.2)]), None);
+    assert_eq!(marginal_fit(&[(0, 0.1), (1000, 1.0)]), None);
+    assert_eq!(marginal_fit(&[]), None);
 }
 
 #[test]
