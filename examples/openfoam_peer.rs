@@ -6,6 +6,7 @@
 //! ```text
 //! cargo run --release --example openfoam_peer -- [--check] [--point-contact] CASE_DIR N STK [STK...]
 //! cargo run --release --example openfoam_peer -- [--check] [--point-contact] --tree CASE_DIR N STK
+//! cargo run --release --example openfoam_peer -- [--point-contact] --scan N1,N2,... CASE_DIR STK
 //! ```
 //! For each Stokes number: particles 0..N of the datasets' run ([`figures::SEED`]), drawn by the
 //! bifurcation's injector ([`Injection::particle_spec`]: particle k from stream k, the same
@@ -30,7 +31,15 @@
 //! - `mcnemar_chi2`: (b − c)²/(b + c) (no continuity correction; χ²₁ under "both trackers
 //!   deposit with the same probability": 3.84 at 5 %);
 //! - `wall_ours_s,threads_ours,wall_openfoam_s`: wall times (pseudorigid on `threads_ours`
-//!   rayon threads; OpenFOAM serial, both of its phases, as `run.sh` reports).
+//!   rayon threads; OpenFOAM serial, both of its phases, as `run.sh` reports);
+//! - `cpu_load_ours_s,cpu_track_ours_s,cpu_load_openfoam_s,cpu_track_openfoam_s`: CPU times
+//!   (user + system, s; [`CpuSplit`]) of loading the case and of tracking. Ours: loading is
+//!   opening the case (mesh, field, wall grid; once per command, so every Stokes number's row
+//!   repeats it) and the injector's set-up, tracking the population run (the process's CPU
+//!   time on all its threads); the wall grid's per-face tables are filled on first use, so they
+//!   fall in the first row's tracking. OpenFOAM's: its tracking process before its time loop
+//!   starts (reading mesh, U, phi and the located cloud) and after (`run.sh`); the injection
+//!   phase, which locates the parcels, is in neither (`summary.txt`'s `inject_cpu_seconds`).
 //!
 //! `--point-contact`: pseudorigid deposits a particle when its barycentre reaches a wall (as
 //! OpenFOAM's parcels do) instead of its extent (the studies' rule); the case label gets
@@ -47,6 +56,16 @@
 //! `openfoam_peer.svg` beside it; each tracker's own counts and the pairs left out on stdout.
 //!
 //! Per particle (index, both fates, contact points and times): `pairs.csv` in the work folder.
+//!
+//! `--scan N1,N2,...` (issue 59: fixed against marginal cost): on the bifurcation at one STK,
+//! for each N both trackers track particles 0..N, one after the other (OpenFOAM first, then
+//! ours on a freshly opened case, so that no run inherits another's loaded mesh or filled
+//! tables). Output in the same folder: `marginal.csv`,
+//! `tracker,n,cpu_load_s,cpu_track_s,cpu_track_per_particle_ms,threads` (one row per tracker and
+//! N, CPU times as above), and `marginal_fit.csv`,
+//! `tracker,fixed_s,marginal_ms_per_particle,ratio_to_openfoam`: per tracker the line
+//! cpu_track = fixed + N × marginal through its rows ([`marginal_fit`]: least squares with
+//! weights 1/N), and the marginal cost as a fraction of OpenFOAM's. No fates are compared (their DEs are printed).
 //!
 //! `--check` (CI, `cases/openfoam-peer-ci.sh`) fails unless every particle deposited or escaped
 //! in both trackers (none failed, suspended or left uninjected) and the records' injection
@@ -66,12 +85,11 @@ use pseudorigid::studies::airway_tree::{self, AirwayTree, Generations};
 use pseudorigid::studies::bifurcation::setup::{GRAVITY, NU, RHO_FLUID, rho_particle};
 use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, StudyRun, figures, study};
 use pseudorigid::studies::cavity::Shape;
-use pseudorigid::studies::peer::{OpenFoamTracker, PeerParticle};
+use pseudorigid::studies::peer::{CpuSplit, OpenFoamTracker, PeerParticle, marginal_fit, timed};
 use pseudorigid::tensor::Vec3;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 type Error = Box<dyn std::error::Error>;
 
@@ -252,6 +270,10 @@ struct Compared<'a> {
     peer: &'a HashMap<u64, PeerFate>,
     wall_ours: f64,
     wall_openfoam: f64,
+    /// Ours: loading and tracking CPU (`None` where the process's CPU time is not available).
+    cpu_ours: Option<CpuSplit>,
+    /// OpenFOAM's tracking process: loading and tracking CPU.
+    cpu_openfoam: CpuSplit,
 }
 
 impl Compared<'_> {
@@ -267,6 +289,18 @@ impl Compared<'_> {
             )
         })
     }
+}
+
+/// Both trackers' CPU times, loading and tracking, for stdout.
+fn cpu_line(c: &Compared) -> String {
+    let of = c.cpu_openfoam;
+    let ours = c.cpu_ours.map_or("n/a".into(), |x| {
+        format!("{:.2} s loading, {:.2} s tracking", x.load_seconds, x.track_seconds)
+    });
+    format!(
+        "CPU ours {ours}; OpenFOAM {:.2} s loading, {:.2} s tracking",
+        of.load_seconds, of.track_seconds
+    )
 }
 
 /// The bifurcation's one-row table (module docs) and its `--check` failures.
@@ -308,15 +342,20 @@ fn bifurcation_row(c: &Compared, check: bool) -> Result<Vec<String>, Error> {
     let fates = PairedFates::new(only_ours, only_of, n)?;
     let (se_paired, chi2) = (fates.stderr(), fates.chi2());
     let threads = rayon::current_num_threads();
-    let header = "case,stk,n,both_deposited,only_ours,only_openfoam,neither,ours_escaped,ours_suspended,ours_failed,openfoam_escaped,openfoam_suspended,openfoam_not_injected,de_ours,se_ours,de_openfoam,se_openfoam,de_difference,se_paired,mcnemar_chi2,wall_ours_s,threads_ours,wall_openfoam_s";
+    let header = "case,stk,n,both_deposited,only_ours,only_openfoam,neither,ours_escaped,ours_suspended,ours_failed,openfoam_escaped,openfoam_suspended,openfoam_not_injected,de_ours,se_ours,de_openfoam,se_openfoam,de_difference,se_paired,mcnemar_chi2,wall_ours_s,threads_ours,wall_openfoam_s,cpu_load_ours_s,cpu_track_ours_s,cpu_load_openfoam_s,cpu_track_openfoam_s";
     let row = format!(
-        "{case_label},{stk},{n},{both},{only_ours},{only_of},{neither},{o_esc},{o_sus},{o_fail},{f_esc},{f_sus},{f_not},{de_ours:.5},{se_ours:.5},{de_of:.5},{se_of:.5},{:.5},{se_paired:.5},{chi2:.3},{wall_ours:.1},{threads},{wall_openfoam:.1}",
-        de_ours - de_of
+        "{case_label},{stk},{n},{both},{only_ours},{only_of},{neither},{o_esc},{o_sus},{o_fail},{f_esc},{f_sus},{f_not},{de_ours:.5},{se_ours:.5},{de_of:.5},{se_of:.5},{:.5},{se_paired:.5},{chi2:.3},{wall_ours:.1},{threads},{wall_openfoam:.1},{},{},{:.2},{:.2}",
+        de_ours - de_of,
+        c.cpu_ours.map_or(String::new(), |x| format!("{:.2}", x.load_seconds)),
+        c.cpu_ours.map_or(String::new(), |x| format!("{:.2}", x.track_seconds)),
+        c.cpu_openfoam.load_seconds,
+        c.cpu_openfoam.track_seconds,
     );
     let figdir = output_dir("openfoam-peer");
     std::fs::create_dir_all(&figdir)?;
     std::fs::write(figdir.join(format!("{name}.csv")), format!("{header}\n{row}\n"))?;
     println!("{header}\n{row}");
+    println!("{name}: {}", cpu_line(c));
     println!(
         "{name}: DE ours {de_ours:.4} ± {se_ours:.4} ({wall_ours:.1} s on {threads} threads), OpenFOAM {de_of:.4} ± {se_of:.4} ({wall_openfoam:.1} s serial); \
          both deposit {both}, only ours {only_ours}, only OpenFOAM {only_of}, neither {neither}; paired difference {:.4} ± {se_paired:.4}, McNemar χ² {chi2:.2}",
@@ -367,6 +406,7 @@ fn tree_table(tree: &AirwayTree, c: &Compared, check: bool) -> Result<Vec<String
     )
     .write(figdir.join("openfoam_peer.svg"))?;
     println!("{}", table.to_text());
+    println!("{}: {}", c.name, cpu_line(c));
     println!(
         "{}: pseudorigid {:.1} s on {} threads, OpenFOAM {:.1} s serial; {} particles finished by one tracker only, \
          {} of ours deposited upstream of the deepest generation they entered",
@@ -418,8 +458,127 @@ fn output_dir(figure: &str) -> PathBuf {
     std::env::var_os("OPENFOAM_PEER_OUT").map_or_else(|| paper_figure_path(figure, ""), Into::into)
 }
 
+/// Open CASE_DIR as the bifurcation or (`tree`) the airway tree, with our contact rule.
+fn open_setup(dir: &str, tree: bool, point_contact: bool) -> Result<Setup, Error> {
+    let geometry = if tree {
+        Geometry::Tree(AirwayTree::open(dir)?)
+    } else {
+        Geometry::Bifurcation(Airway::open(dir)?)
+    };
+    Ok(Setup {
+        geometry,
+        point_contact,
+    })
+}
+
+/// One tracker's run of a `--scan`: N and its CPU times.
+struct ScanRow {
+    tracker: &'static str,
+    n: u64,
+    threads: usize,
+    cpu: CpuSplit,
+}
+
+/// `--scan`: both trackers on particles 0..N of `stk` for each N, their CPU times, and the
+/// fixed and marginal cost per tracker (module docs).
+/// `setup` (the case as first opened) draws the particles; ours track on a fresh one per N.
+fn scan(
+    dir: &str,
+    setup: &Setup,
+    tracker: &OpenFoamTracker,
+    ns: &[u64],
+    stk: &str,
+    case_label: &str,
+) -> Result<(), Error> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let stokes: f64 = stk.parse()?;
+    let mut rows = Vec::new();
+    for &n in ns {
+        let name = format!("{case_label}_stk{stk}_n{n}");
+        let work = root.join("target/openfoam-peer").join(&name);
+        // OpenFOAM first, alone; its particles drawn as ours are.
+        let particles = peer_particles(&Injection::new(setup.airway(), setup.kind(stokes))?, n)?;
+        let openfoam = tracker.run(Path::new(dir), &particles, &work)?;
+        drop(particles);
+        let de_of = openfoam.fates.values().filter(|f| f.fate == "deposited").count() as f64 / n as f64;
+        rows.push(ScanRow {
+            tracker: "openfoam",
+            n,
+            threads: 1,
+            cpu: openfoam.summary.cpu,
+        });
+        // Then ours, from a freshly opened case.
+        let (fresh, open) = timed(|| open_setup(dir, false, setup.point_contact));
+        let fresh = fresh?;
+        let kind = fresh.kind(stokes);
+        let (injection, inject) = timed(|| Injection::new(fresh.airway(), kind));
+        let injection = injection?;
+        let (ours, track) = timed(|| fresh.run(kind, &injection, n));
+        let ours = ours?;
+        let de_ours = ours
+            .records
+            .iter()
+            .filter(|r| matches!(r.fate, Fate::Deposited { .. }))
+            .count() as f64
+            / n as f64;
+        let cpu = CpuSplit::of(open.then(inject), track).ok_or("--scan: no CPU time of this process (no /proc?)")?;
+        rows.push(ScanRow {
+            tracker: "pseudorigid",
+            n,
+            threads: rayon::current_num_threads(),
+            cpu,
+        });
+        println!(
+            "{name}: OpenFOAM CPU {:.2} s loading, {:.2} s tracking (DE {de_of:.4}); ours {:.2} s loading, {:.2} s tracking on {} threads (DE {de_ours:.4})",
+            openfoam.summary.cpu.load_seconds,
+            openfoam.summary.cpu.track_seconds,
+            cpu.load_seconds,
+            cpu.track_seconds,
+            rayon::current_num_threads()
+        );
+    }
+    let mut table = String::from("tracker,n,cpu_load_s,cpu_track_s,cpu_track_per_particle_ms,threads\n");
+    for r in &rows {
+        writeln!(
+            table,
+            "{},{},{:.3},{:.3},{:.5},{}",
+            r.tracker,
+            r.n,
+            r.cpu.load_seconds,
+            r.cpu.track_seconds,
+            1e3 * r.cpu.track_seconds / r.n as f64,
+            r.threads
+        )?;
+    }
+    let fit = |tracker: &str| {
+        let points: Vec<(u64, f64)> = rows
+            .iter()
+            .filter(|r| r.tracker == tracker)
+            .map(|r| (r.n, r.cpu.track_seconds))
+            .collect();
+        marginal_fit(&points).ok_or("--scan: at least two distinct N")
+    };
+    let (_, marginal_of) = fit("openfoam")?;
+    let mut fits = String::from("tracker,fixed_s,marginal_ms_per_particle,ratio_to_openfoam\n");
+    for tracker in ["openfoam", "pseudorigid"] {
+        let (fixed, marginal) = fit(tracker)?;
+        writeln!(
+            fits,
+            "{tracker},{fixed:.3},{:.5},{:.3}",
+            1e3 * marginal,
+            marginal / marginal_of
+        )?;
+    }
+    let figdir = output_dir("openfoam-peer");
+    std::fs::create_dir_all(&figdir)?;
+    std::fs::write(figdir.join("marginal.csv"), &table)?;
+    std::fs::write(figdir.join("marginal_fit.csv"), &fits)?;
+    println!("{table}\n{fits}");
+    Ok(())
+}
+
 fn main() -> Result<(), Error> {
-    const USAGE: &str = "usage: openfoam_peer [--check] [--point-contact] CASE_DIR N STK [STK...] | [--check] [--point-contact] --tree CASE_DIR N STK";
+    const USAGE: &str = "usage: openfoam_peer [--check] [--point-contact] CASE_DIR N STK [STK...] | [--check] [--point-contact] --tree CASE_DIR N STK | [--point-contact] --scan N1,N2,... CASE_DIR STK";
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let flag = |args: &mut Vec<String>, name: &str| {
         let given = args.iter().any(|a| a == name);
@@ -429,32 +588,43 @@ fn main() -> Result<(), Error> {
     let check = flag(&mut args, "--check");
     let point_contact = flag(&mut args, "--point-contact");
     let tree = flag(&mut args, "--tree");
+    let scan_ns = match args.iter().position(|a| a == "--scan") {
+        None => None,
+        Some(i) if i + 1 < args.len() && !check && !tree => {
+            let list = args.remove(i + 1);
+            args.remove(i);
+            let ns: Vec<u64> = list.split(',').map(str::parse).collect::<Result<_, _>>()?;
+            if ns.contains(&0) {
+                return Err("--scan: every N at least 1".into());
+            }
+            // The N take the place of the one N: CASE_DIR STK.
+            args.insert(1, "0".into());
+            Some(ns)
+        }
+        Some(_) => return Err(USAGE.into()),
+    };
     let [dir, n, stks @ ..] = args.as_slice() else {
         return Err(USAGE.into());
     };
-    // The tree's table has one Stokes number (issue 37's columns carry none).
-    if stks.is_empty() || (tree && stks.len() > 1) {
+    // The tree's table has one Stokes number (issue 37's columns carry none); so has a scan.
+    if stks.is_empty() || ((tree || scan_ns.is_some()) && stks.len() > 1) {
         return Err(USAGE.into());
     }
     let n: u64 = n.parse()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let geometry = if tree {
-        Geometry::Tree(AirwayTree::open(dir)?)
-    } else {
-        Geometry::Bifurcation(Airway::open(dir)?)
-    };
-    let case_label = match &geometry {
+    let (setup, open) = timed(|| open_setup(dir, tree, point_contact));
+    let setup = setup?;
+    let case_label = match &setup.geometry {
         Geometry::Tree(t) => format!("tree-{}-{}", t.tree().variant(), label(Path::new(dir))),
         Geometry::Bifurcation(_) => label(Path::new(dir)),
     } + if point_contact { "-point" } else { "" };
-    let setup = Setup {
-        geometry,
-        point_contact,
-    };
     let airway = setup.airway();
     // OpenFOAM gets the viscosity our tracker uses (the shipped tree keeps no transportProperties).
     let tracker = OpenFoamTracker::new(root, airway.tracking_time(), Vec3::new(GRAVITY, 0.0, 0.0), RHO_FLUID)?
         .with_viscosity(NU)?;
+    if let Some(ns) = scan_ns {
+        return scan(dir, &setup, &tracker, &ns, &stks[0], &case_label);
+    }
     let mut failures = Vec::new();
     for stk in stks {
         let kind = setup.kind(stk.parse()?);
@@ -462,13 +632,13 @@ fn main() -> Result<(), Error> {
         let work = root.join("target/openfoam-peer").join(&name);
 
         // The particles, as the population runner draws them.
-        let injection = Injection::new(airway, kind)?;
+        let (injection, inject) = timed(|| Injection::new(airway, kind));
+        let injection = injection?;
         let particles = peer_particles(&injection, n)?;
 
         let openfoam = tracker.run(Path::new(dir), &particles, &work)?;
-        let start = Instant::now();
-        let ours = setup.run(kind, &injection, n)?;
-        let wall_ours = start.elapsed().as_secs_f64();
+        let (ours, track) = timed(|| setup.run(kind, &injection, n));
+        let ours = ours?;
         std::fs::write(work.join("pairs.csv"), pairs_csv(&ours, &openfoam.fates)?)?;
 
         let compared = Compared {
@@ -478,8 +648,10 @@ fn main() -> Result<(), Error> {
             n,
             ours: &ours,
             peer: &openfoam.fates,
-            wall_ours,
+            wall_ours: track.wall_seconds,
             wall_openfoam: openfoam.summary.wall_seconds,
+            cpu_ours: CpuSplit::of(open.then(inject), track),
+            cpu_openfoam: openfoam.summary.cpu,
         };
         if check {
             let mismatched = ours

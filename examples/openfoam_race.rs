@@ -18,7 +18,10 @@
 //!    the bifurcation studies' soft particle; λ_s = 10³ μ_s), on the first thread count.
 //!
 //! Each runs alone (the CPU time is the process's). What is measured, and how each tracker's
-//! particle-steps are counted: `pseudorigid::studies::peer`. Output in `$RACE_OUT` (default
+//! particle-steps are counted: `pseudorigid::studies::peer`; the CPU time is also given split
+//! into loading the case and tracking (`cpu_load_s`, `cpu_track_s`, and the tracking's
+//! `cpu_track_per_particle_ms`): ours, the scene's parse (mesh, field, wall grid) and the
+//! population run; OpenFOAM's, its tracking process before and after its time loop starts. Output in `$RACE_OUT` (default
 //! `paper-figures/peer-race/`): `race.csv` (`studies::peer::RACE_COLUMNS`) and `race.md` (the
 //! command, the machine, the load before and after, and the table); per particle, OpenFOAM's
 //! case and logs in `target/peer-race/<cells>_stk<STK>/`.
@@ -32,9 +35,10 @@
 //! [`SIGMAS`] paired standard errors from [`SOFT_GAP`].
 
 use pseudorigid::population::peer::Pairing;
-use pseudorigid::population::{Fate, RunOptions};
+use pseudorigid::population::{Fate, RunOptions, Shard};
+use pseudorigid::scene::run::Job;
 use pseudorigid::studies::bend::{BendCase, SEED, Settings, integrator_name, on_bend_wall, peer_on_bend_wall};
-use pseudorigid::studies::peer::{Entrant, RaceRow, race_csv, race_markdown, timed};
+use pseudorigid::studies::peer::{CpuSplit, Entrant, RaceRow, race_csv, race_markdown, timed};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -186,20 +190,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             shear_modulus: soft,
             ..settings
         };
-        let (ours, cost) =
-            timed(|| pool.install(|| case.run_output(stk, n, SEED, settings, RunOptions::default().quiet())));
+        // Loading (the scene: mesh, field, wall grid) apart from tracking, each timed.
+        let (scene, load) = timed(|| case.scene(stk, n, SEED, settings));
+        let scene = scene?;
+        let job = Job::Memory {
+            shard: Shard::ALL,
+            options: RunOptions::default().quiet(),
+        };
+        let (ours, track) = timed(|| pool.install(|| scene.population(&job)));
         let ours = ours?;
         let particle = soft.map_or("rigid".into(), |mu| format!("neo_hooke mu_s={mu} Pa"));
         let entrant = Entrant {
             particle: &particle,
             integrator: &integrator,
             threads: t,
-            cost,
+            cost: load.then(track),
+            cpu: CpuSplit::of(load, track),
         };
         let row = RaceRow::pseudorigid(entrant, &ours, on_bend_wall, &peer.fates, peer_on_bend_wall)?;
         println!(
             "race: pseudorigid {particle} on {t} threads done ({:.1} s)",
-            cost.wall_seconds
+            entrant.cost.wall_seconds
         );
         if let Some(first) = ours.records.iter().find_map(|r| match &r.fate {
             Fate::Failed { error } => Some(error),
@@ -250,14 +261,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Time to result (issue 23's target), printed and never asserted: it depends on the load.
     let of = &rows[0];
     for r in &rows[1..] {
+        let ratio = |a: Option<f64>, b: Option<f64>| a.zip(b).map_or("n/a".into(), |(a, b)| format!("{:.2}", a / b));
         println!(
-            "race: {} on {} threads: wall/particle {:.2}× OpenFOAM's, CPU/particle {}× OpenFOAM's",
+            "race: {} on {} threads: wall/particle {:.2}× OpenFOAM's, CPU/particle {}× OpenFOAM's, \
+             tracking CPU/particle (loading left out) {}× OpenFOAM's",
             r.particle,
             r.threads,
             r.wall_per_particle() / of.wall_per_particle(),
-            r.cpu_per_particle()
-                .zip(of.cpu_per_particle())
-                .map_or("n/a".into(), |(a, b)| format!("{:.2}", a / b))
+            ratio(r.cpu_per_particle(), of.cpu_per_particle()),
+            ratio(r.cpu_track_per_particle(), of.cpu_track_per_particle())
         );
     }
 

@@ -28,6 +28,14 @@
 //!   machine both depend on the load; the **CPU time** (user + system of the process:
 //!   OpenFOAM's `ExecutionTime`, ours from `/proc/self/stat` around the run) depends on it
 //!   much less, and for one thread it is the per-core cost.
+//! - **CPU time, loading and tracking apart** ([`CpuSplit`]): ours, parsing the scene (reading
+//!   the mesh and field, building the wall grid) and then the population run; OpenFOAM's
+//!   tracking process up to the start of its time loop (reading the mesh, U, phi and the
+//!   cloud) and after it (`run.sh` measures both from outside the process: `/proc/<pid>/stat`
+//!   when the log says `Starting time loop`, the rusage at exit). The loading is the fixed
+//!   cost of a run; the tracking's cost per particle is what more particles cost. OpenFOAM's
+//!   two parts add up to more than its `ExecutionTime` (the race's `cpu_s`): that clock starts
+//!   after the process has loaded its libraries (about 0.08 s) and stops at the last time step.
 //! - **DE** = deposited / finished (particles neither failed nor left uninjected), with the
 //!   binomial standard error √(DE(1 − DE)/n); what counts as deposited is the scene's (the
 //!   bend: on `wall_bend`).
@@ -168,6 +176,13 @@ pub struct TrackerSummary {
     pub track_wall_seconds: f64,
     /// CPU time of the tracking process (its last `ExecutionTime`) (s).
     pub cpu_seconds: f64,
+    /// CPU time of the tracking process split where its time loop starts: reading the mesh,
+    /// U, phi and the cloud, then the time loop (tracking, writing) (user + system, from
+    /// `/proc` and the process's rusage; `peer.py timed`).
+    pub cpu: CpuSplit,
+    /// CPU time of the injection process (it reads the case, injects the parcels, locates them
+    /// in the mesh and writes the cloud) (s).
+    pub inject_cpu_seconds: f64,
     /// Outer time steps.
     pub outer_steps: u64,
     /// Parcel outer steps Σₖ Nₖ₋₁ (module docs).
@@ -196,6 +211,11 @@ impl TrackerSummary {
             wall_seconds: get(text, "wall_seconds")?,
             track_wall_seconds: get(text, "track_wall_seconds")?,
             cpu_seconds: get(text, "execution_seconds")?,
+            cpu: CpuSplit {
+                load_seconds: get(text, "load_cpu_seconds")?,
+                track_seconds: get(text, "track_cpu_seconds")?,
+            },
+            inject_cpu_seconds: get(text, "inject_cpu_seconds")?,
             outer_steps: get(text, "time_steps")?,
             parcel_steps: get(text, "parcel_steps")?,
         })
@@ -281,6 +301,43 @@ pub struct Cost {
     pub cpu_seconds: Option<f64>,
 }
 
+impl Cost {
+    /// The cost of this work followed by `next`: wall and CPU times added (no CPU time if
+    /// either lacks it).
+    pub fn then(self, next: Cost) -> Cost {
+        Cost {
+            wall_seconds: self.wall_seconds + next.wall_seconds,
+            cpu_seconds: self.cpu_seconds.zip(next.cpu_seconds).map(|(a, b)| a + b),
+        }
+    }
+}
+
+/// A tracker's CPU time (user + system, s) split into loading the case (mesh, field and what
+/// is built from them before the first particle moves) and tracking the particles: the
+/// loading is the fixed cost of a run, the tracking grows with the particles.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CpuSplit {
+    /// Loading the case (s).
+    pub load_seconds: f64,
+    /// Tracking (s).
+    pub track_seconds: f64,
+}
+
+impl CpuSplit {
+    /// From the measured costs of loading and of tracking (`None` if either has no CPU time).
+    pub fn of(load: Cost, track: Cost) -> Option<Self> {
+        Some(Self {
+            load_seconds: load.cpu_seconds?,
+            track_seconds: track.cpu_seconds?,
+        })
+    }
+
+    /// Loading and tracking (s).
+    pub fn total(&self) -> f64 {
+        self.load_seconds + self.track_seconds
+    }
+}
+
 /// How a race row of ours was run: the particle model, the integrator and its settings, the
 /// threads, and what the run cost ([`RaceRow::pseudorigid`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -291,8 +348,10 @@ pub struct Entrant<'a> {
     pub integrator: &'a str,
     /// Threads the run used.
     pub threads: usize,
-    /// Its wall and CPU time.
+    /// Its wall and CPU time, loading and tracking.
     pub cost: Cost,
+    /// Its CPU time split into loading and tracking, if measured.
+    pub cpu: Option<CpuSplit>,
 }
 
 /// Run `work` and measure its [`Cost`]. The CPU time is the whole process's: run nothing else
@@ -310,6 +369,32 @@ pub fn timed<T>(work: impl FnOnce() -> T) -> (T, Cost) {
             cpu_seconds,
         },
     )
+}
+
+/// The line cost = fixed + N × marginal through the points `(N, cost)` by least squares with
+/// weights 1/N (the variance of a sum of N particles' costs grows as N, so the runs of many
+/// particles do not drown the few-particle ones that fix the intercept): `(fixed, marginal)`.
+/// `None` unless the points hold two distinct N, every N > 0.
+pub fn marginal_fit(points: &[(u64, f64)]) -> Option<(f64, f64)> {
+    if points.iter().any(|&(n, _)| n == 0) {
+        return None;
+    }
+    let (mut s, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &(n, y) in points {
+        let (x, w) = (n as f64, 1.0 / n as f64);
+        s += w;
+        sx += w * x;
+        sy += w * y;
+        sxx += w * x * x;
+        sxy += w * x * y;
+    }
+    let det = s * sxx - sx * sx;
+    // Relative to the scale of the N: one distinct N leaves det at round-off.
+    if points.is_empty() || !(det > 1e-9 * s * sxx) {
+        return None;
+    }
+    let marginal = (s * sxy - sx * sy) / det;
+    Some(((sy - marginal * sx) / s, marginal))
 }
 
 /// One tracker's line of the race (module docs).
@@ -333,6 +418,8 @@ pub struct RaceRow {
     pub rejected: Option<u64>,
     /// Wall and CPU time.
     pub cost: Cost,
+    /// CPU time split into loading the case and tracking, if measured.
+    pub cpu: Option<CpuSplit>,
     /// Deposited (the scene's rule).
     pub deposited: u64,
     /// Particles with a fate: neither failed nor left uninjected.
@@ -361,6 +448,7 @@ impl RaceRow {
                 wall_seconds: run.summary.track_wall_seconds,
                 cpu_seconds: Some(run.summary.cpu_seconds),
             },
+            cpu: Some(run.summary.cpu),
             deposited: fates.clone().filter(|f| deposited(f)).count() as u64,
             finished,
             suspended: fates.filter(|f| f.fate == "suspended").count() as u64,
@@ -395,6 +483,7 @@ impl RaceRow {
             integrator,
             threads,
             cost,
+            cpu,
         } = entrant;
         Ok(Self {
             tracker: "pseudorigid".into(),
@@ -406,6 +495,7 @@ impl RaceRow {
             steps_unit: "accepted steps".into(),
             rejected: Some(rejected),
             cost,
+            cpu,
             deposited: dep,
             finished,
             suspended,
@@ -437,10 +527,15 @@ impl RaceRow {
     pub fn cpu_per_particle(&self) -> Option<f64> {
         self.cost.cpu_seconds.map(|c| c / self.particles.max(1) as f64)
     }
+
+    /// Tracking CPU time per particle (s), loading left out, if measured.
+    pub fn cpu_track_per_particle(&self) -> Option<f64> {
+        self.cpu.map(|c| c.track_seconds / self.particles.max(1) as f64)
+    }
 }
 
 /// The columns of [`race_csv`].
-pub const RACE_COLUMNS: [&str; 25] = [
+pub const RACE_COLUMNS: [&str; 28] = [
     "tracker",
     "particle",
     "integrator",
@@ -454,6 +549,9 @@ pub const RACE_COLUMNS: [&str; 25] = [
     "cpu_s",
     "wall_per_particle_ms",
     "cpu_per_particle_ms",
+    "cpu_load_s",
+    "cpu_track_s",
+    "cpu_track_per_particle_ms",
     "deposited",
     "finished",
     "suspended",
@@ -490,6 +588,9 @@ pub fn race_csv(rows: &[RaceRow]) -> Result<crate::output::Csv, crate::output::O
             opt(r.cost.cpu_seconds.map(|c| format!("{c:.2}"))),
             format!("{:.3}", 1e3 * r.wall_per_particle()),
             opt(r.cpu_per_particle().map(|c| format!("{:.3}", 1e3 * c))),
+            opt(r.cpu.map(|c| format!("{:.2}", c.load_seconds))),
+            opt(r.cpu.map(|c| format!("{:.2}", c.track_seconds))),
+            opt(r.cpu_track_per_particle().map(|c| format!("{:.3}", 1e3 * c))),
             r.deposited.to_string(),
             r.finished.to_string(),
             r.suspended.to_string(),
@@ -508,15 +609,18 @@ pub fn race_csv(rows: &[RaceRow]) -> Result<crate::output::Csv, crate::output::O
 }
 
 /// The race as a Markdown table: per tracker, particle-steps, wall and CPU time (in total and
-/// per particle), DE ± standard error and the paired fates against OpenFOAM.
+/// per particle; the CPU time also as loading / tracking), DE ± standard error and the paired fates against OpenFOAM.
 pub fn race_markdown(rows: &[RaceRow]) -> String {
     let mut s = String::from(
-        "| tracker | particle | integrator | threads | N | particle-steps | steps/particle | wall s | CPU s | wall ms/particle | CPU ms/particle | DE ± se | lost | both / ours only / OpenFOAM only / neither | paired difference |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| tracker | particle | integrator | threads | N | particle-steps | steps/particle | wall s | CPU s | wall ms/particle | CPU ms/particle | CPU s load / track | DE ± se | lost | both / ours only / OpenFOAM only / neither | paired difference |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let cpu = r.cost.cpu_seconds.map_or("n/a".into(), |c| format!("{c:.2}"));
         let cpu_pp = r.cpu_per_particle().map_or("n/a".into(), |c| format!("{:.2}", 1e3 * c));
+        let split = r.cpu.map_or("n/a".into(), |c| {
+            format!("{:.2} / {:.2}", c.load_seconds, c.track_seconds)
+        });
         let (pairs, diff) = match r.pairing {
             Some(p) => {
                 let (d, se) = p.difference();
@@ -530,7 +634,7 @@ pub fn race_markdown(rows: &[RaceRow]) -> String {
         // Writing to a String cannot fail.
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} ({}) | {:.0} | {:.2} | {cpu} | {:.2} | {cpu_pp} | {:.3} ± {:.3} | {} | {pairs} | {diff} |",
+            "| {} | {} | {} | {} | {} | {} ({}) | {:.0} | {:.2} | {cpu} | {:.2} | {cpu_pp} | {split} | {:.3} ± {:.3} | {} | {pairs} | {diff} |",
             r.tracker,
             r.particle,
             r.integrator,

@@ -9,8 +9,12 @@ Subcommands (run.sh calls them in this order):
   control WORK --start T0 --end T1 --dt DT [--write-steps K]   system/controlDict.
   personalise WORK TIME PARTICLES   give each injected parcel its row's U, d, rho.
   cloud WORK --track   the tracking cloud dictionary (no injection).
-  fates WORK PARTICLES OUT.csv --wall S [--track-wall S] --end-time T   parse the patch records
-      and the tracking log (outer steps, parcel outer steps, ExecutionTime).
+  timed LOG CPU -- COMMAND...   run an OpenFOAM solver with its output to LOG; write to CPU its
+      CPU times (user + system): load_cpu_seconds up to "Starting time loop" (reading the case,
+      from /proc/<pid>/stat), cpu_seconds of the whole process (its rusage).
+  fates WORK PARTICLES OUT.csv --wall S [--track-wall S] --end-time T [--cpu CPU]
+      [--inject-cpu CPU]   parse the patch records and the tracking log (outer steps, parcel
+      outer steps, ExecutionTime) and pass on the CPU times of `timed`.
 
 Stdlib and NumPy only.
 """
@@ -21,6 +25,8 @@ import gzip
 import math
 import os
 import re
+import resource
+import subprocess
 import sys
 
 import numpy as np
@@ -274,15 +280,31 @@ def cloud_positions(cloud):
 
 
 def match(rows, pos, tol=1e-9):
-    """Row (input order) of each parcel: the input position nearest to it (within tol m)."""
+    """Row (input order) of each parcel: the input position nearest to it (within tol m).
+
+    O(N log N): the inputs sorted along their widest coordinate (an injection plane normal to
+    an axis has one coordinate all alike), each parcel compared with the inputs within tol of
+    it along that coordinate only."""
     xyz = np.stack([rows["x"], rows["y"], rows["z"]], axis=1)
-    which = np.empty(len(pos), dtype=np.int64)
-    for s in range(0, len(pos), 256):
-        d2 = ((pos[s : s + 256, None, :] - xyz[None, :, :]) ** 2).sum(axis=2)
-        which[s : s + 256] = d2.argmin(axis=1)
-        far = np.sqrt(d2.min(axis=1)) > tol
-        if far.any():
-            sys.exit(f"peer.py: parcel {s + int(np.argmax(far))} is {np.sqrt(d2.min(axis=1)).max():.3g} m from every input position")
+    pos = np.asarray(pos, dtype=float).reshape(-1, 3)
+    axis = int(np.argmax(xyz.var(axis=0))) if len(xyz) else 0
+    order = np.argsort(xyz[:, axis], kind="stable")
+    keys = xyz[order, axis]
+    lo = np.searchsorted(keys, pos[:, axis] - tol, side="left")
+    hi = np.searchsorted(keys, pos[:, axis] + tol, side="right")
+    which = np.full(len(pos), -1, dtype=np.int64)
+    best = np.full(len(pos), np.inf)
+    for k in range(int((hi - lo).max()) if len(pos) else 0):
+        at = lo + k
+        valid = at < hi
+        cand = order[np.minimum(at, len(order) - 1)]
+        d = np.sqrt(((pos - xyz[cand]) ** 2).sum(axis=1))
+        better = valid & (d < best)
+        which[better] = cand[better]
+        best[better] = d[better]
+    far = best > tol
+    if far.any():
+        sys.exit(f"peer.py: parcel {int(np.argmax(far))} is more than {tol:.3g} m from every input position")
     if len(np.unique(which)) != len(which):
         sys.exit("peer.py: two parcels matched one input row (repeated positions?)")
     return which
@@ -308,6 +330,47 @@ def personalise(a):
         for o, r in zip(orig, which):
             f.write(f"{o},{int(rows['index'][r])}\n")
     print(f"peer.py: {len(pos)} of {len(rows)} particles injected and matched by position", file=sys.stderr)
+
+
+def proc_cpu_seconds(pid):
+    """User + system CPU time of a running process (s), from /proc/<pid>/stat."""
+    with open(f"/proc/{pid}/stat") as f:
+        stat = f.read()
+    fields = stat[stat.rindex(")") + 2 :].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def timed(a):
+    """Run the command (an OpenFOAM solver) with stdout and stderr to a.log; write a.cpu:
+    load_cpu_seconds, the process's CPU time when it prints "Starting time loop" (it has read
+    the mesh, the fields and the cloud), and cpu_seconds, its whole CPU time (rusage, after it
+    exits). Exits with the command's status."""
+    command = a.command[1:] if a.command[:1] == ["--"] else a.command
+    if not command:
+        sys.exit("peer.py timed: no command")
+    load = None
+    with open(a.log, "w") as log:
+        p = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        for line in p.stdout:
+            log.write(line)
+            if load is None and line.strip() == "Starting time loop":
+                load = proc_cpu_seconds(p.pid)
+        status = p.wait()
+    # This process waits for no other child: its children's usage is the command's.
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    total = usage.ru_utime + usage.ru_stime
+    with open(a.cpu, "w") as f:
+        f.write(f"load_cpu_seconds={load if load is not None else 'nan'}\n")
+        f.write(f"cpu_seconds={total:.3f}\n")
+    sys.exit(status)
+
+
+def cpu_values(path):
+    """The key=value lines of a `timed` CPU file ({} if no file was given)."""
+    if path is None:
+        return {}
+    with open(path) as f:
+        return dict(line.strip().split("=", 1) for line in f if "=" in line)
 
 
 def fates(a):
@@ -380,6 +443,16 @@ def fates(a):
     print(f"wall_seconds={a.wall:.3f}")
     if a.track_wall is not None:
         print(f"track_wall_seconds={a.track_wall:.3f}")
+    # CPU of the tracking process: loading the case (up to its time loop) and the rest (the
+    # time loop: tracking, writing); of the injection process, whole.
+    cpu = cpu_values(a.cpu)
+    if cpu:
+        load, total = float(cpu["load_cpu_seconds"]), float(cpu["cpu_seconds"])
+        print(f"load_cpu_seconds={load:.3f}")
+        print(f"track_cpu_seconds={total - load:.3f}")
+    inject = cpu_values(a.inject_cpu)
+    if inject:
+        print(f"inject_cpu_seconds={float(inject['cpu_seconds']):.3f}")
 
 
 def header_columns(header):
@@ -421,11 +494,24 @@ def main():
     s.add_argument("--wall", type=float, required=True)
     s.add_argument("--track-wall", type=float)
     s.add_argument("--end-time", required=True)
+    s.add_argument("--cpu")
+    s.add_argument("--inject-cpu")
+    s = sub.add_parser("timed")
+    s.add_argument("log")
+    s.add_argument("cpu")
+    s.add_argument("command", nargs=argparse.REMAINDER)
     a = p.parse_args()
     if a.cmd == "cloud":
         cloud_dict(a.work, a.particles or os.path.join(a.work, "particles.csv"), a.track)
     else:
-        {"setup": setup, "residence": residence, "control": control, "personalise": personalise, "fates": fates}[a.cmd](a)
+        {
+            "setup": setup,
+            "residence": residence,
+            "control": control,
+            "personalise": personalise,
+            "fates": fates,
+            "timed": timed,
+        }[a.cmd](a)
 
 
 if __name__ == "__main__":

@@ -26,7 +26,9 @@
 #   (analytical: exact over a sub-step for the frozen interpolated velocity; Euler: implicit Euler)
 # Output: OUT_DIR/fates.csv (index,fate,patch,t,x,y,z; fate deposited | escaped | suspended |
 # not_injected), OUT_DIR/summary.txt (key=value: wall times of both phases and of the tracking
-# phase alone, its CPU time (ExecutionTime), outer steps, parcel outer steps, counts), logs in
+# phase alone, its CPU time (ExecutionTime) and that CPU time split into loading the case
+# (load_cpu_seconds, up to the time loop) and tracking (track_cpu_seconds), the injection
+# phase's CPU time (inject_cpu_seconds), outer steps, parcel outer steps, counts), logs in
 # OUT_DIR/case.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -75,7 +77,8 @@ fi
 t0=1e-12
 python3 "$here/peer.py" control "$work" --start 0 --end "$t0" --dt "$t0" --write-steps 1
 start=$(date +%s.%N)
-icoUncoupledKinematicParcelFoam > log.inject 2>&1 || { echo "run.sh: injection failed (see $work/log.inject)" >&2; exit 1; }
+python3 "$here/peer.py" timed log.inject cpu.inject -- icoUncoupledKinematicParcelFoam \
+    || { echo "run.sh: injection failed (see $work/log.inject)" >&2; exit 1; }
 # Each parcel gets its own velocity, diameter and density (matched to its row by position).
 python3 "$here/peer.py" personalise "$work" "$t0" "$particles"
 
@@ -84,11 +87,15 @@ python3 "$here/peer.py" control "$work" --start "$t0" --end "$END_TIME" --dt "$d
 python3 "$here/peer.py" cloud "$work" --track --particles "$particles"
 # It runs to END_TIME: the steps after the cloud has emptied cost little (0.3 mm airway,
 # 10^4 parcels at Stk 0.1: empty from t = 0.30 s, 0.4 s of the 8.1 s of CPU time).
-# track_wall_seconds is this process alone (reading the case, tracking, writing the log).
+# track_wall_seconds is this process alone (reading the case, tracking, writing the log); its
+# CPU time is split where it starts its time loop (peer.py timed: load_cpu_seconds reading
+# the mesh, U, phi and the cloud; track_cpu_seconds the rest).
 track_start=$(date +%s.%N)
-icoUncoupledKinematicParcelFoam > log.track 2>&1 || { echo "run.sh: tracking failed (see $work/log.track)" >&2; exit 1; }
+python3 "$here/peer.py" timed log.track cpu.track -- icoUncoupledKinematicParcelFoam \
+    || { echo "run.sh: tracking failed (see $work/log.track)" >&2; exit 1; }
 end=$(date +%s.%N)
 grep -q "^End" log.track || { echo "run.sh: icoUncoupledKinematicParcelFoam did not finish (see $work/log.track)" >&2; exit 1; }
 python3 "$here/peer.py" fates "$work" "$particles" "$out/fates.csv" --wall "$(awk "BEGIN { print $end - $start }")" \
-    --track-wall "$(awk "BEGIN { print $end - $track_start }")" --end-time "$END_TIME" > "$out/summary.txt"
+    --track-wall "$(awk "BEGIN { print $end - $track_start }")" --end-time "$END_TIME" \
+    --cpu cpu.track --inject-cpu cpu.inject > "$out/summary.txt"
 cat "$out/summary.txt"

@@ -8,8 +8,8 @@ use pseudorigid::driver::RunStats;
 use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Fate, ParticleRecord, RunOutput, Shard};
 use pseudorigid::studies::peer::{
-    Cost, Entrant, OpenFoamRun, OpenFoamTracker, PeerParticle, PeerRunError, RACE_COLUMNS, RaceRow, TrackerSummary,
-    TrackerSummaryError, particles_csv, race_csv, race_markdown, timed,
+    Cost, CpuSplit, Entrant, OpenFoamRun, OpenFoamTracker, PeerParticle, PeerRunError, RACE_COLUMNS, RaceRow,
+    TrackerSummary, TrackerSummaryError, marginal_fit, particles_csv, race_csv, race_markdown, timed,
 };
 use pseudorigid::tensor::Vec3;
 use std::collections::HashMap;
@@ -18,7 +18,8 @@ use std::path::Path;
 /// `summary.txt` as `run.sh` writes it (values of a 200-sphere run on the CI bend).
 const SUMMARY: &str = "particles=200\ndeposited=125\nescaped=56\nsuspended=19\nnot_injected=0\n\
     end_time=1.5525203431732287e-1\ntime_steps=1553\nlast_time=0.155300000001\nparcel_steps=57417\n\
-    execution_seconds=0.29999999999999999\nwall_seconds=3.075\ntrack_wall_seconds=0.690\n";
+    execution_seconds=0.29999999999999999\nwall_seconds=3.075\ntrack_wall_seconds=0.690\n\
+    load_cpu_seconds=0.120\ntrack_cpu_seconds=0.200\ninject_cpu_seconds=0.150\n";
 
 #[test]
 fn summary_is_read_back() {
@@ -28,6 +29,15 @@ fn summary_is_read_back() {
     assert_eq!(s.cpu_seconds, 0.3);
     assert_eq!(s.wall_seconds, 3.075);
     assert_eq!(s.track_wall_seconds, 0.69);
+    assert_eq!(
+        s.cpu,
+        CpuSplit {
+            load_seconds: 0.12,
+            track_seconds: 0.2
+        }
+    );
+    assert!((s.cpu.total() - 0.32).abs() < 1e-15);
+    assert_eq!(s.inject_cpu_seconds, 0.15);
     // A summary of the script before parcel counts were written names what is missing.
     let old = SUMMARY.replace("parcel_steps=57417\n", "");
     let missing = TrackerSummary::parse(&old).unwrap_err();
@@ -171,6 +181,10 @@ fn race_rows_by_hand() {
         integrator: "radau_iia",
         threads: 1,
         cost,
+        cpu: Some(CpuSplit {
+            load_seconds: 0.2,
+            track_seconds: 0.8,
+        }),
     };
     let ours = RaceRow::pseudorigid(entrant, &out, dep, &peer.fates, peer_dep).unwrap();
     assert_eq!(
@@ -181,6 +195,8 @@ fn race_rows_by_hand() {
     assert_eq!((p.both, p.only_ours, p.only_peer, p.neither), (1, 1, 1, 1));
     assert_eq!(ours.wall_per_particle(), 0.5);
     assert_eq!(ours.cpu_per_particle(), Some(0.25));
+    assert_eq!(ours.cpu_track_per_particle(), Some(0.2));
+    assert_eq!(of.cpu_track_per_particle(), Some(0.05));
 
     // Every row has every column; the Markdown table one line per row under its header.
     let csv = race_csv(&[of.clone(), ours.clone()]).unwrap().to_text();
@@ -194,6 +210,58 @@ fn race_rows_by_hand() {
     fewer.remove(&2);
     let err = RaceRow::pseudorigid(entrant, &out, dep, &fewer, peer_dep).unwrap_err();
     assert!(matches!(err, PeerRunError::Missing { index: 2 }), "{err}");
+}
+
+/// Loading then tracking: the costs add, the split keeps them apart; no CPU time in either
+/// part means none in the whole and no split.
+#[test]
+fn costs_add_and_split() {
+    let load = Cost {
+        wall_seconds: 1.0,
+        cpu_seconds: Some(0.5),
+    };
+    let track = Cost {
+        wall_seconds: 3.0,
+        cpu_seconds: Some(5.5),
+    };
+    let whole = load.then(track);
+    assert_eq!((whole.wall_seconds, whole.cpu_seconds), (4.0, Some(6.0)));
+    let split = CpuSplit::of(load, track).unwrap();
+    assert_eq!(
+        (split.load_seconds, split.track_seconds, split.total()),
+        (0.5, 5.5, 6.0)
+    );
+    let unmeasured = Cost {
+        wall_seconds: 1.0,
+        cpu_seconds: None,
+    };
+    assert_eq!(load.then(unmeasured).cpu_seconds, None);
+    assert_eq!(CpuSplit::of(unmeasured, track), None);
+}
+
+/// Points on a line give it back, whatever the weights; noise on the largest run moves the
+/// intercept less than an unweighted fit would; one N, or N = 0, gives no line.
+#[test]
+fn marginal_fit_by_hand() {
+    let line = |n: u64| 0.5 + 4e-4 * n as f64;
+    let points: Vec<(u64, f64)> = [100, 10_000, 100_000].into_iter().map(|n| (n, line(n))).collect();
+    let (fixed, marginal) = marginal_fit(&points).unwrap();
+    assert!(
+        (fixed - 0.5).abs() < 1e-9 && (marginal - 4e-4).abs() < 1e-12,
+        "{fixed} {marginal}"
+    );
+    // Two points: the line through them. 0.6 at 100, 40.5 at 100 000 → slope 39.9/99 900.
+    let (fixed, marginal) = marginal_fit(&[(100, 0.6), (100_000, 40.5)]).unwrap();
+    let slope = 39.9 / 99_900.0;
+    assert!((marginal - slope).abs() < 1e-12 && (fixed - (0.6 - 100.0 * slope)).abs() < 1e-9);
+    // 1 % too much at 10⁵ (0.4 s): the weighted intercept moves by 0.0007 s (unweighted: 0.02 s).
+    let mut noisy = points.clone();
+    noisy[2].1 *= 1.01;
+    let (fixed, _) = marginal_fit(&noisy).unwrap();
+    assert!((fixed - 0.5).abs() < 0.002, "{fixed}");
+    assert_eq!(marginal_fit(&[(1000, 1.0), (1000, 1.2)]), None);
+    assert_eq!(marginal_fit(&[(0, 0.1), (1000, 1.0)]), None);
+    assert_eq!(marginal_fit(&[]), None);
 }
 
 #[test]
