@@ -53,8 +53,8 @@
 //!
 //! **The term** ([`SaffmanMei::lift_ratio`]): the two sources disagree where they meet. At
 //! ε < 1 McLaughlin's J* falls towards 0 while Mei's fit of Dandy & Dwyer stays near its
-//! e^{−Re_p/10} (at Re_p = 1: 0.91 of Saffman's for β = 0.005–0.05, where J* is
-//! 0.0004–0.07). Each is used where it is the better source:
+//! e^{−Re_p/10} (at Re_p = 1: 0.91 of Saffman's for β = 0.005–0.05, where ε = 0.1–0.32 and
+//! J* is −0.002 to 0.07). Each is used where it is the better source:
 //!
 //! - **Re_p ≤ 0.1**, McLaughlin's asymptotics (Re_p, Re_ω ≪ 1, any ε): his J*(ε) takes the
 //!   place of Saffman's low-Re value 1 in Mei's form,
@@ -71,8 +71,9 @@
 //! C = C_{\mathrm{M}} + h(x)\,(C_{\mathrm{Mei}} - C_{\mathrm{M}}),\qquad h(x) = x^2 (3 - 2x),
 //! ```
 //!   so C and its slope in log Re_p are continuous at both ends (h = 0, 1 and h′ = 0 there)
-//!   and C lies between the two fits. Its steepest part, h′ = 3/2 at Re_p = 0.32, moves C by
-//!   at most 1.5 |C_Mei − C_M| = 1.5 |1 − J*| e^{−Re_p/10} per decade of Re_p.
+//!   and C lies between the two fits. The step's own share of the slope is at most
+//!   1.5 |C_Mei − C_M| = 1.5 |1 − J*| e^{−Re_p/10} per decade of Re_p (h′ ≤ 3/2, reached at
+//!   Re_p = 0.32).
 //!
 //! The step's ends are where each source's footing ends, not a fit to data: McLaughlin's
 //! theory needs Re_p ≪ 1, and from Re_p = 1 on Mei's fit is the only one of the two with
