@@ -88,7 +88,8 @@ fn a_term_registered_in_its_own_file_is_estimated_when_left_out() {
     let v = observed(&[]);
     let size = v.omitted.size("oseen").unwrap();
     assert!((size / (3.0 / 8.0) - 1.0).abs() < 1e-14, "{size}");
-    // Flagged in its order, between the finite-Re drag and the lift (0.8 %, below 1 %).
+    // Flagged in its order, between the finite-Re drag and the lift (9.1 % of the drag:
+    // Mei's fit at Re_s = 2, issue 61; 0.8 % on McLaughlin's J*, before).
     assert_eq!(
         v.flags(&Thresholds::default()),
         [
@@ -96,7 +97,8 @@ fn a_term_registered_in_its_own_file_is_estimated_when_left_out() {
             "re_slip",
             "omits_added_mass",
             "omits_schiller_naumann",
-            "omits_oseen"
+            "omits_oseen",
+            "omits_saffman_mei"
         ]
     );
     let names: Vec<&str> = v.omitted.sizes().map(|(name, _)| name).collect();
@@ -132,7 +134,7 @@ fn a_term_carried_or_covered_by_its_group_is_not_estimated() {
     assert_eq!(v.omitted.size("oseen"), Some(0.0));
     assert_eq!(
         v.flags(&Thresholds::default()),
-        ["re_shear", "re_slip", "omits_added_mass"]
+        ["re_shear", "re_slip", "omits_added_mass", "omits_saffman_mei"]
     );
     // And exclusive with it, as the group says.
     let both = ["schiller_naumann", "oseen"].map(|t| forces::by_name(t, &Values::new()).unwrap());

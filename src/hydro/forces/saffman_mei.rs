@@ -1,8 +1,9 @@
 //! Shear lift on a sphere: Saffman's force, reduced by McLaughlin's J(ε) where the slip
-//! competes with the shear and by Mei's finite-Reynolds-number correction.
+//! competes with the shear at small Reynolds numbers, and following Mei's fit of Dandy &
+//! Dwyer's finite-Reynolds-number lift from Re_p = 1 on.
 //!
-//! # Physics (Saffman 1965, 1968 corrigendum; McLaughlin 1991; Mei 1992; Crowe et al.,
-//! *Multiphase Flows with Droplets and Particles*, 2nd ed., §4.4)
+//! # Physics (Saffman 1965, 1968 corrigendum; McLaughlin 1991; Dandy & Dwyer 1990, JFM
+//! 216:381; Mei 1992; Crowe et al., *Multiphase Flows with Droplets and Particles*, 2nd ed., §4.4)
 //! A sphere of diameter d slipping with w = u − v through a flow of vorticity ω = ∇ × u feels
 //! ```math
 //! f = 1.615\, d^2 \sqrt{\rho_f \mu_f / |\omega|}\;(w \times \omega)\; C,
@@ -41,21 +42,50 @@
 //! ```
 //! which tends to 1 (Saffman) as Re_p → 0 at fixed β ([`SaffmanMei::mei_ratio`]).
 //!
-//! **Both** ([`SaffmanMei::lift_ratio`]): Mei's form decays Saffman's low-Re value 1 by
-//! e^{−Re_p/10} towards the part 0.3314√β that survives at larger Re_p. Here McLaughlin's
-//! J*(ε), which is the low-Re value at any ε (and 1 at ε = ∞), takes the place of Saffman's 1:
+//! Outside the data the formula is extrapolated, not refused: for Re_p > 100 the branch
+//! 0.0524 √(β Re_p) grows without bound at fixed β; for β < 0.005 (at Re_p ≥ 1: ε < 0.1) C
+//! tends to e^{−Re_p/10}, a lift ∝ |ω|^{1/2} where a shear weak against the slip gives one
+//! that vanishes faster (McLaughlin's ε → 0 limit at low Re_p); for β > 0.4 the term
+//! 0.3314 √β grows without bound (Re_ω = 2β Re_p > 0.8 at Re_p ≥ 1, beyond Saffman's
+//! Re_ω ≪ 1 as well). The fit also jumps at Re_p = 40, by (1 − 0.3314 √β) e^{−4}
+//! (≤ 1.8 % of Saffman's lift). The validity monitor flags the Reynolds numbers
+//! (`re_slip`, `re_shear`), not β.
+//!
+//! **The term** ([`SaffmanMei::lift_ratio`]): the two sources disagree where they meet. At
+//! ε < 1 McLaughlin's J* falls towards 0 while Mei's fit of Dandy & Dwyer stays near its
+//! e^{−Re_p/10} (at Re_p = 1: 0.91 of Saffman's for β = 0.005–0.05, where ε = 0.1–0.32 and
+//! J* is −0.002 to 0.07). Each is used where it is the better source:
+//!
+//! - **Re_p ≤ 0.1**, McLaughlin's asymptotics (Re_p, Re_ω ≪ 1, any ε): his J*(ε) takes the
+//!   place of Saffman's low-Re value 1 in Mei's form,
 //! ```math
-//! C = J^*(\varepsilon)\,e^{-\mathrm{Re}_p/10} + 0.3314\,\beta^{1/2}\,\bigl(1 - e^{-\mathrm{Re}_p/10}\bigr)\quad(\mathrm{Re}_p \le 40),
+//! C_{\mathrm{M}} = J^*(\varepsilon)\,e^{-\mathrm{Re}_p/10} + 0.3314\,\beta^{1/2}\,\bigl(1 - e^{-\mathrm{Re}_p/10}\bigr),
 //! ```
-//! Mei's large-Re branch unchanged. It is Mei's C wherever J* = 1 (within 1.2 % for ε ≥ 5), McLaughlin's
-//! J* for Re_p → 0 at any ε, Saffman's 1 for Re_p → 0 at fixed β (then ε → ∞), and continuous in
-//! (Re_p, ε). This combination is ours: Loth & Dorgan (2009, Environ. Fluid Mech. 9:187)
-//! give a combined J(ε)/finite-Re correlation, but its formula could not be checked against
-//! the paper here, so it is not used. Where the two sources overlap (Re_p = 0.1 with
-//! β ≤ 0.05, ε ≤ 1) Mei's fit of Dandy & Dwyer is close to 1 while McLaughlin's asymptotic
-//! theory, valid there, gives J* ≤ 0.72; this term follows McLaughlin (at Re_p = 0.1 the
-//! weight e^{−0.01} keeps 99 % of J*). At the bend's outer wall (ε ≈ 0.3–1.3, Re_p ≪ 1) the
-//! lift is 0.05–0.82 of Saffman's.
+//!   which is J*(ε) to within Re_p/10 + 0.3314 √β Re_p/10 (≤ 1.2 % of Saffman's lift
+//!   for β ≤ 0.4), Saffman's 1 as Re_p → 0 at fixed β (then ε → ∞), and Mei's C wherever J* = 1
+//!   (within 1.2 % for ε ≥ 5).
+//! - **Re_p ≥ 1**, Dandy & Dwyer's range (0.1 ≤ Re_p ≤ 100, the Navier–Stokes solutions Mei
+//!   fitted): Mei's own C ([`SaffmanMei::mei_ratio`]), there the fit is the data.
+//! - **0.1 < Re_p < 1**, a C¹ hand-over in x = log₁₀ Re_p + 1 ∈ (0, 1):
+//! ```math
+//! C = C_{\mathrm{M}} + h(x)\,(C_{\mathrm{Mei}} - C_{\mathrm{M}}),\qquad h(x) = x^2 (3 - 2x),
+//! ```
+//!   so C and its slope in log Re_p are continuous at both ends (h = 0, 1 and h′ = 0 there)
+//!   and C lies between the two fits. The step's own share of the slope is at most
+//!   1.5 |C_Mei − C_M| = 1.5 |1 − J*| e^{−Re_p/10} per decade of Re_p (h′ ≤ 3/2, reached at
+//!   Re_p = 0.32).
+//!
+//! The step's ends are where each source's footing ends, not a fit to data: McLaughlin's
+//! theory needs Re_p ≪ 1, and from Re_p = 1 on Mei's fit is the only one of the two with
+//! data under it. At Dandy & Dwyer's lowest Re_p, 0.1, the two already disagree (Mei's fit
+//! close to 1, J* ≤ 0.72 for β ≤ 0.05, ε ≤ 1) while McLaughlin's asymptotics still hold
+//! (Re_p = 0.1, Re_ω = 2β Re_p ≤ 0.01); between 0.1 and 1 neither source is clearly better,
+//! and no data here decide it. Before, the combination C_M held at every Re_p ≤ 40 and
+//! departed from Mei's fit of the data by 13× at Re_p = 1, β = 0.05, 2 500× at β = 0.005
+//! (near J*'s zero), and 3.4–26× at Re_p = 10. Loth & Dorgan (2009, Environ. Fluid Mech. 9:187) give a combined
+//! J(ε)/finite-Re correlation, but its formula could not be checked against the paper here,
+//! so it is not used. At the bend's outer wall (ε ≈ 0.3–1.3, Re_p ≪ 1) the lift is
+//! 0.05–0.82 of Saffman's.
 //!
 //! The force is that of an unbounded shear: within a few diameters of a wall the lift changes
 //! sign and size (Cherukat & McLaughlin 1994), which this term does not model. Ellipsoids: the
@@ -88,7 +118,7 @@ impl SaffmanMei {
     /// (1 − ∞)·1 + ∞ (NaN) at Re_p = 0, and at small Re_p the two large terms (1 − s) e^{…} and
     /// s cancelled to 0 once s = 0.3314 √β exceeded 1/ε.
     pub fn mei_ratio(re_p: f64, re_omega: f64) -> f64 {
-        Self::blend(1.0, re_p, re_omega)
+        Self::decay(1.0, re_p, re_omega)
     }
 
     /// McLaughlin's reduction J*(ε) = J(ε)/J(∞) of Saffman's lift in Mei's fit (module docs),
@@ -109,16 +139,33 @@ impl SaffmanMei {
         }
     }
 
-    /// The term's ratio C of the lift to Saffman's at Re_p ≥ 0 and Re_ω ≥ 0: McLaughlin's
-    /// J*(ε) in the place of Saffman's low-Re value in Mei's C (module docs). Re_p → 0 at fixed
-    /// ε gives J*(ε); Re_p → 0 at fixed β gives 1; Re_p > 40 gives Mei's large-Re branch.
+    /// The term's ratio C of the lift to Saffman's at Re_p ≥ 0 and Re_ω ≥ 0 (module docs):
+    /// McLaughlin's J*(ε) in the place of Saffman's low-Re value in Mei's C up to Re_p = 0.1,
+    /// Mei's own C ([`SaffmanMei::mei_ratio`]) from Re_p = 1 on, a C¹ step in log₁₀ Re_p
+    /// between. Re_p → 0 at fixed ε gives J*(ε); Re_p → 0 at fixed β gives 1; Re_p > 40 gives
+    /// Mei's large-Re branch. Finite for finite Re_p, Re_ω ≥ 0.
     pub fn lift_ratio(re_p: f64, re_omega: f64) -> f64 {
-        Self::blend(Self::mclaughlin_ratio(Self::epsilon(re_p, re_omega)), re_p, re_omega)
+        if re_p <= MCLAUGHLIN_RE {
+            return Self::mclaughlin_mei_ratio(re_p, re_omega);
+        }
+        let mei = Self::mei_ratio(re_p, re_omega);
+        if re_p >= DANDY_DWYER_RE {
+            return mei;
+        }
+        let low = Self::mclaughlin_mei_ratio(re_p, re_omega);
+        let x = (re_p / MCLAUGHLIN_RE).log10() / (DANDY_DWYER_RE / MCLAUGHLIN_RE).log10();
+        low + x * x * (3.0 - 2.0 * x) * (mei - low)
+    }
+
+    /// C_M: McLaughlin's J*(ε) in the place of Saffman's low-Re value 1 in Mei's C (module
+    /// docs), the term's ratio up to Re_p = 0.1.
+    fn mclaughlin_mei_ratio(re_p: f64, re_omega: f64) -> f64 {
+        Self::decay(Self::mclaughlin_ratio(Self::epsilon(re_p, re_omega)), re_p, re_omega)
     }
 
     /// C = c₀ e^{−Re_p/10} + 0.3314 √β (1 − e^{−Re_p/10}) (Re_p ≤ 40), 0.0524 √(β Re_p) above,
     /// with c₀ the low-Re value (Saffman's 1 or McLaughlin's J*).
-    fn blend(low_re: f64, re_p: f64, re_omega: f64) -> f64 {
+    fn decay(low_re: f64, re_p: f64, re_omega: f64) -> f64 {
         let half = 0.5 * re_omega;
         if re_p == 0.0 {
             low_re
@@ -130,6 +177,11 @@ impl SaffmanMei {
         }
     }
 }
+
+/// Re_p up to which the term is McLaughlin's J*(ε) in Mei's decay, C_M (module docs).
+const MCLAUGHLIN_RE: f64 = 0.1;
+/// Re_p from which the term is Mei's fit of Dandy & Dwyer (module docs).
+const DANDY_DWYER_RE: f64 = 1.0;
 
 /// The unit vector along `v` and its length, the length formed from `v` scaled by its largest
 /// component (finite for every finite `v`); `v` itself and its largest component for a zero
@@ -199,9 +251,10 @@ impl ForceTerm for SaffmanMei {
 ///   = \frac{1.615}{3\pi}\,\mathrm{Re}_\omega^{1/2}\, C,\qquad \mathrm{Re}_\omega = |\omega| d^2/\nu,
 /// ```
 /// with d = d_eq and the term's own C = [`SaffmanMei::lift_ratio`]`(Re_s, Re_ω)`: McLaughlin's
-/// J*(ε) where the slip competes with the shear (ε = Re_ω^{1/2}/Re_s of order 1 or smaller),
-/// Mei's decay at larger Re_s, Saffman's C = 1 as the slip vanishes (ε → ∞). Saffman's limit
-/// alone overstated the lift 1.4× at ε = 1 and 19× at ε = 0.3.
+/// J*(ε) where the slip competes with the shear (ε = Re_ω^{1/2}/Re_s of order 1 or smaller)
+/// up to Re_s = 0.1, Mei's fit of Dandy & Dwyer from Re_s = 1 on, Saffman's C = 1 as the slip
+/// vanishes (ε → ∞). Saffman's limit alone overstated the lift 1.4× at ε = 1 and 19× at
+/// ε = 0.3 (Re_s ≪ 1).
 fn omitted(rest: &Rest, at: &Observed) -> f64 {
     let re_omega = vorticity(&at.flow.grad_u).norm() * rest.d_eq * rest.d_eq / rest.nu;
     1.615 / (3.0 * std::f64::consts::PI) * re_omega.sqrt() * SaffmanMei::lift_ratio(at.re_slip, re_omega)

@@ -3,6 +3,7 @@
 //! transient with added mass (Maxey & Riley), a neutrally buoyant sphere in solid-body rotation
 //! and in a stagnation flow, Cunningham and Schiller–Naumann terminal velocities, and
 //! Saffman's lift with McLaughlin's reduction.
+use proptest::prelude::*;
 use pseudorigid::driver::{Problem, advance};
 use pseudorigid::ellipsoid::{Ellipsoid, EllipsoidIntegrals, PrincipalFrame};
 use pseudorigid::hydro::forces::{
@@ -568,6 +569,161 @@ fn lift_ratio_limits() {
             assert!(c.is_finite(), "Re_p = {re_p:e}, Re_ω = {re_omega:e}: {c}");
         }
     }
+}
+
+/// Mei's (1992) printed fit of Dandy & Dwyer's (1990) lift, C = F_L/F_Saffman, written out here
+/// from the paper's formula: (1 − 0.3314 β^{1/2}) e^{−Re_p/10} + 0.3314 β^{1/2} for
+/// Re_p ≤ 40, 0.0524 (β Re_p)^{1/2} above, with β = ½ Re_ω/Re_p (both numbers on the diameter:
+/// β = |ω| d/(2|w|), Mei's dimensionless shear rate).
+fn mei_1992(re_p: f64, beta: f64) -> f64 {
+    let s = 0.3314 * beta.sqrt();
+    if re_p <= 40.0 {
+        (1.0 - s) * (-re_p / 10.0).exp() + s
+    } else {
+        0.0524 * (beta * re_p).sqrt()
+    }
+}
+
+/// Issue 61, last item: from Re_p = 1 on, inside Dandy & Dwyer's range (0.1 ≤ Re_p ≤ 100,
+/// 0.005 ≤ β ≤ 0.4) and with ε = √(2β/Re_p) < 1, the term's ratio is Mei's own fit of those
+/// data, to 10⁻¹² relative: the library forms the same C with β written out
+/// (e^{−Re_p/10} − 0.3314 √(Re_ω/2) expm1(−Re_p/10)/√Re_p), some ten roundings of 1.1·10⁻¹⁶
+/// on terms of one sign (1 − 0.3314 √β ≥ 0.79 here), so no cancellation amplifies them.
+/// The previous term, McLaughlin's J*(ε) in Mei's decay at every Re_p ≤ 40, departed from this
+/// fit by 1.5× (Re_p = 1, β = 0.4) to 2 500× (Re_p = 1, β = 0.005): this test fails on it.
+#[test]
+fn lift_follows_meis_fit_from_re_p_one() {
+    for re_p in [1.0, 2.0, 5.0, 10.0] {
+        for beta in [0.005, 0.02, 0.05, 0.4] {
+            let re_omega = 2.0 * beta * re_p;
+            assert!(SaffmanMei::epsilon(re_p, re_omega) < 1.0);
+            let (c, mei) = (SaffmanMei::lift_ratio(re_p, re_omega), mei_1992(re_p, beta));
+            assert!(
+                (c / mei - 1.0).abs() < 1e-12,
+                "Re_p = {re_p}, β = {beta}: {c} vs Mei {mei}"
+            );
+        }
+    }
+}
+
+/// Issue 61: up to Re_p = 0.1 the term is McLaughlin's J*(ε) in Mei's decay as before, bit for
+/// bit (that branch of `lift_ratio` is unchanged; the values are those of `lift_ratio` at
+/// 3dcdd7d, before the hand-over to Mei's fit), and equal to the combination written out here
+/// from the papers to 10⁻¹² relative (a dozen roundings of 1.1·10⁻¹⁶; ε ≥ 0.32 > 0.186, so J* > 0
+/// and the two terms are of one sign, and the tanh factor 0.667 + tanh[6(ε − 0.32)] ≥ 0.67
+/// loses no digits). These are the points the hand-over
+/// must leave alone: ε = √(2β/Re_p) from 0.32 (Re_p = 0.1, β = 0.005) to 77 (Re_p = 10⁻³, β = 3).
+/// `lift_ratio`(Re_p, 2β Re_p) at 3dcdd7d, before the hand-over to Mei's fit: (Re_p, β, f64 bits).
+const BEFORE: [(f64, f64, u64); 20] = [
+    (0.001, 0.005, 0x3fef0462a17d72c2),
+    (0.001, 0.02, 0x3fefc62f01510ee3),
+    (0.001, 0.05, 0x3fefea0eda25ef59),
+    (0.001, 0.4, 0x3feffd21c09527c1),
+    (0.001, 3.0, 0x3fefff66e085b7ab),
+    (0.01, 0.005, 0x3fe713db5696ac67),
+    (0.01, 0.02, 0x3fed74225baa7722),
+    (0.01, 0.05, 0x3feefdd46855b6ce),
+    (0.01, 0.4, 0x3fefde94ac56516b),
+    (0.01, 3.0, 0x3feff97aea83c51f),
+    (0.05, 0.005, 0x3fcf34efb8f9a916),
+    (0.05, 0.02, 0x3fe558b42b8a8061),
+    (0.05, 0.05, 0x3feaf720d7ec6feb),
+    (0.05, 0.4, 0x3fef480475970324),
+    (0.05, 3.0, 0x3fefdd4adc952f10),
+    (0.1, 0.005, 0x3fb148ae8877c470),
+    (0.1, 0.02, 0x3fde394dd5430acb),
+    (0.1, 0.05, 0x3fe6e4c6573a8d62),
+    (0.1, 0.4, 0x3fee85c7dec3fec5),
+    (0.1, 3.0, 0x3fefb8d2a80ebd97),
+];
+
+#[test]
+fn lift_below_a_tenth_is_mclaughlins() {
+    for (re_p, beta, bits) in BEFORE {
+        let re_omega = 2.0 * beta * re_p;
+        let c = SaffmanMei::lift_ratio(re_p, re_omega);
+        assert_eq!(c.to_bits(), bits, "Re_p = {re_p}, β = {beta}: {c:e}");
+        let decay = (-re_p / 10.0).exp();
+        let eps = (2.0 * beta / re_p).sqrt();
+        let expected =
+            mei_fit_of_mclaughlin(eps) / (0.6765 * 2.0 * 1.667) * decay + 0.3314 * beta.sqrt() * (1.0 - decay);
+        assert!(
+            (c / expected - 1.0).abs() < 1e-12,
+            "Re_p = {re_p}, β = {beta}: {c} vs {expected}"
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Issue 61: the hand-over from McLaughlin's J*(ε) (Re_p ≤ 0.1) to Mei's fit (Re_p ≥ 1)
+    /// is continuous. On a grid of 4 000 steps h in x = log₁₀ Re_p over [0.05, 2] at a fixed
+    /// Re_ω (ε = √Re_ω at Re_p = 1 from 0.01 to 3), each step moves C by at most
+    /// L h + 10⁻¹², L a bound on |dC/dx| written from the formulas, not from the code: with
+    /// C = C_M + h(y)(C_Mei − C_M) and the step's slope h′ ≤ 3/2,
+    /// |dC/dx| ≤ max(|dC_M/dx|, |dC_Mei/dx|) + 1.5 |C_Mei − C_M|, and
+    /// - C_Mei − C_M = (1 − J*) e^{−Re_p/10}, |1 − J*| ≤ 1.003 (J* ∈ [−0.003, 1]);
+    /// - Re_p d/dRe_p of e^{−Re_p/10} and of s(1 − e^{−Re_p/10}), s = 0.3314 √β ∝ Re_p^{−1/2},
+    ///   are each at most Re_p/10 and s Re_p/10 in size (1 − e^{−y} ≤ y);
+    /// - |dJ*/d ln ε| ≤ (1.086 · 1.667 + 2 · 2.05)/3.334 ≤ 1.8 (the derivatives of Mei's two
+    ///   tanh factors, 2.5/ln 10 and max 6ε sech²(6ε − 1.92) ≤ 2.05, times the other factor's
+    ///   largest size), and ε ∝ 1/Re_p;
+    /// so |dC/dx| ≤ ln 10 (1.8 + (1 + s_max) Re_max/10) + 1.5 · 1.003, s_max at Re_p = 0.05.
+    /// The mean-value theorem then bounds every step (C is continuous and piecewise C¹);
+    /// 10⁻¹² covers the rounding of two values of C ≤ 1 + s ≤ 4.3 (a few ulps each). A jump,
+    /// such as a switch at Re_p = 1, would move C by (1 − J*) e^{−1/10}: 0.25 or more for
+    /// ε ≤ 1, 80× the allowance (L ≤ 7.7, h = 4·10⁻⁴). Inside the step, C also lies between
+    /// the two fits written out here (10⁻¹² for their rounding).
+    #[test]
+    fn lift_ratio_is_continuous_across_the_hand_over(log_eps in -2.0f64..0.5) {
+        let re_omega = 10f64.powf(2.0 * log_eps);
+        let (lo, hi, n) = (0.05f64.log10(), 2f64.log10(), 4000);
+        let h = (hi - lo) / f64::from(n);
+        let s_max = 0.3314 * (0.5 * re_omega / 0.05).sqrt();
+        let slope = std::f64::consts::LN_10 * (1.8 + (1.0 + s_max) * 2.0 / 10.0) + 1.5 * 1.003;
+        let ratio = |i: u32| SaffmanMei::lift_ratio(10f64.powf(lo + f64::from(i) * h), re_omega);
+        let mut before = ratio(0);
+        for i in 1..=n {
+            let re_p = 10f64.powf(lo + f64::from(i) * h);
+            let c = ratio(i);
+            if re_p > 0.1 && re_p < 1.0 {
+                let beta = 0.5 * re_omega / re_p;
+                let decay = (-re_p / 10.0).exp();
+                let eps = re_omega.sqrt() / re_p;
+                let mclaughlin = mei_fit_of_mclaughlin(eps) / (0.6765 * 2.0 * 1.667) * decay
+                    + 0.3314 * beta.sqrt() * (1.0 - decay);
+                let mei = mei_1992(re_p, beta);
+                prop_assert!(
+                    mclaughlin.min(mei) - 1e-12 <= c && c <= mclaughlin.max(mei) + 1e-12,
+                    "Re_p = {re_p:e}: {c} outside [{mclaughlin}, {mei}]"
+                );
+            }
+            prop_assert!(
+                (c - before).abs() <= slope * h + 1e-12,
+                "Re_p = {re_p:e}: {before} → {c} (allowed {})", slope * h
+            );
+            before = c;
+        }
+    }
+
+    /// Issue 61 (the NaN at huge shear rates, fixed earlier, stays fixed): the ratio is finite
+    /// for every finite Re_p, Re_ω ≥ 0, from 0 and the subnormals to f64's largest number.
+    #[test]
+    fn lift_ratio_is_finite(re_p in magnitude(), re_omega in magnitude()) {
+        let c = SaffmanMei::lift_ratio(re_p, re_omega);
+        prop_assert!(c.is_finite(), "Re_p = {re_p:e}, Re_ω = {re_omega:e}: {c}");
+    }
+}
+
+/// A non-negative finite number over f64's whole range: 0, f64::MAX, or 10^k with k uniform
+/// in [−323, 308] (5·10⁻³²⁴ … 10³⁰⁸; 10^{−323.x} rounds to the subnormals or 0).
+fn magnitude() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        Just(0.0),
+        Just(f64::MAX),
+        (-323.0f64..308.0).prop_map(|k| 10f64.powf(k))
+    ]
 }
 
 /// Issue 38, item 2: at Re_p → 0 with a non-zero slip both inertial terms take their analytic
