@@ -12,24 +12,17 @@
 //! cargo run --release --example fig17_airway -- N CASE_DIR...
 //! ```
 //! Writes `paper-figures/fig17/mesh_check.csv` ([`figures::mesh_check`]), one row per case and
-//! Stokes number, cases labelled by the cell size in their `log.summary`.
+//! Stokes number, cases labelled by the cell size in their `log.summary`
+//! ([`figures::case_label`]); with two to four cases of distinct cell counts also
+//! `mesh_study.csv`, the mesh study of DE at each Stokes number
+//! ([`pseudorigid::population::mesh_study::MeshStudy::table`]: each mesh's value, the paired
+//! increments, the apparent order, the extrapolated DE, its GCI and the verdict).
 
 use pseudorigid::output::paper_figure_path;
+use pseudorigid::population::mesh_study::MeshStudy;
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, figures};
 use pseudorigid::studies::cavity::Shape;
-use std::path::{Path, PathBuf};
-
-/// "h=0.3mm layers=2" from the `cell_size=0.3e-3` and `layers=2` lines that `Allrun` writes to
-/// `log.summary` (a summary without `layers` predates the option: 2 layers).
-fn label(dir: &Path) -> Result<String, Box<dyn std::error::Error>> {
-    let summary = std::fs::read_to_string(dir.join("log.summary"))?;
-    let value = |key: &str| summary.lines().find_map(|l| l.strip_prefix(key)).map(str::trim);
-    let h: f64 = value("cell_size=")
-        .ok_or_else(|| format!("{}: no cell_size in log.summary", dir.display()))?
-        .parse()?;
-    let layers = value("layers=").unwrap_or("2");
-    Ok(format!("h={}mm layers={layers}", h * 1e3))
-}
+use std::path::PathBuf;
 
 /// The Stokes numbers checked: near-tracers (a numerical floor shows here), the carina's
 /// saddle regime where the wall layer decides (0.1, 0.2), and inertial impaction (0.4).
@@ -42,31 +35,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut dirs = vec![Airway::shipped_dir()];
     dirs.extend(others.iter().map(PathBuf::from));
-    let mut cases = Vec::new();
-    for (i, dir) in dirs.iter().enumerate() {
-        let name = if i == 0 {
-            format!("{} (shipped)", label(dir)?)
-        } else {
-            label(dir)?
-        };
-        cases.push((name, Airway::open(dir)?));
-    }
-    let cases: Vec<(&str, &Airway)> = cases.iter().map(|(name, a)| (name.as_str(), a)).collect();
+    let opened = figures::open_cases(&dirs)?;
+    let cases: Vec<(&str, &Airway)> = opened.iter().map(|(label, a)| (label.as_str(), a)).collect();
     let mut table = String::new();
+    let mut studies: Vec<(String, MeshStudy)> = Vec::new();
     for stokes in STOKES {
         let kind = Kind {
             shape: Shape::Prolate(1.0),
             material: Material::Rigid,
             stokes,
         };
-        let text = figures::mesh_check(&cases, kind, n.parse()?)?.to_text();
+        let (check, study) = figures::mesh_check(&cases, kind, n.parse()?)?;
+        let text = check.to_text();
         table.push_str(if table.is_empty() {
             &text
         } else {
             text.split_once('\n').map_or("", |t| t.1)
         });
+        studies.extend(study.map(|s| (stokes.to_string(), s)));
     }
     pseudorigid::output::write_atomic(paper_figure_path("fig17", "mesh_check.csv"), table.as_bytes())?;
     print!("{table}");
+    if !studies.is_empty() {
+        let keyed: Vec<(&str, &MeshStudy)> = studies.iter().map(|(k, s)| (k.as_str(), s)).collect();
+        MeshStudy::table(&keyed, Some("stk"), Some("deposited"))?
+            .write(paper_figure_path("fig17", "mesh_study.csv"))?;
+    }
     Ok(())
 }

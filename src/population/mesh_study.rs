@@ -30,6 +30,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use thiserror::Error;
 
+/// The formal order assumed for the chain (a second-order finite-volume solution, linear
+/// reconstruction between cells) unless a study says otherwise.
+pub const FORMAL_ORDER: f64 = 2.0;
 /// An increment is resolved when it exceeds this many paired standard errors.
 pub const RESOLVED_SE: f64 = 2.0;
 /// An apparent order within this of the formal order reads as asymptotic (the acceptance of
@@ -147,6 +150,21 @@ pub struct OutcomeStudy {
     pub verdict: String,
 }
 
+impl OutcomeStudy {
+    /// The estimate as an error bar: only where the procedure stands behind it
+    /// ([`GridConvergence::holds`]: monotone on three meshes, or two with the assumed order)
+    /// and every increment it read is resolved by the sample (beyond [`RESOLVED_SE`] paired
+    /// standard errors). Elsewhere the verdict says why there is none.
+    pub fn error_bar(&self) -> Option<&GridConvergence> {
+        let used = self.values.len().min(3).saturating_sub(1);
+        let resolved = self
+            .increments
+            .get(..used)
+            .is_some_and(|i| i.iter().all(Increment::resolved));
+        self.estimate.as_ref().filter(|e| e.holds() && resolved)
+    }
+}
+
 /// A mesh study of one population (module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MeshStudy {
@@ -256,14 +274,29 @@ impl MeshStudy {
         })
     }
 
+    /// The study of the outcome named `name` (`deposited`, `escaped:outlet1`, ...), if any
+    /// mesh saw it.
+    pub fn outcome(&self, name: &str) -> Option<&OutcomeStudy> {
+        self.outcomes.iter().find(|o| o.outcome == name)
+    }
+
     /// One row per outcome: `outcome`, per mesh k (1 finest) `cells_k`, `count_k`, `value_k`,
     /// `stderr_k`, per increment `diff_k(k+1)` (finer − coarser) and `paired_se_k(k+1)`, then
     /// `r21`, `r32`, `p`, `order_used`, `extrapolated`, `gci` (the band in the fraction's
     /// units), `gci_relative` (Celik's GCI_fine²¹), `convergence` and `verdict`; empty where
     /// the procedure gave no number.
     pub fn csv(&self) -> Result<Csv, OutputError> {
-        let m = self.meshes.len();
-        let mut header: Vec<String> = vec!["outcome".into()];
+        Self::table(&[("", self)], None, None)
+    }
+
+    /// Several studies of the same meshes in one table: the rows of [`Self::csv`], each led by
+    /// a column `key` holding its study's label (none if `key` is `None`), and only the
+    /// outcome named `only` if given. Studies of different mesh counts do not fit one header
+    /// (an [`OutputError`] naming the row).
+    pub fn table(studies: &[(&str, &Self)], key: Option<&str>, only: Option<&str>) -> Result<Csv, OutputError> {
+        let m = studies.first().map_or(0, |(_, s)| s.meshes.len());
+        let mut header: Vec<String> = key.into_iter().map(String::from).collect();
+        header.push("outcome".into());
         for k in 1..=m {
             header.extend(["cells", "count", "value", "stderr"].map(|c| format!("{c}_{k}")));
         }
@@ -285,40 +318,53 @@ impl MeshStudy {
             .map(String::from),
         );
         let mut csv = Csv::new(&header.iter().map(String::as_str).collect::<Vec<_>>());
-        let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
-        for o in &self.outcomes {
-            let mut row = vec![o.outcome.clone()];
-            for (k, mesh) in self.meshes.iter().enumerate() {
-                row.extend([
-                    mesh.cells.to_string(),
-                    o.counts[k].to_string(),
-                    o.values[k].to_string(),
-                    o.stderr[k].to_string(),
-                ]);
+        for (label, study) in studies {
+            for o in study
+                .outcomes
+                .iter()
+                .filter(|o| only.is_none_or(|name| o.outcome == name))
+            {
+                let mut row: Vec<String> = key.map(|_| (*label).to_string()).into_iter().collect();
+                row.extend(study.row(o));
+                csv.push(row)?;
             }
-            for inc in &o.increments {
-                row.extend([inc.difference.to_string(), inc.paired_stderr.to_string()]);
-            }
-            let e = o.estimate.as_ref();
-            row.extend([
-                opt(e.map(|e| e.r21)),
-                opt(e.and_then(|e| e.r32)),
-                opt(e.and_then(|e| e.p_apparent)),
-                opt(e.map(|e| e.order_used)),
-                opt(e.map(|e| e.extrapolated)),
-                opt(e.map(|e| e.band)),
-                opt(e.and_then(|e| e.gci_fine)),
-                e.map_or(String::new(), |e| {
-                    serde_json::to_value(e.convergence)
-                        .ok()
-                        .and_then(|v| v.as_str().map(String::from))
-                        .unwrap_or_default()
-                }),
-                o.verdict.clone(),
-            ]);
-            csv.push(row)?;
         }
         Ok(csv)
+    }
+
+    /// The fields of `o`'s row in [`Self::csv`].
+    fn row(&self, o: &OutcomeStudy) -> Vec<String> {
+        let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
+        let mut row = vec![o.outcome.clone()];
+        for (k, mesh) in self.meshes.iter().enumerate() {
+            row.extend([
+                mesh.cells.to_string(),
+                o.counts[k].to_string(),
+                o.values[k].to_string(),
+                o.stderr[k].to_string(),
+            ]);
+        }
+        for inc in &o.increments {
+            row.extend([inc.difference.to_string(), inc.paired_stderr.to_string()]);
+        }
+        let e = o.estimate.as_ref();
+        row.extend([
+            opt(e.map(|e| e.r21)),
+            opt(e.and_then(|e| e.r32)),
+            opt(e.and_then(|e| e.p_apparent)),
+            opt(e.map(|e| e.order_used)),
+            opt(e.map(|e| e.extrapolated)),
+            opt(e.map(|e| e.band)),
+            opt(e.and_then(|e| e.gci_fine)),
+            e.map_or(String::new(), |e| {
+                serde_json::to_value(e.convergence)
+                    .ok()
+                    .and_then(|v| v.as_str().map(String::from))
+                    .unwrap_or_default()
+            }),
+            o.verdict.clone(),
+        ]);
+        row
     }
 }
 
@@ -414,5 +460,58 @@ fn verdict(
         (Convergence::Flat | Convergence::Monotone, _) => {
             format!("the two finest meshes agree exactly: {increments_text}")
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `n` particles, the first `k[m]` of which have the outcome on mesh m (nested sets: every
+    /// discordant particle moves the fraction the same way, so each increment's paired se is
+    /// small against it).
+    fn nested(k: &[usize], n: usize) -> Vec<Vec<bool>> {
+        k.iter().map(|&k| (0..n).map(|i| i < k).collect()).collect()
+    }
+
+    /// Cells 8000, 1000, 125 in 3-D: r = 2 for both pairs. Fractions 0.10, 0.12, 0.16 (finest
+    /// first): ε₃₂/ε₂₁ = 2 = r^p, so p = 1 exactly, monotone; capped at the formal 2 it stays
+    /// 1, and Richardson's extrapolation is φ₁ + (φ₁ − φ₂)/(r^p − 1) = 0.08 with the band
+    /// F_s |φ₁ − φ₂|/(r^p − 1) = 1.25 × 0.02 = 0.025 (Celik et al. 2008, eqs. 4 and 7).
+    #[test]
+    fn a_resolved_monotone_outcome_has_richardsons_bar() {
+        let cells = [8000.0, 1000.0, 125.0];
+        let o = outcome(
+            "deposited",
+            &nested(&[1000, 1200, 1600], 10_000),
+            10_000,
+            &cells,
+            3,
+            FORMAL_ORDER,
+        );
+        let bar = o.error_bar().expect("resolved and monotone");
+        assert!((bar.p_apparent.unwrap() - 1.0).abs() < 1e-9, "{bar:?}");
+        assert!((bar.extrapolated - 0.08).abs() < 1e-12, "{bar:?}");
+        assert!((bar.band - 0.025).abs() < 1e-12, "{bar:?}");
+    }
+
+    /// The same values on 100 particles are not resolved by the sample (the 2 → 1 increment is
+    /// 2 particles: 0.02 against a paired se of √(2 − 0.04)/100 = 0.014, 1.4 se), an
+    /// oscillating sequence holds no bar (Celik et al.: no extrapolation), and neither has one.
+    #[test]
+    fn unresolved_or_oscillating_outcomes_have_no_bar() {
+        let cells = [8000.0, 1000.0, 125.0];
+        let small = outcome("deposited", &nested(&[10, 12, 16], 100), 100, &cells, 3, FORMAL_ORDER);
+        assert!(small.estimate.is_some() && small.error_bar().is_none(), "{small:?}");
+        let wavy = outcome(
+            "deposited",
+            &nested(&[1000, 1400, 1100], 10_000),
+            10_000,
+            &cells,
+            3,
+            FORMAL_ORDER,
+        );
+        assert_eq!(wavy.estimate.map(|e| e.convergence), Some(Convergence::Oscillatory));
+        assert!(wavy.error_bar().is_none());
     }
 }

@@ -26,9 +26,7 @@ use crate::population::mesh_study::{MeshRun, MeshStudy};
 use crate::population::{Progress, RunOutput, Shard};
 use std::path::{Path, PathBuf};
 
-/// The formal order assumed for the chain (a second-order finite-volume solution, linear
-/// reconstruction between cells) unless `--order` says otherwise.
-pub const FORMAL_ORDER: f64 = 2.0;
+pub use crate::population::mesh_study::FORMAL_ORDER;
 
 /// Where mesh k's (from 1) run goes.
 pub fn mesh_dir(out: &Path, k: usize) -> PathBuf {

@@ -95,6 +95,15 @@ pub fn cache_folder(var: &str, default: &str) -> Result<std::path::PathBuf, crat
 /// variable `var`, else `default`; the case folder from the second argument, if there is one.
 pub fn count_and_case(var: &str, default: u64) -> Result<(u64, Option<std::path::PathBuf>), std::num::ParseIntError> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    count_and_case_of(&args, var, default)
+}
+
+/// [`count_and_case`] of the arguments `args` (the program's name left out).
+pub fn count_and_case_of(
+    args: &[String],
+    var: &str,
+    default: u64,
+) -> Result<(u64, Option<std::path::PathBuf>), std::num::ParseIntError> {
     let n = match (args.first(), std::env::var(var)) {
         (Some(a), _) => a.parse()?,
         (None, Ok(v)) => v.parse()?,

@@ -7,18 +7,25 @@ use super::deposition::{Deposit, deposits};
 use super::deposition::{histogram, histogram_table, map_table, summary_table};
 use super::injection::Kind;
 use super::setup::{Airway, zhang_reference};
-use super::study::{Efficiency, StudyRun, efficiency_table};
+use super::study::{Efficiency, StudyRun, banded_efficiency_table, efficiency_table};
 use crate::material::NeoHooke;
 use crate::output::paper_figure_path;
 use crate::output::vtk::{PointValues, PolyData};
 use crate::output::{Figure, Panel, Series};
 use crate::population::RunOptions;
 use crate::population::binomial::Pairing;
+use crate::population::mesh_study::{FORMAL_ORDER, MeshRun, MeshStudy};
 use crate::population::{Computed, RunOutput};
 use std::path::{Path, PathBuf};
 
 /// Stokes numbers of Fig. 18 (the paper's range 0.005–0.5).
 pub const FIG18_STOKES: [f64; 10] = [0.005, 0.01, 0.02, 0.04, 0.06, 0.08, 0.1, 0.2, 0.3, 0.5];
+
+/// Stokes numbers of Fig. 18 that carry a mesh-study band when the example is given other
+/// meshes: from 0.1 up, where the wall layer and the carina decide DE and the mesh's error
+/// is of the size of DE's changes (the four-mesh runs: 0.004–0.026); below, DE ≤ 0.06 and a
+/// band costs a fine-mesh run per point for an error below the binomial one.
+pub const FIG18_BAND_STOKES: [f64; 4] = [0.1, 0.2, 0.3, 0.5];
 
 pub use super::study::SEED;
 
@@ -30,6 +37,41 @@ pub const DEFAULT_N: u64 = 100_000;
 pub fn arguments() -> Result<(u64, Airway), Box<dyn std::error::Error>> {
     let (n, dir) = crate::studies::count_and_case("PSEUDORIGID_BIF_N", DEFAULT_N)?;
     Ok((n, Airway::open(dir.unwrap_or_else(Airway::shipped_dir))?))
+}
+
+/// `[N] [CASE_DIR] [--band MESH_DIR...]`: N as in [`arguments`], and the case folders: first
+/// `CASE_DIR` (else the shipped field), then the other solutions of the same airway that a
+/// mesh study pairs with it (none without `--band`).
+pub fn arguments_and_band() -> Result<(u64, Vec<PathBuf>), std::num::ParseIntError> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let split = args.iter().position(|a| a == "--band").unwrap_or(args.len());
+    let (n, dir) = crate::studies::count_and_case_of(&args[..split], "PSEUDORIGID_BIF_N", DEFAULT_N)?;
+    let mut dirs = vec![dir.unwrap_or_else(Airway::shipped_dir)];
+    dirs.extend(args.get(split + 1..).unwrap_or_default().iter().map(PathBuf::from));
+    Ok((n, dirs))
+}
+
+/// `h=0.3mm layers=2` from the `cell_size=0.3e-3` and `layers=2` lines that
+/// `cases/bifurcation/Allrun` writes to the case's `log.summary` (a summary without `layers`
+/// predates the option: 2 layers); ` (shipped)` added for the shipped field.
+pub fn case_label(dir: &Path) -> Result<String, std::io::Error> {
+    let summary = std::fs::read_to_string(dir.join("log.summary"))?;
+    let value = |key: &str| summary.lines().find_map(|l| l.strip_prefix(key)).map(str::trim);
+    let bad = |what: String| std::io::Error::new(std::io::ErrorKind::InvalidData, format!("{}: {what}", dir.display()));
+    let text = value("cell_size=").ok_or_else(|| bad("no cell_size in log.summary".into()))?;
+    let h: f64 = text
+        .parse()
+        .map_err(|e| bad(format!("cell_size {text:?} in log.summary: {e}")))?;
+    let layers = value("layers=").unwrap_or("2");
+    let shipped = if dir == Airway::shipped_dir() { " (shipped)" } else { "" };
+    Ok(format!("h={}mm layers={layers}{shipped}", h * 1e3))
+}
+
+/// Open each case of `dirs`, labelled by [`case_label`].
+pub fn open_cases(dirs: &[PathBuf]) -> Result<Vec<(String, Airway)>, Box<dyn std::error::Error>> {
+    dirs.iter()
+        .map(|dir| Ok((case_label(dir)?, Airway::open(dir)?)))
+        .collect()
 }
 
 /// The folder where finished runs are kept between examples (created if missing):
@@ -63,14 +105,92 @@ pub fn efficiencies(airway: &Airway, kinds: &[Kind], n: u64) -> Result<Vec<Effic
     Ok(rows)
 }
 
+/// Mesh studies, each of one particle kind.
+pub type KindStudies = Vec<(Kind, MeshStudy)>;
+
+/// [`efficiencies`] on the first of `cases`, and the mesh study ([`mesh_study`]) over all of
+/// them of each kind whose Stokes number is in `band_stokes` (none with one case).
+pub fn banded_efficiencies(
+    cases: &[(&str, &Airway)],
+    kinds: &[Kind],
+    n: u64,
+    band_stokes: &[f64],
+) -> Result<(Vec<Efficiency>, KindStudies), BifurcationError> {
+    let Some((_, first)) = cases.first() else {
+        return Ok((Vec::new(), Vec::new()));
+    };
+    let rows = efficiencies(first, kinds, n)?;
+    let mut studies = Vec::new();
+    for &kind in kinds
+        .iter()
+        .filter(|k| cases.len() > 1 && band_stokes.contains(&k.stokes))
+    {
+        let (_, study) = mesh_study(cases, kind, n)?;
+        if let Some(d) = study.outcome("deposited") {
+            eprintln!("{kind:?} on {} meshes: {}", cases.len(), d.verdict);
+        }
+        studies.push((kind, study));
+    }
+    Ok((rows, studies))
+}
+
 /// Write the efficiency table ([`efficiency_table`]).
 pub fn write_efficiencies(rows: &[Efficiency], path: &Path) -> Result<(), BifurcationError> {
     Ok(efficiency_table(rows)?.write(path)?)
 }
 
+/// Write the efficiency table with the mesh studies' bands ([`banded_efficiency_table`]) to
+/// `path`, and the studies' `deposited` rows ([`MeshStudy::table`], led by `stk`) to
+/// `mesh_study.csv` beside it (only if there are studies).
+pub fn write_banded_efficiencies(
+    rows: &[Efficiency],
+    studies: &[(Kind, MeshStudy)],
+    path: &Path,
+) -> Result<(), BifurcationError> {
+    banded_efficiency_table(rows, studies)?.write(path)?;
+    if !studies.is_empty() {
+        let labels: Vec<String> = studies.iter().map(|(k, _)| k.stokes.to_string()).collect();
+        let keyed: Vec<(&str, &MeshStudy)> = labels
+            .iter()
+            .map(String::as_str)
+            .zip(studies.iter().map(|(_, s)| s))
+            .collect();
+        MeshStudy::table(&keyed, Some("stk"), Some("deposited"))?.write(path.with_file_name("mesh_study.csv"))?;
+    }
+    Ok(())
+}
+
+/// [`efficiency_figure`] with each study's extrapolated DE and its GCI band (where the
+/// procedure stands behind one, [`crate::population::mesh_study::OutcomeStudy::error_bar`]).
+pub fn banded_figure(rows: &[Efficiency], studies: &[(Kind, MeshStudy)], title: &str) -> Figure {
+    let mut panel = efficiency_panel(rows, title);
+    let bars: Vec<(f64, f64, f64)> = studies
+        .iter()
+        .filter_map(|(k, s)| {
+            let e = s.outcome("deposited")?.error_bar()?;
+            Some((k.stokes.log10(), e.extrapolated, e.band))
+        })
+        .collect();
+    let colour = 7;
+    panel = panel.with(Series::points(
+        "extrapolated DE, GCI band (mesh study)",
+        bars.iter().map(|&(x, y, _)| (x, y)).collect(),
+        colour,
+    ));
+    for &(x, y, band) in &bars {
+        panel = panel.with(Series::line("", vec![(x, y - band), (x, y + band)], colour));
+    }
+    Figure::single(panel)
+}
+
 /// DE against log₁₀ Stk: one series per (shape, material) with DE ± 2 standard errors as
 /// separate point series, and the Zhang et al. correlation as a line.
 pub fn efficiency_figure(rows: &[Efficiency], title: &str) -> Figure {
+    Figure::single(efficiency_panel(rows, title))
+}
+
+/// The panel of [`efficiency_figure`].
+fn efficiency_panel(rows: &[Efficiency], title: &str) -> Panel {
     let mut panel = Panel::new(title, "log10 Stk", "DE").with_ranges((-2.4, -0.2), (0.0, 1.0));
     let mut groups: Vec<(String, Vec<&Efficiency>)> = Vec::new();
     for r in rows {
@@ -97,7 +217,7 @@ pub fn efficiency_figure(rows: &[Efficiency], title: &str) -> Figure {
             zhang_reference(10f64.powf(lg)).ok().map(|de| (lg, de))
         })
         .collect();
-    Figure::single(panel.with(Series::line("Zhang et al. (1997), θ = 30°, Re = 500", zhang, 0)))
+    panel.with(Series::line("Zhang et al. (1997), θ = 30°, Re = 500", zhang, 0))
 }
 
 /// Kinds of the softness study (paper Figs 19–23): spheres and prolates λ₁ = 2, 5, quasi-rigid
@@ -237,14 +357,55 @@ pub fn deposits_vtp(runs: &[(Kind, u64, Vec<Deposit>)]) -> Result<PolyData, Bifu
         .with_active_tensors("V")?)
 }
 
+/// The same `n` particles of `kind` in each of `cases` (cached runs, [`run_cached`]) and the
+/// mesh study of their fates ([`study_of`]).
+pub fn mesh_study(
+    cases: &[(&str, &Airway)],
+    kind: Kind,
+    n: u64,
+) -> Result<(Vec<RunOutput<NeoHooke>>, MeshStudy), BifurcationError> {
+    let outputs = runs_on(cases, kind, n)?;
+    let study = study_of(cases, &outputs)?;
+    Ok((outputs, study))
+}
+
+/// The same `n` particles of `kind` in each of `cases` (cached runs, [`run_cached`]).
+fn runs_on(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<Vec<RunOutput<NeoHooke>>, BifurcationError> {
+    cases
+        .iter()
+        .map(|(_, airway)| Ok(run_cached(StudyRun::new(airway, kind, n))?.output))
+        .collect()
+}
+
+/// The mesh study of `outputs`, the runs of the same particles on `cases` ([`MeshStudy`]:
+/// three dimensions, the formal order [`FORMAL_ORDER`] of simpleFoam's linear-upwind
+/// solution and the linear reconstruction; two to four cases of distinct cell counts).
+pub fn study_of(cases: &[(&str, &Airway)], outputs: &[RunOutput<NeoHooke>]) -> Result<MeshStudy, BifurcationError> {
+    let runs: Vec<MeshRun<'_, NeoHooke>> = cases
+        .iter()
+        .zip(outputs)
+        .map(|((label, airway), output)| MeshRun {
+            label,
+            cells: airway.flow().cellwise().mesh().n_cells() as u64,
+            output,
+        })
+        .collect();
+    Ok(MeshStudy::new(&runs, 3, FORMAL_ORDER)?)
+}
+
 /// The mesh check: the same particles (same seed) of `kind` in several cases of the airway; a
 /// row per case `case,cells,mean_residence_time,max_speed,stk,n,n_deposited,de,de_stderr,
 /// fates_changed,deposits_gained,deposits_lost,paired_z` where `fates_changed` counts the
 /// particles whose fate (deposited, escaped, suspended) differs from the first case's,
 /// `deposits_gained` those deposited here but not there, `deposits_lost` the reverse, and
 /// `paired_z` = (gained − lost)/√(gained + lost), McNemar's statistic ([`crate::population::binomial::PairedFates::z`];
-/// |z| > 3: the DE moved beyond what the particles' randomness explains).
-pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate::output::Csv, BifurcationError> {
+/// |z| > 3: the DE moved beyond what the particles' randomness explains); and the mesh study
+/// of the same runs ([`study_of`]) if there are two to four cases.
+pub fn mesh_check(
+    cases: &[(&str, &Airway)],
+    kind: Kind,
+    n: u64,
+) -> Result<(crate::output::Csv, Option<MeshStudy>), BifurcationError> {
     let mut csv = crate::output::Csv::new(&[
         "case",
         "cells",
@@ -260,21 +421,24 @@ pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate
         "deposits_lost",
         "paired_z",
     ]);
-    let mut first: Option<RunOutput<NeoHooke>> = None;
-    for (name, airway) in cases {
-        let out = StudyRun::new(airway, kind, n).run(&RunOptions::default())?;
-        let row = Efficiency::of(kind, &out);
-        let changed = first.as_ref().map_or(0, |f| {
-            f.records
-                .iter()
-                .zip(&out.records)
-                .filter(|(a, b)| a.fate.label() != b.fate.label())
-                .count()
-        });
+    let outputs = runs_on(cases, kind, n)?;
+    let study = (2..=4)
+        .contains(&cases.len())
+        .then(|| study_of(cases, &outputs))
+        .transpose()?;
+    let Some(first) = outputs.first() else {
+        return Ok((csv, study));
+    };
+    for ((name, airway), out) in cases.iter().zip(&outputs) {
+        let row = Efficiency::of(kind, out);
+        let changed = first
+            .records
+            .iter()
+            .zip(&out.records)
+            .filter(|(a, b)| a.fate.label() != b.fate.label())
+            .count();
         // This mesh's run first, the first mesh's second: b = gained, c = lost.
-        let pairing = first.as_ref().map_or(Ok(Pairing::default()), |f| {
-            Pairing::of_records(&out.records, &f.records)
-        })?;
+        let pairing = Pairing::of_records(&out.records, &first.records)?;
         let (gained, lost) = (pairing.only_ours, pairing.only_peer);
         let z = pairing.fates().map_or(0.0, |f| f.z());
         csv.push(vec![
@@ -292,9 +456,8 @@ pub fn mesh_check(cases: &[(&str, &Airway)], kind: Kind, n: u64) -> Result<crate
             lost.to_string(),
             format!("{z:.2}"),
         ])?;
-        first.get_or_insert(out);
     }
-    Ok(csv)
+    Ok((csv, study))
 }
 
 /// Particles per kind re-run under the validity monitor ([`super::validity`]).

@@ -48,4 +48,7 @@ pub enum BifurcationError {
     /// A ParaView file could not be assembled.
     #[error(transparent)]
     Vtk(#[from] crate::output::vtk::VtkError),
+    /// The runs of a mesh study do not pair.
+    #[error(transparent)]
+    MeshStudy(#[from] crate::population::mesh_study::MeshStudyError),
 }

@@ -286,29 +286,67 @@ impl Efficiency {
 /// counts every particle, failed ones included (none in the shipped datasets; DE leaves them
 /// out).
 pub fn efficiency_table(rows: &[Efficiency]) -> Result<Csv, crate::output::OutputError> {
-    let mut csv = Csv::new(&[
-        "shape",
-        "ca",
-        "stk",
-        "n_injected",
-        "n_deposited",
-        "n_escaped",
-        "n_suspended",
-        "de",
-        "de_stderr",
-    ]);
+    let mut csv = Csv::new(&EFFICIENCY_COLUMNS);
     for r in rows {
-        csv.push(vec![
-            r.kind.shape.label(),
-            format!("{:.4e}", r.kind.material.capillary_number()),
-            r.kind.stokes.to_string(),
-            r.counts.total().to_string(),
-            r.counts.deposited.to_string(),
-            r.counts.escaped.to_string(),
-            r.counts.suspended.to_string(),
-            format!("{:.5}", r.de()),
-            format!("{:.5}", r.stderr()),
-        ])?;
+        csv.push(efficiency_fields(r))?;
+    }
+    Ok(csv)
+}
+
+/// The columns of [`efficiency_table`].
+const EFFICIENCY_COLUMNS: [&str; 9] = [
+    "shape",
+    "ca",
+    "stk",
+    "n_injected",
+    "n_deposited",
+    "n_escaped",
+    "n_suspended",
+    "de",
+    "de_stderr",
+];
+
+/// A row of [`efficiency_table`].
+fn efficiency_fields(r: &Efficiency) -> Vec<String> {
+    vec![
+        r.kind.shape.label(),
+        format!("{:.4e}", r.kind.material.capillary_number()),
+        r.kind.stokes.to_string(),
+        r.counts.total().to_string(),
+        r.counts.deposited.to_string(),
+        r.counts.escaped.to_string(),
+        r.counts.suspended.to_string(),
+        format!("{:.5}", r.de()),
+        format!("{:.5}", r.stderr()),
+    ]
+}
+
+/// [`efficiency_table`] with the band of a mesh study: `de_extrapolated,gci,p`, the
+/// `deposited` outcome's extrapolated fraction, its GCI in DE's units and the apparent order
+/// (three-grid procedure, [`crate::population::gci`]) of the study in `studies` of the row's
+/// kind; empty where there is none or the procedure stands behind no bar
+/// ([`crate::population::mesh_study::OutcomeStudy::error_bar`]: its verdict is in the study's
+/// own table).
+pub fn banded_efficiency_table(
+    rows: &[Efficiency],
+    studies: &[(Kind, crate::population::mesh_study::MeshStudy)],
+) -> Result<Csv, crate::output::OutputError> {
+    let mut header = EFFICIENCY_COLUMNS.to_vec();
+    header.extend(["de_extrapolated", "gci", "p"]);
+    let mut csv = Csv::new(&header);
+    for r in rows {
+        let bar = studies
+            .iter()
+            .find(|(k, _)| *k == r.kind)
+            .and_then(|(_, s)| s.outcome("deposited")?.error_bar());
+        let mut fields = efficiency_fields(r);
+        fields.extend([
+            bar.map_or(String::new(), |e| format!("{:.5}", e.extrapolated)),
+            bar.map_or(String::new(), |e| format!("{:.5}", e.band)),
+            bar.and_then(|e| e.p_apparent)
+                .map_or(String::new(), |p| format!("{p:.2}")),
+        ]);
+        csv.push(fields)?;
     }
     Ok(csv)
 }
