@@ -13,7 +13,8 @@
 //! ```
 //! Writes `paper-figures/fig17/mesh_check.csv` ([`figures::mesh_check`]), one row per case and
 //! Stokes number, cases labelled by the cell size in their `log.summary`
-//! ([`figures::case_label`]); with two to four cases of distinct cell counts also
+//! ([`figures::case_label`]); with two to four cases layered as the shipped field (one
+//! refinement family: the cases with other prism layers are in the check only) also
 //! `mesh_study.csv`, the mesh study of DE at each Stokes number
 //! ([`pseudorigid::population::mesh_study::MeshStudy::table`]: each mesh's value, the paired
 //! increments, the apparent order, the extrapolated DE, its GCI and the verdict).
@@ -37,6 +38,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     dirs.extend(others.iter().map(PathBuf::from));
     let opened = figures::open_cases(&dirs)?;
     let cases: Vec<(&str, &Airway)> = opened.iter().map(|(label, a)| (label.as_str(), a)).collect();
+    // The refinement family of the mesh study: the cases layered as the shipped field.
+    let layers = dirs
+        .iter()
+        .map(|d| Ok(figures::case_summary(d)?.1))
+        .collect::<Result<Vec<u32>, std::io::Error>>()?;
+    let family: Vec<usize> = (0..dirs.len()).filter(|&i| layers[i] == layers[0]).collect();
     let mut table = String::new();
     let mut studies: Vec<(String, MeshStudy)> = Vec::new();
     for stokes in STOKES {
@@ -45,14 +52,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             material: Material::Rigid,
             stokes,
         };
-        let (check, study) = figures::mesh_check(&cases, kind, n.parse()?)?;
+        let (check, outputs) = figures::mesh_check(&cases, kind, n.parse()?)?;
         let text = check.to_text();
         table.push_str(if table.is_empty() {
             &text
         } else {
             text.split_once('\n').map_or("", |t| t.1)
         });
-        studies.extend(study.map(|s| (stokes.to_string(), s)));
+        if (2..=4).contains(&family.len()) {
+            let of_family = |i: usize| (cases[i], outputs[i].clone());
+            let (family_cases, family_outputs): (Vec<_>, Vec<_>) = family.iter().map(|&i| of_family(i)).unzip();
+            studies.push((stokes.to_string(), figures::study_of(&family_cases, &family_outputs)?));
+        }
     }
     pseudorigid::output::write_atomic(paper_figure_path("fig17", "mesh_check.csv"), table.as_bytes())?;
     print!("{table}");

@@ -51,18 +51,27 @@ pub fn arguments_and_band() -> Result<(u64, Vec<PathBuf>), std::num::ParseIntErr
     Ok((n, dirs))
 }
 
-/// `h=0.3mm layers=2` from the `cell_size=0.3e-3` and `layers=2` lines that
-/// `cases/bifurcation/Allrun` writes to the case's `log.summary` (a summary without `layers`
-/// predates the option: 2 layers); ` (shipped)` added for the shipped field.
-pub fn case_label(dir: &Path) -> Result<String, std::io::Error> {
+/// The cell size H (m) and the prism layers of a case, from the `cell_size=0.3e-3` and
+/// `layers=2` lines that `cases/bifurcation/Allrun` writes to its `log.summary` (a summary
+/// without `layers` predates the option: 2 layers).
+pub fn case_summary(dir: &Path) -> Result<(f64, u32), std::io::Error> {
     let summary = std::fs::read_to_string(dir.join("log.summary"))?;
     let value = |key: &str| summary.lines().find_map(|l| l.strip_prefix(key)).map(str::trim);
     let bad = |what: String| std::io::Error::new(std::io::ErrorKind::InvalidData, format!("{}: {what}", dir.display()));
-    let text = value("cell_size=").ok_or_else(|| bad("no cell_size in log.summary".into()))?;
-    let h: f64 = text
-        .parse()
-        .map_err(|e| bad(format!("cell_size {text:?} in log.summary: {e}")))?;
+    let h = value("cell_size=").ok_or_else(|| bad("no cell_size in log.summary".into()))?;
     let layers = value("layers=").unwrap_or("2");
+    Ok((
+        h.parse()
+            .map_err(|e| bad(format!("cell_size {h:?} in log.summary: {e}")))?,
+        layers
+            .parse()
+            .map_err(|e| bad(format!("layers {layers:?} in log.summary: {e}")))?,
+    ))
+}
+
+/// `h=0.3mm layers=2` ([`case_summary`]), ` (shipped)` added for the shipped field.
+pub fn case_label(dir: &Path) -> Result<String, std::io::Error> {
+    let (h, layers) = case_summary(dir)?;
     let shipped = if dir == Airway::shipped_dir() { " (shipped)" } else { "" };
     Ok(format!("h={}mm layers={layers}{shipped}", h * 1e3))
 }
@@ -399,13 +408,13 @@ pub fn study_of(cases: &[(&str, &Airway)], outputs: &[RunOutput<NeoHooke>]) -> R
 /// particles whose fate (deposited, escaped, suspended) differs from the first case's,
 /// `deposits_gained` those deposited here but not there, `deposits_lost` the reverse, and
 /// `paired_z` = (gained − lost)/√(gained + lost), McNemar's statistic ([`crate::population::binomial::PairedFates::z`];
-/// |z| > 3: the DE moved beyond what the particles' randomness explains); and the mesh study
-/// of the same runs ([`study_of`]) if there are two to four cases.
+/// |z| > 3: the DE moved beyond what the particles' randomness explains); and the runs, one
+/// per case (for [`study_of`]).
 pub fn mesh_check(
     cases: &[(&str, &Airway)],
     kind: Kind,
     n: u64,
-) -> Result<(crate::output::Csv, Option<MeshStudy>), BifurcationError> {
+) -> Result<(crate::output::Csv, Vec<RunOutput<NeoHooke>>), BifurcationError> {
     let mut csv = crate::output::Csv::new(&[
         "case",
         "cells",
@@ -422,12 +431,8 @@ pub fn mesh_check(
         "paired_z",
     ]);
     let outputs = runs_on(cases, kind, n)?;
-    let study = (2..=4)
-        .contains(&cases.len())
-        .then(|| study_of(cases, &outputs))
-        .transpose()?;
     let Some(first) = outputs.first() else {
-        return Ok((csv, study));
+        return Ok((csv, outputs));
     };
     for ((name, airway), out) in cases.iter().zip(&outputs) {
         let row = Efficiency::of(kind, out);
@@ -457,7 +462,7 @@ pub fn mesh_check(
             format!("{z:.2}"),
         ])?;
     }
-    Ok((csv, study))
+    Ok((csv, outputs))
 }
 
 /// Particles per kind re-run under the validity monitor ([`super::validity`]).
