@@ -465,12 +465,15 @@ impl Adequacy {
                         s.steps.0, s.steps.1
                     ),
                 };
+                let looks = if s.looks == 1 {
+                    "1 look".to_string()
+                } else {
+                    format!("{} looks, the sample doubled after each", s.looks)
+                };
                 lines.push(format!(
-                    "note: adequacy: {} look{} doubling the sample, stopped because {stop}; the smallest shift this \
+                    "note: adequacy: {looks}, stopped because {stop}; the smallest shift this \
                      sample detects with 80 % power is {:.4} (a difference beyond {:.2} paired standard errors warns, 5 % false \
                      alarms over the looks)",
-                    s.looks,
-                    if s.looks == 1 { "" } else { "s" },
                     s.detectable,
                     s.sigmas
                 ));
