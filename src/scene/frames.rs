@@ -35,7 +35,8 @@ pub fn csv_tables(asked: bool) -> bool {
 /// `frames.parquet` at `times`; with CSV ([`csv_tables`]`(csv)`), `results.csv`. With `vtk`,
 /// the frames at `times` (`vtk/particles_*.vtp`, `particles.pvd`; `frames.csv` with CSV) and
 /// the trajectories (`vtk/trajectories.vtp`; `trajectories.csv` with CSV). The records
-/// themselves are in the run's checkpoint. Returns the number of frames.
+/// themselves are in the run's checkpoint. Returns the number of frames written in any
+/// format (without `vtk` and without `parquet`, none).
 pub fn write_run(
     output: &RunOutput<NamedLaw>,
     times: &[f64],
@@ -53,7 +54,8 @@ pub fn write_run(
         crate::scene::parquet::write_frames(output, times, &dir.join("frames.parquet"))?;
     }
     if !vtk {
-        return Ok(0);
+        // The frames are in `frames.parquet` alone, if anywhere.
+        return Ok(if cfg!(feature = "parquet") { times.len() } else { 0 });
     }
     let mut index = Vec::with_capacity(times.len());
     let mut table = Csv::new(&FRAME_HEADER);
