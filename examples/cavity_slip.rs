@@ -134,7 +134,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let forces = if terms { "fluid_inertia" } else { "paper" };
         let density = if neutral { "neutral" } else { "paper" };
         let t_end = run.path.last().map_or(0.0, |p| p.0);
-        let outcome = format!("{:?}", run.outcome).replace(',', ";");
+        let outcome = format!("{:?}", run.outcome()).replace(',', ";");
         println!(
             "{:10} ρ_f {density:7} {forces:13} {outcome:30} t_end {t_end:7.3} slip max {:.3e} median {:.3e} m/s; quasi-steady {predicted:.3e}; (∇u)u gap median {gap:.3}, max {largest:.2}",
             shape.label(),

@@ -54,7 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "{} ({}): {:?} ({} steps)",
             run.release.shape.label(),
             run.contact.label(),
-            run.outcome,
+            run.outcome(),
             run.stats.steps
         );
     }

@@ -57,7 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "{:12} Ca {:5}: {:?} ({} steps)",
             run.release.shape.label(),
             run.release.softness.ca(),
-            run.outcome,
+            run.outcome(),
             run.stats.steps
         );
     }

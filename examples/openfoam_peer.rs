@@ -78,7 +78,7 @@
 use pseudorigid::contact::ContactModel;
 use pseudorigid::material::NeoHooke;
 use pseudorigid::output::paper_figure_path;
-use pseudorigid::population::binomial::PairedFates;
+use pseudorigid::population::binomial::Pairing;
 use pseudorigid::population::peer::PeerFate;
 use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, RunOutput, Shard, run};
 use pseudorigid::studies::airway_tree::{self, AirwayTree, Generations};
@@ -305,13 +305,12 @@ fn cpu_line(c: &Compared) -> String {
 
 /// The bifurcation's one-row table (module docs) and its `--check` failures.
 fn bifurcation_row(c: &Compared, check: bool) -> Result<Vec<String>, Error> {
-    let (mut both, mut only_ours, mut only_of, mut neither) = (0u64, 0u64, 0u64, 0u64);
     let (mut o_esc, mut o_sus, mut o_fail) = (0u64, 0u64, 0u64);
     let (mut f_esc, mut f_sus, mut f_not) = (0u64, 0u64, 0u64);
+    let mut pairing = Pairing::default();
     for r in &c.ours.records {
         let p = &c.peer[&r.index];
-        let od = matches!(r.fate, Fate::Deposited { .. });
-        let fd = p.fate == "deposited";
+        pairing.add(matches!(r.fate, Fate::Deposited { .. }), p.fate == "deposited");
         match r.fate {
             Fate::Escaped { .. } => o_esc += 1,
             Fate::Suspended => o_sus += 1,
@@ -324,13 +323,13 @@ fn bifurcation_row(c: &Compared, check: bool) -> Result<Vec<String>, Error> {
             "not_injected" => f_not += 1,
             _ => {}
         }
-        match (od, fd) {
-            (true, true) => both += 1,
-            (true, false) => only_ours += 1,
-            (false, true) => only_of += 1,
-            (false, false) => neither += 1,
-        }
     }
+    let Pairing {
+        both,
+        only_ours,
+        only_peer: only_of,
+        neither,
+    } = pairing;
     let (n, name, case_label, stk) = (c.n, c.name, c.case_label, c.stk);
     let (wall_ours, wall_openfoam) = (c.wall_ours, c.wall_openfoam);
     let n_ours = (n - o_fail) as f64;
@@ -339,7 +338,7 @@ fn bifurcation_row(c: &Compared, check: bool) -> Result<Vec<String>, Error> {
     let de_of = (both + only_of) as f64 / n_of;
     let se = |p: f64, m: f64| (p * (1.0 - p) / m).sqrt();
     let (se_ours, se_of) = (se(de_ours, n_ours), se(de_of, n_of));
-    let fates = PairedFates::new(only_ours, only_of, n)?;
+    let fates = pairing.fates().ok_or("no particle paired")?;
     let (se_paired, chi2) = (fates.stderr(), fates.chi2());
     let threads = rayon::current_num_threads();
     let header = "case,stk,n,both_deposited,only_ours,only_openfoam,neither,ours_escaped,ours_suspended,ours_failed,openfoam_escaped,openfoam_suspended,openfoam_not_injected,de_ours,se_ours,de_openfoam,se_openfoam,de_difference,se_paired,mcnemar_chi2,wall_ours_s,threads_ours,wall_openfoam_s,cpu_load_ours_s,cpu_track_ours_s,cpu_load_openfoam_s,cpu_track_openfoam_s";

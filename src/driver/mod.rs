@@ -407,15 +407,11 @@ where
     O: FnMut(&State),
     S: FnMut(&AcceptedStep<'_>),
 {
-    let mut progress = Progress {
+    let fresh = Progress {
         stats: RunStats::default(),
         last: state,
     };
-    integrate_recorded(problem, memory, plan, events, observers, &mut progress, None).map_err(|error| RunFailure {
-        error,
-        state: progress.last,
-        stats: progress.stats,
-    })
+    run_from(problem, memory, plan, events, observers, fresh, None)
 }
 
 /// Continue a run that stopped at its plan's end time (`from`, a [`Stop::EndTime`] outcome) as
@@ -444,24 +440,11 @@ where
     O: FnMut(&State),
     S: FnMut(&AcceptedStep<'_>),
 {
-    let mut progress = Progress {
+    let stopped = Progress {
         stats: from.stats,
         last: from.state,
     };
-    integrate_recorded(
-        problem,
-        memory,
-        plan,
-        events,
-        observers,
-        &mut progress,
-        Some(from.dt_next),
-    )
-    .map_err(|error| RunFailure {
-        error,
-        state: progress.last,
-        stats: progress.stats,
-    })
+    run_from(problem, memory, plan, events, observers, stopped, Some(from.dt_next))
 }
 
 /// What a run has done so far, kept outside it so that a failure still reports it: the
@@ -470,6 +453,33 @@ where
 struct Progress {
     stats: RunStats,
     last: State,
+}
+
+/// The run [`integrate`] and [`resume`] both are: [`integrate_recorded`] from `progress`, a
+/// failure reported with the state and statistics it had reached.
+#[allow(clippy::result_large_err)]
+fn run_from<I, M, D, F, O, S>(
+    problem: Problem<'_, I, M, D, F>,
+    memory: &mut I::Memory,
+    plan: &Plan,
+    events: &[&dyn Event],
+    observers: Observers<O, S>,
+    mut progress: Progress,
+    resumed: Option<f64>,
+) -> Result<RunEnd, RunFailure>
+where
+    I: Stepper<M, D>,
+    M: Response,
+    D: DragModel,
+    F: FlowField + ?Sized,
+    O: FnMut(&State),
+    S: FnMut(&AcceptedStep<'_>),
+{
+    integrate_recorded(problem, memory, plan, events, observers, &mut progress, resumed).map_err(|error| RunFailure {
+        error,
+        state: progress.last,
+        stats: progress.stats,
+    })
 }
 
 /// [`integrate`] from `progress.last`, accumulating into `progress`; `resumed`: the first step

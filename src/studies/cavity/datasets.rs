@@ -55,17 +55,17 @@ pub(super) fn outcome_header() -> Vec<&'static str> {
 
 pub(super) fn outcome_cells(run: &CavityRun, limits: &Thresholds) -> Vec<String> {
     let (t, x) = run.path.last().copied().unwrap_or((0.0, release_point()));
-    let (kind, wall) = match &run.outcome {
-        CavityFate::Exited { .. } => ("exited", String::new()),
-        CavityFate::Deposited { wall, .. } => ("deposited", wall.clone()),
-        CavityFate::Suspended => ("suspended", String::new()),
-        CavityFate::Failed { reason, .. } => ("failed", reason.replace(',', ";")),
+    let outcome = run.outcome();
+    let wall = match outcome {
+        CavityFate::Deposited { wall, .. } => wall.to_string(),
+        CavityFate::Failed { reason, .. } => reason.replace(',', ";"),
+        CavityFate::Exited { .. } | CavityFate::Suspended => String::new(),
     };
     let mut cells = vec![
         run.contact.label().into(),
         run.release.shape.label(),
         run.release.ca().map(|c| c.to_string()).unwrap_or_default(),
-        kind.into(),
+        outcome.label().into(),
         wall,
         format!("{t:.3}"),
         format!("{:.4}", x[0] / EDGE),

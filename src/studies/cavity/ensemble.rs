@@ -47,7 +47,7 @@ pub struct Member {
 /// 100 s tracking horizon.
 pub const LATE_EVENT: f64 = 95.0;
 
-/// CavityFate fractions per (shape, Ca) over the members given:
+/// Outcome fractions per (shape, Ca) over the members given:
 /// `shape,ca,shape_model,runs,failed,exited,deposited,suspended,late_events,deposit_walls,
 /// nominal_outcome` where the fractions are of the runs that finished, `late_events` the
 /// fraction of them with an event after [`LATE_EVENT`], `deposit_walls` the walls hit with
@@ -88,7 +88,7 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
         let runs: Vec<&CavityRun> = group
             .iter()
             .filter_map(|m| m.run.as_ref().ok())
-            .filter(|r| !matches!(r.outcome, CavityFate::Failed { .. }))
+            .filter(|r| !matches!(r.outcome(), CavityFate::Failed { .. }))
             .collect();
         let n = runs.len() as f64;
         // No finished run (every member failed): the fractions are empty cells, not 0/0.
@@ -96,12 +96,12 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             true => String::new(),
             false => format!("{:.3}", runs.iter().filter(|r| f(r)).count() as f64 / n),
         };
-        let mut walls: Vec<(String, usize)> = Vec::new();
+        let mut walls: Vec<(&str, usize)> = Vec::new();
         for r in &runs {
-            if let CavityFate::Deposited { wall, .. } = &r.outcome {
-                match walls.iter_mut().find(|(w, _)| w == wall) {
+            if let CavityFate::Deposited { wall, .. } = r.outcome() {
+                match walls.iter_mut().find(|(w, _)| *w == wall) {
                     Some((_, c)) => *c += 1,
-                    None => walls.push((wall.clone(), 1)),
+                    None => walls.push((wall, 1)),
                 }
             }
         }
@@ -109,7 +109,7 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             .iter()
             .find(|m| m.orientation == 0 && m.variant == Variant::default())
             .and_then(|m| m.run.as_ref().ok())
-            .map(|r| outcome_label(&r.outcome))
+            .map(|r| outcome_label(r.outcome()))
             .unwrap_or_default();
         let shape_model = group
             .iter()
@@ -122,10 +122,10 @@ pub fn outcome_fraction_table(members: &[Member]) -> Result<crate::output::Csv, 
             shape_model.into(),
             group.len().to_string(),
             (group.len() - runs.len()).to_string(),
-            frac(&|r| matches!(r.outcome, CavityFate::Exited { .. })),
-            frac(&|r| matches!(r.outcome, CavityFate::Deposited { .. })),
-            frac(&|r| matches!(r.outcome, CavityFate::Suspended)),
-            frac(&|r| event_time(&r.outcome).is_some_and(|t| t > LATE_EVENT)),
+            frac(&|r| matches!(r.outcome(), CavityFate::Exited { .. })),
+            frac(&|r| matches!(r.outcome(), CavityFate::Deposited { .. })),
+            frac(&|r| matches!(r.outcome(), CavityFate::Suspended)),
+            frac(&|r| r.outcome().event_time().is_some_and(|t| t > LATE_EVENT)),
             walls
                 .iter()
                 .map(|(w, c)| format!("{w}:{c}"))
@@ -166,19 +166,11 @@ pub fn member_table(members: &[Member]) -> Result<crate::output::Csv, crate::out
     Ok(csv)
 }
 
-fn outcome_label(outcome: &CavityFate) -> String {
+/// The label of `outcome`, a deposit with its wall (`deposited:x1`).
+fn outcome_label(outcome: CavityFate<'_>) -> String {
     match outcome {
-        CavityFate::Exited { .. } => "exited".into(),
         CavityFate::Deposited { wall, .. } => format!("deposited:{wall}"),
-        CavityFate::Suspended => "suspended".into(),
-        CavityFate::Failed { .. } => "failed".into(),
-    }
-}
-
-fn event_time(outcome: &CavityFate) -> Option<f64> {
-    match outcome {
-        CavityFate::Exited { t } | CavityFate::Deposited { t, .. } => Some(*t),
-        CavityFate::Suspended | CavityFate::Failed { .. } => None,
+        other => other.label().into(),
     }
 }
 

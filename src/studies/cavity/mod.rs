@@ -40,25 +40,26 @@
 //!
 //! Wall rules (paper §6.3): a particle touching the lid leaves the cavity; one touching any
 //! other wall sticks. In the top corners a particle can be equally near the lid and a side wall;
-//! the lid is decided first ([`Planes::nearest`] lets the first-listed wall win ties), so such a
-//! particle exits: it has reached the lid's height, which is the paper's exit criterion. Contact
-//! uses the particle's extent (support distance of the ellipsoid, [`crate::contact`]) or, as a
-//! point-particle tracker would, the barycentre only ([`Contact`]). The release point is 1.7 mm
-//! below the lid while the particles are 2.4–4.8 mm long, so with the extent rule a
-//! tilting prolate touches the lid within a fraction of a second.
+//! the lid is decided first ([`Planes::nearest`](crate::contact::Boundary::nearest) lets the
+//! first-listed wall win ties), so such a particle exits: it has reached the lid's height, which
+//! is the paper's exit criterion. Contact uses the particle's extent (support distance of the
+//! ellipsoid, [`crate::contact`]) or, as a point-particle tracker would, the barycentre only
+//! ([`Contact`]). The release point is 1.7 mm below the lid while the particles are 2.4–4.8 mm
+//! long, so with the extent rule a tilting prolate touches the lid within a fraction of a second.
 //!
 //! # Layout
 //! This module holds the set-up's numbers, walls ([`walls`]) and releases; `setup` the choices
 //! a run is made of ([`Contact`], [`Launch`], [`Variant`], [`ShapeModel`], [`fluid_inertia`]);
 //! `tracking` particles through the cavity ([`Cavity`], [`Tracking`], [`CavityRun`],
 //! [`CavityFate`], [`MemberError`], [`Slip`]): releases are a population of
-//! [`crate::population`] (an injector, the cavity's observer of path, validity and slip), and
-//! the outcome is read from the record's fate; `datasets` the
+//! [`crate::population`] (an injector, the cavity's observer of path, validity and slip), a
+//! run keeps the record's [`crate::population::Fate`] and [`CavityFate`] reads it in the
+//! cavity's terms; `datasets` the
 //! tables and panels of single runs; `ensemble` the outcome fractions over orientations and
 //! field variants ([`Ensemble`], [`Member`]).
 
 use super::StudyError;
-use crate::contact::{Boundary, ContactModel, PatchRule, Plane, Planes};
+use crate::contact::{ContactModel, PatchRule, Plane, Planes};
 use crate::diagnostics::{Monitor, Thresholds, Validity};
 use crate::driver::{Plan, RunStats};
 use crate::error::{ParamError, StepError};
@@ -116,10 +117,14 @@ pub fn shipped_flow() -> Result<BlendedFlow, FoamError> {
     BlendedFlow::new(crate::studies::cavity_benchmark::RE470.load()?)
 }
 
+/// Names of the cavity's walls in patch order ([`walls`]): the lid, then the bottom and the
+/// side walls x = 0, x = L, y = 0, y = L.
+pub const WALL_NAMES: [&str; 6] = ["lid", "bottom", "x0", "x1", "y0", "y1"];
+
 /// The cube [0, L]³ of paper §6.3 with edge `edge`: the lid z = L ([`PatchRule::Exit`]: a
 /// particle touching it leaves the cavity) first, then the five other walls
-/// ([`PatchRule::Stick`]). The lid is listed first so that it wins ties in the top corners
-/// ([`Planes::nearest`]).
+/// ([`PatchRule::Stick`]), named as [`WALL_NAMES`]. The lid is listed first so that it wins
+/// ties in the top corners ([`Planes::nearest`](crate::contact::Boundary::nearest)).
 pub fn walls(edge: f64) -> Result<Planes, ParamError> {
     let l = crate::error::positive("cavity edge", edge)?;
     let wall = |name: &str, point: Vec3, normal: Vec3, rule| Plane {
@@ -129,13 +134,14 @@ pub fn walls(edge: f64) -> Result<Planes, ParamError> {
         rule,
     };
     let (o, top) = (Vec3::zeros(), Vec3::repeat(l));
+    let [lid, bottom, x0, x1, y0, y1] = WALL_NAMES;
     Planes::new(vec![
-        wall("lid", top, Vec3::z(), PatchRule::Exit),
-        wall("bottom", o, -Vec3::z(), PatchRule::Stick),
-        wall("x0", o, -Vec3::x(), PatchRule::Stick),
-        wall("x1", top, Vec3::x(), PatchRule::Stick),
-        wall("y0", o, -Vec3::y(), PatchRule::Stick),
-        wall("y1", top, Vec3::y(), PatchRule::Stick),
+        wall(lid, top, Vec3::z(), PatchRule::Exit),
+        wall(bottom, o, -Vec3::z(), PatchRule::Stick),
+        wall(x0, o, -Vec3::x(), PatchRule::Stick),
+        wall(x1, top, Vec3::x(), PatchRule::Stick),
+        wall(y0, o, -Vec3::y(), PatchRule::Stick),
+        wall(y1, top, Vec3::y(), PatchRule::Stick),
     ])
 }
 

@@ -7,9 +7,11 @@ use crate::population::{
     Shard, Watch,
 };
 
-/// How a run ended.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub enum CavityFate {
+/// How a run ended, in the cavity's terms: a view of the population's [`Fate`] that
+/// [`CavityRun::outcome`] gives (an escape is an exit through the lid, a deposit names its wall
+/// from [`WALL_NAMES`], a failure keeps the time of its last accepted step).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum CavityFate<'a> {
     /// Left through the lid.
     Exited {
         /// Time (s).
@@ -20,7 +22,7 @@ pub enum CavityFate {
         /// Time (s).
         t: f64,
         /// Wall name.
-        wall: String,
+        wall: &'a str,
     },
     /// Still suspended at the end of tracking.
     Suspended,
@@ -29,12 +31,32 @@ pub enum CavityFate {
         /// Time of the last accepted step (s).
         t: f64,
         /// The error.
-        reason: String,
+        reason: &'a str,
     },
 }
 
+impl CavityFate<'_> {
+    /// Short label for tables: `exited`, `deposited`, `suspended` or `failed`.
+    pub fn label(&self) -> &'static str {
+        match self {
+            CavityFate::Exited { .. } => "exited",
+            CavityFate::Deposited { .. } => "deposited",
+            CavityFate::Suspended => "suspended",
+            CavityFate::Failed { .. } => "failed",
+        }
+    }
+
+    /// Time of the exit or the deposition; `None` for a particle still suspended or failed.
+    pub fn event_time(&self) -> Option<f64> {
+        match self {
+            CavityFate::Exited { t } | CavityFate::Deposited { t, .. } => Some(*t),
+            CavityFate::Suspended | CavityFate::Failed { .. } => None,
+        }
+    }
+}
+
 /// A tracked particle.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct CavityRun {
     /// The release.
     pub release: Launch,
@@ -42,16 +64,65 @@ pub struct CavityRun {
     pub contact: Contact,
     /// Shape model used (inertialess for the rigid limit whatever was asked).
     pub shape_model: ShapeModel,
-    /// (t, x) samples [s, m].
+    /// (t, x) samples [s, m]; a failed run's path ends at its last accepted state.
     pub path: Vec<(f64, Vec3)>,
-    /// CavityFate.
-    pub outcome: CavityFate,
+    /// How the run ended: the population's record of it, patches indexing [`WALL_NAMES`]
+    /// ([`CavityRun::outcome`] reads it in the cavity's terms).
+    pub fate: Fate,
     /// Work.
     pub stats: RunStats,
     /// Validity diagnostics over the accepted steps (r₁ in m).
     pub validity: Validity,
     /// Slip relative to the fluid over the accepted steps.
     pub slip: Slip,
+}
+
+impl CavityRun {
+    /// How the run ended, in the cavity's terms ([`CavityFate`]).
+    pub fn outcome(&self) -> CavityFate<'_> {
+        match &self.fate {
+            Fate::Escaped { time, .. } => CavityFate::Exited { t: *time },
+            Fate::Deposited { patch, time, .. } => CavityFate::Deposited {
+                t: *time,
+                wall: WALL_NAMES[*patch],
+            },
+            Fate::Suspended => CavityFate::Suspended,
+            Fate::Failed { error } => CavityFate::Failed {
+                t: self.path.last().map_or(0.0, |p| p.0),
+                reason: error,
+            },
+        }
+    }
+}
+
+/// A run serialises with its [`CavityRun::outcome`] under `outcome` in place of the
+/// population's fate: the fields and values runs had when they stored the cavity's own fate.
+impl Serialize for CavityRun {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        #[derive(Serialize)]
+        #[serde(rename = "CavityRun")]
+        struct Shim<'a> {
+            release: &'a Launch,
+            contact: &'a Contact,
+            shape_model: &'a ShapeModel,
+            path: &'a [(f64, Vec3)],
+            outcome: CavityFate<'a>,
+            stats: &'a RunStats,
+            validity: &'a Validity,
+            slip: &'a Slip,
+        }
+        Shim {
+            release: &self.release,
+            contact: &self.contact,
+            shape_model: &self.shape_model,
+            path: &self.path,
+            outcome: self.outcome(),
+            stats: &self.stats,
+            validity: &self.validity,
+            slip: &self.slip,
+        }
+        .serialize(serializer)
+    }
 }
 
 /// The particle's slip |v − u(x)| relative to the undisturbed fluid at its barycentre over a
@@ -369,8 +440,8 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
 
     /// The cavity's releases `jobs` (release, initial rotation) as one population of the
     /// runner ([`crate::population`]): particle k is `jobs[k]`, tracked by `integ` as
-    /// `tracking` says (its horizon, contact and path spacing), and its fate read as an
-    /// [`CavityFate`]. A release that could not be drawn or built is a [`MemberError`].
+    /// `tracking` says (its horizon, contact and path spacing), its fate kept as the run's
+    /// [`CavityRun::fate`]. A release that could not be drawn or built is a [`MemberError`].
     fn run_population<I: TimeIntegrator + std::fmt::Debug>(
         &self,
         integ: &I,
@@ -409,8 +480,8 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
             .collect())
     }
 
-    /// The scene's reading of a population record: the fate as an [`CavityFate`] (an exit is the
-    /// lid, a deposit names its wall), the observed path, validity and slip.
+    /// The scene's reading of a population record: its fate, the observed path, validity and
+    /// slip.
     fn cavity_run(
         &self,
         record: ParticleRecord<L::Law>,
@@ -429,25 +500,12 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         }
         let log: Log =
             serde_json::from_value(record.observed).map_err(|e| MemberError::Log { error: e.to_string() })?;
-        let end_t = record.end.map_or(0.0, |s| s.t);
-        let outcome = match record.fate {
-            Fate::Escaped { time, .. } => CavityFate::Exited { t: time },
-            Fate::Deposited { patch, time, .. } => CavityFate::Deposited {
-                t: time,
-                wall: self.boundary.patch_name(patch).to_string(),
-            },
-            Fate::Suspended => CavityFate::Suspended,
-            Fate::Failed { error } => CavityFate::Failed {
-                t: end_t,
-                reason: error,
-            },
-        };
         Ok(CavityRun {
             release,
             contact,
             shape_model,
             path: log.path,
-            outcome,
+            fate: record.fate,
             stats: record.stats,
             validity: log.validity,
             slip: log.slip,
