@@ -125,11 +125,9 @@ const TREE_SIGMAS: f64 = 3.0;
 const TREE_SLACK: f64 = 0.01;
 
 fn label(dir: &Path) -> String {
-    let summary = std::fs::read_to_string(dir.join("log.summary")).unwrap_or_default();
-    let get = |key: &str| summary.lines().find_map(|l| l.strip_prefix(key)).map(str::trim);
-    match (get("cell_size=").and_then(|h| h.parse::<f64>().ok()), get("layers=")) {
-        (Some(h), Some(layers)) => format!("h{}mm-L{layers}", h * 1e3),
-        _ => dir
+    match figures::case_summary(dir) {
+        Ok((h, layers)) => format!("h{}mm-L{layers}", figures::millimetres(h)),
+        Err(_) => dir
             .canonicalize()
             .ok()
             .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))

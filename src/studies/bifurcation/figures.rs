@@ -73,7 +73,13 @@ pub fn case_summary(dir: &Path) -> Result<(f64, u32), std::io::Error> {
 pub fn case_label(dir: &Path) -> Result<String, std::io::Error> {
     let (h, layers) = case_summary(dir)?;
     let shipped = if dir == Airway::shipped_dir() { " (shipped)" } else { "" };
-    Ok(format!("h={}mm layers={layers}{shipped}", h * 1e3))
+    Ok(format!("h={}mm layers={layers}{shipped}", millimetres(h)))
+}
+
+/// A cell size H (m) in millimetres as `Allrun` was given it: H·10³ rounded to the micrometre,
+/// so that 0.12e-3 prints as `0.12`, not `0.12000000000000001`.
+pub fn millimetres(h: f64) -> f64 {
+    (h * 1e6).round() / 1e3
 }
 
 /// Open each case of `dirs`, labelled by [`case_label`].

@@ -486,3 +486,20 @@ fn datasets_soft_kinds_keep_the_full_model_and_stiff_ones_take_the_manifold() {
         choice.reason
     );
 }
+
+/// `Allrun 0.12e-3` labels its case `h=0.12mm`: 0.12e-3 · 10³ is 0.12000000000000001 in f64,
+/// which the label printed before it rounded to the micrometre.
+#[test]
+fn case_labels_print_the_cell_size_as_allrun_was_given_it() {
+    use pseudorigid::studies::bifurcation::figures::{case_label, millimetres};
+    assert_eq!(format!("{}", 0.12e-3 * 1e3), "0.12000000000000001");
+    for (given, printed) in [(0.12e-3, "0.12"), (0.15e-3, "0.15"), (0.75e-3, "0.75"), (0.3e-3, "0.3")] {
+        assert_eq!(format!("{}", millimetres(given)), printed);
+    }
+    let dir = std::env::temp_dir().join(format!("pseudorigid-label-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("log.summary"), "cell_size=0.12e-3\nlayers=2\ncells=1114397\n").unwrap();
+    let label = case_label(&dir);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(label.unwrap(), "h=0.12mm layers=2");
+}
