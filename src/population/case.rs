@@ -7,7 +7,7 @@ use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
 use crate::driver::{Event, Observers, Plan, Problem, RunEnd, RunFailure, RunStats, Stop, integrate, resume};
 use crate::error::StepError;
 use crate::flow::FlowField;
-use crate::integrator::Stepper;
+use crate::integrator::{IntegratorReport, Stepper};
 use crate::material::Softness;
 use crate::particle::{Particle, State};
 use std::cell::RefCell;
@@ -173,7 +173,7 @@ where
             fate,
             end: Some(end),
             stats,
-            manifold: self.integrator.particle_manifold_report(&memory),
+            integrator: self.integrator.particle_report(&memory),
             samples,
             observed,
         }
@@ -336,7 +336,7 @@ where
                     fate,
                     end: Some(end),
                     stats,
-                    manifold: self.integrator.particle_manifold_report(&particle.memory),
+                    integrator: self.integrator.particle_report(&particle.memory),
                     samples: std::mem::take(&mut particle.samples),
                     observed: serde_json::Value::Null,
                 })
@@ -357,7 +357,7 @@ where
             fate: Fate::Suspended,
             end: Some(end),
             stats,
-            manifold: self.integrator.particle_manifold_report(&particle.memory),
+            integrator: self.integrator.particle_report(&particle.memory),
             samples: std::mem::take(&mut particle.samples),
             observed: serde_json::Value::Null,
         }
@@ -425,7 +425,7 @@ impl<L> ParticleRecord<L> {
             },
             end,
             stats: RunStats::default(),
-            manifold: None,
+            integrator: IntegratorReport::default(),
             samples: Vec::new(),
             observed: serde_json::Value::Null,
         }
