@@ -89,6 +89,27 @@ where
         self
     }
 
+    /// The driver's plan every particle shares (unless the injector gives it its own).
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    /// The same particles on `flow` with `plan`: the same integrator, boundary, injection and
+    /// contact model, without observer or kept samples (a re-track on another reconstruction
+    /// of the field, `super::adequacy`).
+    pub fn on<'b, G: FlowField + ?Sized>(&'b self, flow: &'b G, plan: Plan) -> Case<'b, I, G, B, J> {
+        Case {
+            integrator: self.integrator,
+            flow,
+            boundary: self.boundary,
+            injector: self.injector,
+            contact: self.contact,
+            plan,
+            samples: false,
+            observer: None,
+        }
+    }
+
     /// The boundary (for patch names).
     pub fn boundary(&self) -> &B {
         self.boundary
