@@ -17,8 +17,8 @@ use pseudorigid::driver::Plan;
 use pseudorigid::error::StepError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::hydro::DragModel;
-use pseudorigid::integrator::manifold::{Manifold, ManifoldMemory, ManifoldReport};
-use pseudorigid::integrator::{BarycentreModel, Step, TimeIntegrator};
+use pseudorigid::integrator::manifold::{Manifold, ManifoldMemory};
+use pseudorigid::integrator::{BarycentreModel, IntegratorReport, Step, TimeIntegrator};
 use pseudorigid::integrator::{Frame, Scheme, Stepper, Stokesian, Tolerances};
 use pseudorigid::material::Response;
 use pseudorigid::material::{NeoHooke, Softness};
@@ -102,8 +102,8 @@ impl TimeIntegrator for Tallied {
         self.0.barycentre()
     }
 
-    fn manifold_report(&self, memory: &ManifoldMemory) -> Option<ManifoldReport> {
-        self.0.manifold_report(memory)
+    fn report(&self, memory: &ManifoldMemory) -> IntegratorReport {
+        self.0.report(memory)
     }
 
     fn step_with<M: Response, D: DragModel, F: FlowField + ?Sized>(
@@ -114,9 +114,9 @@ impl TimeIntegrator for Tallied {
         flow: &F,
         dt: f64,
     ) -> Result<Step, StepError> {
-        let before = self.0.report(memory);
+        let before = self.0.manifold_report(memory);
         let step = self.0.step_with(particle, state, memory, flow, dt)?;
-        let after = self.0.report(memory);
+        let after = self.0.manifold_report(memory);
         let t = &self.1;
         t.manifold_steps
             .fetch_add(after.manifold_steps - before.manifold_steps, Ordering::Relaxed);

@@ -36,7 +36,7 @@
 //! (the shear lift over the drag) and [`cunningham`](crate::hydro::forces::cunningham) (gas slip,
 //! from d_eq and the fluid).
 //!
-//! # The slow manifold ([`Validity::manifold`])
+//! # The slow manifold ([`Validity::integrator`])
 //! A stiff elastic particle stepped by the slow-manifold model ([`crate::integrator::manifold`])
 //! has its shape slaved to the local flow where the expansion ratio δ (the flow's rates over
 //! the particle's elastic relaxation rate) is at most δ_max = √rtol; its dropped terms are
@@ -46,7 +46,7 @@
 //! excludes (it discards such a step and takes it again with the full model): the flag
 //! checks that invariant. The monitor sees the accepted steps, not the integrator's step
 //! memory, so the caller that ran the particle adds the integrator's report
-//! ([`Validity::with_manifold`]).
+//! ([`Validity::with_integrator`]).
 //!
 //! # Unbounded linear flows
 //! In the shear scenes ([`Monitor::in_linear_flow`]) there is no wall and u is exactly linear
@@ -62,7 +62,7 @@ use crate::flow::FlowSample;
 use crate::flow::analytic::LinearFlow;
 use crate::hydro::DragModel;
 use crate::hydro::forces::omission::{self, Observed, Rest, Size, StateEstimate};
-use crate::integrator::manifold::ManifoldReport;
+use crate::integrator::IntegratorReport;
 use crate::material::Response;
 use crate::particle::{Particle, State};
 use crate::tensor::sym;
@@ -249,11 +249,12 @@ pub struct Validity {
     pub unsampled: u64,
     /// Sizes of the force terms the run left out.
     pub omitted: Omitted,
-    /// What the slow-manifold switch did (module docs): its steps, switches, the largest δ on
-    /// the manifold and δ_max; `None` where the slow-manifold integrator did not step the
-    /// particle. Not among the CSV cells ([`Self::COLUMNS`]), only in the flags.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub manifold: Option<ManifoldReport>,
+    /// What the integrator did (module docs): the slow-manifold switch's steps, switches, the
+    /// largest δ on the manifold and δ_max, where the slow-manifold integrator stepped the
+    /// particle. Not among the CSV cells ([`Self::COLUMNS`]), only in the flags; in the JSON
+    /// under its earlier name `manifold`, absent where empty.
+    #[serde(rename = "manifold", default, skip_serializing_if = "IntegratorReport::is_empty")]
+    pub integrator: IntegratorReport,
 }
 
 impl Validity {
@@ -269,18 +270,17 @@ impl Validity {
         }
     }
 
-    /// The same with the slow-manifold switch's `report` of the run
-    /// ([`crate::integrator::TimeIntegrator::manifold_report`] of its step memory; `None`
-    /// where the slow-manifold integrator did not step the particle).
-    pub fn with_manifold(self, report: Option<ManifoldReport>) -> Self {
+    /// The same with the integrator's `report` of the run
+    /// ([`crate::integrator::TimeIntegrator::report`] of its step memory).
+    pub fn with_integrator(self, report: IntegratorReport) -> Self {
         Self {
-            manifold: report,
+            integrator: report,
             ..self
         }
     }
 
     /// The maxima over two runs (e.g. the two runs bracketing a phase boundary); the
-    /// slow-manifold reports combined ([`ManifoldReport::combine`]).
+    /// integrator reports combined ([`IntegratorReport::combine`]).
     pub fn combine(self, other: Self) -> Self {
         Self {
             max_re_shear: self.max_re_shear.max(other.max_re_shear),
@@ -291,17 +291,15 @@ impl Validity {
             states: self.states + other.states,
             unsampled: self.unsampled + other.unsampled,
             omitted: self.omitted.max(&other.omitted),
-            manifold: match (self.manifold, other.manifold) {
-                (Some(a), Some(b)) => Some(a.combine(b)),
-                (a, b) => a.or(b),
-            },
+            integrator: self.integrator.combine(other.integrator),
         }
     }
 
     /// Names of the thresholds crossed, in the order of [`Thresholds`]' fields, then
     /// `omits_<term>` for every force term left out whose size crosses
-    /// [`Thresholds::omitted_term`], then `manifold_ratio` if an accepted step on the slow
-    /// manifold ran above its own bound δ_max ([`ManifoldReport::exceeded`]; module docs).
+    /// [`Thresholds::omitted_term`], then the integrator's own bounds crossed
+    /// ([`IntegratorReport::flags`]: `manifold_ratio` if an accepted step on the slow manifold
+    /// ran above its own bound δ_max; module docs).
     pub fn flags(&self, limits: &Thresholds) -> Vec<String> {
         let omitted = self
             .omitted
@@ -324,11 +322,7 @@ impl Validity {
         .filter(|(_, crossed)| *crossed)
         .map(|(name, _)| name.to_string())
         .chain(omitted)
-        .chain(
-            self.manifold
-                .filter(ManifoldReport::exceeded)
-                .map(|_| "manifold_ratio".to_string()),
-        )
+        .chain(self.integrator.flags().map(str::to_string))
         .collect()
     }
 

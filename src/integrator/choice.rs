@@ -32,9 +32,9 @@
 //! velocity).
 
 use super::control::ErrorNorm;
-use super::manifold::{Manifold, ManifoldMemory, ManifoldReport};
+use super::manifold::{Manifold, ManifoldMemory};
 use super::stokesian::{ROSENBROCK_RTOL, StokesianMemory};
-use super::{BarycentreModel, Frame, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
+use super::{BarycentreModel, Frame, IntegratorReport, Scheme, Step, Stokesian, TimeIntegrator, Tolerances};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
@@ -250,10 +250,10 @@ impl TimeIntegrator for Chosen {
         }
     }
 
-    fn manifold_report(&self, memory: &ChosenMemory) -> Option<ManifoldReport> {
+    fn report(&self, memory: &ChosenMemory) -> IntegratorReport {
         match self {
-            Chosen::Full(_) => None,
-            Chosen::SlowManifold(m) => m.manifold_report(&memory.manifold),
+            Chosen::Full(full) => full.report(&memory.full),
+            Chosen::SlowManifold(m) => m.report(&memory.manifold),
         }
     }
 
@@ -443,9 +443,11 @@ impl TimeIntegrator for Auto {
         chosen.step_with(particle, state, &mut memory.inner, flow, dt)
     }
 
-    /// The chosen integrator's report; `None` before the first step (nothing chosen yet).
-    fn manifold_report(&self, memory: &AutoMemory) -> Option<ManifoldReport> {
-        memory.chosen?.manifold_report(&memory.inner)
+    /// The chosen integrator's report; empty before the first step (nothing chosen yet).
+    fn report(&self, memory: &AutoMemory) -> IntegratorReport {
+        memory
+            .chosen
+            .map_or_else(IntegratorReport::default, |c| c.report(&memory.inner))
     }
 
     fn mapped(&self, memory: &mut AutoMemory) {

@@ -31,11 +31,12 @@
 //!
 //! The run log states the rule and k ([`TimeIntegrator::describe`]); the steps on and off the
 //! manifold, the switches and the largest δ on it are kept per particle in the step memory
-//! ([`ManifoldReport`], read by [`TimeIntegrator::manifold_report`]) and reach the
+//! ([`ManifoldReport`], read by [`TimeIntegrator::report`] into an [`IntegratorReport`]) and
+//! reach the
 //! population's records and their columns (`manifold_steps`, `full_steps`,
 //! `manifold_entered`, `manifold_left`, `manifold_max_ratio`, `manifold_delta_max`:
 //! [`crate::population::columns`]), the validity diagnostics
-//! ([`crate::diagnostics::Validity::manifold`], which flag a step above δ_max) and the
+//! ([`crate::diagnostics::Validity::integrator`], which flag a step above δ_max) and the
 //! command's summary line (the share of steps on the manifold).
 //!
 //! `auto` and the studies' integrator ([`super::choice`]) take this model for an elastic
@@ -114,7 +115,7 @@
 
 use super::dense::Knot;
 use super::stokesian::StokesianMemory;
-use super::{Dense, Step, Stokesian, TimeIntegrator};
+use super::{Dense, IntegratorReport, Step, Stokesian, TimeIntegrator};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::DragModel;
@@ -171,7 +172,7 @@ impl Manifold {
     }
 
     /// What the switch did for the particle with step memory `memory`.
-    pub fn report(&self, memory: &ManifoldMemory) -> ManifoldReport {
+    pub fn manifold_report(&self, memory: &ManifoldMemory) -> ManifoldReport {
         ManifoldReport {
             delta_max: self.delta_max,
             ..memory.report
@@ -185,7 +186,7 @@ impl Manifold {
     }
 }
 
-/// What the switch did for one particle ([`Manifold::report`]): every accepted step
+/// What the switch did for one particle ([`Manifold::manifold_report`]): every accepted step
 /// is counted once, on the manifold or of the full model, so the two counts add up to the
 /// driver's accepted steps ([`crate::driver::RunStats::steps`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
@@ -208,7 +209,7 @@ pub struct ManifoldReport {
 impl ManifoldReport {
     /// Whether an accepted manifold step ran above δ_max. The switch discards every such
     /// step, so this is never true of a report of [`Manifold`]: the validity diagnostics
-    /// check it ([`crate::diagnostics::Validity::manifold`], flag `manifold_ratio`).
+    /// check it ([`crate::diagnostics::Validity::integrator`], flag `manifold_ratio`).
     pub fn exceeded(&self) -> bool {
         self.max_ratio > self.delta_max
     }
@@ -231,6 +232,30 @@ impl ManifoldReport {
             ..closer
         }
     }
+
+    /// The run summary's account of the switch, with `steps` the run's accepted steps: the
+    /// steps on the manifold among them and, if it took any, the largest δ on it against δ_max.
+    pub fn summary(&self, steps: u64) -> String {
+        let percent = if steps > 0 {
+            100.0 * self.manifold_steps as f64 / steps as f64
+        } else {
+            0.0
+        };
+        let ratio = if self.manifold_steps > 0 {
+            format!(
+                ", largest delta {:.3e} {} delta_max = {:.3e}",
+                self.max_ratio,
+                if self.exceeded() { ">" } else { "<=" },
+                self.delta_max
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "; slow manifold: {} of {steps} steps ({percent:.1} %){ratio}",
+            self.manifold_steps
+        )
+    }
 }
 
 /// Step memory of [`Manifold`].
@@ -249,7 +274,7 @@ pub struct ManifoldMemory {
     #[serde(default)]
     gradient_rate: Option<(f64, Mat3)>,
     /// The switch's record; its `delta_max` is the integrator's, filled in by
-    /// [`Manifold::report`].
+    /// [`Manifold::manifold_report`].
     report: ManifoldReport,
     /// The particle's constants: a function of the particle, recomputed after a checkpoint.
     #[serde(skip)]
@@ -397,8 +422,8 @@ impl TimeIntegrator for Manifold {
         Ok(step)
     }
 
-    fn manifold_report(&self, memory: &ManifoldMemory) -> Option<ManifoldReport> {
-        Some(self.report(memory))
+    fn report(&self, memory: &ManifoldMemory) -> IntegratorReport {
+        IntegratorReport::manifold(self.manifold_report(memory))
     }
 
     /// ∇u and ε₀ are kept by time alone: a mapped state at the same time needs them afresh

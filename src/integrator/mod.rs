@@ -27,6 +27,7 @@ pub mod manifold;
 pub mod newton;
 pub mod radau5;
 pub mod registry;
+pub mod report;
 pub mod rosenbrock;
 pub mod stokesian;
 
@@ -35,6 +36,7 @@ pub use dense::Dense;
 pub use imex::ImexPaper;
 pub use imex_adaptive::ImexAdaptive;
 pub use registry::{IntegratorRegistration, SceneIntegrator};
+pub use report::IntegratorReport;
 pub use stokesian::{BarycentreModel, Frame, Scheme, Stokesian};
 
 use crate::error::StepError;
@@ -158,13 +160,11 @@ pub trait TimeIntegrator: Send + Sync {
         None
     }
 
-    /// What the slow-manifold switch ([`manifold`]) did for the particle whose step memory is
-    /// `memory`: its steps on and off the manifold, its switches and the largest expansion
-    /// ratio δ on it against the bound δ_max. `None` where this integrator did not step the
-    /// particle by the slow-manifold model (every other integrator, and [`choice::Auto`] where
-    /// it chose the full model).
-    fn manifold_report(&self, _memory: &Self::Memory) -> Option<manifold::ManifoldReport> {
-        None
+    /// What this integrator did for the particle whose step memory is `memory`, beyond the
+    /// driver's counts ([`IntegratorReport`]: the slow-manifold switch's steps and switches,
+    /// [`manifold`]). Empty by default: an integrator that keeps no account of its own.
+    fn report(&self, _memory: &Self::Memory) -> IntegratorReport {
+        IntegratorReport::default()
     }
 
     /// The driver has mapped the particle's state by a symmetry of the flow (a cyclic pair, a
@@ -204,9 +204,8 @@ pub trait Stepper<M: Response, D: DragModel>: Send + Sync {
         dt: f64,
     ) -> Result<Step, StepError>;
 
-    /// What the slow-manifold switch did for the particle with `memory`
-    /// ([`TimeIntegrator::manifold_report`]).
-    fn particle_manifold_report(&self, memory: &Self::Memory) -> Option<manifold::ManifoldReport>;
+    /// What the integrator did for the particle with `memory` ([`TimeIntegrator::report`]).
+    fn particle_report(&self, memory: &Self::Memory) -> IntegratorReport;
 
     /// The particle's state was mapped by a symmetry of the flow ([`TimeIntegrator::mapped`]).
     fn particle_mapped(&self, memory: &mut Self::Memory);
@@ -226,8 +225,8 @@ impl<I: TimeIntegrator, M: Response, D: DragModel> Stepper<M, D> for I {
         self.step_with(particle, state, memory, flow, dt)
     }
 
-    fn particle_manifold_report(&self, memory: &I::Memory) -> Option<manifold::ManifoldReport> {
-        self.manifold_report(memory)
+    fn particle_report(&self, memory: &I::Memory) -> IntegratorReport {
+        self.report(memory)
     }
 
     fn particle_mapped(&self, memory: &mut I::Memory) {

@@ -9,8 +9,7 @@
 //! the population runner take it as a [`Stepper`]. Library code keeps using the integrator
 //! types themselves, monomorphised for its particle types.
 
-use super::manifold::ManifoldReport;
-use super::{BarycentreModel, Step, Stepper, TimeIntegrator};
+use super::{BarycentreModel, IntegratorReport, Step, Stepper, TimeIntegrator};
 use crate::error::{ParamError, StepError};
 use crate::flow::FlowField;
 use crate::hydro::drag::NamedDrag;
@@ -87,7 +86,7 @@ trait SceneStep: Send + Sync + fmt::Debug {
         flow: &dyn FlowField,
         dt: f64,
     ) -> Result<Step, StepError>;
-    fn manifold_report_scene(&self, memory: &SceneMemory) -> Option<ManifoldReport>;
+    fn report_scene(&self, memory: &SceneMemory) -> IntegratorReport;
     fn mapped_scene(&self, memory: &mut SceneMemory);
 }
 
@@ -119,10 +118,13 @@ impl<I: TimeIntegrator + fmt::Debug + 'static> SceneStep for I {
             None => unreachable!("the slot holds I::Memory: set just above"),
         }
     }
-    fn manifold_report_scene(&self, memory: &SceneMemory) -> Option<ManifoldReport> {
+    fn report_scene(&self, memory: &SceneMemory) -> IntegratorReport {
         // A fresh memory (or another integrator's) holds no step of this one.
-        let m = memory.0.as_ref()?.downcast_ref::<I::Memory>()?;
-        self.manifold_report(m)
+        memory
+            .0
+            .as_ref()
+            .and_then(|m| m.downcast_ref::<I::Memory>())
+            .map_or_else(IntegratorReport::default, |m| self.report(m))
     }
     fn mapped_scene(&self, memory: &mut SceneMemory) {
         if let Some(m) = memory.0.as_mut().and_then(|m| m.downcast_mut::<I::Memory>()) {
@@ -193,8 +195,8 @@ impl Stepper<Softness<NamedLaw>, NamedDrag> for SceneIntegrator {
         self.0.step_scene(particle, state, memory, &flow, dt)
     }
 
-    fn particle_manifold_report(&self, memory: &SceneMemory) -> Option<ManifoldReport> {
-        self.0.manifold_report_scene(memory)
+    fn particle_report(&self, memory: &SceneMemory) -> IntegratorReport {
+        self.0.report_scene(memory)
     }
 
     fn particle_mapped(&self, memory: &mut SceneMemory) {

@@ -7,7 +7,7 @@ use crate::contact::{Boundary, ContactEvent, ContactModel, PatchRule};
 use crate::driver::{Event, Observers, Plan, Problem, RunEnd, RunFailure, RunStats, Stop, integrate, resume};
 use crate::error::StepError;
 use crate::flow::FlowField;
-use crate::integrator::Stepper;
+use crate::integrator::{IntegratorReport, Stepper};
 use crate::material::Softness;
 use crate::particle::{Particle, State};
 use std::cell::RefCell;
@@ -87,6 +87,27 @@ where
     pub fn with_contact(mut self, contact: ContactModel) -> Self {
         self.contact = contact;
         self
+    }
+
+    /// The driver's plan every particle shares (unless the injector gives it its own).
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    /// The same particles on `flow` with `plan`: the same integrator, boundary, injection and
+    /// contact model, without observer or kept samples (a re-track on another reconstruction
+    /// of the field, `super::adequacy`).
+    pub fn on<'b, G: FlowField + ?Sized>(&'b self, flow: &'b G, plan: Plan) -> Case<'b, I, G, B, J> {
+        Case {
+            integrator: self.integrator,
+            flow,
+            boundary: self.boundary,
+            injector: self.injector,
+            contact: self.contact,
+            plan,
+            samples: false,
+            observer: None,
+        }
     }
 
     /// The boundary (for patch names).
@@ -173,7 +194,7 @@ where
             fate,
             end: Some(end),
             stats,
-            manifold: self.integrator.particle_manifold_report(&memory),
+            integrator: self.integrator.particle_report(&memory),
             samples,
             observed,
         }
@@ -336,7 +357,7 @@ where
                     fate,
                     end: Some(end),
                     stats,
-                    manifold: self.integrator.particle_manifold_report(&particle.memory),
+                    integrator: self.integrator.particle_report(&particle.memory),
                     samples: std::mem::take(&mut particle.samples),
                     observed: serde_json::Value::Null,
                 })
@@ -357,7 +378,7 @@ where
             fate: Fate::Suspended,
             end: Some(end),
             stats,
-            manifold: self.integrator.particle_manifold_report(&particle.memory),
+            integrator: self.integrator.particle_report(&particle.memory),
             samples: std::mem::take(&mut particle.samples),
             observed: serde_json::Value::Null,
         }
@@ -425,7 +446,7 @@ impl<L> ParticleRecord<L> {
             },
             end,
             stats: RunStats::default(),
-            manifold: None,
+            integrator: IntegratorReport::default(),
             samples: Vec::new(),
             observed: serde_json::Value::Null,
         }

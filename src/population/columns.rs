@@ -8,7 +8,6 @@
 use super::record::{Fate, ParticleRecord};
 use super::spec::ParticleSpec;
 use crate::ellipsoid::PrincipalFrame;
-use crate::integrator::manifold::ManifoldReport;
 use crate::material::{Softness, StressLaw};
 use crate::output::vtk::{CloudPoint, stretch};
 use crate::particle::State;
@@ -41,12 +40,6 @@ impl<'a, L> Row<'a, L> {
 
     fn spec(&self, f: impl Fn(&ParticleSpec<L>) -> f64) -> Option<f64> {
         self.record.spec.as_ref().map(f)
-    }
-
-    /// A count of the slow-manifold switch, 0 where the slow-manifold integrator did not step
-    /// the particle.
-    fn manifold(&self, f: impl Fn(&ManifoldReport) -> u64) -> u64 {
-        self.record.manifold.as_ref().map_or(0, f)
     }
 
     /// The name of the patch touched ("" for an index without a name).
@@ -158,12 +151,12 @@ pub fn record_columns<L: StressLaw>() -> [Column<L>; 39] {
         column("rejected", "Rejected step attempts.", NO_CSV, Count(|r| r.record.stats.rejected)),
         column("rhs_evals", "Model evaluations.", NO_CSV, Count(|r| r.record.stats.rhs_evals)),
         column("jac_evals", "Jacobian evaluations.", NO_CSV, Count(|r| r.record.stats.jac_evals)),
-        column("manifold_steps", "Accepted steps on the slow manifold (0 where it never ran).", NO_CSV, Count(|r| r.manifold(|m| m.manifold_steps))),
-        column("full_steps", "Accepted steps of the full model: `steps` less `manifold_steps`.", NO_CSV, Count(|r| r.record.manifold.map_or(r.record.stats.steps, |m| m.full_steps))),
-        column("manifold_entered", "Switches from the full model to the slow manifold.", NO_CSV, Count(|r| r.manifold(|m| m.entered.into()))),
-        column("manifold_left", "Switches from the slow manifold back to the full model.", NO_CSV, Count(|r| r.manifold(|m| m.left.into()))),
-        column("manifold_max_ratio", "Largest expansion ratio δ of a step on the slow manifold (none: no such step).", NO_CSV, Real(|r| r.record.manifold.filter(|m| m.manifold_steps > 0).map(|m| m.max_ratio))),
-        column("manifold_delta_max", "The slow manifold's bound δ_max (none: not stepped by the slow-manifold integrator).", NO_CSV, Real(|r| r.record.manifold.map(|m| m.delta_max))),
+        column("manifold_steps", "Accepted steps on the slow manifold (0 where it never ran).", NO_CSV, Count(|r| r.record.integrator.manifold.map_or(0, |m| m.manifold_steps))),
+        column("full_steps", "Accepted steps of the full model: `steps` less `manifold_steps`.", NO_CSV, Count(|r| r.record.integrator.manifold.map_or(r.record.stats.steps, |m| m.full_steps))),
+        column("manifold_entered", "Switches from the full model to the slow manifold.", NO_CSV, Count(|r| r.record.integrator.manifold.map_or(0, |m| m.entered.into()))),
+        column("manifold_left", "Switches from the slow manifold back to the full model.", NO_CSV, Count(|r| r.record.integrator.manifold.map_or(0, |m| m.left.into()))),
+        column("manifold_max_ratio", "Largest expansion ratio δ of a step on the slow manifold (none: no such step).", NO_CSV, Real(|r| r.record.integrator.manifold.filter(|m| m.manifold_steps > 0).map(|m| m.max_ratio))),
+        column("manifold_delta_max", "The slow manifold's bound δ_max (none: not stepped by the slow-manifold integrator).", NO_CSV, Real(|r| r.record.integrator.manifold.map(|m| m.delta_max))),
         column("error", "Why a failed particle failed.", ALL, Text(|r| r.error())),
     ]
 }

@@ -39,6 +39,8 @@
 //!   or three meshes (Celik et al. 2008), the arithmetic of a mesh study;
 //! - [`mesh_study`]: the same particles on two to four meshes, every outcome paired, with its
 //!   sampling errors, GCI and verdict;
+//! - [`adequacy`]: whether a run on an OpenFOAM field is decided by the wall layer: the
+//!   first-cell ratios and the re-track on the field's other reconstruction;
 //! - [`settling_pipe`]: a cheap population with a closed-form answer (tests, benches).
 //!
 //! # Determinism
@@ -50,6 +52,7 @@
 //! plan (a particle's fate would depend on the machine's load), and an [`Injector::draw`] that
 //! reads anything but its arguments.
 
+pub mod adequacy;
 pub mod batch;
 pub mod binomial;
 pub mod case;

@@ -6,7 +6,7 @@ use super::columns::{Column, ColumnValues, Row, record_columns};
 use super::record::{FateCounts, ParticleRecord};
 use super::shard::Shard;
 use super::{FORMAT, PopulationError};
-use crate::integrator::manifold::ManifoldReport;
+use crate::integrator::IntegratorReport;
 use crate::material::StressLaw;
 use crate::output::{Csv, write_atomic};
 use serde::de::DeserializeOwned;
@@ -76,15 +76,11 @@ impl<L: Serialize + DeserializeOwned> RunOutput<L> {
         FateCounts::of(&self.records)
     }
 
-    /// The slow-manifold reports of the records as one ([`ManifoldReport::combine`]): the
-    /// steps on and off the manifold and the switches of every particle the slow-manifold
-    /// integrator stepped, the largest δ on the manifold and δ_max; `None` where it stepped
-    /// none.
-    pub fn manifold(&self) -> Option<ManifoldReport> {
-        self.records
-            .iter()
-            .filter_map(|r| r.manifold)
-            .reduce(ManifoldReport::combine)
+    /// The integrator reports of the records as one ([`IntegratorReport::combine`]): for the
+    /// slow manifold the steps on and off it and the switches of every particle it stepped,
+    /// the largest δ on it and δ_max; empty where no integrator kept an account.
+    pub fn integrator(&self) -> IntegratorReport {
+        self.records.iter().map(|r| r.integrator).collect()
     }
 
     /// The JSON text (compact; shortest round-trip f64, parsed back exactly with serde_json's

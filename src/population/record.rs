@@ -3,7 +3,7 @@
 use super::spec::ParticleSpec;
 use crate::driver::RunStats;
 use crate::ellipsoid::PrincipalFrame;
-use crate::integrator::manifold::ManifoldReport;
+use crate::integrator::IntegratorReport;
 use crate::particle::State;
 use crate::tensor::Vec3;
 use serde::de::DeserializeOwned;
@@ -72,12 +72,13 @@ pub struct ParticleRecord<L> {
     pub end: Option<State>,
     /// Work of its run.
     pub stats: RunStats,
-    /// What the slow-manifold switch did in its run, where the slow-manifold integrator
-    /// stepped it (`slow_manifold`, or `auto`'s and the studies' choice for a stiff elastic
-    /// particle: [`crate::integrator::TimeIntegrator::manifold_report`]); `None` otherwise,
-    /// and absent from the JSON then (a record without it reads as before).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub manifold: Option<ManifoldReport>,
+    /// What the integrator did in its run beyond the step counts
+    /// ([`crate::integrator::TimeIntegrator::report`]): the slow-manifold switch's account
+    /// where the slow-manifold integrator stepped it (`slow_manifold`, or `auto`'s and the
+    /// studies' choice for a stiff elastic particle). In the JSON under its earlier name
+    /// `manifold`, absent where empty (a record without it reads as before).
+    #[serde(rename = "manifold", default, skip_serializing_if = "IntegratorReport::is_empty")]
+    pub integrator: IntegratorReport,
     /// Its states at the start, at the plan's output times and at its event, when the case
     /// keeps them ([`super::Case::with_samples`]); empty otherwise. Stored packed
     /// ([`super::packed`]).

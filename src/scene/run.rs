@@ -243,6 +243,7 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bo
         dir: out.to_path_buf(),
     })?;
     let counts = output.counts();
+    let steps = output.records.iter().map(|r| r.stats.steps).sum();
     let what = format!(
         "{} particles: {} deposited, {} escaped, {} suspended, {} failed{}",
         counts.total(),
@@ -250,7 +251,7 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bo
         counts.escaped,
         counts.suspended,
         counts.failed,
-        manifold_share(&output)
+        output.integrator().summary(steps)
     );
     let whole = shard == Shard::ALL;
     let adequacy = adequacy(scene, &output.records, !whole)?;
@@ -285,36 +286,6 @@ pub fn run(scene: &Scene, out: &Path, shard: Shard, options: RunOptions, csv: bo
         output,
         adequacy,
     })
-}
-
-/// The summary line's account of the slow manifold, where the run stepped a particle by it
-/// (`slow_manifold`, or `auto` for stiff elastic particles; empty otherwise): the steps on it
-/// among all of the run's steps and, if it took any, the largest expansion ratio δ on it
-/// against its bound δ_max ([`crate::integrator::manifold::ManifoldReport`]).
-fn manifold_share(output: &RunOutput<NamedLaw>) -> String {
-    let Some(m) = output.manifold() else {
-        return String::new();
-    };
-    let steps: u64 = output.records.iter().map(|r| r.stats.steps).sum();
-    let percent = if steps > 0 {
-        100.0 * m.manifold_steps as f64 / steps as f64
-    } else {
-        0.0
-    };
-    let ratio = if m.manifold_steps > 0 {
-        format!(
-            ", largest delta {:.3e} {} delta_max = {:.3e}",
-            m.max_ratio,
-            if m.exceeded() { ">" } else { "<=" },
-            m.delta_max
-        )
-    } else {
-        String::new()
-    };
-    format!(
-        "; slow manifold: {} of {steps} steps ({percent:.1} %){ratio}",
-        m.manifold_steps
-    )
 }
 
 /// Merge the shard checkpoints in `out` into the whole run's tables and frames, and on an

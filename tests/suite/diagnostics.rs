@@ -171,6 +171,7 @@ fn the_slip_correction_left_out_is_zero_for_a_tracer_as_dense_as_the_gas() {
 #[test]
 fn validity_states_the_slow_manifolds_ratio_against_its_bound() {
     use pseudorigid::driver::{Observers, Plan, Problem, integrate};
+    use pseudorigid::integrator::IntegratorReport;
     use pseudorigid::integrator::manifold::{Manifold, ManifoldReport};
     use pseudorigid::studies::particles::Shape;
     use pseudorigid::studies::shear_run::unit_shear;
@@ -191,8 +192,8 @@ fn validity_states_the_slow_manifolds_ratio_against_its_bound() {
         Observers::none().with_on_step(|step| monitor.observe_step(step)),
     )
     .unwrap();
-    let v = monitor.validity().with_manifold(integ.manifold_report(&memory));
-    let m = v.manifold.unwrap();
+    let v = monitor.validity().with_integrator(integ.report(&memory));
+    let m = v.integrator.manifold.unwrap();
     assert!(m.manifold_steps > m.full_steps && m.entered == 1, "{m:?}");
     assert_eq!(m.manifold_steps + m.full_steps, v.states, "{m:?}");
     assert!(m.max_ratio > 0.0 && m.max_ratio <= m.delta_max, "{m:?}");
@@ -205,11 +206,11 @@ fn validity_states_the_slow_manifolds_ratio_against_its_bound() {
         max_ratio: 1.01 * m.delta_max,
         ..m
     };
-    let exceeded = Validity::default().with_manifold(Some(over));
+    let exceeded = Validity::default().with_integrator(IntegratorReport::manifold(over));
     assert_eq!(exceeded.flags(&limits), ["manifold_ratio"]);
     let both = v.clone().combine(exceeded);
     assert!(flagged(&both), "{both:?}");
-    let total = both.manifold.unwrap();
+    let total = both.integrator.manifold.unwrap();
     assert_eq!(
         (total.manifold_steps, total.max_ratio),
         (2 * m.manifold_steps, over.max_ratio)
@@ -225,7 +226,7 @@ fn validity_states_the_slow_manifolds_ratio_against_its_bound() {
         (kept.max_ratio, kept.delta_max, kept.entered),
         (m.max_ratio, m.delta_max, 2)
     );
-    assert_eq!(Validity::default().combine(v.clone()).manifold, v.manifold);
+    assert_eq!(Validity::default().combine(v.clone()).integrator, v.integrator);
 
     assert!(
         !serde_json::to_string(&Validity::default())

@@ -5,7 +5,7 @@
 //! 0..count of a run (same seed, injection, integrator, plan and contact rule, hence the same
 //! trajectories) under a [`Monitor`] fed at every accepted step, with what the slow-manifold
 //! switch did where the study's integrator put a stiff particle on it
-//! ([`Validity::with_manifold`]).
+//! ([`Validity::with_integrator`]).
 
 use super::BifurcationError;
 use super::injection::{Injection, Kind};
@@ -44,7 +44,7 @@ pub fn sample(airway: &Airway, kind: Kind, seed: u64, count: u64) -> Result<Vec<
             &[&contact],
             Observers::none().with_on_step(|step| monitor.observe_step(step)),
         );
-        out.push(monitor.validity().with_manifold(integ.manifold_report(&memory)));
+        out.push(monitor.validity().with_integrator(integ.report(&memory)));
     }
     Ok(out)
 }

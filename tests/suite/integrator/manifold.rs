@@ -91,7 +91,7 @@ fn manifold_sphere_in_shear_is_roscoes_steady_shape() {
             .with_delta_max(0.1)
             .unwrap();
         let (s, memory): (Vec<State>, ManifoldMemory) = states_at(&integ, &p, &unit_shear(), &[10.0]);
-        let report = integ.report(&memory);
+        let report = integ.manifold_report(&memory);
         assert!(
             report.manifold_steps > 2 * report.full_steps && report.entered == 1 && report.left == 0,
             "{report:?}"
@@ -129,7 +129,7 @@ fn manifold_follows_the_full_model_along_a_turning_flow() {
             .unwrap();
         let (reduced, memory) = states_at(&integ, &p, &TurningShear, &times);
         let (full, _) = states_at(&Stokesian::overdamped(1e-10).unwrap(), &p, &TurningShear, &times);
-        let report = integ.report(&memory);
+        let report = integ.manifold_report(&memory);
         assert!(
             report.manifold_steps > 2 * report.full_steps && report.left == 0,
             "{report:?}"
@@ -267,7 +267,7 @@ fn orbit_error(
         .zip(&full)
         .map(|(a, b)| line(a).dot(&line(b)).abs().min(1.0).acos())
         .fold(0.0, f64::max);
-    (angle, integ.report(&memory))
+    (angle, integ.manifold_report(&memory))
 }
 
 /// Issue 61 measurement: the manifold's orientation error against the full model for stiff

@@ -162,7 +162,7 @@ fn record(index: u64, deposited: bool) -> pseudorigid::population::ParticleRecor
         },
         end: None,
         stats: RunStats::default(),
-        manifold: None,
+        integrator: Default::default(),
         samples: Vec::new(),
         observed: serde_json::Value::Null,
     }

@@ -145,12 +145,15 @@ fn records_carry_the_slow_manifold_switch() {
     let soft = with_auto(&pipe().with_shape(1.0, 1e-3).unwrap());
     for (i, r) in soft.records.iter().enumerate() {
         assert!(!matches!(r.fate, Fate::Failed { .. }), "particle {i}: {:?}", r.fate);
-        let m = r.manifold.unwrap_or_else(|| panic!("particle {i} has no report"));
+        let m = r
+            .integrator
+            .manifold
+            .unwrap_or_else(|| panic!("particle {i} has no report"));
         assert!(m.manifold_steps > 0 && m.entered >= 1, "particle {i}: {m:?}");
         assert_eq!(m.manifold_steps + m.full_steps, r.stats.steps, "particle {i}: {m:?}");
         assert!(m.max_ratio > 0.0 && m.max_ratio <= delta_max && !m.exceeded(), "{m:?}");
         assert_eq!(m.delta_max, delta_max);
-        let validity = Validity::default().with_manifold(r.manifold);
+        let validity = Validity::default().with_integrator(r.integrator);
         assert!(validity.flags(&Thresholds::default()).is_empty(), "{validity:?}");
         let json = serde_json::to_string(r).unwrap();
         assert_eq!(serde_json::from_str::<ParticleRecord<NeoHooke>>(&json).unwrap(), *r);
@@ -160,14 +163,14 @@ fn records_carry_the_slow_manifold_switch() {
         assert_eq!(Some(on[i].unwrap() + off[i].unwrap()), steps[i], "particle {i}");
         assert!(ratio[i].unwrap() <= bound[i].unwrap(), "particle {i}");
     }
-    let total = soft.manifold().unwrap();
+    let total = soft.integrator().manifold.unwrap();
     assert_eq!(total.manifold_steps as f64, on.iter().flatten().sum::<f64>());
     assert!(!total.exceeded(), "{total:?}");
 
     for (out, reported) in [(with_manifold(&pipe()), true), (with_auto(&pipe()), false)] {
         for (i, r) in out.records.iter().enumerate() {
-            assert_eq!(r.manifold.is_some(), reported, "particle {i}: {:?}", r.manifold);
-            match r.manifold {
+            assert_eq!(!r.integrator.is_empty(), reported, "particle {i}: {:?}", r.integrator);
+            match r.integrator.manifold {
                 Some(m) => assert_eq!(
                     (m.manifold_steps, m.entered, m.full_steps),
                     (0, 0, r.stats.steps),

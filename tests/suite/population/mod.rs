@@ -1,5 +1,6 @@
 //! The population runner (src/population).
 
+mod adequacy;
 mod batch;
 mod binomial;
 mod checkpoint;

@@ -654,7 +654,7 @@ proptest::proptest! {
             fate: Fate::Deposited { patch: 3, position: state.x, time: state.t },
             end: Some(state),
             stats: RunStats::default(),
-            manifold: None,
+            integrator: Default::default(),
             samples: vec![state],
             observed: serde_json::Value::Null,
         };
@@ -691,7 +691,7 @@ fn an_observer_summary_reads_back_typed_or_names_the_particle() {
             fate: Fate::Suspended,
             end: None,
             stats: RunStats::default(),
-            manifold: None,
+            integrator: Default::default(),
             samples: vec![],
             observed,
         };

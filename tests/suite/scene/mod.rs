@@ -192,7 +192,7 @@ fn the_summary_line_gives_the_slow_manifolds_share() {
         pseudorigid::scene::run::run(s, &dir, Shard::ALL, options, false).unwrap()
     };
     let done = summary(&stiff, "summary_slow_manifold");
-    let m = done.output.manifold().unwrap();
+    let m = done.output.integrator().manifold.unwrap();
     let steps = done.output.records[0].stats.steps;
     assert!(
         m.manifold_steps > 0 && m.manifold_steps + m.full_steps == steps,

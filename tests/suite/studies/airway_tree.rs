@@ -562,7 +562,7 @@ fn peer_pairs_are_the_particles_both_saw_enter() {
         fate,
         end: None,
         stats: RunStats::default(),
-        manifold: None,
+        integrator: Default::default(),
         samples: Vec::new(),
         observed,
     };

@@ -123,7 +123,7 @@ fn record(index: u64, fate: Fate, steps: u64) -> ParticleRecord<()> {
             rejected: 1,
             ..RunStats::default()
         },
-        manifold: None,
+        integrator: Default::default(),
         samples: Vec::new(),
         observed: serde_json::Value::Null,
     }
