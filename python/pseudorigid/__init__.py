@@ -155,7 +155,7 @@ class Results:
 
     def frames(self) -> Table:
         """Every particle at every frame time (0 and the output times): the columns of
-        ``frames.parquet`` in its order (V by its six independent components)."""
+        ``frames.csv`` and ``frames.parquet`` in their order (V by its nine components)."""
         return _table(self._native.frames())
 
     def trajectory(self, index: int = 0) -> Dict[str, Any]:

@@ -6,7 +6,7 @@ use numpy::{PyArray1, PyArrayMethods};
 use pseudorigid::ellipsoid::PrincipalFrame;
 use pseudorigid::material::NamedLaw;
 use pseudorigid::population::columns::{
-    ColumnValues, FRAME_COLUMNS, Row, at_time, fate_code, frame_measures, record_columns,
+    ColumnValues, Row, at_time, fate_code, frame_measure_names, frame_measures, record_columns,
 };
 use pseudorigid::population::{Fate, RunOutput};
 use pyo3::prelude::*;
@@ -90,8 +90,8 @@ impl Results {
     }
 
     /// The frames as one long table: a row per particle per frame time, the columns of
-    /// `frames.parquet` in its order (frame, time, id, x1..x3, the six independent components
-    /// V11, V12, V13, V22, V23, V33 of the symmetric V, r1..r3, flag).
+    /// `frames.csv` and `frames.parquet` in their order (frame, time, id, x1..x3, the nine
+    /// components V11..V33 of the symmetric V by rows, r1..r3, flag).
     fn frames<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let Some(times) = &self.times else {
             return Err(typed(
@@ -103,7 +103,7 @@ impl Results {
         };
         let (mut frame, mut id, mut flag) = (Vec::new(), Vec::new(), Vec::new());
         let mut time = Vec::new();
-        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 12];
+        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); frame_measure_names().len()];
         for (k, &t) in times.iter().enumerate() {
             for p in at_time(&self.output.records, t) {
                 frame.push(k as i64);
@@ -120,7 +120,7 @@ impl Results {
         column(py, &d, "time", time)?;
         column_i64(py, &d, "id", id)?;
         // frames.parquet's measured columns, between `id` and `flag`.
-        for (name, c) in FRAME_COLUMNS[3..15].iter().zip(cols) {
+        for (name, c) in frame_measure_names().iter().zip(cols) {
             column(py, &d, name, c)?;
         }
         column_i64(py, &d, "flag", flag)?;

@@ -164,7 +164,9 @@ def test_columns_equal_the_csv_files(tmp_path, small_scene):
     frames = results.frames()
     ftable = read_csv(tmp_path / "frames.csv")
     assert len(frames) == len(ftable["id"]) == 12 * len(scene.frame_times)
-    for c in ["time", "x1", "x2", "x3", "V11", "V12", "V23", "V33", "r1", "r2", "r3"]:
+    # One schema: the frames hold exactly the columns of frames.csv, in its order.
+    assert list(frames.columns) == list(ftable)
+    for c in ["time", "x1", "x2", "x3", "V11", "V12", "V21", "V23", "V32", "V33", "r1", "r2", "r3"]:
         np.testing.assert_array_equal(frames[c], floats(ftable[c]), err_msg=c)
     for c in ["frame", "id", "flag"]:
         np.testing.assert_array_equal(frames[c], [int(v) for v in ftable[c]], err_msg=c)

@@ -2,8 +2,8 @@
 //! description, type and how each value is read from a [`ParticleRecord`]) make `results.csv`
 //! ([`super::RunOutput::table`]), `records.parquet` (the command's `scene::parquet`) and the
 //! Python package's `Results.records()`; a frame's columns ([`FRAME_COLUMNS`], the particles
-//! of a run at one time by [`at_time`], flagged by [`fate_code`]) make `frames.parquet` and
-//! `Results.frames()`.
+//! of a run at one time by [`at_time`], flagged by [`fate_code`]) make `frames.csv`,
+//! `frames.parquet` and `Results.frames()`.
 
 use super::record::{Fate, ParticleRecord};
 use super::spec::ParticleSpec;
@@ -189,15 +189,22 @@ pub fn at_time<L>(records: &[ParticleRecord<L>], time: f64) -> impl Iterator<Ite
     })
 }
 
-/// Columns of a frame's row (`frames.parquet`, the Python package's frames): frame index, time,
-/// id, the [`frame_measures`] and the flag.
-pub const FRAME_COLUMNS: [&str; 16] = [
-    "frame", "time", "id", "x1", "x2", "x3", "V11", "V12", "V13", "V22", "V23", "V33", "r1", "r2", "r3", "flag",
+/// Columns of a frame's row in every table of frames (`frames.csv`, `frames.parquet`, the
+/// Python package's frames): frame index, time, id, the [`frame_measures`] and the flag.
+pub const FRAME_COLUMNS: [&str; 19] = [
+    "frame", "time", "id", "x1", "x2", "x3", "V11", "V12", "V13", "V21", "V22", "V23", "V31", "V32", "V33", "r1", "r2",
+    "r3", "flag",
 ];
 
-/// The measured values of a particle in a frame, columns `x1` to `r3` of [`FRAME_COLUMNS`]: its
-/// barycentre, the six independent components of the symmetric V = √(F̄F̄ᵀ) and its semi-axes.
-pub fn frame_measures(p: &CloudPoint) -> [f64; 12] {
+/// The names of the [`frame_measures`]: the columns of [`FRAME_COLUMNS`] between `id` and `flag`.
+pub fn frame_measure_names() -> &'static [&'static str] {
+    &FRAME_COLUMNS[3..FRAME_COLUMNS.len() - 1]
+}
+
+/// The measured values of a particle in a frame ([`frame_measure_names`]): its barycentre, the
+/// nine components of V = √(F̄F̄ᵀ) by rows (symmetric to the last bit, so V21 = V12; kept whole,
+/// as ParaView's tensor glyphs read it) and its semi-axes.
+pub fn frame_measures(p: &CloudPoint) -> [f64; 15] {
     let (v, r) = stretch(&p.f_bar);
     [
         p.x[0],
@@ -206,8 +213,11 @@ pub fn frame_measures(p: &CloudPoint) -> [f64; 12] {
         v[(0, 0)],
         v[(0, 1)],
         v[(0, 2)],
+        v[(1, 0)],
         v[(1, 1)],
         v[(1, 2)],
+        v[(2, 0)],
+        v[(2, 1)],
         v[(2, 2)],
         r[0],
         r[1],

@@ -8,19 +8,13 @@
 //! [`at_time`], beside the columns of a run's tables.
 
 use crate::material::NamedLaw;
-use crate::output::vtk::{CloudPoint, PointValues, PolyData, particle_cloud, stretch, write_pvd};
+use crate::output::vtk::{CloudPoint, PointValues, PolyData, particle_cloud, write_pvd};
 use crate::output::{Csv, OutputError};
-use crate::population::columns::at_time;
+use crate::population::columns::{FRAME_COLUMNS, at_time, frame_measures};
 use crate::population::{ParticleRecord, RunOutput};
 use crate::scene::error::SceneError;
 use crate::tensor::Vec3;
 use std::path::Path;
-
-/// Columns of `frames.csv`: one row per particle per frame, the numbers of the `.vtp` files.
-pub const FRAME_HEADER: [&str; 19] = [
-    "frame", "time", "id", "x1", "x2", "x3", "V11", "V12", "V13", "V21", "V22", "V23", "V31", "V32", "V33", "r1", "r2",
-    "r3", "flag",
-];
 
 /// Columns of `trajectories.csv`: every kept state of every particle.
 pub const TRAJECTORY_HEADER: [&str; 5] = ["id", "t", "x1", "x2", "x3"];
@@ -58,15 +52,13 @@ pub fn write_run(
         return Ok(if cfg!(feature = "parquet") { times.len() } else { 0 });
     }
     let mut index = Vec::with_capacity(times.len());
-    let mut table = Csv::new(&FRAME_HEADER);
+    // One row per particle per frame ([`FRAME_COLUMNS`]), the numbers of the `.vtp` files.
+    let mut table = Csv::new(&FRAME_COLUMNS);
     for (frame, &t) in times.iter().enumerate() {
         let points: Vec<CloudPoint> = at_time(&output.records, t).collect();
         for p in points.iter().filter(|_| csv) {
-            let (v, r) = stretch(&p.f_bar);
             let mut row = vec![frame.to_string(), format!("{t:?}"), p.id.to_string()];
-            row.extend(p.x.iter().map(|c| format!("{c:?}")));
-            row.extend(v.iter().map(|c| format!("{c:?}")));
-            row.extend(r.iter().map(|c| format!("{c:?}")));
+            row.extend(frame_measures(p).iter().map(|c| format!("{c:?}")));
             row.push(p.flag.to_string());
             table.push(row)?;
         }

@@ -4,19 +4,20 @@
 //! bit for bit; a value that does not exist (the patch of a suspended particle, μ_s of a rigid
 //! one) is null.
 //!
-//! The frames keep the six independent components of the symmetric V = √(F̄F̄ᵀ); the frame
-//! index, time, id and flag repeat and compress to a few bits per row. The measured columns
+//! The frames keep the nine components of the symmetric V = √(F̄F̄ᵀ), as `frames.csv` does;
+//! the frame index, time, id and flag repeat and compress to a few bits per row. The measured columns
 //! (position, V, r) rarely repeat, so they skip the dictionary and are written
 //! BYTE_STREAM_SPLIT: the k-th bytes of all values are stored together, which groups the
 //! slowly varying sign, exponent and leading mantissa bytes where Snappy finds them. On the
-//! 400-particle shear run of the README this takes `frames.parquet` from 101 to 71 bytes per
-//! particle-frame.
+//! 400-particle shear run of the README this took `frames.parquet` from 101 to 71 bytes per
+//! particle-frame (measured with V's six independent components, before the three repeated
+//! ones joined).
 
 use crate::material::NamedLaw;
 use crate::material::StressLaw;
 use crate::output::parquet::Table;
 use crate::population::RunOutput;
-use crate::population::columns::{ColumnValues, FRAME_COLUMNS, Row, at_time, frame_measures, record_columns};
+use crate::population::columns::{ColumnValues, Row, at_time, frame_measure_names, frame_measures, record_columns};
 use crate::scene::error::SceneError;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -41,11 +42,11 @@ pub fn write_records<L: StressLaw + Serialize + DeserializeOwned>(
     Ok(t.write(path)?)
 }
 
-/// `frames.parquet`: every particle at every frame time, the columns of [`FRAME_COLUMNS`] (the
-/// numbers of `frames.csv`, V by its six independent components).
+/// `frames.parquet`: every particle at every frame time, the columns of
+/// [`crate::population::columns::FRAME_COLUMNS`] (those of `frames.csv`).
 pub fn write_frames(output: &RunOutput<NamedLaw>, times: &[f64], path: &Path) -> Result<(), SceneError> {
     let (mut frame, mut time, mut id, mut flag) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 12];
+    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); frame_measure_names().len()];
     for (k, &t) in times.iter().enumerate() {
         for p in at_time(&output.records, t) {
             frame.push(k as i64);
@@ -61,7 +62,7 @@ pub fn write_frames(output: &RunOutput<NamedLaw>, times: &[f64], path: &Path) ->
     t.i64("frame", frame);
     t.f64("time", time);
     t.i64("id", id);
-    for (name, c) in FRAME_COLUMNS[3..15].iter().zip(cols) {
+    for (name, c) in frame_measure_names().iter().zip(cols) {
         t.f64_measured(name, c);
     }
     t.i64("flag", flag);

@@ -236,6 +236,52 @@ fn oblate_shear_scene_is_the_library_fig4_run() {
 /// the library's classifier says. The check is on the output times (every 0.1), which can
 /// only miss a trembling episode shorter than 0.1: the classifier's margins at these Ca are
 /// checked to be far from zero.
+/// One frames schema: `frames.csv` and `frames.parquet` of a run hold the same columns
+/// (`population::columns::FRAME_COLUMNS`, V by its nine components) and the same numbers.
+#[cfg(feature = "parquet")]
+#[test]
+fn frames_csv_and_parquet_hold_one_schema() {
+    use arrow_array::{Array, Float64Array, Int64Array};
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    use pseudorigid::population::columns::FRAME_COLUMNS;
+    let s = scene("oblate_shear.toml", &[("t_end = 30.0", "t_end = 3.0")]);
+    let out = run(&s, "cli_frames_schema");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_frames_schema_files");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("vtk")).unwrap();
+    let times = s.frame_times();
+    pseudorigid::scene::frames::write_run(&out, &times, true, true, &dir).unwrap();
+    let text = std::fs::read_to_string(dir.join("frames.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows[0], FRAME_COLUMNS);
+    let file = std::fs::File::open(dir.join("frames.parquet")).unwrap();
+    let batches: Vec<_> = ParquetRecordBatchReaderBuilder::try_new(file)
+        .unwrap()
+        .build()
+        .unwrap()
+        .map(Result::unwrap)
+        .collect();
+    let [table] = batches.as_slice() else {
+        panic!("{} batches", batches.len())
+    };
+    let schema = table.schema();
+    let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+    assert_eq!(names, FRAME_COLUMNS);
+    assert_eq!(table.num_rows(), rows.len() - 1);
+    assert_eq!(table.num_rows(), times.len());
+    for (c, column) in table.columns().iter().enumerate() {
+        let any = column.as_any();
+        for (i, row) in rows[1..].iter().enumerate() {
+            let value = match (any.downcast_ref::<Int64Array>(), any.downcast_ref::<Float64Array>()) {
+                (Some(ints), _) => ints.value(i).to_string(),
+                (_, Some(reals)) => format!("{:?}", reals.value(i)),
+                _ => panic!("column {}: {:?}", FRAME_COLUMNS[c], column.data_type()),
+            };
+            assert_eq!(value, row[c], "row {i}, column {}", FRAME_COLUMNS[c]);
+        }
+    }
+}
+
 #[test]
 fn phase_boundary_scene_brackets_the_boundary() {
     let s = scene("phase_boundary.toml", &[("[output]\n", "[output]\nvtk = false\n")]);
