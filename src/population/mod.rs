@@ -52,6 +52,7 @@
 //! plan (a particle's fate would depend on the machine's load), and an [`Injector::draw`] that
 //! reads anything but its arguments.
 
+#[cfg(feature = "mesh")]
 pub mod adequacy;
 pub mod batch;
 pub mod binomial;

@@ -1,5 +1,6 @@
 //! The population runner (src/population).
 
+#[cfg(feature = "mesh")]
 mod adequacy;
 mod batch;
 mod binomial;
