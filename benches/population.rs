@@ -15,7 +15,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use pseudorigid::driver::{Budget, Plan};
 use pseudorigid::integrator::Stokesian;
 use pseudorigid::population::settling_pipe::SettlingPipe;
-use pseudorigid::population::{Case, ParticleRecord, RunConfig, RunOptions, Shard, run};
+use pseudorigid::population::{Case, Fingerprint, ParticleRecord, RunOptions, Shard, run};
 use pseudorigid::prelude::*;
 use rayon::prelude::*;
 
@@ -37,11 +37,7 @@ fn runner(c: &mut Criterion) {
         wall_time: None,
     });
     let case = Case::new(&stokes, pipe.flow(), pipe.boundary(), &pipe, plan);
-    let config = RunConfig {
-        seed: 1,
-        particles: n,
-        fingerprint: pipe.fingerprint(),
-    };
+    let config = Fingerprint::new("population bench").particles(&pipe).config(1, n);
     let quiet = RunOptions::default().quiet();
     let probe = run(&case, &config, Shard::ALL, &quiet).unwrap();
     let steps: u64 = probe.records.iter().map(|r| r.stats.steps).sum();

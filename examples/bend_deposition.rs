@@ -24,7 +24,7 @@
 //! de_stderr,reference_de`), `fates.csv` (every fate per Stk) and `deposition.svg` to
 //! `paper-figures/bend/`, or to the folder `$BEND_OUT` if set (the CI check's reduced study).
 
-use pseudorigid::population::peer::Pairing;
+use pseudorigid::population::peer::{Pairing, paired_with_peer};
 use pseudorigid::population::{Fate, RunOptions};
 use pseudorigid::studies::bend::{
     BendCase, SEED, Settings, deposition_figure, deposition_table, on_bend_wall, peer_on_bend_wall,
@@ -176,11 +176,7 @@ fn compare_with_openfoam(
     let mut pairing = Pairing::default();
     let mut counts = [0u64; 8];
     let mut pairs = String::from("index,ours,ours_patch,openfoam,openfoam_patch,openfoam_t\n");
-    for r in &ours.records {
-        let p = peer
-            .fates
-            .get(&r.index)
-            .ok_or_else(|| format!("particle {} missing from fates.csv", r.index))?;
+    for (r, p) in paired_with_peer(&ours.records, &peer.fates)? {
         let patch = r.fate.patch().map_or("", |i| ours.patches[i].as_str());
         let ours_bend = on_bend_wall(r, &ours.patches);
         let peer_bend = peer_on_bend_wall(p);

@@ -14,6 +14,7 @@
 //! run that fills the mesh's clearance grid).
 
 use pseudorigid::driver::Plan;
+use pseudorigid::error::ParamError;
 use pseudorigid::error::StepError;
 use pseudorigid::flow::FlowField;
 use pseudorigid::hydro::DragModel;
@@ -24,7 +25,7 @@ use pseudorigid::material::Response;
 use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::particle::{Particle, State};
 use pseudorigid::population::progress::process_cpu_seconds;
-use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, RunOutput, Shard, run};
+use pseudorigid::population::{Case, Fate, Fingerprint, RunOptions, RunOutput, Shard, paired, run};
 use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, study};
 use pseudorigid::studies::particles::Shape;
 use pseudorigid::tensor::Mat3;
@@ -45,11 +46,9 @@ where
     let injection = Injection::new(airway, kind)?;
     let plan: Plan = study::plan(airway)?.with_outputs(times)?;
     let case = Case::new(integ, airway.flow(), airway.boundary(), &injection, plan).with_samples();
-    let config = RunConfig {
-        seed,
-        particles: n,
-        fingerprint: format!("manifold_bifurcation {kind:?}"),
-    };
+    let config = Fingerprint::new("manifold_bifurcation")
+        .particles(&kind)
+        .config(seed, n);
     let before = process_cpu_seconds().unwrap_or(f64::NAN);
     let out = run(&case, &config, Shard::ALL, &RunOptions::default().serial())?;
     Ok((out, process_cpu_seconds().unwrap_or(f64::NAN) - before))
@@ -139,12 +138,11 @@ impl TimeIntegrator for Tallied {
 
 /// Paired comparison of `run` against `reference`: fates changed, and |B − B_ref| (max,
 /// median) and |x − x_ref| (max) over the common samples.
-fn paired(run: &RunOutput<NeoHooke>, reference: &RunOutput<NeoHooke>) -> (usize, f64, f64, f64) {
+fn compare(run: &RunOutput<NeoHooke>, reference: &RunOutput<NeoHooke>) -> Result<(usize, f64, f64, f64), ParamError> {
     let mut changed = 0;
     let mut db = Vec::new();
     let mut dx: f64 = 0.0;
-    for (a, b) in reference.records.iter().zip(&run.records) {
-        assert_eq!(a.index, b.index);
+    for (a, b) in paired(&reference.records, &run.records)? {
         if fate_code(&a.fate) != fate_code(&b.fate) {
             changed += 1;
         }
@@ -157,12 +155,12 @@ fn paired(run: &RunOutput<NeoHooke>, reference: &RunOutput<NeoHooke>) -> (usize,
         }
     }
     db.sort_by(f64::total_cmp);
-    (
+    Ok((
         changed,
         db.last().copied().unwrap_or(0.0),
         db.get(db.len() / 2).copied().unwrap_or(0.0),
         dx,
-    )
+    ))
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -246,7 +244,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let full_name = format!("full {}", frame.name());
             let manifold_name = format!("manifold {}", frame.name());
             for (model, out, steps, cpu) in [(&full_name, &of, sf, cf), (&manifold_name, &om, sm, cm)] {
-                let (changed, max_db, median_db, dx) = paired(out, &or);
+                let (changed, max_db, median_db, dx) = compare(out, &or)?;
                 println!(
                     "  {model} against the reference ({sr} steps): {changed} of {n} fates changed; |B - B_ref| max {max_db:.3e}, median {median_db:.3e}; |x - x_ref| max {dx:.3e} m; reference max |B - 1| {b_dev:.3e}"
                 );

@@ -22,8 +22,9 @@
 use pseudorigid::flow::FlowField;
 use pseudorigid::flow::openfoam::OctreeFlow;
 use pseudorigid::flow::openfoam::octree::Options;
+use pseudorigid::material::NeoHooke;
 use pseudorigid::population::peer::Pairing;
-use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, Shard, run};
+use pseudorigid::population::{Case, Fate, Fingerprint, ParticleRecord, RunConfig, RunOptions, Shard, run};
 use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, figures, study};
 use pseudorigid::studies::cavity::Shape;
 use std::time::Instant;
@@ -74,59 +75,58 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     };
-    let config = RunConfig {
-        seed: figures::SEED,
-        particles: n,
-        fingerprint: "octree_fates".into(),
-    };
+    let config = Fingerprint::new("octree_fates").config(figures::SEED, n);
     let blend = fates(&airway, airway.flow(), kind, &config, "blend")?;
     let tabulated = fates(&airway, &table, kind, &config, "table")?;
-    paired(&tabulated, &blend, "DE table − blend");
+    paired(&tabulated, &blend, "DE table − blend")?;
     if let Some(dir) = args.get(7) {
         let fine = Airway::open(dir)?;
         let finer = fates(&fine, fine.flow(), kind, &config, &format!("blend of {dir}"))?;
-        paired(&blend, &finer, "DE blend − fine blend");
-        paired(&tabulated, &finer, "DE table − fine blend");
+        paired(&blend, &finer, "DE blend − fine blend")?;
+        paired(&tabulated, &finer, "DE table − fine blend")?;
     }
     Ok(())
 }
 
-/// Whether each particle of `config` deposits on `field` in `airway` (the studies' integrator,
-/// injection, contact and plan, one thread), with the run's time and steps printed.
+/// The records of the particles of `config` on `field` in `airway` (the studies' integrator,
+/// injection, contact and plan, one thread), with the run's time, steps and deposits printed.
 fn fates(
     airway: &Airway,
     field: &dyn FlowField,
     kind: Kind,
     config: &RunConfig,
     name: &str,
-) -> Result<Vec<bool>, Box<dyn std::error::Error>> {
+) -> Result<Vec<ParticleRecord<NeoHooke>>, Box<dyn std::error::Error>> {
     let integ = study::integrator(airway, kind)?.integrator;
     let injection = Injection::new(airway, kind)?;
     let case = Case::new(&integ, field, airway.boundary(), &injection, study::plan(airway)?);
     let start = Instant::now();
     let out = run(&case, config, Shard::ALL, &RunOptions::default().serial().quiet())?;
     let steps: u64 = out.records.iter().map(|r| r.stats.steps).sum();
-    let fates: Vec<bool> = out
-        .records
-        .iter()
-        .map(|r| matches!(r.fate, Fate::Deposited { .. }))
-        .collect();
     println!(
         "{name}: {:.1} s, {steps} steps, {} of {} deposited",
         start.elapsed().as_secs_f64(),
-        fates.iter().filter(|d| **d).count(),
+        out.records
+            .iter()
+            .filter(|r| matches!(r.fate, Fate::Deposited { .. }))
+            .count(),
         config.particles
     );
-    Ok(fates)
+    Ok(out.records)
 }
 
 /// The paired difference of DE, `ours` − `reference`, over the same particles (McNemar's
 /// standard error), printed with the counts deposited by one only.
-fn paired(ours: &[bool], reference: &[bool], label: &str) {
-    let pairing: Pairing = ours.iter().copied().zip(reference.iter().copied()).collect();
+fn paired(
+    ours: &[ParticleRecord<NeoHooke>],
+    reference: &[ParticleRecord<NeoHooke>],
+    label: &str,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let pairing = Pairing::of_records(ours, reference)?;
     let (difference, se) = pairing.difference();
     println!(
         "paired: {label} {difference:+.4} ± {se:.4} ({} / {} deposited by one only)",
         pairing.only_ours, pairing.only_peer
     );
+    Ok(())
 }

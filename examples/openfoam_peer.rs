@@ -79,8 +79,8 @@ use pseudorigid::contact::ContactModel;
 use pseudorigid::material::NeoHooke;
 use pseudorigid::output::paper_figure_path;
 use pseudorigid::population::binomial::Pairing;
-use pseudorigid::population::peer::PeerFate;
-use pseudorigid::population::{Case, Fate, RunConfig, RunOptions, RunOutput, Shard, run};
+use pseudorigid::population::peer::{PeerFate, paired_with_peer};
+use pseudorigid::population::{Case, Fate, Fingerprint, RunOptions, RunOutput, Shard, run};
 use pseudorigid::studies::airway_tree::{self, AirwayTree, Generations};
 use pseudorigid::studies::bifurcation::setup::{GRAVITY, NU, RHO_FLUID, rho_particle};
 use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, StudyRun, figures, study};
@@ -197,11 +197,7 @@ impl Setup {
             Some(observer) => case.with_observer(observer),
             None => case,
         };
-        let config = RunConfig {
-            seed: figures::SEED,
-            particles: n,
-            fingerprint: "openfoam_peer, point contact".into(),
-        };
+        let config = Fingerprint::new("openfoam_peer").config(figures::SEED, n);
         Ok(run(&case, &config, Shard::ALL, &options)?)
     }
 }
@@ -226,10 +222,7 @@ fn pairs_csv(ours: &RunOutput<NeoHooke>, peer: &HashMap<u64, PeerFate>) -> Resul
     let mut pairs = String::from(
         "index,ours,ours_patch,ours_t,ours_x,ours_y,ours_z,openfoam,openfoam_patch,openfoam_t,openfoam_x,openfoam_y,openfoam_z\n",
     );
-    for r in &ours.records {
-        let p = peer
-            .get(&r.index)
-            .ok_or_else(|| format!("particle {} missing from fates.csv", r.index))?;
+    for (r, p) in paired_with_peer(&ours.records, peer)? {
         let patch = r.fate.patch().map_or(String::new(), |i| ours.patches[i].clone());
         let (t, x) = match &r.fate {
             Fate::Deposited { position, time, .. } => (
@@ -306,8 +299,7 @@ fn bifurcation_row(c: &Compared, check: bool) -> Result<Vec<String>, Error> {
     let (mut o_esc, mut o_sus, mut o_fail) = (0u64, 0u64, 0u64);
     let (mut f_esc, mut f_sus, mut f_not) = (0u64, 0u64, 0u64);
     let mut pairing = Pairing::default();
-    for r in &c.ours.records {
-        let p = &c.peer[&r.index];
+    for (r, p) in paired_with_peer(&c.ours.records, c.peer)? {
         pairing.add(matches!(r.fate, Fate::Deposited { .. }), p.fate == "deposited");
         match r.fate {
             Fate::Escaped { .. } => o_esc += 1,

@@ -35,7 +35,7 @@
 //! [`SIGMAS`] paired standard errors from [`SOFT_GAP`].
 
 use pseudorigid::population::peer::Pairing;
-use pseudorigid::population::{Fate, RunOptions, Shard};
+use pseudorigid::population::{Fate, RunOptions, Shard, paired};
 use pseudorigid::scene::run::Job;
 use pseudorigid::studies::bend::{BendCase, SEED, Settings, integrator_name, on_bend_wall, peer_on_bend_wall};
 use pseudorigid::studies::peer::{CpuSplit, Entrant, RaceRow, race_csv, race_markdown, timed};
@@ -237,13 +237,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     md.push_str(&race_markdown(&rows));
     // Soft against rigid, sphere by sphere (the same injection).
-    let soft_pairing = runs.iter().find(|(_, s, _)| s.is_some()).map(|(_, _, soft)| {
-        let mut pairing = Pairing::default();
-        for (a, b) in soft.records.iter().zip(&runs[0].2.records) {
-            pairing.add(on_bend_wall(a, &soft.patches), on_bend_wall(b, &runs[0].2.patches));
-        }
-        pairing
-    });
+    let rigid = &runs[0].2;
+    let soft_pairing = match runs.iter().find(|(_, s, _)| s.is_some()) {
+        Some((_, _, soft)) => Some(
+            paired(&soft.records, &rigid.records)?
+                .map(|(a, b)| (on_bend_wall(a, &soft.patches), on_bend_wall(b, &rigid.patches)))
+                .collect::<Pairing>(),
+        ),
+        None => None,
+    };
     if let Some(p) = soft_pairing {
         let (diff, se) = p.difference();
         writeln!(
@@ -299,12 +301,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let (_, _, first) = &runs[0];
         for (t, soft, other) in &runs[1..] {
             if soft.is_none() {
-                let same = first.records.len() == other.records.len()
-                    && first
-                        .records
-                        .iter()
-                        .zip(&other.records)
-                        .all(|(a, b)| a.fate == b.fate && a.stats == b.stats);
+                let same = paired(&first.records, &other.records)
+                    .is_ok_and(|mut pairs| pairs.all(|(a, b)| a.fate == b.fate && a.stats == b.stats));
                 if !same {
                     failures.push(format!(
                         "rigid spheres on {t} threads differ from {} thread(s)",

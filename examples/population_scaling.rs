@@ -31,7 +31,7 @@ use pseudorigid::material::NeoHooke;
 use pseudorigid::population::binomial::Pairing;
 use pseudorigid::population::progress::{process_cpu_seconds, process_resident_bytes};
 use pseudorigid::population::settling_pipe::SettlingPipe;
-use pseudorigid::population::{Case, ParticleRecord, RunConfig, RunOptions, RunOutput, Shard, run};
+use pseudorigid::population::{Case, Fingerprint, ParticleRecord, RunOptions, RunOutput, Shard, run};
 use pseudorigid::studies::bifurcation::{Airway, Kind, Material, study};
 use pseudorigid::studies::cavity::Shape;
 use std::time::Instant;
@@ -93,11 +93,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             })
         }
         _ => Box::new(|n| {
-            let config = RunConfig {
-                seed: 1,
-                particles: n,
-                fingerprint: pipe.fingerprint(),
-            };
+            let config = Fingerprint::new("population_scaling").particles(&pipe).config(1, n);
             run(&case, &config, Shard::ALL, &RunOptions::default().quiet()).map_err(|e| e.to_string())
         }),
     };

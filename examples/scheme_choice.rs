@@ -17,7 +17,7 @@
 //! Run: `cargo run --release --example scheme_choice`
 
 use pseudorigid::integrator::{Scheme, Stokesian, Tolerances};
-use pseudorigid::population::{Case, RunConfig, RunOptions, Shard, run};
+use pseudorigid::population::{Case, Fingerprint, RunOptions, Shard, run};
 use pseudorigid::studies::bifurcation::{Airway, Injection, Kind, Material, figures, study};
 use pseudorigid::studies::cavity::{Cavity, Contact, Launch, Shape, Tracking};
 use pseudorigid::studies::pipe::{Deformability, PipeCase, sample_orientation, track_to_deposition};
@@ -164,11 +164,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                 &injection,
                 study::plan(airway)?,
             );
-            let config = RunConfig {
-                seed: figures::SEED,
-                particles: 1,
-                fingerprint: "scheme_choice".into(),
-            };
+            let config = Fingerprint::new("scheme_choice").config(figures::SEED, 1);
             let out = run(&case, &config, Shard::ALL, &RunOptions::default().quiet())?;
             let r = &out.records[0];
             let x = r.end.ok_or("no end state")?.x;

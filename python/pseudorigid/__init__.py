@@ -46,6 +46,7 @@ __all__ = [
     "run",
     "run_in_memory",
     "load_results",
+    "adequacy",
     "integrate",
     "PseudorigidError",
     "ParameterError",
@@ -129,7 +130,8 @@ class Results:
         group's largest semi-axis and stopping distance), ``sensitivity`` (the first
         ``output.adequacy_sample`` particles re-tracked on the other reconstruction of the
         field, paired with the run), ``skipped`` and ``log`` (the command's lines). None for a
-        run in memory, a shard (``merge`` re-tracks) or an analytic flow."""
+        run in memory (:func:`adequacy` computes it), a shard (``merge`` re-tracks) or an
+        analytic flow."""
         return self._adequacy
 
     @property
@@ -249,12 +251,30 @@ def _adequacy(out: PathLike, shard: Optional[Tuple[int, int]]) -> Optional[Dict[
     if shard is not None or not os.path.exists(path):
         return None
     with open(path, encoding="utf-8") as f:
-        adequacy: Dict[str, Any] = json.load(f)
-    for line in adequacy.get("log", []):
+        found: Dict[str, Any] = json.load(f)
+    # Through _warn, _adequacy and run to the caller's line.
+    return _warn(found, stacklevel=4)
+
+
+def _warn(diagnostic: Dict[str, Any], stacklevel: int) -> Dict[str, Any]:
+    """`diagnostic`, its ``warning:`` lines raised as :class:`RuntimeWarning`."""
+    for line in diagnostic.get("log", []):
         if line.startswith("warning: "):
-            # Through _adequacy and run to the caller's line.
-            warnings.warn(line[len("warning: ") :], RuntimeWarning, stacklevel=3)
-    return adequacy
+            warnings.warn(line[len("warning: ") :], RuntimeWarning, stacklevel=stacklevel)
+    return diagnostic
+
+
+def adequacy(scene: Union["Scene", PathLike, Mapping[str, Any]], results: Results) -> Optional[Dict[str, Any]]:
+    """The mesh-adequacy diagnostic of ``scene``'s whole run ``results`` (a
+    :func:`run_in_memory`, or one read back by :func:`load_results`), computed by the library
+    as the command computes its ``adequacy.json``: the same dict as :attr:`Results.adequacy`
+    of a :func:`run` into a folder, its warning lines raised as :class:`RuntimeWarning`. The
+    first ``output.adequacy_sample`` particles are re-tracked. None on an analytic flow."""
+    text = _native.adequacy(_scene(scene), results._native)
+    if text is None:
+        return None
+    # Through _warn and adequacy to the caller's line.
+    return _warn(json.loads(text), stacklevel=3)
 
 
 def run_in_memory(

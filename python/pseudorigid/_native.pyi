@@ -9,7 +9,7 @@ import numpy.typing as npt
 _Path = Union[str, "os.PathLike[str]"]
 
 __version__: str
-__all__ = ["Scene", "Results", "FoamFlow", "run", "run_in_memory", "load_results", "__version__"]
+__all__ = ["Scene", "Results", "FoamFlow", "run", "run_in_memory", "load_results", "adequacy", "__version__"]
 
 @final
 class Scene:
@@ -72,3 +72,4 @@ def run_in_memory(
     progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Results: ...
 def load_results(out: _Path, scene: Optional[Scene] = None, shard: Optional[Tuple[int, int]] = None) -> Results: ...
+def adequacy(scene: Scene, results: Results) -> Optional[str]: ...

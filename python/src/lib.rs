@@ -3,6 +3,7 @@
 //! `flow::openfoam`); these modules only convert between Python and Rust values and map the
 //! library's typed errors onto the Python exceptions of `pseudorigid.errors`.
 
+mod adequacy;
 mod drive;
 mod errors;
 mod foam;
@@ -22,6 +23,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(runs::run, m)?)?;
     m.add_function(wrap_pyfunction!(runs::run_in_memory, m)?)?;
     m.add_function(wrap_pyfunction!(runs::load_results, m)?)?;
+    m.add_function(wrap_pyfunction!(adequacy::adequacy, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

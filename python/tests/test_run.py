@@ -86,9 +86,15 @@ def test_adequacy_is_the_commands_file(tmp_path, cli, root, small_scene):
     assert any(line.startswith("note: adequacy: the first 20 particles re-tracked") for line in expected["log"])
     warned = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
     assert warned == [line[len("warning: ") :] for line in expected["log"] if line.startswith("warning: ")]
+    # The library's diagnostic from Python, of the run read back: the command's file.
+    with warnings.catch_warnings(record=True) as again:
+        warnings.simplefilter("always")
+        assert pr.adequacy(scene_file, pr.load_results(tmp_path / "py")) == expected
+    assert [str(w.message) for w in again if issubclass(w.category, RuntimeWarning)] == warned
     (tmp_path / "shear").mkdir()
     (tmp_path / "shear" / "adequacy.json").write_text(json.dumps(expected))
     assert pr.run(pr.Scene.from_dict(small_scene), tmp_path / "shear").adequacy is None
+    assert pr.adequacy(small_scene, pr.run_in_memory(small_scene)) is None
     assert not (tmp_path / "shear" / "adequacy.json").exists()
 
 

@@ -35,7 +35,7 @@ use super::record::ParticleRecord;
 use super::runner::{RunOptions, patch_names};
 use super::shard::Shard;
 use super::spec::Injector;
-use super::{FORMAT, PopulationError};
+use super::{FORMAT, Fingerprint, PopulationError};
 use crate::contact::{Boundary, ContactModel};
 use crate::driver::Plan;
 use crate::error::FlowError;
@@ -147,10 +147,9 @@ where
 /// checkpoints carry: the cuts change the landing steps, so the windows are part of what
 /// determines the records (a merge of a batch run's shards checks against it).
 pub fn batch_config(config: &RunConfig, windows: &[f64]) -> RunConfig {
-    RunConfig {
-        fingerprint: format!("{}; batch windows {windows:?}", config.fingerprint),
-        ..config.clone()
-    }
+    Fingerprint::of(config)
+        .with("batch windows", windows)
+        .config(config.seed, config.particles)
 }
 
 /// A particle launched ([`Case::launch`]), or its record if it could not be.

@@ -138,6 +138,32 @@ mod tests {
     }
 }
 
+/// The records of two runs of the same particles, paired by index: the one place two runs
+/// are matched particle by particle (count them with [`Pairing`], or compare anything else of
+/// each pair). An error unless both hold the same particles in the same order.
+pub fn paired<'a, M>(
+    first: &'a [ParticleRecord<M>],
+    second: &'a [ParticleRecord<M>],
+) -> Result<impl Iterator<Item = (&'a ParticleRecord<M>, &'a ParticleRecord<M>)>, ParamError> {
+    if first.len() != second.len() {
+        return Err(ParamError::OutOfRange {
+            name: "records of the second run (the first run's count)",
+            value: second.len() as f64,
+            min: first.len() as f64,
+            max: first.len() as f64,
+        });
+    }
+    if let Some((a, b)) = first.iter().zip(second).find(|(a, b)| a.index != b.index) {
+        return Err(ParamError::OutOfRange {
+            name: "particle index of the second run (the first run's)",
+            value: b.index as f64,
+            min: a.index as f64,
+            max: a.index as f64,
+        });
+    }
+    Ok(first.iter().zip(second))
+}
+
 /// The 2×2 table of deposition in two runs of the same particles: the first run (`ours`) and
 /// the second (`peer`: another tracker, field, model or mesh). The one place pairs are
 /// counted: from booleans ([`Pairing::add`], or collected from `(first, second)` pairs) or
@@ -157,33 +183,12 @@ pub struct Pairing {
 impl Pairing {
     /// The two runs' records of the same particles, paired by index: deposited
     /// ([`Fate::Deposited`]) in the first, in the second. An error unless both hold the same
-    /// particles in the same order.
+    /// particles in the same order ([`paired`]).
     pub fn of_records<M>(first: &[ParticleRecord<M>], second: &[ParticleRecord<M>]) -> Result<Self, ParamError> {
-        if first.len() != second.len() {
-            return Err(ParamError::OutOfRange {
-                name: "records of the second run (the first run's count)",
-                value: second.len() as f64,
-                min: first.len() as f64,
-                max: first.len() as f64,
-            });
-        }
         let deposited = |r: &ParticleRecord<M>| matches!(r.fate, Fate::Deposited { .. });
-        first
-            .iter()
-            .zip(second)
-            .map(|(a, b)| {
-                if a.index == b.index {
-                    Ok((deposited(a), deposited(b)))
-                } else {
-                    Err(ParamError::OutOfRange {
-                        name: "particle index of the second run (the first run's)",
-                        value: b.index as f64,
-                        min: a.index as f64,
-                        max: a.index as f64,
-                    })
-                }
-            })
-            .collect()
+        Ok(paired(first, second)?
+            .map(|(a, b)| (deposited(a), deposited(b)))
+            .collect())
     }
 
     /// Add one particle: deposited by us, by the peer.

@@ -489,7 +489,7 @@ impl<J: Injector, M> InFlight<J, M> {
 }
 
 /// What identifies a run: its seed, its number of particles and a fingerprint of everything
-/// else that determines the results.
+/// else that determines the results. Built by [`super::Fingerprint`] from typed parts.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RunConfig {
     /// Run seed s; particle k draws from [`super::particle_rng`]`(s, k)`.

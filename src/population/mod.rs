@@ -11,7 +11,7 @@
 //! }
 //! let boundary = contact::Composite::new(outlet_planes, walls);          // or a MeshBoundary
 //! let case = Case::new(&integrator, &flow, &boundary, &injector, plan);   // case.rs
-//! let config = RunConfig { seed, particles: n, fingerprint: scene_text };
+//! let config = Fingerprint::new("my study").particles(&kind).flow(&flow).config(seed, n);
 //! let shard = Shard::from_env()?.unwrap_or(Shard::ALL);                   // or "k/N".parse()
 //! let options = RunOptions::default().resume(true);                      // runner.rs
 //! let result = run_in_dir(&case, &config, shard, &out, &options)?;       // the checkpoint only
@@ -25,6 +25,8 @@
 //! - [`sampling`]: uniform points on a disc, uniform rotations;
 //! - [`case`]: [`Case`] (integrator, flow, boundary, injector, plan, contact model),
 //!   [`Case::run_particle`], [`RunConfig`] and the configuration hash;
+//! - [`fingerprint`]: [`Fingerprint`], the builder of a [`RunConfig`] from typed parts (the
+//!   study's name, the particles' parameters, the [`Identity`] of the flow and the boundary);
 //! - [`observe`]: an [`Observer`] of every particle's run, whose summary the record keeps
 //!   (a scene's per-run columns);
 //! - [`record`]: [`Fate`] (deposited, escaped, suspended, failed), [`ParticleRecord`];
@@ -59,6 +61,7 @@ pub mod binomial;
 pub mod case;
 pub mod checkpoint;
 pub mod columns;
+pub mod fingerprint;
 pub mod gci;
 pub mod mesh_study;
 pub mod observe;
@@ -75,7 +78,9 @@ pub mod settling_pipe;
 pub mod shard;
 pub mod spec;
 
+pub use binomial::paired;
 pub use case::{Case, CaseObserver, RunConfig};
+pub use fingerprint::{Fingerprint, Identity};
 pub use observe::{Observer, Watch};
 pub use output::{Computed, RunOutput, checkpoint_dir};
 pub use progress::Progress;

@@ -8,6 +8,7 @@
 //! (McNemar 1947; [`Pairing`] and its [`crate::population::binomial::PairedFates`], the one
 //! place these are counted and computed).
 
+use crate::population::ParticleRecord;
 pub use crate::population::binomial::Pairing;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -32,6 +33,27 @@ pub enum PeerError {
         /// What is wrong.
         reason: String,
     },
+}
+
+/// A particle of ours the peer has no fate for ([`paired_with_peer`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+#[error("particle {index} is missing from the peer's fates")]
+pub struct MissingFate {
+    /// The particle's index.
+    pub index: u64,
+}
+
+/// Our records paired with the peer's fates of the same particles, by index: the one place
+/// our run is matched with a peer's particle by particle. An error for the first particle
+/// of ours the peer has no fate for.
+pub fn paired_with_peer<'a, M>(
+    records: &'a [ParticleRecord<M>],
+    peer: &'a HashMap<u64, PeerFate>,
+) -> Result<Vec<(&'a ParticleRecord<M>, &'a PeerFate)>, MissingFate> {
+    records
+        .iter()
+        .map(|r| peer.get(&r.index).map(|p| (r, p)).ok_or(MissingFate { index: r.index }))
+        .collect()
 }
 
 /// One particle's fate in the peer: `fate`, the patch met (empty if none), time and point as

@@ -129,11 +129,6 @@ impl SettlingPipe {
     pub fn settling_velocity(&self) -> f64 {
         self.settling_velocity
     }
-
-    /// A text that determines the population (for [`super::RunConfig::fingerprint`]).
-    pub fn fingerprint(&self) -> String {
-        format!("{self:?}")
-    }
 }
 
 impl Injector for SettlingPipe {

@@ -6,7 +6,6 @@
 //! sliding field: not implemented).
 
 use crate::material::NamedLaw;
-use crate::population::Case;
 use crate::population::ParticleRecord;
 use crate::population::adequacy::sensitivity;
 pub use crate::population::adequacy::{
@@ -216,16 +215,21 @@ impl Adequacy {
         lines.into_iter().map(|l| l + "\n").collect()
     }
 
-    /// Write it as JSON to `dir`/[`FILE`] (atomically), with the run log's lines ([`Self::log`])
-    /// under `log`, so a reader of the file (Python's `Results.adequacy`) shows the same words.
-    pub fn write(&self, dir: &Path) -> Result<(), SceneError> {
+    /// The text of [`FILE`]: pretty JSON of the diagnostic with the run log's lines
+    /// ([`Self::log`]) under `log`, so a reader (Python's `Results.adequacy` and `adequacy`)
+    /// shows the same words.
+    pub fn json(&self) -> Result<String, SceneError> {
         let mut value = serde_json::to_value(self).map_err(|e| SceneError::Input(format!("{FILE}: {e}")))?;
         if let serde_json::Value::Object(map) = &mut value {
             let lines = self.log().lines().map(serde_json::Value::from).collect();
             map.insert("log".into(), serde_json::Value::Array(lines));
         }
-        let json = serde_json::to_vec_pretty(&value).map_err(|e| SceneError::Input(format!("{FILE}: {e}")))?;
-        crate::output::atomic::write_atomic(dir.join(FILE), &json)?;
+        serde_json::to_string_pretty(&value).map_err(|e| SceneError::Input(format!("{FILE}: {e}")))
+    }
+
+    /// Write it to `dir`/[`FILE`] (atomically) as [`Self::json`].
+    pub fn write(&self, dir: &Path) -> Result<(), SceneError> {
+        crate::output::atomic::write_atomic(dir.join(FILE), self.json()?.as_bytes())?;
         Ok(())
     }
 }
@@ -264,14 +268,7 @@ pub fn adequacy(
         None => (None, Some(Skipped::Transient)),
         Some(run_on) => {
             let injector = scene.injector();
-            let case = Case::new(
-                &scene.integrator,
-                &scene.flow,
-                &scene.boundary,
-                &injector,
-                scene.plan.clone(),
-            )
-            .with_contact(scene.contact);
+            let case = scene.case(&injector);
             let s = sensitivity(&case, scene.seed, run_on, records, scene.adequacy_sample)?;
             (Some(s), None)
         }

@@ -264,6 +264,23 @@ impl Scene {
         SceneInjector::new(&self.template, &self.particles, &self.flow)
     }
 
+    /// The population case of a steady run of this scene with `injector` ([`Self::injector`]):
+    /// its integrator, flow, boundary, plan and contact model (the run adds the samples, the
+    /// adequacy re-track does not).
+    pub fn case<'a>(
+        &'a self,
+        injector: &'a SceneInjector<'a>,
+    ) -> crate::population::Case<'a, SceneIntegrator, SceneFlow, SceneBoundary, SceneInjector<'a>> {
+        crate::population::Case::new(
+            &self.integrator,
+            &self.flow,
+            &self.boundary,
+            injector,
+            self.plan.clone(),
+        )
+        .with_contact(self.contact)
+    }
+
     /// Each list entry and injection group with its scene-file key.
     pub(crate) fn placements(&self) -> Vec<(String, &Placement)> {
         match &self.particles {

@@ -224,6 +224,13 @@ impl SceneFlow {
     }
 }
 
+impl crate::population::Identity for SceneFlow {
+    /// [`SceneFlow::fingerprint`].
+    fn identity(&self) -> String {
+        self.fingerprint()
+    }
+}
+
 impl SceneBoundary {
     /// What identifies the boundary for a run's configuration hash: walls' parameters in
     /// their `Debug` form, a mesh boundary's patches and mesh content
@@ -235,6 +242,13 @@ impl SceneBoundary {
             SceneBoundary::Planes(b) => format!("{b:?}"),
             SceneBoundary::Mesh(b) => b.fingerprint().to_string(),
         }
+    }
+}
+
+impl crate::population::Identity for SceneBoundary {
+    /// [`SceneBoundary::fingerprint`].
+    fn identity(&self) -> String {
+        self.fingerprint()
     }
 }
 

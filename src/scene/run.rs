@@ -4,8 +4,8 @@
 use crate::material::NamedLaw;
 use crate::population::batch::{Batch, Sliding, batch_config, run_batch};
 use crate::population::{
-    CHECKPOINT_INTERVAL, Case, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir,
-    run_in_dir,
+    CHECKPOINT_INTERVAL, Fingerprint, PopulationError, Progress, RunConfig, RunOptions, RunOutput, Shard,
+    checkpoint_dir, run_in_dir,
 };
 use crate::scene::Scene;
 use crate::scene::adequacy::{Adequacy, adequacy};
@@ -48,16 +48,10 @@ impl Scene {
     /// the scene text names an OpenFOAM case by path and time, which may hold another field
     /// by the next run; the fingerprints say what was read.
     pub fn config(&self) -> RunConfig {
-        RunConfig {
-            seed: self.seed,
-            particles: self.count(),
-            fingerprint: format!(
-                "{}\nflow: {}\nboundary: {}",
-                self.text,
-                self.flow.fingerprint(),
-                self.boundary.fingerprint()
-            ),
-        }
+        Fingerprint::new(self.text.as_str())
+            .flow(&self.flow)
+            .boundary(&self.boundary)
+            .config(self.seed, self.count())
     }
 
     /// Output times of the frames: the start and every output time.
@@ -73,15 +67,7 @@ impl Scene {
             return self.batch_population(field, job);
         }
         let injector = self.injector();
-        let case = Case::new(
-            &self.integrator,
-            &self.flow,
-            &self.boundary,
-            &injector,
-            self.plan.clone(),
-        )
-        .with_contact(self.contact)
-        .with_samples();
+        let case = self.case(&injector).with_samples();
         let config = self.config();
         match job {
             Job::Run { shard, options, dir } => Ok(run_in_dir(&case, &config, *shard, dir, options)?),

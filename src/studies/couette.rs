@@ -30,7 +30,8 @@
 //! - *the rigid motion at the face centres* (what a solver's `rotatingWallVelocity` holds):
 //!   W is rigid, but the exact cell values are those of a wall σ_f above the facet, so the
 //!   shear is off by σ_f/ρ, O(h), and O(1) in thin layers (σ_f/ρ up to 0.75 at level 0 with
-//!   5 layers; ∇u at half the first cell 0.37, 0.12, 0.065 of |∇u|max, measured 2026-12-02);
+//!   5 layers; ∇u at half the first cell 0.37, 0.12, 0.065 of |∇u|max,
+//!   `paper-figures/near-wall/NOTES.md`, What it shows);
 //! - *the exact field at the face's point on the cylinder*, where the solution is defined:
 //!   $Ω R_1 e_θ$ is not rigid at the face centres either (by Ω σ_f), so both defects remain,
 //!   each smaller.

@@ -42,7 +42,7 @@
 //! - **paired fates** against OpenFOAM ([`Pairing`]): both, ours only, OpenFOAM only,
 //!   neither; the paired difference DE_ours − DE_openfoam with its McNemar standard error.
 
-use crate::population::peer::{Pairing, PeerError, PeerFate, read_peer_fates};
+use crate::population::peer::{Pairing, PeerError, PeerFate, paired_with_peer, read_peer_fates};
 use crate::population::progress::process_cpu_seconds;
 use crate::population::{Fate, ParticleRecord, RunOutput};
 use crate::tensor::Vec3;
@@ -468,8 +468,8 @@ impl RaceRow {
     ) -> Result<Self, PeerRunError> {
         let mut pairing = Pairing::default();
         let (mut dep, mut finished, mut suspended, mut steps, mut rejected) = (0, 0, 0, 0, 0);
-        for r in &out.records {
-            let p = peer.get(&r.index).ok_or(PeerRunError::Missing { index: r.index })?;
+        let pairs = paired_with_peer(&out.records, peer).map_err(|e| PeerRunError::Missing { index: e.index })?;
+        for (r, p) in pairs {
             let ours = deposited(r, &out.patches);
             pairing.add(ours, peer_deposited(p));
             dep += u64::from(ours);

@@ -65,7 +65,7 @@
 //! section has its centroid at a third of its height: with the support $2\rho_f$ the wall fits
 //! faded out within the wall cell of the snapped Taylor–Couette annuli without layers, and the
 //! cells' own linear fits (first order in ∇u) carried the blend at half the first cell's mean
-//! height over the thin cut cells (`paper-figures/near-wall/NOTES.md`, 2026-12-02):
+//! height over the thin cut cells (`paper-figures/near-wall/NOTES.md`, cause 3, item 3):
 //! ```math
 //! u(x) = \frac{\sum_c \phi_c L_c(x) + \sum_f \omega_f L_f(x)}{\sum_c \phi_c + \sum_f \omega_f},
 //! \qquad

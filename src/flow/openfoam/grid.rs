@@ -20,32 +20,10 @@
 //! one bin and N entries, so the loop ends after at most log₂(extent/edge) + 1 doublings, and
 //! the memory is bounded by the balls present.
 //!
-//! # What is left to gain here (issue 36, measured)
-//! Callgrind, 200 rigid λ = 20 prolates at Stk 0.1 on the airway bifurcation (83 768 cells,
-//! 10 284 wall faces), one thread, 31 857 steps and 101 779 blends (3.2 per step): the blend
-//! costs 4.78 k instructions, of which the cells' supports 3.47 k (with the blend of the hits:
-//! the ellipsoid test, the fits and the sums) and the wall faces 0.87 k (with the triangle
-//! distances); the scan of the lists itself, in both grids, is 1.81 k. Two refinements left
-//! every result bit for bit the same and gained nearly nothing, so neither is kept:
-//! - octants: lists longer than 6 split into octants (down to 6 halvings, where the octants'
-//!   lists shrink by a quarter on average), longest list first while the entries at most
-//!   double: 4.74 k per blend (−1 %), and filling the grid took 0.87·10⁹ instructions instead
-//!   of 0.52·10⁹; in bin order up to 64 entries per ball, 4.68 k (−2 %) for 3.2·10⁹;
-//! - the squared distance against a widened squared radius, from (centre, r²) side by side,
-//!   before the exact test: 4.76 k (−0.5 %).
-//!
-//! A query of the cells' grid reads 34.0 candidates for 8.7 ball hits (walls' grid: 7.0 for
-//! 0.56), about 44 instructions a candidate. The octants gained little because their entry
-//! bound was reached first: of the 246 k bins (2.0 M entries), 29 k were split under 64 entries
-//! per ball, 10 k under double the entries. Halving every list's bin once takes about 4× the
-//! entries (a ball of radius ≈ edge meets about half of a bin's octants); that, not the scan's
-//! instructions, is the trade left to decide. Measured with the entries allowed up to 8× the
-//! bins': 4.45 k per blend (−7 %), the scan 1.45 k, 37.1 k per particle-step (−1.9 %), results
-//! again bit for bit the same; but filling the grid took 2.7·10⁹ instructions instead of
-//! 0.52·10⁹ (about 0.7 s more per opened case), repaid after about 3·10⁶ particle-steps.
-//!
-//! The rest of the particle-step (37.8 k instructions, the flow sample 15.3 k of it) lies
-//! outside these lists.
+//! # Cost
+//! A query of the cells' grid on the airway bifurcation reads about 34 candidates for 9 hits,
+//! some 44 instructions a candidate; finer lists (octants) were measured and bought little for
+//! much more fill (`paper-figures/openfoam-peer/NOTES.md`, History: The blend's bin lists).
 
 use crate::tensor::Vec3;
 

@@ -36,7 +36,7 @@ use crate::material::NeoHooke;
 use crate::output::{Csv, Figure, Panel, Series};
 use crate::population::RunOutput;
 use crate::population::binomial::fraction;
-use crate::population::peer::{Pairing, PeerFate};
+use crate::population::peer::{Pairing, PeerFate, paired_with_peer};
 use crate::tensor::Vec3;
 use std::collections::HashMap;
 
@@ -144,11 +144,11 @@ pub fn against_peer(
         .collect();
     let (mut our_outcomes, mut peer_outcomes) = (Vec::new(), Vec::new());
     let (mut unpaired, mut returned) = (0, 0);
-    for record in &ours.records {
-        let fate = peer.get(&record.index).ok_or(AirwayTreeError::Peer {
-            index: record.index,
-            reason: "missing from the peer's fates".into(),
-        })?;
+    let pairs = paired_with_peer(&ours.records, peer).map_err(|e| AirwayTreeError::Peer {
+        index: e.index,
+        reason: "missing from the peer's fates".into(),
+    })?;
+    for (record, fate) in pairs {
         let (a, b) = (tree_fate(tree, record)?, peer_tree_fate(tree, record.index, fate)?);
         our_outcomes.extend(a);
         peer_outcomes.extend(b);

@@ -23,7 +23,7 @@ use crate::output::{Csv, Figure, Panel, Series};
 use crate::population::binomial::{PairedFates, Pairing};
 use crate::population::{Computed, Fate, ParticleRecord, RunOptions, RunOutput};
 use crate::studies::bifurcation::injection::Material;
-use crate::studies::bifurcation::{Kind, StudyRun};
+use crate::studies::bifurcation::{BifurcationError, Kind, StudyRun};
 use std::path::PathBuf;
 
 /// `run` (through the tree's airway: [`AirwayTree::study`]) with each particle watched by
@@ -189,7 +189,8 @@ pub fn paired(
             pairing: Pairing::default(),
         })
         .collect();
-    for (a, b) in reference.records.iter().zip(&soft.records) {
+    let pairs = crate::population::paired(&reference.records, &soft.records).map_err(BifurcationError::from)?;
+    for (a, b) in pairs {
         let (Some(oa), Some(ob)) = (tree_fate(tree, a)?, tree_fate(tree, b)?) else {
             continue;
         };

@@ -23,7 +23,7 @@ use crate::material::NeoHooke;
 use crate::output::Csv;
 use crate::output::plot::{Figure, Panel, Series};
 use crate::population::progress::process_cpu_seconds;
-use crate::population::{Fate, RunOptions, RunOutput};
+use crate::population::{Fate, RunOptions, RunOutput, paired};
 
 /// One integrator setting: the error norm and rtol (atol stays the studies' [`ATOL`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -129,7 +129,7 @@ pub fn compare(
         let (out, cpu_s) = timed(airway, kind, &integ, n, seed)?;
         let mut shifts = Vec::new();
         let mut fates_changed = 0;
-        for (a, b) in out.records.iter().zip(&reference.records) {
+        for (a, b) in paired(&out.records, &reference.records)? {
             match (deposited(&a.fate), deposited(&b.fate), a.end, b.end) {
                 (true, true, Some(sa), Some(sb)) => shifts.push((sa.x - sb.x).norm()),
                 (x, y, _, _) if x != y => fates_changed += 1,

@@ -15,7 +15,7 @@ use crate::output::{Figure, Panel, Series};
 use crate::population::RunOptions;
 use crate::population::binomial::Pairing;
 use crate::population::mesh_study::{FORMAL_ORDER, MeshRun, MeshStudy};
-use crate::population::{Computed, RunOutput};
+use crate::population::{Computed, RunOutput, paired};
 use std::path::{Path, PathBuf};
 
 /// Stokes numbers of Fig. 18 (the paper's range 0.005–0.5).
@@ -442,10 +442,7 @@ pub fn mesh_check(
     };
     for ((name, airway), out) in cases.iter().zip(&outputs) {
         let row = Efficiency::of(kind, out);
-        let changed = first
-            .records
-            .iter()
-            .zip(&out.records)
+        let changed = paired(&first.records, &out.records)?
             .filter(|(a, b)| a.fate.label() != b.fate.label())
             .count();
         // This mesh's run first, the first mesh's second: b = gained, c = lost.

@@ -19,7 +19,9 @@ use crate::integrator::{ErrorNorm, Tolerances};
 use crate::material::NeoHooke;
 use crate::output::Csv;
 use crate::population::Injector;
-use crate::population::{Case, CaseObserver, Computed, Fate, FateCounts, RunConfig, RunOptions, RunOutput, Shard, run};
+use crate::population::{
+    Case, CaseObserver, Computed, Fate, FateCounts, Fingerprint, RunOptions, RunOutput, Shard, run,
+};
 use serde::Serialize;
 use std::path::Path;
 
@@ -224,22 +226,15 @@ impl<'a, 'o> StudyRun<'a, 'o> {
             Some(observer) => case.with_observer(observer),
             None => case,
         };
-        let config = RunConfig {
-            seed: self.seed,
-            particles: self.n,
-            fingerprint: format!(
-                "bifurcation {kind:?}; residence time {:e}; cells {}; blend radius {:e}; {}; {}",
-                airway.mean_residence_time(),
-                airway.flow().cellwise().mesh().n_cells(),
-                airway.flow().radius(),
-                airway.flow().fingerprint(),
-                airway.boundary().fingerprint()
-            ) + &if forces.is_empty() {
-                String::new()
-            } else {
-                format!("; forces {forces:?}")
-            },
-        };
+        let config = Fingerprint::new("bifurcation")
+            .particles(&kind)
+            .with("residence time", &airway.mean_residence_time())
+            .with("cells", &airway.flow().cellwise().mesh().n_cells())
+            .with("blend radius", &airway.flow().radius())
+            .flow(airway.flow())
+            .boundary(airway.boundary())
+            .with("forces", forces)
+            .config(self.seed, self.n);
         let shard = self.shard;
         let file = self
             .cache

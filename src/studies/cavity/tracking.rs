@@ -3,8 +3,8 @@
 
 use super::*;
 use crate::population::{
-    Case, Fate, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate, RunConfig, RunOptions,
-    Shard, Watch,
+    Case, Fate, Fingerprint, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate,
+    RunOptions, Shard, Watch,
 };
 
 /// How a run ended, in the cavity's terms: a view of the population's [`Fate`] that
@@ -464,11 +464,11 @@ impl<'a, L: LawFactory, D: DragModel + Clone> Cavity<'a, L, D> {
         let case = Case::new(integ, &self.flow, &self.boundary, &injection, plan)
             .with_contact(contact.model())
             .with_observer(&observer);
-        let config = RunConfig {
-            seed: 0,
-            particles: jobs.len() as u64,
-            fingerprint: format!("cavity {:?} {:?} {:?}", self.flow.variant, jobs, contact),
-        };
+        let config = Fingerprint::new("cavity")
+            .with("variant", &self.flow.variant)
+            .particles(&jobs)
+            .with("contact", &contact)
+            .config(0, jobs.len() as u64);
         let output = match dir {
             Some(dir) => crate::population::run_in_dir(&case, &config, Shard::ALL, dir, &options.clone().resume(true))?,
             None => crate::population::run(&case, &config, Shard::ALL, options)?,

@@ -17,8 +17,8 @@ use crate::hydro::Brenner;
 use crate::material::{NeoHooke, Softness};
 use crate::particle::{Particle, State};
 use crate::population::{
-    Case, Fate, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate, RunConfig, RunOptions,
-    Shard, Watch,
+    Case, Fate, Fingerprint, Injector, Observer, ParticleRecord, ParticleRng, ParticleSpec, ParticleTemplate,
+    RunOptions, Shard, Watch,
 };
 use crate::studies::StudyError;
 
@@ -63,14 +63,9 @@ pub fn deposition_study(
         // Each particle's time limit is its own ([`CaseInjector::plan`]).
         let plan = Plan::new(1.0, DT0)?;
         let case = Case::new(&integrator, &first.flow, &first.wall, &injection, plan).with_observer(&observer);
-        let config = RunConfig {
-            seed: 0,
-            particles: group.len() as u64,
-            fingerprint: format!(
-                "pipe deposition {:?}",
-                mine.iter().map(|&j| cases[j]).collect::<Vec<_>>()
-            ),
-        };
+        let config = Fingerprint::new("pipe deposition")
+            .particles(&mine.iter().map(|&j| cases[j]).collect::<Vec<_>>())
+            .config(0, group.len() as u64);
         let output = crate::population::run(&case, &config, Shard::ALL, &RunOptions::default().quiet())?;
         for record in output.records {
             let j = mine[record.index as usize];

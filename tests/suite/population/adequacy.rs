@@ -16,7 +16,7 @@ use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::particle::{Fluid, Particle};
 use pseudorigid::population::adequacy::{Reconstruction, Resolution, Stop, sensitivity};
 use pseudorigid::population::{
-    Case, Fate, Injector, ParticleRng, ParticleSpec, ParticleTemplate, RunConfig, RunOptions, Shard, run,
+    Case, Fate, Fingerprint, Injector, ParticleRng, ParticleSpec, ParticleTemplate, RunOptions, Shard, run,
 };
 use pseudorigid::tensor::{Mat3, Vec3};
 use std::path::Path;
@@ -71,11 +71,7 @@ fn retrack_without_a_scene_warns_on_the_coarse_box() {
     let line = Line(ParticleTemplate::new(Brenner, Fluid::new(1.0, 1.0).unwrap(), Vec3::zeros()).unwrap());
     let integrator = Stokesian::overdamped(1e-6).unwrap();
     let case = Case::new(&integrator, &blended, &boundary, &line, Plan::new(10.0, 1e-3).unwrap());
-    let config = RunConfig {
-        seed: 0,
-        particles: N,
-        fingerprint: String::new(),
-    };
+    let config = Fingerprint::new("blended line").config(0, N);
     let out = run(&case, &config, Shard::ALL, &RunOptions::default().quiet()).unwrap();
     assert!(out.records.iter().all(|r| matches!(r.fate, Fate::Deposited { .. })));
 

@@ -203,3 +203,25 @@ fn records_of_other_particles_are_not_paired() {
         (0, 0.0, 0.0)
     );
 }
+
+/// Our records meet a peer's fates by particle index, in our order; the first particle of ours
+/// the peer has no fate for is named.
+#[test]
+fn peer_fates_are_paired_by_index() {
+    use pseudorigid::population::peer::{MissingFate, PeerFate, paired_with_peer};
+    let fate = |name: &str| PeerFate {
+        fate: name.into(),
+        patch: String::new(),
+        t: String::new(),
+        x: Default::default(),
+    };
+    let peer = std::collections::HashMap::from([(2, fate("deposited")), (0, fate("escaped"))]);
+    let ours = [record(0, false), record(2, true)];
+    let pairs = paired_with_peer(&ours, &peer).unwrap();
+    let indexed: Vec<(u64, &str)> = pairs.iter().map(|(r, p)| (r.index, p.fate.as_str())).collect();
+    assert_eq!(indexed, [(0, "escaped"), (2, "deposited")]);
+    assert_eq!(
+        paired_with_peer(&[record(0, false), record(1, true)], &peer).unwrap_err(),
+        MissingFate { index: 1 }
+    );
+}

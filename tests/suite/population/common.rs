@@ -9,7 +9,7 @@ use pseudorigid::integrator::{BarycentreModel, Stokesian};
 use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::particle::Particle;
 use pseudorigid::population::settling_pipe::SettlingPipe;
-use pseudorigid::population::{Case, Injector, ParticleRng, ParticleSpec, RunConfig};
+use pseudorigid::population::{Case, Fingerprint, Injector, ParticleRng, ParticleSpec, RunConfig};
 use pseudorigid::prelude::Brenner;
 use std::time::Duration;
 
@@ -103,9 +103,7 @@ impl FaultySoftPipe {
 
 /// The run configuration of the mixed population of `n` particles.
 pub fn config(n: u64) -> RunConfig {
-    RunConfig {
-        seed: 20_261_122,
-        particles: n,
-        fingerprint: format!("faulty k = 5 mod 11; {}", soft_pipe().fingerprint()),
-    }
+    Fingerprint::new("faulty k = 5 mod 11")
+        .particles(&soft_pipe())
+        .config(20_261_122, n)
 }

@@ -8,8 +8,8 @@ use pseudorigid::integrator::Stokesian;
 use pseudorigid::material::NeoHooke;
 use pseudorigid::population::settling_pipe::sphere_deposition;
 use pseudorigid::population::{
-    Case, Fate, PopulationError, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir, particle_rng, run,
-    run_in_dir, seal,
+    Case, Fate, Fingerprint, PopulationError, RunConfig, RunOptions, RunOutput, Shard, checkpoint_dir, particle_rng,
+    run, run_in_dir, seal,
 };
 use std::time::Duration;
 
@@ -35,11 +35,7 @@ fn rigid_spheres_deposit_at_the_closed_form_point() {
     let stokes = Stokesian::overdamped(tol).unwrap();
     let plan = pseudorigid::driver::Plan::new(1e4, 0.1).unwrap();
     let case = Case::new(&stokes, case_pipe.flow(), case_pipe.boundary(), &case_pipe, plan);
-    let config = RunConfig {
-        seed: 7,
-        particles: 48,
-        fingerprint: case_pipe.fingerprint(),
-    };
+    let config = Fingerprint::new("settling pipe").particles(&case_pipe).config(7, 48);
     let out = run(&case, &config, Shard::ALL, &RunOptions::default().quiet()).unwrap();
     let counts = out.counts();
     assert_eq!(counts.total(), 48);

@@ -19,7 +19,7 @@ use pseudorigid::material::{NeoHooke, Softness};
 use pseudorigid::particle::{Fluid, Particle};
 use pseudorigid::population::batch::{Batch, run_batch};
 use pseudorigid::population::{
-    Fate, Injector, ParticleRng, ParticleSpec, ParticleTemplate, PopulationError, RunConfig, RunControl, RunOptions,
+    Fate, Fingerprint, Injector, ParticleRng, ParticleSpec, ParticleTemplate, PopulationError, RunControl, RunOptions,
     RunOutput, Shard,
 };
 use pseudorigid::scene::SceneError;
@@ -187,11 +187,7 @@ fn library_run(case: &Path, times: &[f64], cycle: Cycle, window: f64, t_end: f64
     let batch = Batch::new(&integrator, &boundary, &spheres, plan).with_samples();
     let n = (t_end / window).round() as u32;
     let windows: Vec<f64> = (0..=n).map(|k| f64::from(k) * window).collect();
-    let config = RunConfig {
-        seed: 0,
-        particles: STARTS.len() as u64,
-        fingerprint: String::new(),
-    };
+    let config = Fingerprint::new("transient spheres").config(0, STARTS.len() as u64);
     let quiet = RunOptions::default().quiet();
     run_batch(&batch, &mut flow, &windows, &config, Shard::ALL, &quiet).unwrap()
 }

@@ -6,7 +6,7 @@ use super::{Inhaled, Waveform};
 use crate::error::ParamError;
 use crate::material::NeoHooke;
 use crate::population::binomial::Pairing;
-use crate::population::{Fate, RunOutput};
+use crate::population::{Fate, RunOutput, paired};
 use crate::studies::bifurcation::BifurcationError;
 use crate::studies::bifurcation::injection::Kind;
 use crate::studies::bifurcation::setup::Airway;
@@ -35,12 +35,7 @@ impl BreathingPair {
         steady: RunOutput<NeoHooke>,
         cyclic: RunOutput<NeoHooke>,
     ) -> Result<Self, BifurcationError> {
-        let same = steady.records.len() == cyclic.records.len()
-            && steady
-                .records
-                .iter()
-                .zip(&cyclic.records)
-                .all(|(a, b)| a.index == b.index && a.spec == b.spec);
+        let same = paired(&steady.records, &cyclic.records).is_ok_and(|mut pairs| pairs.all(|(a, b)| a.spec == b.spec));
         if !same {
             return Err(ParamError::OutOfRange {
                 name: "paired runs (the steady and inhaled runs must hold the same particles)",

@@ -5,7 +5,7 @@ use super::{Breath, Inhaled};
 use crate::driver::{Budget, Plan};
 use crate::material::NeoHooke;
 use crate::population::batch::{Batch, run_batch};
-use crate::population::{Computed, RunConfig, RunOptions, RunOutput, Shard};
+use crate::population::{Computed, Fingerprint, RunOptions, RunOutput, Shard};
 use crate::studies::bifurcation::BifurcationError;
 use crate::studies::bifurcation::injection::Kind;
 use crate::studies::bifurcation::setup::Airway;
@@ -35,17 +35,13 @@ pub fn run_inhaled(
     });
     let batch = Batch::new(&integ, &breath.boundary, &inhaled, plan);
     let windows = breath.windows();
-    let config = RunConfig {
-        seed,
-        particles: n,
-        fingerprint: format!(
-            "bifurcation breathing {kind:?}; {:?}; injection profile {}; {}; {}",
-            breath.waveform,
-            airway.flow().fingerprint(),
-            breath.flow.fingerprint(),
-            breath.boundary.fingerprint()
-        ),
-    };
+    let config = Fingerprint::new("bifurcation breathing")
+        .particles(&kind)
+        .with("waveform", &breath.waveform)
+        .identity("injection profile", airway.flow())
+        .flow(&breath.flow)
+        .boundary(&breath.boundary)
+        .config(seed, n);
     let file = cache.map(|dir| dir.join(format!("breath-{}.json", batch.case(&breath.flow).config_hash(&config))));
     RunOutput::read_or_run(file.as_deref(), || {
         Ok(run_batch(
